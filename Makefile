@@ -1,0 +1,34 @@
+# The two README commands: `make sim` (the simulated night) and `make test` (set up + whole suite).
+VENV ?= .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+# Debian packages of the real components the tests use (XMPP servers, plate solver).
+SYSTEM_PACKAGES :=
+
+.PHONY: setup system-deps lint test sim bench clean
+
+$(STAMP): pyproject.toml
+	python3 -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[dev]'
+	touch $(STAMP)
+
+setup: $(STAMP)
+
+# Real components the tests use (XMPP servers, plate solver); installs only what is missing.
+system-deps:
+	bash scripts/install-system-deps.sh $(SYSTEM_PACKAGES)
+
+lint: setup
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/mypy
+
+test: setup system-deps lint
+	$(PY) -m pytest -q
+
+bench: setup
+	$(PY) bench/local_rpc.py
+
+clean:
+	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache

@@ -1,0 +1,3 @@
+from nightcrew.cli.main import main
+
+raise SystemExit(main())

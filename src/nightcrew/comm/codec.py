@@ -1,0 +1,221 @@
+"""The value codec: what may travel in RPC arguments, results and events, and how.
+
+*Wire values* are exactly the XML-RPC value types: ``None`` (nil), ``bool``, ``int`` (64-bit),
+``float``, ``str``, ``bytes`` (base64), aware UTC ``datetime`` (dateTime.iso8601), ``list`` (array)
+and ``dict`` with ``str`` keys (struct). Richer Python values map onto these:
+
+=====================  ============================================
+Python                 wire
+=====================  ============================================
+``Enum``               its value (str or int)
+dataclass instance     struct of its fields
+``tuple``, ``set``     array
+numpy scalar           the matching int / float / bool
+naive ``datetime``     taken as UTC
+=====================  ============================================
+
+Decoding is guided by the receiver's type hints (:func:`decode`), which turns structs back into
+dataclasses, values into enums, arrays into tuples and, for JSON carriers that have no native
+date or bytes, ISO strings into datetimes and base64 strings into bytes. Anything else is refused
+with :class:`~nightcrew.errors.CodecError` — in-process too, so that nothing works locally that
+would fail across the network.
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import enum
+import functools
+import inspect
+import types
+import typing
+from collections.abc import Callable, Mapping
+from datetime import UTC, datetime
+from typing import Any
+
+from nightcrew.errors import CodecError
+
+__all__ = ["decode", "decode_arguments", "decode_fields", "encode", "method_hints"]
+
+_INT64 = 2**63
+_SCALARS = (str, float, bool, type(None))
+
+
+def encode(value: Any, path: str = "value") -> Any:
+    """Turn ``value`` into wire values; raises CodecError naming the offending part."""
+    kind = type(value)
+    if kind in _SCALARS:
+        return value
+    if kind is int:
+        if not -_INT64 <= value < _INT64:
+            raise CodecError(f"{path}: integer {value} does not fit in 64 bits")
+        return value
+    if kind is list or kind is tuple:
+        return [encode(v, f"{path}[{i}]") for i, v in enumerate(value)]
+    if kind is dict:
+        out = {}
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise CodecError(f"{path}: dict keys must be strings, got {type(k).__name__}")
+            out[k] = encode(v, f"{path}.{k}")
+        return out
+    if isinstance(value, datetime):
+        return value.replace(tzinfo=UTC) if value.tzinfo is None else value.astimezone(UTC)
+    if isinstance(value, enum.Enum):
+        return encode(value.value, path)
+    if isinstance(value, bytes | bytearray):
+        return bytes(value)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: encode(getattr(value, f.name), f"{path}.{f.name}") for f in dataclasses.fields(value)}
+    if isinstance(value, set | frozenset):
+        return [encode(v, f"{path}[]") for v in sorted(value)]
+    if isinstance(value, int):  # int subclasses other than bool/enum
+        return encode(int(value), path)
+    if isinstance(value, str | float):
+        return encode(kind.__mro__[1](value) if kind not in (str, float) else value, path)
+    if hasattr(value, "dtype") and getattr(value, "shape", None) == ():  # numpy scalar
+        return encode(value.item(), path)
+    raise CodecError(f"{path}: values of type {kind.__name__} cannot be sent over the comm")
+
+
+def decode(value: Any, hint: Any, path: str = "value") -> Any:
+    """Turn wire ``value`` into a value of type ``hint``; raises CodecError if it does not fit."""
+    if hint is Any or hint is object or hint is inspect.Parameter.empty:
+        return value
+    if hint is type(None) or hint is None:
+        if value is not None:
+            raise CodecError(f"{path}: expected nothing (None), got {_kind(value)}")
+        return None
+    origin = typing.get_origin(hint)
+    if origin is None:
+        return _decode_plain(value, hint, path)
+    args = typing.get_args(hint)
+    if origin is typing.Union or origin is types.UnionType:
+        if value is None and type(None) in args:
+            return None
+        errors = []
+        for arg in args:
+            if arg is type(None):
+                continue
+            try:
+                return decode(value, arg, path)
+            except CodecError as exc:
+                errors.append(str(exc))
+        raise CodecError(f"{path}: {_kind(value)} fits none of {_hint_name(hint)}")
+    if origin is typing.Literal:
+        if value not in args:
+            raise CodecError(f"{path}: {value!r} is not one of {', '.join(map(repr, args))}")
+        return value
+    if origin is list or origin is tuple or origin is set or origin is frozenset:
+        if not isinstance(value, list | tuple):
+            raise CodecError(f"{path}: expected a list, got {_kind(value)}")
+        if origin is tuple and args and not (len(args) == 2 and args[1] is Ellipsis):
+            if len(args) != len(value):
+                raise CodecError(f"{path}: expected {len(args)} items, got {len(value)}")
+            return tuple(decode(v, a, f"{path}[{i}]") for i, (v, a) in enumerate(zip(value, args, strict=True)))
+        item = args[0] if args else Any
+        items = [decode(v, item, f"{path}[{i}]") for i, v in enumerate(value)]
+        return origin(items) if origin is not list else items
+    if origin is dict or origin is Mapping:
+        if not isinstance(value, dict):
+            raise CodecError(f"{path}: expected a dict, got {_kind(value)}")
+        vhint = args[1] if len(args) == 2 else Any
+        return {k: decode(v, vhint, f"{path}.{k}") for k, v in value.items()}
+    if origin is typing.Annotated:
+        return decode(value, args[0], path)
+    return value
+
+
+def _decode_plain(value: Any, hint: Any, path: str) -> Any:
+    kind = type(value)
+    if hint is float:
+        if kind is float or (kind is int):
+            return float(value)
+    elif hint is int:
+        if kind is int:
+            return value
+    elif hint is str or hint is bool:
+        if kind is hint:
+            return value
+    elif hint is bytes:
+        if kind is bytes:
+            return value
+        if kind is str:
+            return base64.b64decode(value)
+    elif hint is datetime:
+        if isinstance(value, datetime):
+            return value if value.tzinfo else value.replace(tzinfo=UTC)
+        if kind is str:
+            try:
+                parsed = datetime.fromisoformat(value)
+            except ValueError as exc:
+                raise CodecError(f"{path}: {value!r} is not an ISO date/time") from exc
+            return parsed if parsed.tzinfo else parsed.replace(tzinfo=UTC)
+    elif isinstance(hint, type) and issubclass(hint, enum.Enum):
+        try:
+            return hint(value)
+        except ValueError as exc:
+            raise CodecError(f"{path}: {value!r} is not a valid {hint.__name__}") from exc
+    elif dataclasses.is_dataclass(hint) and isinstance(hint, type):
+        if kind is not dict:
+            raise CodecError(f"{path}: expected a struct for {hint.__name__}, got {_kind(value)}")
+        return hint(**decode_fields(hint, value, path))
+    elif hint is list or hint is dict or hint is tuple:
+        return decode(value, hint[Any] if hint is not dict else dict[str, Any], path)
+    else:
+        return value  # a type the codec does not know: leave it to the receiver
+    raise CodecError(f"{path}: expected {_hint_name(hint)}, got {_kind(value)}")
+
+
+def decode_fields(cls: type, data: Mapping[str, Any], path: str = "") -> dict[str, Any]:
+    """Decode a struct into constructor arguments of dataclass ``cls`` (unknown keys dropped)."""
+    hints = _dataclass_hints(cls)
+    prefix = f"{path}." if path else ""
+    out = {}
+    for name, value in data.items():
+        if name in hints:
+            out[name] = decode(value, hints[name], prefix + name)
+    return out
+
+
+@functools.cache
+def _dataclass_hints(cls: type) -> dict[str, Any]:
+    hints = typing.get_type_hints(cls)
+    return {f.name: hints.get(f.name, Any) for f in dataclasses.fields(cls)}
+
+
+@functools.cache
+def method_hints(func: Callable[..., Any]) -> tuple[inspect.Signature, dict[str, Any]]:
+    """Signature and resolved type hints of a method (cached; used on both ends of an RPC)."""
+    return inspect.signature(func), typing.get_type_hints(func)
+
+
+def decode_arguments(func: Callable[..., Any], args: list[Any], kwargs: dict[str, Any]) -> inspect.BoundArguments:
+    """Bind wire arguments to ``func``'s signature and decode each by its type hint.
+
+    Raises CodecError naming the argument when one is missing, unexpected or of the wrong type.
+    """
+    sig, hints = method_hints(func)
+    try:
+        bound = sig.bind(None, *args, **kwargs)  # None stands for self
+    except TypeError as exc:
+        raise CodecError(f"{func.__name__}(): {exc}") from exc
+    for name, value in list(bound.arguments.items())[1:]:
+        param = sig.parameters[name]
+        hint = hints.get(name, Any)
+        if param.kind is inspect.Parameter.VAR_POSITIONAL:
+            bound.arguments[name] = tuple(decode(v, hint, name) for v in value)
+        elif param.kind is inspect.Parameter.VAR_KEYWORD:
+            bound.arguments[name] = {k: decode(v, hint, k) for k, v in value.items()}
+        else:
+            bound.arguments[name] = decode(value, hint, f"argument '{name}'")
+    return bound
+
+
+def _kind(value: Any) -> str:
+    return "None" if value is None else type(value).__name__
+
+
+def _hint_name(hint: Any) -> str:
+    return getattr(hint, "__name__", None) or str(hint).replace("typing.", "")

@@ -1,0 +1,52 @@
+"""The base of all events.
+
+An event is a frozen dataclass of wire-encodable fields (see :mod:`nightcrew.comm.codec`). Every
+event class registers itself by class name, which is also its name on the wire, so a receiver can
+rebuild it (:func:`event_by_name`). On the wire an event is a JSON object of its fields.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, ClassVar, Self
+
+__all__ = ["Event", "event_by_name"]
+
+_EVENTS: dict[str, type[Event]] = {}
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Event:
+    """Base class of all events. Subclasses are frozen, keyword-only dataclasses."""
+
+    #: Whether the event is worth keeping for late subscribers (not used for routing).
+    persistent: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.__name__ in _EVENTS and _EVENTS[cls.__name__].__module__ != cls.__module__:
+            raise TypeError(f"event name {cls.__name__} is already taken")
+        _EVENTS[cls.__name__] = cls
+
+    @classmethod
+    def event_name(cls) -> str:
+        """The event's name on the wire."""
+        return cls.__name__
+
+    def to_dict(self) -> dict[str, Any]:
+        """The event's fields as wire values."""
+        from nightcrew.comm.codec import encode
+
+        return {f.name: encode(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Self:
+        """Rebuild the event from wire values; unknown fields are ignored (newer senders)."""
+        from nightcrew.comm.codec import decode_fields
+
+        return cls(**decode_fields(cls, data))
+
+
+def event_by_name(name: str) -> type[Event] | None:
+    """The event class called ``name``, or None if this process does not know it."""
+    return _EVENTS.get(name)
