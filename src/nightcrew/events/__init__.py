@@ -1,0 +1,1 @@
+"""nightcrew.events."""
