@@ -1,1 +1,109 @@
-"""nightcrew.interfaces."""
+"""nightcrew.interfaces: the catalogue of interfaces modules offer, with their enums and result types.
+
+Interfaces are small and composed by inheritance (``ITelescope`` is ``IMotion`` plus pointing).
+Importing this package registers all of them, so :func:`interface_by_name` knows every name.
+"""
+
+from nightcrew.interfaces.automation import IAcquisition, IAutoGuiding, IFlatField, IPointingSeries
+from nightcrew.interfaces.base import Interface, interface_by_name, interface_methods, interfaces_of
+from nightcrew.interfaces.camera import (
+    Binning,
+    CoolingStatus,
+    IBinning,
+    ICamera,
+    ICooling,
+    IData,
+    IExposure,
+    IExposureTime,
+    IGain,
+    IImageType,
+    IVideo,
+    IWindow,
+    Window,
+)
+from nightcrew.interfaces.control import IAbortable, IReady, IRunnable, IRunning, IStartStop
+from nightcrew.interfaces.enums import (
+    ExposureStatus,
+    ImageType,
+    LoopState,
+    ModuleState,
+    MotionStatus,
+    WeatherSensor,
+)
+from nightcrew.interfaces.filters import IFilters
+from nightcrew.interfaces.fits import FitsCard, FitsValue, IFitsHeaderAfter, IFitsHeaderBefore
+from nightcrew.interfaces.focus import IAutoFocus, IFocuser, IFocusModel
+from nightcrew.interfaces.module import IConfig, IModule
+from nightcrew.interfaces.motion import IMotion
+from nightcrew.interfaces.pointing import (
+    IOffsetsAltAz,
+    IOffsetsRaDec,
+    IPointingAltAz,
+    IPointingRaDec,
+    ITelescope,
+)
+from nightcrew.interfaces.robotic import IAutonomous, IScriptRunner
+from nightcrew.interfaces.roof import IDome, IRoof
+from nightcrew.interfaces.sensors import ITemperatures
+from nightcrew.interfaces.spectrograph import ISpectrograph
+from nightcrew.interfaces.weather import IWeather, SensorValue, WeatherReport
+
+__all__ = [
+    "Binning",
+    "CoolingStatus",
+    "ExposureStatus",
+    "FitsCard",
+    "FitsValue",
+    "IAbortable",
+    "IAcquisition",
+    "IAutoFocus",
+    "IAutoGuiding",
+    "IAutonomous",
+    "IBinning",
+    "ICamera",
+    "IConfig",
+    "ICooling",
+    "IData",
+    "IDome",
+    "IExposure",
+    "IExposureTime",
+    "IFilters",
+    "IFitsHeaderAfter",
+    "IFitsHeaderBefore",
+    "IFlatField",
+    "IFocusModel",
+    "IFocuser",
+    "IGain",
+    "IImageType",
+    "IModule",
+    "IMotion",
+    "IOffsetsAltAz",
+    "IOffsetsRaDec",
+    "IPointingAltAz",
+    "IPointingRaDec",
+    "IPointingSeries",
+    "IReady",
+    "IRoof",
+    "IRunnable",
+    "IRunning",
+    "IScriptRunner",
+    "ISpectrograph",
+    "IStartStop",
+    "ITelescope",
+    "ITemperatures",
+    "IVideo",
+    "IWeather",
+    "IWindow",
+    "ImageType",
+    "Interface",
+    "LoopState",
+    "ModuleState",
+    "MotionStatus",
+    "SensorValue",
+    "WeatherReport",
+    "WeatherSensor",
+    "Window",
+    "interface_by_name",
+    "interface_methods",
+    "interfaces_of",
+]

@@ -1,0 +1,32 @@
+"""FITS header providers: modules asked by a camera for header cards before and after an exposure."""
+
+from __future__ import annotations
+
+from abc import abstractmethod
+from typing import TypeAlias
+
+from nightcrew.interfaces.base import Interface
+
+__all__ = ["FitsCard", "FitsValue", "IFitsHeaderAfter", "IFitsHeaderBefore"]
+
+#: What a FITS card can hold (dates are written as ISO strings). bool comes before int on purpose:
+#: the codec tries union members in order and must not turn True into 1.
+FitsValue: TypeAlias = bool | int | float | str | None
+#: A card's (value, comment).
+FitsCard: TypeAlias = tuple[FitsValue, str]
+
+
+class IFitsHeaderBefore(Interface):
+    """Provides header cards at the start of an exposure (e.g. telescope position)."""
+
+    @abstractmethod
+    async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        """Keyword → (value, comment); ``namespaces`` selects which cards the caller wants."""
+
+
+class IFitsHeaderAfter(Interface):
+    """Provides header cards at the end of an exposure (e.g. averages over the exposure)."""
+
+    @abstractmethod
+    async def get_fits_header_after(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        """Keyword → (value, comment); ``namespaces`` selects which cards the caller wants."""
