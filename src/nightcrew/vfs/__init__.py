@@ -1,0 +1,33 @@
+"""The virtual file system: modules share files by path, wherever the files are stored.
+
+A path's first component names a root (``/cache/img.fits`` → root ``cache``); each root is a
+:class:`FileRoot`: :class:`LocalFile` (a directory on disk), :class:`MemoryFile` (in-process,
+shareable by name), :class:`TempFile` (a temporary directory removed on close). Errors are
+described in :mod:`nightcrew.vfs._errors` and derive from :class:`nightcrew.errors.NightcrewError`.
+"""
+
+from nightcrew.vfs._errors import (
+    UnknownRootError,
+    VfsError,
+    VfsFileNotFoundError,
+    VfsFormatError,
+    VfsPathError,
+)
+from nightcrew.vfs._filesystem import VirtualFileSystem
+from nightcrew.vfs._local import LocalFile
+from nightcrew.vfs._memory import MemoryFile
+from nightcrew.vfs._root import FileRoot
+from nightcrew.vfs._temp import TempFile
+
+__all__ = [
+    "FileRoot",
+    "LocalFile",
+    "MemoryFile",
+    "TempFile",
+    "UnknownRootError",
+    "VfsError",
+    "VfsFileNotFoundError",
+    "VfsFormatError",
+    "VfsPathError",
+    "VirtualFileSystem",
+]
