@@ -9,8 +9,8 @@ from nightcrew.interfaces.base import Interface
 
 __all__ = ["FitsCard", "FitsValue", "IFitsHeaderAfter", "IFitsHeaderBefore"]
 
-#: What a FITS card can hold (dates are written as ISO strings). bool comes before int on purpose:
-#: the codec tries union members in order and must not turn True into 1.
+#: What a FITS card can hold (dates are written as ISO strings). int comes before float on purpose:
+#: the codec tries union members in order, and float would turn a whole number 3 into 3.0.
 FitsValue: TypeAlias = bool | int | float | str | None
 #: A card's (value, comment).
 FitsCard: TypeAlias = tuple[FitsValue, str]
