@@ -18,11 +18,10 @@ A callable receives the call's arguments by name (``self`` excluded; defaults fi
 
 from __future__ import annotations
 
-import inspect
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
-__all__ = ["DEFAULT_TIMEOUT", "method_timeout", "timeout"]
+__all__ = ["DEFAULT_TIMEOUT", "has_timeout", "method_timeout", "timeout"]
 
 DEFAULT_TIMEOUT = 10.0
 _ATTRIBUTE = "__nightcrew_timeout__"
@@ -43,15 +42,16 @@ def timeout(spec: TimeoutSpec) -> Callable[[F], F]:
     return decorate
 
 
-def method_timeout(func: Callable[..., Any], bound: inspect.BoundArguments | None = None) -> float:
-    """The timeout in seconds of a call to ``func`` with ``bound`` arguments."""
+def method_timeout(func: Callable[..., Any], arguments: Mapping[str, Any]) -> float:
+    """The timeout in seconds of a call to ``func`` with ``arguments`` (name → value, defaults in)."""
     spec: TimeoutSpec | None = getattr(func, _ATTRIBUTE, None)
     if spec is None:
         return DEFAULT_TIMEOUT
     if not callable(spec):
         return float(spec)
-    arguments: dict[str, Any] = {}
-    if bound is not None:
-        bound.apply_defaults()
-        arguments = dict(list(bound.arguments.items())[1:])  # drop self
     return float(spec(**arguments))
+
+
+def has_timeout(func: Callable[..., Any]) -> bool:
+    """Whether ``func`` declares its own timeout."""
+    return hasattr(func, _ATTRIBUTE)

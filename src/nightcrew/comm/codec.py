@@ -36,10 +36,19 @@ from typing import Any
 
 from nightcrew.errors import CodecError
 
-__all__ = ["decode", "decode_arguments", "decode_fields", "encode", "method_hints"]
+__all__ = [
+    "Parameter",
+    "bind_arguments",
+    "decode",
+    "decode_arguments",
+    "decode_fields",
+    "encode",
+    "method_parameters",
+]
 
 _INT64 = 2**63
 _SCALARS = (str, float, bool, type(None))
+_SCALARS_AND_INT = frozenset({str, float, bool, int})
 
 
 def encode(value: Any, path: str = "value") -> Any:
@@ -81,6 +90,8 @@ def encode(value: Any, path: str = "value") -> Any:
 
 def decode(value: Any, hint: Any, path: str = "value") -> Any:
     """Turn wire ``value`` into a value of type ``hint``; raises CodecError if it does not fit."""
+    if type(value) is hint and hint in _SCALARS_AND_INT:
+        return value  # the common case, decided without looking at the hint's structure
     if hint is Any or hint is object or hint is inspect.Parameter.empty:
         return value
     if hint is type(None) or hint is None:
@@ -113,7 +124,9 @@ def decode(value: Any, hint: Any, path: str = "value") -> Any:
         if origin is tuple and args and not (len(args) == 2 and args[1] is Ellipsis):
             if len(args) != len(value):
                 raise CodecError(f"{path}: expected {len(args)} items, got {len(value)}")
-            return tuple(decode(v, a, f"{path}[{i}]") for i, (v, a) in enumerate(zip(value, args, strict=True)))
+            return tuple(
+                decode(v, a, f"{path}[{i}]") for i, (v, a) in enumerate(zip(value, args, strict=True))
+            )
         item = args[0] if args else Any
         items = [decode(v, item, f"{path}[{i}]") for i, v in enumerate(value)]
         return origin(items) if origin is not list else items
@@ -185,32 +198,68 @@ def _dataclass_hints(cls: type) -> dict[str, Any]:
     return {f.name: hints.get(f.name, Any) for f in dataclasses.fields(cls)}
 
 
+@dataclasses.dataclass(frozen=True)
+class Parameter:
+    """One parameter of a remotely callable method (``self`` excluded)."""
+
+    name: str
+    hint: Any
+    default: Any  # inspect.Parameter.empty when required
+
+
 @functools.cache
-def method_hints(func: Callable[..., Any]) -> tuple[inspect.Signature, dict[str, Any]]:
-    """Signature and resolved type hints of a method (cached; used on both ends of an RPC)."""
-    return inspect.signature(func), typing.get_type_hints(func)
+def method_parameters(func: Callable[..., Any]) -> tuple[tuple[Parameter, ...], Any]:
+    """Parameters and return hint of a remotely callable method (cached).
 
-
-def decode_arguments(func: Callable[..., Any], args: list[Any], kwargs: dict[str, Any]) -> inspect.BoundArguments:
-    """Bind wire arguments to ``func``'s signature and decode each by its type hint.
-
-    Raises CodecError naming the argument when one is missing, unexpected or of the wrong type.
+    Remote calls carry arguments positionally, so ``*args``/``**kwargs`` are not allowed.
     """
-    sig, hints = method_hints(func)
-    try:
-        bound = sig.bind(None, *args, **kwargs)  # None stands for self
-    except TypeError as exc:
-        raise CodecError(f"{func.__name__}(): {exc}") from exc
-    for name, value in list(bound.arguments.items())[1:]:
-        param = sig.parameters[name]
-        hint = hints.get(name, Any)
-        if param.kind is inspect.Parameter.VAR_POSITIONAL:
-            bound.arguments[name] = tuple(decode(v, hint, name) for v in value)
-        elif param.kind is inspect.Parameter.VAR_KEYWORD:
-            bound.arguments[name] = {k: decode(v, hint, k) for k, v in value.items()}
+    signature = inspect.signature(func)
+    hints = typing.get_type_hints(func)
+    params = []
+    for param in list(signature.parameters.values())[1:]:
+        if param.kind in (inspect.Parameter.VAR_POSITIONAL, inspect.Parameter.VAR_KEYWORD):
+            raise TypeError(f"{func.__qualname__}: remotely callable methods cannot take *args/**kwargs")
+        params.append(Parameter(param.name, hints.get(param.name, Any), param.default))
+    return tuple(params), hints.get("return", Any)
+
+
+def bind_arguments(func: Callable[..., Any], args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
+    """The complete positional argument list of a call to ``func`` (defaults filled in).
+
+    Raises TypeError like a normal call would for missing or unexpected arguments.
+    """
+    params, _ = method_parameters(func)
+    if not kwargs and len(args) == len(params):
+        return list(args)
+    if len(args) > len(params):
+        raise TypeError(f"{func.__name__}() takes {len(params)} arguments but {len(args)} were given")
+    values = list(args)
+    for param in params[len(args) :]:
+        if param.name in kwargs:
+            values.append(kwargs.pop(param.name))
+        elif param.default is not inspect.Parameter.empty:
+            values.append(param.default)
         else:
-            bound.arguments[name] = decode(value, hint, f"argument '{name}'")
-    return bound
+            raise TypeError(f"{func.__name__}() missing required argument '{param.name}'")
+    if kwargs:
+        raise TypeError(f"{func.__name__}() got unexpected arguments: {', '.join(kwargs)}")
+    return values
+
+
+def decode_arguments(func: Callable[..., Any], args: list[Any]) -> dict[str, Any]:
+    """Decode positional wire ``args`` of a call to ``func`` by its type hints, name → value.
+
+    Missing trailing arguments take their defaults. Raises CodecError naming the argument.
+    """
+    params, _ = method_parameters(func)
+    if len(args) > len(params):
+        raise CodecError(f"{func.__name__}() takes {len(params)} arguments, got {len(args)}")
+    decoded = {p.name: decode(v, p.hint, f"argument '{p.name}'") for p, v in zip(params, args, strict=False)}
+    for param in params[len(args) :]:
+        if param.default is inspect.Parameter.empty:
+            raise CodecError(f"{func.__name__}(): missing argument '{param.name}'")
+        decoded[param.name] = param.default
+    return decoded
 
 
 def _kind(value: Any) -> str:

@@ -1,0 +1,328 @@
+"""The abstract comm: what every transport offers to modules.
+
+A :class:`Comm` connects one module to the network of modules. Modules only see this class; the
+transport (in-process :class:`~nightcrew.comm.local.LocalComm`, XMPP) implements six small hooks
+(``_open_transport``, ``_close_transport``, ``_fetch_interface_names``, ``_send_call``,
+``_publish_event``, ``_subscribe_events``) plus ``name`` and ``clients``, and reports incoming
+traffic through ``_serve_call``, ``_deliver_event`` and ``_client_online``/``_client_offline``.
+Everything else — proxies, timeouts, typed errors, event decoding and dispatch — lives here once.
+
+Timeouts: a caller first waits :data:`~nightcrew.timeout.DEFAULT_TIMEOUT` for the callee to announce
+the call's timeout, then that long; both in clock seconds, plus ``rpc_grace`` wall seconds for the
+network. When it passes, :class:`~nightcrew.errors.RemoteTimeoutError` is raised.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from abc import ABC, abstractmethod
+from collections.abc import Awaitable, Callable, Coroutine
+from typing import Any, TypeVar, overload
+
+from nightcrew.clock import Clock, RealClock
+from nightcrew.comm.proxy import Proxy, proxy_class
+from nightcrew.comm.rpc import CallGuard, ErrorHook, Fault, RpcServer, exception_from_fault
+from nightcrew.errors import InterfaceError, ModuleError, NightcrewError, RemoteError, RemoteTimeoutError
+from nightcrew.events.base import Event, event_by_name
+from nightcrew.interfaces.base import Interface, interface_by_name
+from nightcrew.log import current_module, module_context
+from nightcrew.timeout import DEFAULT_TIMEOUT
+
+__all__ = ["Comm", "EventHandler", "PendingCall"]
+
+log = logging.getLogger(__name__)
+
+E = TypeVar("E", bound=Event)
+I = TypeVar("I", bound=Interface)  # noqa: E741 - the conventional name for an interface type
+#: An event handler: ``async def on_x(event, sender) -> None`` (a bool result is ignored).
+EventHandler = Callable[[E, str], Awaitable[Any]]
+
+
+class PendingCall:
+    """A call on its way: the transport reports the announced timeout, the result or a fault."""
+
+    __slots__ = ("_client", "_on_announce", "future", "timeout")
+
+    def __init__(self, client: str) -> None:
+        self.future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
+        self.timeout: float | None = None
+        self._client = client
+        self._on_announce: Callable[[float], None] | None = None
+
+    def announce(self, timeout: float) -> None:
+        """The callee announced that the call may take ``timeout`` clock seconds."""
+        self.timeout = timeout
+        if self._on_announce is not None:
+            self._on_announce(timeout)
+
+    def set_result(self, value: Any) -> None:
+        if not self.future.done():
+            self.future.set_result(value)
+
+    def set_fault(self, fault: Fault) -> None:
+        if not self.future.done():
+            self.future.set_exception(exception_from_fault(fault, self._client))
+
+    def set_error(self, error: NightcrewError) -> None:
+        """The call failed on the way (e.g. the connection dropped)."""
+        if not self.future.done():
+            self.future.set_exception(error)
+
+
+class Comm(ABC):
+    """Connects a module to all others: remote calls, proxies, events, presence.
+
+    Args:
+        rpc_grace: Wall seconds added to every announced timeout for network latency.
+    """
+
+    def __init__(self, *, rpc_grace: float = 0.0) -> None:
+        self._rpc_grace = rpc_grace
+        self._clock: Clock = RealClock()
+        self._server: RpcServer | None = None
+        self._handlers: dict[str, list[tuple[type[Event], EventHandler[Any]]]] = {}
+        self._proxies: dict[str, Proxy] = {}
+        self._interface_names: dict[str, list[str]] = {}
+        self._tasks: set[asyncio.Task[Any]] = set()
+        #: Called with every exception a call made through this comm raised (for error limits).
+        self.error_hook: ErrorHook | None = None
+        self._is_open = False
+
+    # --- what a transport provides -------------------------------------------------------------
+
+    @property
+    @abstractmethod
+    def name(self) -> str:
+        """Name of the module on this comm."""
+
+    @property
+    @abstractmethod
+    def clients(self) -> list[str]:
+        """Names of the other modules currently online."""
+
+    @abstractmethod
+    async def _open_transport(self) -> None: ...
+
+    @abstractmethod
+    async def _close_transport(self) -> None: ...
+
+    @abstractmethod
+    async def _fetch_interface_names(self, client: str) -> list[str]:
+        """Interface names ``client`` advertises; raise RemoteError if it is not online."""
+
+    @abstractmethod
+    async def _send_call(self, client: str, method: str, args: list[Any], call: PendingCall) -> None:
+        """Send a call; report announcement, result or fault through ``call`` (now or later)."""
+
+    @abstractmethod
+    async def _publish_event(self, name: str, payload: dict[str, Any]) -> None:
+        """Send an event (wire fields) to every other module subscribed to ``name``."""
+
+    @abstractmethod
+    async def _subscribe_events(self, name: str) -> None:
+        """Start receiving events called ``name``."""
+
+    # --- life cycle ----------------------------------------------------------------------------
+
+    def attach(
+        self,
+        obj: object,
+        *,
+        clock: Clock | None = None,
+        guard: CallGuard | None = None,
+        on_error: ErrorHook | None = None,
+    ) -> None:
+        """Serve ``obj``'s interface methods on this comm (call before :meth:`open`)."""
+        if clock is not None:
+            self._clock = clock
+        self._server = RpcServer(obj, guard=guard, on_error=on_error)
+
+    @property
+    def clock(self) -> Clock:
+        return self._clock
+
+    @property
+    def served_interfaces(self) -> list[str]:
+        """Names of the interfaces this comm serves (empty before :meth:`attach`)."""
+        return self._server.interface_names if self._server else []
+
+    async def open(self) -> None:
+        """Connect; afterwards others can call this module and see it online."""
+        if self._is_open:
+            return
+        await self._open_transport()
+        self._is_open = True
+
+    async def close(self) -> None:
+        """Disconnect and stop all event handlers; safe to call twice."""
+        if not self._is_open:
+            return
+        self._is_open = False
+        await self._close_transport()
+        for task in list(self._tasks):
+            task.cancel()
+        await asyncio.gather(*self._tasks, return_exceptions=True)
+
+    # --- discovery and proxies -----------------------------------------------------------------
+
+    async def get_interface_names(self, client: str) -> list[str]:
+        """Names of the interfaces ``client`` offers (cached while it stays online)."""
+        names = self._interface_names.get(client)
+        if names is None:
+            names = await self._fetch_interface_names(client)
+            self._interface_names[client] = names
+        return names
+
+    async def get_interfaces(self, client: str) -> list[type[Interface]]:
+        """The interfaces ``client`` offers that this process knows."""
+        known = (interface_by_name(n) for n in await self.get_interface_names(client))
+        return [i for i in known if i is not None]
+
+    async def clients_with_interface(self, interface: type[Interface]) -> list[str]:
+        """Names of the online modules offering ``interface``."""
+        found = []
+        for client in self.clients:
+            try:
+                if interface.__name__ in await self.get_interface_names(client):
+                    found.append(client)
+            except RemoteError:
+                continue  # went offline while we asked
+        return found
+
+    @overload
+    async def proxy(self, name: str, /) -> Proxy: ...
+
+    @overload
+    async def proxy(self, name: str, interface: type[I], /, *more: type[Interface]) -> I: ...
+
+    async def proxy(self, name: str, /, *interfaces: type[Interface]) -> Any:
+        """A proxy for module ``name``, checked to offer all ``interfaces``; typed as the first.
+
+        Raises:
+            RemoteError: ``name`` is not online.
+            InterfaceError: it lacks one of ``interfaces``.
+        """
+        proxy = self._proxies.get(name)
+        if proxy is None:
+            offered = tuple(await self.get_interfaces(name))
+            proxy = proxy_class(offered)(self, name)
+            self._proxies[name] = proxy
+        missing = [i.__name__ for i in interfaces if not isinstance(proxy, i)]
+        if missing:
+            offered_names = ", ".join(await self.get_interface_names(name)) or "none"
+            raise InterfaceError(
+                f"module '{name}' does not offer {', '.join(missing)} (offers: {offered_names})"
+            )
+        return proxy
+
+    # --- calls ---------------------------------------------------------------------------------
+
+    async def execute(self, client: str, method: str, args: list[Any]) -> Any:
+        """Call ``method`` of ``client`` with wire ``args`` and return the wire result.
+
+        Raises the remote exception's class (or RemoteError), or RemoteTimeoutError.
+        """
+        loop = asyncio.get_running_loop()
+        call = PendingCall(client)
+        try:
+            async with asyncio.timeout(self._clock.to_wall(DEFAULT_TIMEOUT) + self._rpc_grace) as deadline:
+
+                def extend(timeout: float) -> None:
+                    deadline.reschedule(loop.time() + self._clock.to_wall(timeout) + self._rpc_grace)
+
+                call._on_announce = extend
+                await self._send_call(client, method, args, call)
+                return await call.future
+        except TimeoutError:
+            waited = call.timeout if call.timeout is not None else DEFAULT_TIMEOUT
+            error = RemoteTimeoutError(f"{method}() did not finish within {waited:g} s", module=client)
+            self._report_error(error)
+            raise error from None
+        except NightcrewError as exc:
+            self._report_error(exc)
+            raise
+
+    async def _serve_call(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
+        """Run an incoming call on the attached object (for transports)."""
+        if self._server is None:
+            raise ModuleError(f"{self.name} serves no methods")
+        token = current_module.set(self.name)  # the callee's logs are the callee's
+        try:
+            return await self._server.handle(method, args, announce)
+        finally:
+            current_module.reset(token)
+
+    def _report_error(self, exc: BaseException) -> None:
+        if self.error_hook is not None:
+            self.error_hook(exc)
+
+    # --- events --------------------------------------------------------------------------------
+
+    async def register_event(self, event_type: type[E], handler: EventHandler[E] | None = None) -> None:
+        """Receive events of ``event_type`` (from other modules) with ``handler(event, sender)``.
+
+        Without a handler, only announces interest (so senders know someone listens).
+        """
+        name = event_type.event_name()
+        first = name not in self._handlers
+        handlers = self._handlers.setdefault(name, [])
+        if handler is not None:
+            handlers.append((event_type, handler))
+        if first:
+            await self._subscribe_events(name)
+
+    async def send_event(self, event: Event) -> None:
+        """Send ``event`` to every other module that registered for its type."""
+        await self._publish_event(event.event_name(), event.to_dict())
+
+    def _deliver_event(self, name: str, payload: dict[str, Any], sender: str) -> None:
+        """Hand an incoming event to this module's handlers, each in its own task."""
+        handlers = self._handlers.get(name)
+        if not handlers:
+            return
+        event_type = event_by_name(name) or handlers[0][0]
+        try:
+            event = event_type.from_dict(payload)
+        except (NightcrewError, TypeError) as exc:
+            log.warning("dropped malformed %s from %s: %s", name, sender, exc)
+            return
+        for _, handler in handlers:
+            self._spawn(self._run_handler(handler, event, sender), f"{name} handler")
+
+    async def _run_handler(self, handler: EventHandler[Any], event: Event, sender: str) -> None:
+        try:
+            await handler(event, sender)
+        except asyncio.CancelledError:
+            raise
+        except Exception as exc:
+            log.exception(
+                "handler %s for %s failed", getattr(handler, "__name__", handler), event.event_name()
+            )
+            self._report_error(exc)
+
+    def _spawn(self, coro: Coroutine[Any, Any, Any], name: str) -> None:
+        task = asyncio.get_running_loop().create_task(coro, name=name, context=module_context(self.name))
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    # --- presence ------------------------------------------------------------------------------
+
+    def _client_online(self, client: str) -> None:
+        """A module came online (for transports); handlers of ModuleOpenedEvent hear of it."""
+        from nightcrew.events import ModuleOpenedEvent
+
+        self._forget(client)
+        self._deliver_event(ModuleOpenedEvent.event_name(), ModuleOpenedEvent().to_dict(), client)
+
+    def _client_offline(self, client: str) -> None:
+        """A module went offline (for transports); handlers of ModuleClosedEvent hear of it."""
+        from nightcrew.events import ModuleClosedEvent
+
+        self._forget(client)
+        self._deliver_event(ModuleClosedEvent.event_name(), ModuleClosedEvent().to_dict(), client)
+
+    def _forget(self, client: str) -> None:
+        # Its interfaces may differ when it comes back; existing proxy objects stay usable.
+        self._interface_names.pop(client, None)
+        self._proxies.pop(client, None)

@@ -1,0 +1,49 @@
+"""Small modules for trying nightcrew out and for tests."""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from nightcrew.errors import ConfigError, InvalidArgumentError
+from nightcrew.modules.module import Module
+
+__all__ = ["StandAlone"]
+
+log = logging.getLogger(__name__)
+
+
+class StandAlone(Module):
+    """Logs a message at a fixed interval — the "hello world" of the paper.
+
+    Args:
+        message: What to log.
+        interval: Seconds between two messages (clock seconds), > 0.
+    """
+
+    def __init__(self, message: str = "Hello world", interval: float = 10.0, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        if not interval > 0:
+            raise ConfigError(f"interval must be > 0 seconds, got {interval}", key="interval")
+        self._message = message
+        self._interval = float(interval)
+        self.add_background_task(self._message_loop)
+
+    async def _message_loop(self) -> None:
+        while True:
+            log.info(self._message)
+            await self.clock.sleep(self._interval)
+
+    def _get_config_message(self) -> str:
+        return self._message
+
+    def _set_config_message(self, message: str) -> None:
+        self._message = message
+
+    def _get_config_interval(self) -> float:
+        return self._interval
+
+    def _set_config_interval(self, interval: float) -> None:
+        if not interval > 0:
+            raise InvalidArgumentError(f"interval must be > 0 seconds, got {interval}")
+        self._interval = float(interval)
