@@ -1,1 +1,87 @@
-"""nightcrew.config."""
+"""Configuration: YAML files that describe modules, validated before anything is built.
+
+A file describes one object: ``class`` is a dotted import path, every other key goes to the
+constructor. Values may be descriptions of further objects (mappings with ``class``), included
+files (``key: !include other.yaml``, ``<<: !include base.yaml``) and environment placeholders
+(``${NAME}``, ``${NAME:-default}``)::
+
+    class: nightcrew.modules.test.StandAlone
+    <<: !include common.yaml
+    message: Hello
+    interval: ${INTERVAL:-10}
+
+Typical use::
+
+    config = load_config("standalone.yaml")   # ConfigNode: a dict that knows file and line of keys
+    validate_config(config)                   # raises ConfigError naming file, line and key
+    module = build_object(config)             # validates, then builds recursively
+
+Every problem is reported as one :class:`~nightcrew.errors.ConfigError` whose text reads
+``file:line: key 'comm.jid': message``.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from typing import Any
+
+from nightcrew.config._builder import build_object, to_plain
+from nightcrew.config._discovery import config_files
+from nightcrew.config._loader import load_file
+from nightcrew.config._nodes import ConfigList, ConfigNode, Location
+from nightcrew.config._validator import iter_problems
+from nightcrew.errors import ConfigError
+
+__all__ = [
+    "ConfigList",
+    "ConfigNode",
+    "Location",
+    "build_object",
+    "config_files",
+    "load_and_build",
+    "load_config",
+    "to_plain",
+    "validate_config",
+]
+
+
+def load_config(path: str | os.PathLike[str], *, environ: Mapping[str, str] | None = None) -> ConfigNode:
+    """Read the object description in the YAML file ``path``, resolving includes and placeholders.
+
+    Args:
+        path: The file.
+        environ: Values for ``${NAME}`` placeholders; ``os.environ`` by default.
+
+    Raises:
+        ConfigError: The file cannot be read or parsed, or is not a mapping.
+    """
+    loaded = load_file(path, environ)
+    if not isinstance(loaded.value, ConfigNode):
+        got = "an empty file" if loaded.value is None else f"a {type(loaded.value).__name__}"
+        raise ConfigError(
+            f"expected a mapping with a 'class' key at the top level, got {got}", file=os.fspath(path), line=1
+        )
+    return loaded.value
+
+
+def validate_config(config: Mapping[str, Any], expected: type | None = None) -> None:
+    """Check the object description ``config`` against its class's constructor; build nothing.
+
+    Args:
+        config: A mapping with ``class`` and the constructor's keys.
+        expected: If given, the described class must derive from this one.
+
+    Raises:
+        ConfigError: The first problem found (unknown class, unknown or missing key, wrong type).
+    """
+    problem = next(iter_problems(config, expected), None)
+    if problem is not None:
+        raise problem
+
+
+def load_and_build(
+    path: str | os.PathLike[str], expected: type | None = None, *, environ: Mapping[str, str] | None = None
+) -> Any:
+    """:func:`load_config`, then :func:`build_object`."""
+    return build_object(load_config(path, environ=environ), expected)
