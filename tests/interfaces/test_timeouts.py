@@ -45,17 +45,17 @@ METHODS = declared_methods()
     ids=lambda v: getattr(v, "__qualname__", str(v)),
 )
 def test_timeout(func: Callable[..., Any], seconds: float) -> None:
-    assert method_timeout(func) == seconds
+    assert method_timeout(func, {}) == seconds
 
 
 def test_composed_interface_keeps_inherited_timeouts() -> None:
     methods = interface_methods(interfaces_of(ITelescope))
-    assert method_timeout(methods["init"]) == 300
-    assert method_timeout(methods["move_altaz"]) == 300
+    assert method_timeout(methods["init"], {}) == 300
+    assert method_timeout(methods["move_altaz"], {}) == 300
 
 
 @pytest.mark.parametrize("item", METHODS, ids=method_id)
 def test_declared_timeouts_are_long(item: tuple[type[Interface], str, Callable[..., Any]]) -> None:
     # Declaring a timeout at or below the default would only add noise to the interface.
-    seconds = method_timeout(item[2])
+    seconds = method_timeout(item[2], {})
     assert seconds == DEFAULT_TIMEOUT or seconds > DEFAULT_TIMEOUT * 2
