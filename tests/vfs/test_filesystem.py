@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -138,3 +139,21 @@ async def test_csv_with_fieldnames(vfs: VirtualFileSystem) -> None:
 def test_importing_the_vfs_does_not_import_astropy() -> None:
     code = "import sys, nightcrew.vfs; sys.exit('astropy' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], check=False).returncode == 0
+
+
+async def test_built_from_the_paper_config(tmp_path: Path) -> None:
+    from nightcrew.config import build_object, load_config
+
+    images = tmp_path / "images"
+    config_file = tmp_path / "vfs.yaml"
+    config_file.write_text(
+        "class: nightcrew.vfs.VirtualFileSystem\n"
+        "roots:\n"
+        f"  cache: {{class: nightcrew.vfs.LocalFile, root: {images}}}\n"
+        "  shared: {class: nightcrew.vfs.MemoryFile, name: exchange}\n"
+    )
+    vfs = build_object(load_config(config_file))
+    assert isinstance(vfs, VirtualFileSystem)
+    assert not images.exists()  # building did no I/O
+    await vfs.write_bytes("/cache/a.fits", b"x")
+    assert (images / "a.fits").read_bytes() == b"x"

@@ -125,7 +125,9 @@ class DiskRoot(FileRoot):
         return await self._in_thread(path, partial(self._blocking_exists, path))
 
     def _blocking_exists(self, path: str) -> bool:
-        return self._blocking_resolve(path)[1].exists()
+        _, resolved = self._blocking_resolve(path)
+        # With mkdir the root appears with the first write; until then it exists, empty.
+        return resolved.exists() or (self.mkdir and resolved == self._blocking_root_dir())
 
     async def listdir(self, path: str) -> list[str]:
         return await self._in_thread(path, partial(self._blocking_listdir, path))
