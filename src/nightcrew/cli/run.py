@@ -1,0 +1,71 @@
+"""``nightcrew run FILE.yaml [FILE.yaml ...]``: run modules in this process until stopped.
+
+Every file is validated before any module is built, and every module is built before any is
+opened, so a bad configuration stops the start with one message and nothing half-started.
+A module without a ``comm`` is named after its file (``camera.yaml`` → ``camera``) and reaches
+the other modules of this process. SIGINT (Ctrl-C) and SIGTERM close all modules cleanly.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import logging
+import signal
+from pathlib import Path
+from typing import Any
+
+from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.modules import Module
+
+__all__ = ["add_parser", "build_modules", "run_modules"]
+
+log = logging.getLogger(__name__)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    parser: argparse.ArgumentParser = subparsers.add_parser(
+        "run", help="run modules described by YAML files", description=__doc__.split("\n\n", 1)[1]
+    )
+    parser.add_argument("configs", nargs="+", metavar="FILE.yaml", help="module configuration files")
+    parser.set_defaults(func=_run_command)
+    return parser
+
+
+def build_modules(paths: list[str]) -> list[Module]:
+    """Load and validate all files, then build their modules (nothing is opened)."""
+    configs = [load_config(path) for path in paths]
+    for config in configs:
+        validate_config(config, Module)
+    modules = []
+    for path, config in zip(paths, configs, strict=True):
+        if "name" not in config and "comm" not in config:
+            config["name"] = Path(path).stem
+        modules.append(build_object(config, Module))
+    return modules
+
+
+async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) -> None:
+    """Open ``modules``, wait until ``stop`` is set (or a signal arrives), then close them."""
+    stop = stop or asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        loop.add_signal_handler(sig, stop.set)
+    opened: list[Module] = []
+    try:
+        for module in modules:
+            await module.open()
+            opened.append(module)
+        await stop.wait()
+        log.info("stopping")
+    finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.remove_signal_handler(sig)
+        for module in reversed(opened):
+            await module.close()
+
+
+def _run_command(args: argparse.Namespace) -> int:
+    modules = build_modules(args.configs)
+    asyncio.run(run_modules(modules))
+    return 0

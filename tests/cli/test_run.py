@@ -1,0 +1,88 @@
+"""``nightcrew run``: modules from YAML in one process, clean stop on signals."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from nightcrew.cli.main import main
+from nightcrew.cli.run import build_modules, run_modules
+from nightcrew.errors import InvalidArgumentError
+from nightcrew.events import TestEvent
+
+from ..comm.sample import Calculator, Listener
+from .modules import Asker
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _write(path: Path, text: str) -> str:
+    path.write_text(text)
+    return str(path)
+
+
+async def test_two_modules_from_yaml_call_each_other_and_exchange_events(tmp_path: Path) -> None:
+    files = [
+        _write(tmp_path / "calc.yaml", "class: tests.comm.sample.Calculator\n"),
+        _write(tmp_path / "listener.yaml", "class: tests.comm.sample.Listener\n"),
+        _write(tmp_path / "asker.yaml", "class: tests.cli.modules.Asker\ncalculator: calc\n"),
+    ]
+    calc, listener, asker = build_modules(files)
+    assert isinstance(calc, Calculator) and isinstance(listener, Listener) and isinstance(asker, Asker)
+    assert (calc.name, asker.name) == ("calc", "asker")  # named after their files
+    stop = asyncio.Event()
+    runner = asyncio.create_task(run_modules([calc, listener, asker], stop))
+    await asyncio.wait_for(asker.done.wait(), 5)
+    await asyncio.wait_for(listener.arrived.wait(), 5)
+    stop.set()
+    await runner
+    assert asker.answers[0] == 42.0
+    error = asker.answers[1]
+    assert isinstance(error, InvalidArgumentError) and error.module == "calc"
+    assert listener.received == [(TestEvent(message="asked"), "asker")]
+    assert {m.state.value for m in (calc, listener, asker)} == {"closed"}
+
+
+def test_bad_config_is_one_line_with_exit_code_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = _write(tmp_path / "bad.yaml", "class: nightcrew.modules.test.StandAlone\ninterval: ten\n")
+    assert main(["run", bad]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith(f"nightcrew: error: {bad}:2: key 'interval':")
+    assert "expected" in err[0] and "ten" in err[0]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_standalone_logs_at_its_interval_and_stops_cleanly(tmp_path: Path, sig: signal.Signals) -> None:
+    config = _write(
+        tmp_path / "hello.yaml",
+        "class: nightcrew.modules.test.StandAlone\nmessage: Hello world\ninterval: 0.2\n",
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "nightcrew", "run", config],
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(REPO)},
+    )
+    time.sleep(1.5)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=10)
+    assert proc.returncode == 0, err
+    stamps = [line.split(" INFO")[0] for line in err.splitlines() if line.endswith("Hello world")]
+    assert 4 <= len(stamps) <= 9, err  # ~1.5 s at 0.2 s intervals
+    assert "hello is ready" in err and "stopping" in err
+    assert "Traceback" not in err
+
+
+def test_version() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "nightcrew", "--version"], capture_output=True, text=True, check=True
+    )
+    assert out.stdout.startswith("nightcrew ")
