@@ -20,6 +20,7 @@ from nightcrew.errors import ConfigError, InterfaceError
 from nightcrew.interfaces.base import Interface
 from nightcrew.log import module_context
 from nightcrew.site import Site
+from nightcrew.vfs import VirtualFileSystem
 
 __all__ = ["Object"]
 
@@ -42,6 +43,8 @@ class Object:
     Args:
         comm: The comm to use; a module makes its own when None (see Module).
         clock: Source of time; the wall clock when None.
+        vfs: The virtual file system (``{class: nightcrew.vfs.VirtualFileSystem, roots: {...}}``);
+            an empty one when None.
         site: Where the observatory stands (``{latitude: .., longitude: .., elevation: ..}``).
         timezone: The observatory's time zone name, e.g. ``Europe/Berlin`` (for display).
     """
@@ -51,11 +54,13 @@ class Object:
         *,
         comm: Comm | dict[str, Any] | None = None,
         clock: Clock | dict[str, Any] | None = None,
+        vfs: VirtualFileSystem | dict[str, Any] | None = None,
         site: Site | dict[str, Any] | None = None,
         timezone: str = "UTC",
     ) -> None:
         self._comm: Comm | None = _built(comm, Comm, "comm")
         self._clock: Clock | None = _built(clock, Clock, "clock")
+        self._vfs: VirtualFileSystem | None = _built(vfs, VirtualFileSystem, "vfs")
         self._site: Site | None = Site(**site) if isinstance(site, dict) else site
         self.timezone = timezone
         self._children: list[Object] = []
@@ -77,6 +82,12 @@ class Object:
         return self._clock or _WALL_CLOCK
 
     @property
+    def vfs(self) -> VirtualFileSystem:
+        if self._vfs is None:
+            self._vfs = VirtualFileSystem()
+        return self._vfs
+
+    @property
     def site(self) -> Site | None:
         return self._site
 
@@ -90,6 +101,7 @@ class Object:
         if isinstance(child, Object):
             child._comm = child._comm or self._comm
             child._clock = child._clock or self._clock
+            child._vfs = child._vfs or self._vfs
             child._site = child._site or self._site
             self._children.append(child)
         return child

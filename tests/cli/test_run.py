@@ -16,6 +16,7 @@ from nightcrew.cli.main import main
 from nightcrew.cli.run import build_modules, run_modules
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.events import TestEvent
+from nightcrew.modules.test import StandAlone
 
 from ..comm.sample import Calculator, Listener
 from .modules import Asker
@@ -86,3 +87,22 @@ def test_version() -> None:
         [sys.executable, "-m", "nightcrew", "--version"], capture_output=True, text=True, check=True
     )
     assert out.stdout.startswith("nightcrew ")
+
+
+def test_module_context_reaches_children_from_yaml(tmp_path: Path) -> None:
+    config = _write(
+        tmp_path / "hello.yaml",
+        """class: nightcrew.modules.test.StandAlone
+clock: {class: nightcrew.clock.AcceleratedClock, start: "2026-11-22T18:00:00", speed: 60}
+vfs:
+  class: nightcrew.vfs.VirtualFileSystem
+  roots:
+    cache: {class: nightcrew.vfs.MemoryFile}
+site: {latitude: 51.56, longitude: 9.94, elevation: 201}
+""",
+    )
+    (module,) = build_modules([config])
+    child = module.add_child(StandAlone(name="child"))
+    assert child.clock is module.clock and module.clock.speed == 60
+    assert child.vfs is module.vfs and list(module.vfs.roots) == ["cache"]
+    assert child.site == module.site and module.site is not None and module.site.latitude == 51.56
