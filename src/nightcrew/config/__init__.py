@@ -28,6 +28,7 @@ from typing import Any
 
 from nightcrew.config._builder import build_object, to_plain
 from nightcrew.config._discovery import config_files
+from nightcrew.config._hints import describe_value
 from nightcrew.config._loader import load_file
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location
 from nightcrew.config._validator import iter_problems
@@ -58,7 +59,7 @@ def load_config(path: str | os.PathLike[str], *, environ: Mapping[str, str] | No
     """
     loaded = load_file(path, environ)
     if not isinstance(loaded.value, ConfigNode):
-        got = "an empty file" if loaded.value is None else f"a {type(loaded.value).__name__}"
+        got = "an empty file" if loaded.value is None else describe_value(loaded.value)
         raise ConfigError(
             f"expected a mapping with a 'class' key at the top level, got {got}", file=os.fspath(path), line=1
         )

@@ -84,6 +84,8 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
 
 def _build_value(value: Any, hint: Any, key: str, location: Location | None) -> Any:
     hint = unwrap(hint)
+    if hint is Any or hint is object:
+        return to_plain(value)
     members = union_members(hint)
     if members is not None:
         member = preferred_member(value, members)

@@ -61,7 +61,10 @@ def union_members(hint: Any) -> tuple[Any, ...] | None:
 
 def is_object_hint(hint: Any) -> bool:
     """Whether values for ``hint`` are objects built from a description (a mapping with ``class``)."""
-    return isinstance(hint, type) and hint not in _DATA_TYPES and not issubclass(hint, Enum)
+    # typing.Any is a class since Python 3.11, but stands for "anything", not an object type.
+    return (
+        isinstance(hint, type) and hint is not Any and hint not in _DATA_TYPES and not issubclass(hint, Enum)
+    )
 
 
 def is_class_description(value: object) -> bool:

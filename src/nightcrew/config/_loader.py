@@ -29,6 +29,7 @@ import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from nightcrew.config._env import EnvSubstitutionError, substitute_env
+from nightcrew.config._hints import describe_value
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location, join_key
 from nightcrew.errors import ConfigError
 
@@ -168,8 +169,7 @@ class _FileReader:
             value = self._convert(source_node, file, stack, key)
             if not isinstance(value, ConfigNode):
                 raise ConfigError(
-                    "'<<' merges a mapping (or an !include of one), got "
-                    + ("nothing" if value is None else type(value).__name__),
+                    f"'<<' merges a mapping (or an !include of one), got {describe_value(value)}",
                     file=file,
                     line=source_node.start_mark.line + 1,
                     key=join_key(key, "<<"),
