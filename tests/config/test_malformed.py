@@ -41,6 +41,22 @@ CASES = [
         "cannot import 'tests.config.nope': No module named 'tests.config.nope'",
     ),
     Case(
+        "module importing a missing dependency",
+        main("class: tests.config.broken_module.Unreachable\n"),
+        "main.yaml",
+        1,
+        "class",
+        "cannot import 'tests.config.broken_module': No module named 'nightcrew_no_such_dependency'",
+    ),
+    Case(
+        "hinted key still checked when another hint cannot be evaluated",
+        main("class: tests.config.hidden_hints.HalfHinted\nwhere: anything\ncount: many\n"),
+        "main.yaml",
+        3,
+        "count",
+        "expected int, got str 'many'",
+    ),
+    Case(
         "class missing in module",
         main(f"class: {S}.Thingy\nvalue: 1\n"),
         "main.yaml",
@@ -396,3 +412,11 @@ def test_missing_top_level_file() -> None:
     with pytest.raises(ConfigError, match="file not found") as info:
         load_config("/nonexistent/nightcrew.yaml")
     assert info.value.file == "/nonexistent/nightcrew.yaml"
+
+
+def test_scalar_for_an_object_parameter() -> None:
+    config = {"class": f"{S}.Kitchen", "things": [5]}
+    message = re.escape("expected a Thing description (a mapping with 'class'), got int 5")
+    with pytest.raises(ConfigError, match=message) as info:
+        validate_config(config)
+    assert info.value.key == "things[0]"

@@ -230,3 +230,26 @@ def test_to_plain_strips_locations(write: WriteFiles) -> None:
     plain = to_plain(config)
     assert plain == {"class": "x.Y", "a": {"b": [1, {"c": 2}]}}
     assert type(plain["a"]) is dict and type(plain["a"]["b"]) is list
+
+
+def test_unevaluable_hint_accepts_anything(write: WriteFiles) -> None:
+    path = write({"h.yaml": "class: tests.config.hidden_hints.HalfHinted\nwhere: [1, 2]\ncount: 3\n"})
+    built = load_and_build(path)
+    assert (built.where, built.count) == ([1, 2], 3)
+
+
+def test_public_api() -> None:
+    import nightcrew.config
+
+    assert sorted(nightcrew.config.__all__) == [
+        "ConfigList",
+        "ConfigNode",
+        "Location",
+        "build_object",
+        "config_files",
+        "load_and_build",
+        "load_config",
+        "to_plain",
+        "validate_config",
+    ]
+    assert all(hasattr(nightcrew.config, name) for name in nightcrew.config.__all__)

@@ -235,7 +235,12 @@ def _check_class(value: object, hint: type, key: str, location: Location | None)
         return
     else:
         ok = _is_instance(value, hint)
-    if not ok:
+    if ok:
+        return
+    if is_object_hint(hint):
+        wanted = f"a {hint.__name__} description (a mapping with 'class')"
+        yield _problem(f"expected {wanted}, got {describe_value(value)}", location, key)
+    else:
         yield _mismatch(hint, value, key, location)
 
 
