@@ -1,11 +1,11 @@
-# The two README commands: `make sim` (the simulated night) and `make test` (set up + whole suite).
+# The README's commands: `make example` (run a first module) and `make test` (set up + whole suite).
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 # Debian packages of the real components the tests use (XMPP servers, plate solver).
 SYSTEM_PACKAGES :=
 
-.PHONY: setup system-deps lint test sim bench clean
+.PHONY: setup system-deps lint test example bench clean
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -26,6 +26,9 @@ lint: setup
 
 test: setup system-deps lint
 	$(PY) -m pytest -q
+
+example: setup
+	$(VENV)/bin/nightcrew run examples/standalone.yaml
 
 bench: setup
 	$(PY) bench/local_rpc.py
