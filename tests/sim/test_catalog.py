@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from astropy.time import Time
+from astropy.time import Time  # type: ignore[import-untyped]
 
 from nightcrew.sim.catalog import StarCatalog, epoch_jyear
 from nightcrew.sim.catalog_data import MAS_PER_RAD, load_reference_stars, propagate, unit_vectors
@@ -62,7 +62,9 @@ def test_query_is_a_cone_sorted_by_magnitude(catalog: StarCatalog) -> None:
     sep = np.degrees(
         np.arccos(
             np.sin(np.radians(stars["dec"])) * np.sin(np.radians(-5.4))
-            + np.cos(np.radians(stars["dec"])) * np.cos(np.radians(-5.4)) * np.cos(np.radians(stars["ra"] - 83.8))
+            + np.cos(np.radians(stars["dec"]))
+            * np.cos(np.radians(-5.4))
+            * np.cos(np.radians(stars["ra"] - 83.8))
         )
     )
     assert sep.max() <= 0.4
@@ -76,7 +78,13 @@ def test_query_across_ra_zero_and_pole_finds_the_same_stars_as_a_brute_force_sea
     for ra, dec in [(0.1, 30.0), (45.0, 89.5), (300.0, -88.0)]:
         stars = catalog.query(ra, dec, 2.0)
         wide = catalog.query(ra, dec, 6.0)
-        centre = np.array([np.cos(np.radians(dec)) * np.cos(np.radians(ra)), np.cos(np.radians(dec)) * np.sin(np.radians(ra)), np.sin(np.radians(dec))])
+        centre = np.array(
+            [
+                np.cos(np.radians(dec)) * np.cos(np.radians(ra)),
+                np.cos(np.radians(dec)) * np.sin(np.radians(ra)),
+                np.sin(np.radians(dec)),
+            ]
+        )
         vec = np.stack(
             [
                 np.cos(np.radians(wide["dec"])) * np.cos(np.radians(wide["ra"])),
@@ -134,7 +142,7 @@ def test_sky_grid_cells_cover_the_sky_with_similar_areas() -> None:
 )
 def test_invalid_catalog_options_are_refused(kwargs: dict[str, float], message: str) -> None:
     with pytest.raises(ValueError, match=message):
-        StarCatalog(**kwargs)
+        StarCatalog(**kwargs)  # type: ignore[arg-type]
 
 
 def test_invalid_query_is_refused(catalog: StarCatalog) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from astropy.wcs import WCS
+from astropy.wcs import WCS  # type: ignore[import-untyped]
 
 from nightcrew.sim.projection import FrameGeometry, Pointing, Window, pixel_to_sky, sky_to_pixel, wcs_header
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
-from astropy.time import Time
+from astropy.time import Time  # type: ignore[import-untyped]
 
 from nightcrew.sim.catalog_data import (
     CATALOG_EPOCH_JYEAR,

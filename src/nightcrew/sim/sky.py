@@ -33,7 +33,7 @@ def airmass_from_altitude(altitude_deg: float) -> float:
     """Airmass at an altitude (degrees) by Kasten & Young (1989); finite down to the horizon."""
     if not 0.0 <= altitude_deg <= 90.0:
         raise ValueError(f"altitude_deg must be within [0, 90], got {altitude_deg}")
-    return 1.0 / (math.sin(math.radians(altitude_deg)) + 0.50572 * (altitude_deg + 6.07995) ** -1.6364)
+    return 1.0 / float(math.sin(math.radians(altitude_deg)) + 0.50572 * (altitude_deg + 6.07995) ** -1.6364)
 
 
 def star_electrons_per_second(
@@ -103,4 +103,4 @@ def sky_electrons_per_pixel_per_second(
     sky_mag_arcsec2: float, *, zero_point_mag: float, pixel_area_arcsec2: float, throughput: float = 1.0
 ) -> float:
     """Detected sky e-/s in one pixel of ``pixel_area_arcsec2`` for a sky of the given brightness."""
-    return throughput * pixel_area_arcsec2 * 10.0 ** (-0.4 * (sky_mag_arcsec2 - zero_point_mag))
+    return float(throughput * pixel_area_arcsec2 * 10.0 ** (-0.4 * (sky_mag_arcsec2 - zero_point_mag)))
