@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar, Self
 
-__all__ = ["Event", "event_by_name"]
+__all__ = ["Event", "event_by_name", "event_names"]
 
 _EVENTS: dict[str, type[Event]] = {}
 
@@ -45,6 +45,11 @@ class Event:
         from nightcrew.comm.codec import decode_fields
 
         return cls(**decode_fields(cls, data))
+
+
+def event_names() -> list[str]:
+    """Names of all event classes this process knows, sorted."""
+    return sorted(_EVENTS)
 
 
 def event_by_name(name: str) -> type[Event] | None:

@@ -1,0 +1,157 @@
+"""What the operator commands (``modules``, ``call``, ``events``, ``shell``) share.
+
+The operator joins the network as a module of its own (with no interfaces beyond IModule/IConfig),
+built from a comm description file given with ``--comm`` (or ``$NIGHTCREW_COMM``). The functions
+here take that module's comm, so they are the same for any transport.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import json
+import os
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from dataclasses import dataclass
+from datetime import datetime
+from typing import Any
+
+import yaml
+
+from nightcrew.comm.base import Comm
+from nightcrew.comm.codec import encode
+from nightcrew.config import build_object, load_config
+from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
+from nightcrew.interfaces import IModule
+from nightcrew.interfaces.base import interface_methods
+from nightcrew.modules import Module
+
+__all__ = [
+    "ModuleInfo",
+    "add_comm_argument",
+    "call_method",
+    "format_value",
+    "list_modules",
+    "method_names",
+    "operator_module",
+    "parse_cli_arguments",
+    "parse_shell_call",
+]
+
+
+def add_comm_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--comm",
+        metavar="FILE.yaml",
+        default=os.environ.get("NIGHTCREW_COMM"),
+        help="comm description with the operator's own account (default: $NIGHTCREW_COMM)",
+    )
+
+
+def load_comm(path: str | None) -> Comm:
+    """The comm described in ``path`` (a file with ``class:`` and the comm's keys)."""
+    if not path:
+        raise ConfigError("no comm given: use --comm FILE.yaml or set NIGHTCREW_COMM")
+    comm = build_object(load_config(path), Comm)
+    assert isinstance(comm, Comm)
+    return comm
+
+
+@asynccontextmanager
+async def operator_module(comm: Comm) -> AsyncIterator[Module]:
+    """An opened module on ``comm`` for the operator; closed on exit."""
+    module = Module(comm=comm)
+    await module.open()
+    try:
+        yield module
+    finally:
+        await module.close()
+
+
+@dataclass(frozen=True)
+class ModuleInfo:
+    """One online module as ``nightcrew modules`` shows it."""
+
+    name: str
+    state: str
+    label: str
+    interfaces: list[str]
+
+
+async def list_modules(comm: Comm) -> list[ModuleInfo]:
+    """Every online module with its state, label and interfaces (state '?' if it does not answer)."""
+    infos = []
+    for name in sorted(comm.clients):
+        try:
+            interfaces = await comm.get_interface_names(name)
+        except NightcrewError:
+            continue  # went offline meanwhile
+        state, label = "?", name
+        if IModule.__name__ in interfaces:
+            try:
+                module = await comm.proxy(name, IModule)
+                state, label = str(await module.get_state()), await module.get_label()
+            except NightcrewError:
+                pass
+        infos.append(ModuleInfo(name, state, label, interfaces))
+    return infos
+
+
+async def method_names(comm: Comm, module: str) -> list[str]:
+    """Remotely callable methods of ``module`` (of the interfaces this process knows)."""
+    return sorted(interface_methods(await comm.get_interfaces(module)))
+
+
+async def call_method(comm: Comm, target: str, args: list[Any]) -> Any:
+    """Call ``target`` (``module.method``) with ``args``; return the wire result."""
+    module, dot, method = target.partition(".")
+    if not dot or not module or not method:
+        raise InvalidArgumentError(f"'{target}' is not MODULE.METHOD")
+    return await comm.execute(module, method, [encode(a, f"argument {i + 1}") for i, a in enumerate(args)])
+
+
+def parse_cli_arguments(texts: list[str]) -> list[Any]:
+    """Command-line arguments as YAML scalars or flow lists/maps (``3``, ``1.5``, ``true``, ``[1, 2]``)."""
+    values = []
+    for text in texts:
+        try:
+            values.append(yaml.safe_load(text) if text else "")
+        except yaml.YAMLError as exc:
+            raise InvalidArgumentError(f"cannot read argument {text!r}: {exc}") from exc
+    return values
+
+
+def parse_shell_call(line: str) -> tuple[str, list[Any]]:
+    """``camera.set_filter("R")`` → (``camera.set_filter``, ``["R"]``); arguments are Python literals."""
+    try:
+        tree = ast.parse(line.strip(), mode="eval")
+    except SyntaxError as exc:
+        raise InvalidArgumentError(f"not a call: {line.strip()!r} ({exc.msg})") from exc
+    call = tree.body
+    if (
+        not isinstance(call, ast.Call)
+        or not isinstance(call.func, ast.Attribute)
+        or not isinstance(call.func.value, ast.Name)
+    ):
+        raise InvalidArgumentError(f"expected module.method(arguments), got {line.strip()!r}")
+    if call.keywords:
+        raise InvalidArgumentError("keyword arguments are not supported; give all arguments in order")
+    try:
+        args = [ast.literal_eval(arg) for arg in call.args]
+    except ValueError as exc:
+        raise InvalidArgumentError(f"arguments must be literals (numbers, strings, lists …): {exc}") from exc
+    return f"{call.func.value.id}.{call.func.attr}", args
+
+
+def format_value(value: Any) -> str:
+    """A wire value as compact JSON (dates ISO, bytes as their length)."""
+
+    def default(obj: object) -> str:
+        if isinstance(obj, datetime):
+            return obj.isoformat()
+        if isinstance(obj, bytes):
+            return f"<{len(obj)} bytes>"
+        raise TypeError(type(obj).__name__)
+
+    return json.dumps(value, default=default, ensure_ascii=False)
