@@ -1,0 +1,231 @@
+"""What cameras and spectrographs share: one exposure at a time, status, abort, headers, FITS files.
+
+:meth:`ExposingModule._take_exposure` runs the whole sequence of one exposure:
+
+1. refuse at once with DeviceBusyError if an exposure runs (before any await, so two calls in the
+   same instant cannot both start);
+2. ask every IFitsHeaderBefore peer for cards *concurrently* with the exposure;
+3. expose through the driver's hook (abortable: the caller gets AbortedError);
+4. ask IFitsHeaderAfter peers, await both header rounds (each peer bounded by ``header_timeout``);
+5. merge cards (static config < peers < driver < the camera's own), write the FITS file through the
+   VFS in one atomic write and announce it.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+from collections.abc import Awaitable, Callable, Mapping
+from dataclasses import dataclass, field
+from datetime import datetime
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from nightcrew.errors import (
+    AbortedError,
+    ConfigError,
+    DeviceBusyError,
+    GrabImageError,
+    InvalidArgumentError,
+    NightcrewError,
+)
+from nightcrew.events import ExposureStatusChangedEvent
+from nightcrew.interfaces import ExposureStatus, FitsCard, FitsValue, IAbortable, IExposure, ModuleState
+from nightcrew.modules.camera.filenames import check_filename_pattern, format_filename
+from nightcrew.modules.camera.fitsfile import build_hdu_list
+from nightcrew.modules.camera.headers import clean_cards, collect_headers
+from nightcrew.modules.module import Module
+
+__all__ = ["ExposingModule", "Frame", "check_exposure_time"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Frame:
+    """What a driver's exposure hook returns: the data and the driver's own header cards."""
+
+    data: npt.NDArray[Any]
+    header: dict[str, FitsCard] = field(default_factory=dict)
+
+
+class ExposingModule(Module, IAbortable, IExposure):
+    """Base of modules that expose and write FITS files.
+
+    Args:
+        filename_pattern: VFS path of new files, with FITS keywords as placeholders.
+        fits_headers: Fixed cards for every file, e.g. ``{INSTRUME: SimCam, OBSERVER: robot}``.
+        header_timeout: Clock seconds each header provider may take before it is left out.
+        **kwargs: Module options.
+    """
+
+    default_pattern = "/cache/{DATE-OBS}-{IMAGETYP}.fits"
+
+    def __init__(
+        self,
+        *,
+        filename_pattern: str | None = None,
+        fits_headers: dict[str, FitsValue] | None = None,
+        header_timeout: float = 5.0,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        self._filename_pattern = filename_pattern or self.default_pattern
+        check_filename_pattern(self._filename_pattern)
+        if not header_timeout > 0:
+            raise ConfigError(f"must be > 0 seconds, got {header_timeout}", key="header_timeout")
+        static = {key: (value, "") for key, value in (fits_headers or {}).items()}
+        self._static_cards = clean_cards(static, "fits_headers")
+        if len(self._static_cards) != len(static):
+            bad = sorted(set(static) - set(self._static_cards))
+            raise ConfigError(f"invalid FITS keywords or values: {', '.join(bad)}", key="fits_headers")
+        self._header_timeout = float(header_timeout)
+        self._exposure_status = ExposureStatus.IDLE
+        self._busy = False
+        self._exposure_task: asyncio.Task[Frame] | None = None
+        self._aborted = False
+        self._exposure_start = 0.0
+        self._exposure_length = 0.0
+
+    async def open(self) -> None:
+        if self.state is not ModuleState.STARTING:
+            return
+        await super().open()
+        await self.comm.send_event(ExposureStatusChangedEvent(last=None, current=self._exposure_status))
+
+    # --- status --------------------------------------------------------------------------------
+
+    async def _set_exposure_status(self, status: ExposureStatus) -> None:
+        """Change the exposure status and tell the others (drivers call this for READOUT)."""
+        if status is self._exposure_status:
+            return
+        last, self._exposure_status = self._exposure_status, status
+        if self.comm._is_open:
+            await self.comm.send_event(ExposureStatusChangedEvent(last=last, current=status))
+
+    async def get_exposure_status(self) -> ExposureStatus:
+        return self._exposure_status
+
+    async def get_exposure_progress(self) -> float:
+        if self._exposure_status is ExposureStatus.IDLE:
+            return 0.0
+        if self._exposure_length <= 0:
+            return 100.0
+        return min(100.0, 100.0 * (self.clock.time() - self._exposure_start) / self._exposure_length)
+
+    def _exposure_time_left(self) -> float:
+        if self._exposure_status is not ExposureStatus.EXPOSING:
+            return 0.0
+        return max(0.0, self._exposure_start + self._exposure_length - self.clock.time())
+
+    async def abort(self) -> None:
+        task = self._exposure_task
+        if task is not None and not task.done():
+            log.info("%s: aborting exposure", self.name)
+            self._aborted = True
+            task.cancel()
+            await asyncio.wait([task])
+
+    # --- the exposure --------------------------------------------------------------------------
+
+    def _check_not_busy(self) -> None:
+        if self._busy:
+            raise DeviceBusyError(f"{self.name} is already exposing; wait for the frame or abort()")
+
+    async def _take_exposure(
+        self,
+        expose: Callable[[], Awaitable[Frame]],
+        exposure_time: float,
+        own_cards: Callable[[Frame], dict[str, FitsCard]],
+        announce: Callable[[str], Awaitable[None]] | None,
+    ) -> str:
+        """Run one exposure (see the module docstring) and return the file's VFS path.
+
+        Args:
+            expose: Starts the driver's exposure and returns its frame.
+            exposure_time: Seconds, for progress and EXPTIME.
+            own_cards: The module's cards for the frame (checked and added last).
+            announce: Sends the new-file event with the path; None for no event.
+        """
+        self._check_not_busy()
+        self._busy = True
+        self._aborted = False
+        before = asyncio.create_task(self._headers("before"))
+        after: asyncio.Task[dict[str, FitsCard]] | None = None
+        try:
+            start = self.clock.now()
+            self._exposure_start, self._exposure_length = start.timestamp(), exposure_time
+            await self._set_exposure_status(ExposureStatus.EXPOSING)
+            frame = await self._run_hook(expose)
+            after = asyncio.create_task(self._headers("after"))
+            peers = {**await before, **await after}
+            cards = {
+                **self._static_cards,
+                **peers,
+                **clean_cards(frame.header, "driver"),
+                **_time_cards(start),
+            }
+            cards.update(own_cards(frame))
+            filename = format_filename(self._filename_pattern, {k: v for k, (v, _) in cards.items()})
+            await self._write(filename, frame.data, cards)
+        finally:
+            for task in (before, after):
+                if task is not None and not task.done():
+                    task.cancel()
+            self._busy = False
+            self._exposure_task = None
+            await self._set_exposure_status(ExposureStatus.IDLE)
+        log.info("%s: wrote %s", self.name, filename)
+        if announce is not None:
+            await announce(filename)
+        return filename
+
+    async def _run_hook(self, expose: Callable[[], Awaitable[Frame]]) -> Frame:
+        async def run() -> Frame:
+            return await expose()
+
+        self._exposure_task = asyncio.create_task(run())
+        try:
+            frame = await self._exposure_task
+        except asyncio.CancelledError:
+            current = asyncio.current_task()
+            if self._aborted and not (current and current.cancelling()):
+                raise AbortedError("exposure aborted") from None
+            raise
+        except NightcrewError:
+            raise
+        except Exception as exc:
+            raise GrabImageError(f"exposure failed: {type(exc).__name__}: {exc}") from exc
+        if not isinstance(frame, Frame) or not isinstance(frame.data, np.ndarray):
+            raise GrabImageError(f"driver returned {type(frame).__name__}, expected a Frame with an array")
+        return frame
+
+    async def _headers(self, when: str) -> dict[str, FitsCard]:
+        return await collect_headers(self.comm, self.clock, when, self._header_timeout)
+
+    async def _write(self, filename: str, data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> None:
+        try:
+            await self.vfs.write_fits(filename, build_hdu_list(data, cards))
+        except NightcrewError as exc:
+            raise GrabImageError(f"cannot write {filename}: {exc}") from exc
+
+
+def _time_cards(start: datetime) -> dict[str, FitsCard]:
+    mjd = start.timestamp() / 86400.0 + 40587.0
+    return {
+        "DATE-OBS": (start.strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3], "UTC start of exposure"),
+        "MJD-OBS": (round(mjd, 8), "Modified Julian date of start of exposure"),
+        "ORIGIN": ("nightcrew", "Software that wrote this file"),
+    }
+
+
+def check_exposure_time(exposure_time: float) -> float:
+    """``exposure_time`` as float if it is a finite number of seconds >= 0."""
+    if not math.isfinite(exposure_time) or exposure_time < 0:
+        raise InvalidArgumentError(
+            f"exposure time must be a finite number of seconds >= 0, got {exposure_time}"
+        )
+    return float(exposure_time)

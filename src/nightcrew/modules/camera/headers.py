@@ -1,0 +1,72 @@
+"""Asking the other modules for FITS header cards, all at once and each within a short timeout."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+import re
+
+from nightcrew.clock import Clock
+from nightcrew.comm.base import Comm
+from nightcrew.errors import NightcrewError
+from nightcrew.interfaces import FitsCard, IFitsHeaderAfter, IFitsHeaderBefore
+
+__all__ = ["clean_cards", "collect_headers"]
+
+log = logging.getLogger(__name__)
+
+_KEYWORD = re.compile(r"^[A-Z0-9_-]{1,8}$")
+_VALUE_TYPES = (bool, int, float, str, type(None))
+
+
+async def collect_headers(
+    comm: Comm, clock: Clock, when: str, wait_limit: float, namespaces: list[str] | None = None
+) -> dict[str, FitsCard]:
+    """Cards from every other module offering IFitsHeaderBefore (``when="before"``) or ...After.
+
+    Providers are asked concurrently; one that fails or takes longer than ``wait_limit`` clock seconds
+    is logged and left out, so a slow or broken peer never stalls an exposure. When two providers
+    give the same keyword, the one whose name sorts last wins (deterministic).
+    """
+    interface = IFitsHeaderBefore if when == "before" else IFitsHeaderAfter
+    names = sorted(n for n in await comm.clients_with_interface(interface) if n != comm.name)
+    results = await asyncio.gather(*(_ask(comm, clock, name, when, wait_limit, namespaces) for name in names))
+    merged: dict[str, FitsCard] = {}
+    for cards in results:
+        merged.update(cards)
+    return merged
+
+
+async def _ask(
+    comm: Comm, clock: Clock, name: str, when: str, wait_limit: float, namespaces: list[str] | None
+) -> dict[str, FitsCard]:
+    try:
+        async with clock.timeout(wait_limit):
+            if when == "before":
+                cards = await (await comm.proxy(name, IFitsHeaderBefore)).get_fits_header_before(namespaces)
+            else:
+                cards = await (await comm.proxy(name, IFitsHeaderAfter)).get_fits_header_after(namespaces)
+    except TimeoutError:
+        log.warning("no FITS header from %s within %g s; leaving its cards out", name, wait_limit)
+        return {}
+    except NightcrewError as exc:
+        log.warning("FITS header from %s failed: %s", name, exc)
+        return {}
+    return clean_cards(cards, name)
+
+
+def clean_cards(cards: dict[str, FitsCard], source: str) -> dict[str, FitsCard]:
+    """The cards that can be written: valid keyword, plain value, printable ASCII comment."""
+    clean: dict[str, FitsCard] = {}
+    for keyword, card in cards.items():
+        value, comment = card
+        bad_number = isinstance(value, float) and not math.isfinite(value)
+        if not _KEYWORD.match(keyword) or not isinstance(value, _VALUE_TYPES) or bad_number:
+            log.warning("ignoring invalid FITS card %r=%r from %s", keyword, value, source)
+            continue
+        if isinstance(value, str):
+            value = value.encode("ascii", "replace").decode()
+        comment = re.sub(r"[^ -~]", "?", str(comment))
+        clean[keyword] = (value, comment)
+    return clean

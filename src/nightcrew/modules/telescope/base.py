@@ -1,0 +1,289 @@
+"""The base of all telescope mounts: checks, states, events and headers; drivers do the moving.
+
+Decisions (documented for drivers and callers):
+
+* A telescope starts PARKED. Moves and offsets while parked (or after a motion error) are refused
+  with MoveError: call ``init()`` first. ``park()`` and ``stop_motion()`` always work and abort a
+  running slew; any other command while a motion runs gets DeviceBusyError.
+* Targets below ``min_altitude`` are refused with MoveError before anything moves.
+* Offsets: RA/Dec offsets apply while tracking an RA/Dec target, Alt/Az offsets while pointing at an
+  Alt/Az position; a new move resets both.
+* On BadWeatherEvent the telescope parks by itself (aborting any slew).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from abc import abstractmethod
+from collections.abc import Awaitable, Callable
+from typing import Any
+
+from nightcrew.errors import (
+    ConfigError,
+    InitError,
+    InvalidArgumentError,
+    MoveError,
+    NightcrewError,
+    ParkError,
+)
+from nightcrew.events import (
+    BadWeatherEvent,
+    MoveAltAzEvent,
+    MoveRaDecEvent,
+    OffsetsAltAzEvent,
+    OffsetsRaDecEvent,
+)
+from nightcrew.interfaces import (
+    FitsCard,
+    IFitsHeaderBefore,
+    IOffsetsAltAz,
+    IOffsetsRaDec,
+    ITelescope,
+    ITemperatures,
+    ModuleState,
+    MotionStatus,
+)
+from nightcrew.modules.motion import BaseMotion
+from nightcrew.modules.telescope.coords import altaz_to_radec, radec_to_altaz
+from nightcrew.modules.telescope.headers import pointing_cards
+from nightcrew.site import Site
+
+__all__ = ["BaseTelescope"]
+
+log = logging.getLogger(__name__)
+
+_NEEDS_INIT = frozenset({MotionStatus.PARKED, MotionStatus.ERROR, MotionStatus.UNKNOWN})
+
+
+class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITemperatures, IFitsHeaderBefore):
+    """A telescope mount; a driver implements the ``_hw_*`` hooks.
+
+    Args:
+        min_altitude: Lowest altitude in degrees the telescope may be sent to (0..90).
+        **kwargs: Module options; ``site`` is required (coordinates need it).
+    """
+
+    initial_status = MotionStatus.PARKED
+
+    def __init__(self, *, min_altitude: float = 10.0, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        if not 0.0 <= min_altitude < 90.0:
+            raise ConfigError(
+                f"min_altitude must be within 0..90 degrees, got {min_altitude}", key="min_altitude"
+            )
+        if self.site is None:
+            raise ConfigError("a telescope needs the observatory site to convert coordinates", key="site")
+        self._min_altitude = float(min_altitude)
+        self._target_radec: tuple[float, float] | None = None
+        self._target_altaz: tuple[float, float] | None = None
+        self._offsets_radec = (0.0, 0.0)
+        self._offsets_altaz = (0.0, 0.0)
+
+    @property
+    def observatory(self) -> Site:
+        site = self.site
+        assert site is not None  # checked in the constructor
+        return site
+
+    async def open(self) -> None:
+        if self.state is not ModuleState.STARTING:
+            return
+        await super().open()
+        await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
+
+    # --- hooks for drivers ---------------------------------------------------------------------
+
+    @abstractmethod
+    async def _hw_init(self) -> None:
+        """Unpark and home; return when the mount is ready to move."""
+
+    @abstractmethod
+    async def _hw_park(self) -> None:
+        """Drive to the park position and stop tracking; return when there."""
+
+    @abstractmethod
+    async def _hw_move_radec(self, ra: float, dec: float) -> None:
+        """Slew to ICRS (ra, dec) (offsets included) and track; return when on target."""
+
+    @abstractmethod
+    async def _hw_move_altaz(self, alt: float, az: float) -> None:
+        """Slew to (alt, az) (offsets included), not tracking; return when there."""
+
+    @abstractmethod
+    async def _hw_get_radec(self) -> tuple[float, float]:
+        """Where the mount reports to point, ICRS degrees."""
+
+    async def _hw_get_temperatures(self) -> dict[str, float]:
+        """Thermometers of the mount (none by default)."""
+        return {}
+
+    # --- helpers -------------------------------------------------------------------------------
+
+    def _altaz_of(self, ra: float, dec: float) -> tuple[float, float]:
+        site = self.observatory
+        return radec_to_altaz(ra, dec, site.latitude, site.longitude, self.clock.time())
+
+    def _radec_of(self, alt: float, az: float) -> tuple[float, float]:
+        site = self.observatory
+        return altaz_to_radec(alt, az, site.latitude, site.longitude, self.clock.time())
+
+    def _check_can_move(self, what: str) -> None:
+        if self._motion_status in _NEEDS_INIT:
+            raise MoveError(f"cannot {what}: telescope is {self._motion_status}; call init() first")
+        self._motion.check_idle()
+
+    def _check_altitude(self, alt: float, what: str) -> None:
+        if alt < self._min_altitude:
+            raise MoveError(f"{what} is at altitude {alt:.2f}°, below the limit of {self._min_altitude:g}°")
+
+    async def _slew(self, action: str, move: Callable[[], Awaitable[None]], final: MotionStatus) -> None:
+        async def motion() -> None:
+            await self._set_motion_status(MotionStatus.SLEWING)
+            try:
+                await move()
+            except NightcrewError:
+                await self._set_motion_status(MotionStatus.ERROR)
+                raise
+            except Exception as exc:
+                await self._set_motion_status(MotionStatus.ERROR)
+                raise MoveError(f"{action} failed: {exc}") from exc
+            await self._set_motion_status(final)
+
+        await self._run_motion(action, motion())
+
+    # --- IMotion -------------------------------------------------------------------------------
+
+    async def init(self) -> None:
+        if self._motion_status not in _NEEDS_INIT and not self._motion.busy:
+            return
+
+        async def motion() -> None:
+            await self._set_motion_status(MotionStatus.INITIALIZING)
+            try:
+                await self._hw_init()
+            except Exception as exc:
+                await self._set_motion_status(MotionStatus.ERROR)
+                raise InitError(f"init failed: {exc}") from exc
+            await self._set_motion_status(MotionStatus.IDLE)
+
+        await self._run_motion("init", motion())
+
+    async def park(self) -> None:
+        if self._motion_status is MotionStatus.PARKED and not self._motion.busy:
+            return
+        if self._motion.action == "park":  # e.g. bad weather while someone else parks: wait for it
+            await self._motion.join()
+            if self._motion_status is not MotionStatus.PARKED:
+                raise ParkError(f"park failed: telescope is {self._motion_status}")
+            return
+
+        async def motion() -> None:
+            await self._set_motion_status(MotionStatus.PARKING)
+            self._target_radec = self._target_altaz = None
+            self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
+            try:
+                await self._hw_park()
+            except Exception as exc:
+                await self._set_motion_status(MotionStatus.ERROR)
+                raise ParkError(f"park failed: {exc}") from exc
+            await self._set_motion_status(MotionStatus.PARKED)
+
+        await self._run_motion("park", motion(), preempt=True)
+
+    async def stop_motion(self, device: str | None = None) -> None:
+        await super().stop_motion(device)
+        self._target_radec = self._target_altaz = None
+
+    def _status_after_stop(self) -> MotionStatus:
+        return MotionStatus.PARKED if self._motion_status is MotionStatus.PARKED else MotionStatus.IDLE
+
+    # --- pointing ------------------------------------------------------------------------------
+
+    async def move_radec(self, ra: float, dec: float) -> None:
+        if not (math.isfinite(ra) and 0.0 <= ra < 360.0 and math.isfinite(dec) and -90.0 <= dec <= 90.0):
+            raise InvalidArgumentError(
+                f"ra must be within 0..360 and dec within -90..90 degrees, got ({ra}, {dec})"
+            )
+        self._check_can_move("move")
+        alt, _ = self._altaz_of(ra, dec)
+        self._check_altitude(alt, f"target ra={ra:.4f}°, dec={dec:.4f}°")
+        self._target_radec, self._target_altaz = (ra, dec), None
+        self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
+        await self.comm.send_event(MoveRaDecEvent(ra=ra, dec=dec))
+        await self._slew("move_radec", lambda: self._hw_move_radec(ra, dec), MotionStatus.TRACKING)
+
+    async def move_altaz(self, alt: float, az: float) -> None:
+        if not (math.isfinite(alt) and -90.0 <= alt <= 90.0 and math.isfinite(az)):
+            raise InvalidArgumentError(f"alt must be within -90..90 degrees and az finite, got ({alt}, {az})")
+        az %= 360.0
+        self._check_can_move("move")
+        self._check_altitude(alt, f"target alt={alt:.4f}°, az={az:.4f}°")
+        self._target_radec, self._target_altaz = None, (alt, az)
+        self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
+        await self.comm.send_event(MoveAltAzEvent(alt=alt, az=az))
+        await self._slew("move_altaz", lambda: self._hw_move_altaz(alt, az), MotionStatus.IDLE)
+
+    async def get_radec(self) -> tuple[float, float]:
+        return await self._hw_get_radec()
+
+    async def get_altaz(self) -> tuple[float, float]:
+        return self._altaz_of(*await self._hw_get_radec())
+
+    # --- offsets -------------------------------------------------------------------------------
+
+    async def set_offsets_radec(self, dra: float, ddec: float) -> None:
+        if not (math.isfinite(dra) and math.isfinite(ddec) and abs(dra) <= 10.0 and abs(ddec) <= 10.0):
+            raise InvalidArgumentError(f"offsets must be finite and within ±10 degrees, got ({dra}, {ddec})")
+        self._check_can_move("offset")
+        if self._target_radec is None:
+            raise MoveError("no RA/Dec target to offset from; call move_radec() first")
+        ra, dec = (self._target_radec[0] + dra) % 360.0, max(-90.0, min(90.0, self._target_radec[1] + ddec))
+        self._check_altitude(self._altaz_of(ra, dec)[0], "offset position")
+        self._offsets_radec = (dra, ddec)
+        await self.comm.send_event(OffsetsRaDecEvent(dra=dra, ddec=ddec))
+        await self._slew("set_offsets_radec", lambda: self._hw_move_radec(ra, dec), MotionStatus.TRACKING)
+
+    async def get_offsets_radec(self) -> tuple[float, float]:
+        return self._offsets_radec
+
+    async def set_offsets_altaz(self, dalt: float, daz: float) -> None:
+        if not (math.isfinite(dalt) and math.isfinite(daz) and abs(dalt) <= 10.0 and abs(daz) <= 10.0):
+            raise InvalidArgumentError(f"offsets must be finite and within ±10 degrees, got ({dalt}, {daz})")
+        self._check_can_move("offset")
+        if self._target_altaz is None:
+            raise MoveError("no Alt/Az target to offset from; call move_altaz() first")
+        alt, az = self._target_altaz[0] + dalt, (self._target_altaz[1] + daz) % 360.0
+        self._check_altitude(alt, "offset position")
+        self._offsets_altaz = (dalt, daz)
+        await self.comm.send_event(OffsetsAltAzEvent(dalt=dalt, daz=daz))
+        await self._slew("set_offsets_altaz", lambda: self._hw_move_altaz(alt, az), MotionStatus.IDLE)
+
+    async def get_offsets_altaz(self) -> tuple[float, float]:
+        return self._offsets_altaz
+
+    # --- sensors and headers -------------------------------------------------------------------
+
+    async def get_temperatures(self) -> dict[str, float]:
+        return await self._hw_get_temperatures()
+
+    async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        radec = await self._hw_get_radec()
+        return pointing_cards(
+            radec=radec,
+            altaz=self._altaz_of(*radec),
+            target=self._target_radec,
+            offsets_radec=self._offsets_radec,
+            offsets_altaz=self._offsets_altaz,
+            site=self.observatory,
+            unix_time=self.clock.time(),
+        )
+
+    # --- safety --------------------------------------------------------------------------------
+
+    async def on_bad_weather(self, event: BadWeatherEvent, sender: str) -> None:
+        """Park by ourselves: the weather module's verdict must not depend on a mastermind."""
+        if self._motion_status is MotionStatus.PARKED and not self._motion.busy:
+            return
+        log.warning("%s: bad weather (%s): parking", self.name, event.reason or "no reason given")
+        await self.park()
