@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import logging
 from abc import abstractmethod
-from collections.abc import Coroutine
+from collections.abc import Awaitable, Coroutine
 from typing import Any, TypeVar
 
+from nightcrew.errors import MotionError, MoveError, NightcrewError
 from nightcrew.events import MotionStatusChangedEvent
 from nightcrew.interfaces import IMotion, ModuleState, MotionStatus
 from nightcrew.modules.module import Module
@@ -65,6 +66,17 @@ class BaseMotion(Module, IMotion):
     async def _run_motion(self, action: str, motion: Coroutine[Any, Any, T], *, preempt: bool = False) -> T:
         """Run ``motion`` as the device's only motion (see MotionRunner.run)."""
         return await self._motion.run(action, motion, preempt=preempt)
+
+    async def _guarded(self, hardware: Awaitable[T], failure: str, error: type[MotionError] = MoveError) -> T:
+        """Await a hardware hook; on failure go to ERROR status and raise ``error`` naming ``failure``."""
+        try:
+            return await hardware
+        except NightcrewError:
+            await self._set_motion_status(MotionStatus.ERROR)
+            raise
+        except Exception as exc:
+            await self._set_motion_status(MotionStatus.ERROR)
+            raise error(f"{failure}: {type(exc).__name__}: {exc}") from exc
 
     # --- hooks ---------------------------------------------------------------------------------
 

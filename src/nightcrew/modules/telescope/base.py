@@ -24,7 +24,6 @@ from nightcrew.errors import (
     InitError,
     InvalidArgumentError,
     MoveError,
-    NightcrewError,
     ParkError,
 )
 from nightcrew.events import (
@@ -140,14 +139,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     async def _slew(self, action: str, move: Callable[[], Awaitable[None]], final: MotionStatus) -> None:
         async def motion() -> None:
             await self._set_motion_status(MotionStatus.SLEWING)
-            try:
-                await move()
-            except NightcrewError:
-                await self._set_motion_status(MotionStatus.ERROR)
-                raise
-            except Exception as exc:
-                await self._set_motion_status(MotionStatus.ERROR)
-                raise MoveError(f"{action} failed: {exc}") from exc
+            await self._guarded(move(), f"{action} failed")
             await self._set_motion_status(final)
 
         await self._run_motion(action, motion())
@@ -160,11 +152,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
 
         async def motion() -> None:
             await self._set_motion_status(MotionStatus.INITIALIZING)
-            try:
-                await self._hw_init()
-            except Exception as exc:
-                await self._set_motion_status(MotionStatus.ERROR)
-                raise InitError(f"init failed: {exc}") from exc
+            await self._guarded(self._hw_init(), "init failed", InitError)
             await self._set_motion_status(MotionStatus.IDLE)
 
         await self._run_motion("init", motion())
@@ -182,11 +170,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
             await self._set_motion_status(MotionStatus.PARKING)
             self._target_radec = self._target_altaz = None
             self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
-            try:
-                await self._hw_park()
-            except Exception as exc:
-                await self._set_motion_status(MotionStatus.ERROR)
-                raise ParkError(f"park failed: {exc}") from exc
+            await self._guarded(self._hw_park(), "park failed", ParkError)
             await self._set_motion_status(MotionStatus.PARKED)
 
         await self._run_motion("park", motion(), preempt=True)
