@@ -13,7 +13,7 @@ from collections.abc import Awaitable, Callable
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.comm.codec import bind_arguments, decode, encode, method_parameters
-from nightcrew.interfaces.base import Interface, interface_methods
+from nightcrew.interfaces.base import Interface, interface_methods, is_interface
 
 if TYPE_CHECKING:
     from nightcrew.comm.base import Comm
@@ -67,8 +67,11 @@ def _leaves(interfaces: tuple[type[Interface], ...]) -> tuple[type[Interface], .
 def proxy_class(interfaces: tuple[type[Interface], ...]) -> type[Proxy]:
     """The proxy class implementing ``interfaces`` (cached per tuple)."""
     bases = _leaves(interfaces)
+    # Methods come from every interface in the bases' MROs: ITelescope's own vars hold none of
+    # IMotion's or IPointingRaDec's, and a proxy missing them would stay abstract.
+    inherited = tuple(dict.fromkeys(c for base in bases for c in base.__mro__ if is_interface(c)))
     namespace: dict[str, Any] = {
-        name: _remote_method(name, decl) for name, decl in interface_methods(bases).items()
+        name: _remote_method(name, decl) for name, decl in interface_methods(inherited).items()
     }
     namespace["__module__"] = __name__
     title = ",".join(b.__name__ for b in bases) or "none"
