@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import asyncio
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.events import NewImageEvent
+from nightcrew.events import Event, NewImageEvent
 from nightcrew.interfaces import (
     ExposureStatus,
     FitsCard,
@@ -20,6 +20,10 @@ from nightcrew.interfaces import (
 from nightcrew.interfaces.camera import Binning
 from nightcrew.modules import Module
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
+from nightcrew.modules.focuser import BaseFocuser
+from nightcrew.modules.spectrograph import BaseSpectrograph
+
+E = TypeVar("E", bound=Event)
 
 
 class GradientCamera(BaseCamera):
@@ -79,3 +83,44 @@ class ImageListener(Module):
     async def on_new_image(self, event: NewImageEvent, sender: str) -> None:
         self.images.append((event, sender))
         self.arrived.set()
+
+
+class EventRecorder(Module):
+    """Records every event of the given types with its sender, and can send events."""
+
+    def __init__(self, *, types: list[type[Event]], **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._types = types
+        self.events: list[tuple[Event, str]] = []
+
+    async def open(self) -> None:
+        if self.state is not ModuleState.STARTING:
+            return
+        await super().open()
+        for event_type in self._types:
+            await self.comm.register_event(event_type, self.on_event)
+
+    async def on_event(self, event: Event, sender: str) -> None:
+        self.events.append((event, sender))
+
+    def of(self, event_type: type[E]) -> list[E]:
+        return [e for e, _ in self.events if isinstance(e, event_type)]
+
+
+class BrokenFocuser(BaseFocuser):
+    """A focuser whose motor fails."""
+
+    async def _hw_move_focus(self, position: float) -> None:
+        raise OSError("motor driver not responding")
+
+    async def _hw_stop(self) -> None:
+        pass
+
+
+class LineSpectrograph(BaseSpectrograph):
+    """A spectrograph producing one emission line on a flat continuum."""
+
+    async def _hw_expose_spectrum(self, exposure_time: float) -> Frame:
+        await self.clock.sleep(exposure_time)
+        flux = np.full(256, 100.0) + 1000.0 * np.exp(-0.5 * ((np.arange(256) - 128) / 3.0) ** 2)
+        return Frame(flux.astype(np.float32), {"GRATING": ("600/mm", "Grating")})

@@ -113,6 +113,10 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     async def _hw_get_radec(self) -> tuple[float, float]:
         """Where the mount reports to point, ICRS degrees."""
 
+    async def _hw_get_altaz(self) -> tuple[float, float]:
+        """Where the mount reports to point as (alt, az); converted from RA/Dec unless overridden."""
+        return self._altaz_of(*await self._hw_get_radec())
+
     async def _hw_get_temperatures(self) -> dict[str, float]:
         """Thermometers of the mount (none by default)."""
         return {}
@@ -212,7 +216,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         return await self._hw_get_radec()
 
     async def get_altaz(self) -> tuple[float, float]:
-        return self._altaz_of(*await self._hw_get_radec())
+        return await self._hw_get_altaz()
 
     # --- offsets -------------------------------------------------------------------------------
 
@@ -255,7 +259,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         radec = await self._hw_get_radec()
         return pointing_cards(
             radec=radec,
-            altaz=self._altaz_of(*radec),
+            altaz=await self._hw_get_altaz(),
             target=self._target_radec,
             offsets_radec=self._offsets_radec,
             offsets_altaz=self._offsets_altaz,
