@@ -14,7 +14,14 @@ from datetime import UTC, datetime
 from typing import Any
 
 from nightcrew.errors import ConfigError, InvalidArgumentError
-from nightcrew.interfaces import ITemperatures, IWeather, SensorValue, WeatherReport, WeatherSensor
+from nightcrew.interfaces import (
+    ITemperatures,
+    IWeather,
+    ModuleState,
+    SensorValue,
+    WeatherReport,
+    WeatherSensor,
+)
 from nightcrew.modules.module import Module
 
 __all__ = ["BaseWeatherStation"]
@@ -46,10 +53,19 @@ class BaseWeatherStation(Module, IWeather, ITemperatures):
     async def _hw_read_sensors(self) -> dict[WeatherSensor, float | None]:
         """Read every sensor the station has; None for one that has no value now."""
 
+    async def open(self) -> None:
+        if self.state is not ModuleState.STARTING:
+            return
+        await super().open()
+        try:  # answer from real readings right away; a failure here is retried by the loop
+            await self.read_now()
+        except Exception:
+            log.exception("%s: first reading failed", self.name)
+
     async def _poll_loop(self) -> None:
         while True:
-            await self.read_now()
             await self.clock.sleep(self._interval)
+            await self.read_now()
 
     async def read_now(self) -> None:
         """Read the sensors and keep the readings (also what the polling loop does)."""

@@ -1,0 +1,135 @@
+"""Focusers, filter wheels, weather stations and spectrographs: refusals, events, headers, sim truth."""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+
+from nightcrew.errors import ConfigError, DeviceBusyError, InvalidArgumentError, MoveError
+from nightcrew.events import FilterChangedEvent, NewSpectrumEvent
+from nightcrew.interfaces import ITemperatures, MotionStatus, WeatherSensor
+from nightcrew.modules.sim import ISimFocuserTruth, SimFilterWheel, SimFocuser, SimWeatherStation
+
+from .conftest import Observatory
+from .devices import BrokenFocuser, EventRecorder, LineSpectrograph
+
+FILTERS = ["B", "V", "R", "clear"]
+
+
+async def test_unknown_filter_is_refused_listing_the_known_ones(observatory: Observatory) -> None:
+    wheel = await observatory.start(SimFilterWheel, "filters", filters=FILTERS, filter_name="V")
+    with pytest.raises(
+        InvalidArgumentError, match=r"unknown filter 'H-alpha'; known filters: B, V, R, clear"
+    ):
+        await wheel.set_filter("H-alpha")
+    assert await wheel.get_filter() == "V"
+    assert await wheel.get_motion_status() is MotionStatus.IDLE
+
+
+async def test_filter_change_takes_time_sends_an_event_and_fills_the_header(observatory: Observatory) -> None:
+    recorder = await observatory.start(EventRecorder, "recorder", types=[FilterChangedEvent])
+    wheel = await observatory.start(SimFilterWheel, "filters", filters=FILTERS, change_time=4.0)
+    assert await wheel.list_filters() == FILTERS and await wheel.get_filter() == "B"
+    change = asyncio.create_task(wheel.set_filter("R"))
+    await observatory.clock.sleep(1.0)
+    with pytest.raises(DeviceBusyError, match="moving to filter R"):
+        await wheel.set_filter("V")
+    await change
+    await observatory.clock.sleep(0.5)
+    assert recorder.of(FilterChangedEvent) == [FilterChangedEvent(filter_name="R")]
+    assert await wheel.get_fits_header_before() == {"FILTER": ("R", "Filter in the beam")}
+
+
+def test_filter_wheel_config_is_checked() -> None:
+    with pytest.raises(ConfigError, match="key 'filters': filter names must be unique, got V, V"):
+        SimFilterWheel(name="f", filters=["V", "V"])
+    with pytest.raises(ConfigError, match="key 'filter_name': unknown filter 'U'; known filters: V"):
+        SimFilterWheel(name="f", filters=["V"], filter_name="U")
+
+
+async def test_focus_outside_the_range_is_refused_and_the_focus_stays(observatory: Observatory) -> None:
+    focuser = await observatory.start(SimFocuser, "focuser", min_focus=10.0, max_focus=40.0, speed=5.0)
+    await focuser.set_focus(30.0)
+    with pytest.raises(InvalidArgumentError, match=r"= 45.0000 mm is outside the focuser range 10..40 mm"):
+        await focuser.set_focus(45.0)
+    with pytest.raises(
+        InvalidArgumentError, match=r"focus 30.0000 mm \+ offset 12.0000 mm = 42.0000 mm is outside"
+    ):
+        await focuser.set_focus_offset(12.0)
+    assert (await focuser.get_focus(), await focuser.get_focus_offset()) == (30.0, 0.0)
+    await focuser.set_focus_offset(-1.5)
+    assert await focuser.get_fits_header_before() == {
+        "FOCUS": (28.5, "Focuser position [mm]"),
+        "FOCOFFS": (-1.5, "Focus offset included in FOCUS [mm]"),
+    }
+
+
+async def test_a_failing_motor_is_a_move_error_and_an_error_status(observatory: Observatory) -> None:
+    focuser = await observatory.start(BrokenFocuser, "focuser", focus=20.0)
+    with pytest.raises(
+        MoveError, match="focuser failed to move to 21.0000 mm: OSError: motor driver not responding"
+    ):
+        await focuser.set_focus(21.0)
+    assert await focuser.get_focus() == 20.0
+    assert await focuser.get_motion_status() is MotionStatus.ERROR
+
+
+async def test_best_focus_follows_the_weather_stations_temperature(observatory: Observatory) -> None:
+    scenario = [{"at": 0, "temperature": 10.0}, {"at": 3600, "temperature": 0.0}]
+    await observatory.start(SimWeatherStation, "weather", scenario=scenario, interval=10.0)
+    focuser = await observatory.start(
+        SimFocuser, "focuser", best_focus=25.0, temperature_coefficient=-0.05, weather_station="weather"
+    )
+    truth = await focuser.comm.proxy("focuser", ISimFocuserTruth)
+    assert await truth.get_best_focus() == pytest.approx(25.0, abs=0.01)
+    start = observatory.clock.time()
+    await observatory.clock.sleep(120.0)
+    ambient = (await (await focuser.comm.proxy("weather", ITemperatures)).get_temperatures())["ambient"]
+    assert ambient < 10.0 - 100.0 / 360.0  # cooled by at least 100 s worth of the 10 °C/h drop
+    assert observatory.clock.time() - start < 200.0
+    assert await truth.get_best_focus() == pytest.approx(25.0 - 0.05 * (ambient - 10.0))
+
+
+async def test_weather_station_reports_its_scenario_and_refuses_other_stations(
+    observatory: Observatory,
+) -> None:
+    scenario = [{"at": 0, "temperature": 5.0, "humidity": 40.0, "clouds": 0.0}, {"at": 20, "rain": True}]
+    station = await observatory.start(SimWeatherStation, "weather", scenario=scenario, interval=5.0)
+    assert await station.is_weather_good()
+    value = await station.get_sensor_value("weather", WeatherSensor.TEMPERATURE)
+    assert value.value == 5.0
+    assert (await station.get_sensor_value("", WeatherSensor.SKY_TEMPERATURE)).value == -25.0
+    assert await station.get_temperatures() == {"ambient": 5.0}
+    with pytest.raises(InvalidArgumentError, match="this is weather station 'weather', not 'roof'"):
+        await station.get_sensor_value("roof", WeatherSensor.TEMPERATURE)
+    with pytest.raises(InvalidArgumentError, match="has no particles sensor; it has: temperature, humidity"):
+        await station.get_sensor_value("weather", WeatherSensor.PARTICLES)
+    await observatory.clock.sleep(30.0)
+    report = await station.get_current_weather()
+    assert report.good is False and report.sensors["rain"] == 1.0
+
+
+def test_weather_scenario_errors_name_the_entry() -> None:
+    with pytest.raises(ConfigError, match=r"key 'scenario': entry 1: unknown keys \['snow'\]"):
+        SimWeatherStation(name="w", scenario=[{"at": 0}, {"at": 10, "snow": 1}])
+    with pytest.raises(ConfigError, match=r"entry 0: humidity must be within 0..100 %, got 120"):
+        SimWeatherStation(name="w", scenario=[{"at": 0, "humidity": 120}])
+
+
+async def test_spectrograph_writes_a_spectrum_and_announces_it(observatory: Observatory) -> None:
+    recorder = await observatory.start(EventRecorder, "recorder", types=[NewSpectrumEvent])
+    spectrograph = await observatory.start(LineSpectrograph, "spectrograph")
+    with pytest.raises(InvalidArgumentError, match="exposure time must be"):
+        await spectrograph.set_exposure_time(-5.0)
+    await spectrograph.set_exposure_time(10.0)
+    grab = asyncio.create_task(spectrograph.grab_spectrum())
+    await observatory.clock.sleep(2.0)
+    with pytest.raises(DeviceBusyError):
+        await spectrograph.grab_spectrum()
+    filename = await grab
+    assert filename.endswith("-spectrum.fits")
+    hdu = (await observatory.vfs.read_fits(filename))[0]
+    assert hdu.data.shape == (256,) and hdu.header["GRATING"] == "600/mm" and hdu.header["EXPTIME"] == 10.0
+    await observatory.clock.sleep(0.5)
+    assert recorder.of(NewSpectrumEvent) == [NewSpectrumEvent(filename=filename)]
