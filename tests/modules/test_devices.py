@@ -68,7 +68,7 @@ async def test_focus_outside_the_range_is_refused_and_the_focus_stays(observator
 async def test_a_failing_motor_is_a_move_error_and_an_error_status(observatory: Observatory) -> None:
     focuser = await observatory.start(BrokenFocuser, "focuser", focus=20.0)
     with pytest.raises(
-        MoveError, match="focuser failed to move to 21.0000 mm: OSError: motor driver not responding"
+        MoveError, match=r"focuser failed to move to 21\.0000 mm: OSError: motor driver not responding"
     ):
         await focuser.set_focus(21.0)
     assert await focuser.get_focus() == 20.0
