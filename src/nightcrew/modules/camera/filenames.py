@@ -42,7 +42,7 @@ def check_filename_pattern(pattern: str, key: str = "filename_pattern") -> None:
 
 def sanitise_component(text: str) -> str:
     """``text`` as one harmless path component."""
-    cleaned = _UNSAFE.sub("-", text).strip("-")
+    cleaned = _UNSAFE.sub("-", text).strip("-.")  # no hidden files, no ".."
     if cleaned in ("", ".", ".."):
         return "_"
     return cleaned
