@@ -7,6 +7,7 @@ import math
 import pytest
 
 from nightcrew.errors import ConfigError
+from nightcrew.interfaces import FitsValue
 from nightcrew.modules.camera.filenames import check_filename_pattern, format_filename
 from nightcrew.modules.telescope.coords import (
     airmass,
@@ -25,9 +26,9 @@ TARGETS = [(10.0, 20.0), (200.0, -30.0), (83.6, 22.0), (300.0, 60.0), (37.95, 89
 
 @pytest.mark.parametrize("unix_time", TIMES)
 def test_radec_to_altaz_matches_astropy(unix_time: float) -> None:
-    import astropy.units as u
-    from astropy.coordinates import AltAz, EarthLocation, SkyCoord
-    from astropy.time import Time
+    import astropy.units as u  # type: ignore[import-untyped]
+    from astropy.coordinates import AltAz, EarthLocation, SkyCoord  # type: ignore[import-untyped]
+    from astropy.time import Time  # type: ignore[import-untyped]
 
     location = EarthLocation(lat=SITE[0] * u.deg, lon=SITE[1] * u.deg, height=SITE[2] * u.m)
     frame = AltAz(obstime=Time(unix_time, format="unix"), location=location)
@@ -48,8 +49,8 @@ def test_altaz_to_radec_inverts_radec_to_altaz(unix_time: float) -> None:
 
 @pytest.mark.parametrize("unix_time", TIMES)
 def test_moon_is_within_half_a_degree_of_astropy(unix_time: float) -> None:
-    from astropy.coordinates import get_body
-    from astropy.time import Time
+    from astropy.coordinates import get_body  # type: ignore[import-untyped]
+    from astropy.time import Time  # type: ignore[import-untyped]
 
     moon = get_body("moon", Time(unix_time, format="unix"))  # geocentric (GCRS)
     assert angular_separation(*moon_radec(unix_time), moon.ra.deg, moon.dec.deg) < 0.5
@@ -69,7 +70,7 @@ def test_filename_pattern_is_checked_and_values_cannot_escape() -> None:
         check_filename_pattern("cache/{DATE-OBS}.fits")
     with pytest.raises(ConfigError, match=r"placeholder \{date\} .* is not a FITS keyword"):
         check_filename_pattern("/cache/{date}.fits")
-    header = {"OBJECT": "../../etc/passwd", "FILTER": "..", "FOCUS": 25.123456}
+    header: dict[str, FitsValue] = {"OBJECT": "../../etc/passwd", "FILTER": "..", "FOCUS": 25.123456}
     assert format_filename("/cache/{OBJECT}-{FILTER}-{FOCUS:.2f}-{MISSING}.fits", header) == (
         "/cache/etc-passwd-_-25.12-none.fits"
     )
