@@ -49,8 +49,8 @@ def test_altaz_to_radec_inverts_radec_to_altaz(unix_time: float) -> None:
 
 @pytest.mark.parametrize("unix_time", TIMES)
 def test_moon_is_within_half_a_degree_of_astropy(unix_time: float) -> None:
-    from astropy.coordinates import get_body  # type: ignore[import-untyped]
-    from astropy.time import Time  # type: ignore[import-untyped]
+    from astropy.coordinates import get_body
+    from astropy.time import Time
 
     moon = get_body("moon", Time(unix_time, format="unix"))  # geocentric (GCRS)
     assert angular_separation(*moon_radec(unix_time), moon.ra.deg, moon.dec.deg) < 0.5
