@@ -143,6 +143,11 @@ class Comm(ABC):
         return self._clock
 
     @property
+    def is_open(self) -> bool:
+        """Whether the comm is connected (between :meth:`open` and :meth:`close`)."""
+        return self._is_open
+
+    @property
     def served_interfaces(self) -> list[str]:
         """Names of the interfaces this comm serves (empty before :meth:`attach`)."""
         return self._server.interface_names if self._server else []

@@ -155,7 +155,7 @@ class Module(Object, IModule, IConfig):
             filename=record.pathname,
             line=record.lineno,
         )
-        if self.comm._is_open:
+        if self.comm.is_open:
             self.comm._spawn(self.comm.send_event(event), "log forwarding")
 
     # --- IModule -------------------------------------------------------------------------------

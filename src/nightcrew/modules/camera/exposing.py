@@ -103,7 +103,7 @@ class ExposingModule(Module, IAbortable, IExposure):
         if status is self._exposure_status:
             return
         last, self._exposure_status = self._exposure_status, status
-        if self.comm._is_open:
+        if self.comm.is_open:
             await self.comm.send_event(ExposureStatusChangedEvent(last=last, current=status))
 
     async def get_exposure_status(self) -> ExposureStatus:

@@ -60,7 +60,7 @@ class BaseMotion(Module, IMotion):
             return
         log.info("%s: motion status %s -> %s", self.name, self._motion_status, status)
         self._motion_status = status
-        if self.comm._is_open:
+        if self.comm.is_open:
             await self.comm.send_event(MotionStatusChangedEvent(status=status))
 
     async def _run_motion(self, action: str, motion: Coroutine[Any, Any, T], *, preempt: bool = False) -> T:
