@@ -118,8 +118,9 @@ async def test_slew_time_grows_with_distance(observatory: Observatory) -> None:
         start = observatory.clock.time()
         await telescope.move_altaz(alt, 0.0)
         durations.append(observatory.clock.time() - start)
-    assert durations[0] == pytest.approx(10 / 4 + 3, abs=1.0)
-    assert durations[1] == pytest.approx(40 / 4 + 3, abs=1.0)
+    # Never faster than the model; later only by event-loop latency (5 clock s = 50 ms of wall).
+    assert 10 / 4 + 3 - 0.1 <= durations[0] < 10 / 4 + 3 + 5
+    assert 40 / 4 + 3 - 0.1 <= durations[1] < 40 / 4 + 3 + 5
 
 
 async def test_second_move_is_busy_and_park_aborts_a_slew(observatory: Observatory) -> None:
