@@ -3,7 +3,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 # Debian packages of the real components the tests use (XMPP servers, plate solver).
-SYSTEM_PACKAGES :=
+SYSTEM_PACKAGES := prosody ejabberd
 
 .PHONY: setup system-deps lint test example bench clean
 

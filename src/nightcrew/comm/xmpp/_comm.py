@@ -1,0 +1,212 @@
+"""XmppComm: modules in separate processes or machines, talking through an XMPP server.
+
+The protocol is documented in docs/protocol.md; this class only wires the pieces together:
+:class:`~nightcrew.comm.xmpp._connection.XmppConnection` (session, reconnects),
+:class:`~nightcrew.comm.xmpp._rpc.RpcChannel` (calls) and
+:class:`~nightcrew.comm.xmpp._room.Room` (presence, discovery, events).
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import TYPE_CHECKING, Any
+
+from nightcrew.comm.base import Comm, PendingCall
+from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings, is_loopback, parse_jid, parse_server
+from nightcrew.errors import ConfigError, RemoteError
+from nightcrew.interfaces.base import interface_by_name
+
+if TYPE_CHECKING:
+    from nightcrew.comm.xmpp._connection import XmppConnection
+    from nightcrew.comm.xmpp._room import Room
+    from nightcrew.comm.xmpp._rpc import RpcChannel
+
+__all__ = ["INTERFACE_FEATURE", "XmppComm"]
+
+log = logging.getLogger(__name__)
+
+#: disco#info feature per served interface: ``urn:nightcrew:interface:ICamera:1`` (name, version).
+INTERFACE_FEATURE = "urn:nightcrew:interface:"
+_DISCO_TIMEOUT = 5.0
+
+
+class XmppComm(Comm):
+    """Comm over an XMPP server; the module's name is the JID's local part.
+
+    Args:
+        jid: The module's account, ``camera@observatory.local`` (a resource is optional).
+        password: Its password (use ``${CAMERA_PASSWORD}`` in YAML).
+        server: ``host[:port]`` of the server; the JID's domain and 5222 by default.
+        room: The room all modules meet in: a name (on ``conference.<domain>``) or a full JID.
+        require_tls: Refuse to log in without TLS; by default required unless the server is on
+            loopback.
+        verify_tls: Check the server's certificate (turn off only for testing).
+        ca_file: A CA or self-signed certificate to trust (``nightcrew server init`` writes one).
+        connect_timeout: Seconds to wait for the first session before giving up.
+        rpc_grace: Wall seconds added to every announced timeout for network latency.
+    """
+
+    def __init__(
+        self,
+        jid: str,
+        password: str,
+        *,
+        server: str | None = None,
+        room: str = "nightcrew",
+        require_tls: bool | None = None,
+        verify_tls: bool = True,
+        ca_file: str | None = None,
+        connect_timeout: float = 10.0,
+        rpc_grace: float = 1.0,
+    ) -> None:
+        super().__init__(rpc_grace=rpc_grace)
+        local, domain, resource = parse_jid(jid)
+        host, port = parse_server(server, domain)
+        if not password:
+            raise ConfigError("an XmppComm needs a password", key="password")
+        if require_tls is False and not is_loopback(host):
+            raise ConfigError(f"TLS cannot be turned off off loopback ({host})", key="require_tls")
+        self._settings = XmppSettings(
+            local=local,
+            domain=domain,
+            resource=resource or DEFAULT_RESOURCE,
+            password=password,
+            host=host,
+            port=port,
+            room_jid=room if "@" in room else f"{room}@conference.{domain}",
+            require_tls=not is_loopback(host) if require_tls is None else require_tls,
+            verify_tls=verify_tls,
+            ca_file=ca_file,
+            connect_timeout=connect_timeout,
+        )
+        self._connection: XmppConnection | None = None
+        self._rpc: RpcChannel | None = None
+        self._room: Room | None = None
+
+    @property
+    def name(self) -> str:
+        return self._settings.local
+
+    @property
+    def jid(self) -> str:
+        """The full JID of this module's session."""
+        return self._settings.full_jid
+
+    @property
+    def clients(self) -> list[str]:
+        return self._room.occupants if self._room is not None else []
+
+    def advertise_state(self, state: str) -> None:
+        """Publish the module's state in its room presence (``<status>`` and ``<module state=…>``)."""
+        if self._room is not None:
+            self._room.advertise_state(state)
+
+    # --- transport hooks -----------------------------------------------------------------------
+
+    async def _open_transport(self) -> None:
+        # slixmpp is imported only when a module really goes on the network.
+        from nightcrew.comm.xmpp._connection import XmppConnection
+        from nightcrew.comm.xmpp._room import Room
+        from nightcrew.comm.xmpp._rpc import RpcChannel
+
+        connection = XmppConnection(
+            self._settings, on_session=self._on_session, on_lost=self._on_lost, features=self._features()
+        )
+        self._rpc = RpcChannel(connection, serve=self._serve_call, spawn=self._spawn)
+        self._room = Room(
+            connection,
+            self._settings.room_jid,
+            self.name,
+            on_online=self._client_online,
+            on_offline=self._on_client_offline,
+            on_event=self._deliver_event,
+        )
+        self._connection = connection
+        try:
+            await connection.open()
+        except BaseException:
+            await connection.close()
+            raise
+
+    async def _close_transport(self) -> None:
+        if self._connection is not None:
+            await self._connection.close()
+        if self._rpc is not None:
+            self._rpc.fail_all("comm closed")
+
+    async def _fetch_interface_names(self, client: str) -> list[str]:
+        jid = self._require_room().jid_of(client)
+        from slixmpp.exceptions import IqError, IqTimeout
+
+        disco: Any = self._require_connection().client.plugin["xep_0030"]
+        try:
+            info = await disco.get_info(jid=jid, local=False, timeout=_DISCO_TIMEOUT)
+        except (IqError, IqTimeout) as exc:
+            raise RemoteError(f"interface discovery failed: {type(exc).__name__}", module=client) from None
+        return _interface_names(info["disco_info"]["features"], client)
+
+    async def _send_call(self, client: str, method: str, args: list[Any], call: PendingCall) -> None:
+        jid = self._require_room().jid_of(client)
+        self._require_rpc().call(jid, client, method, args, call)
+
+    async def _publish_event(self, name: str, payload: dict[str, Any]) -> None:
+        try:
+            self._require_room().publish(name, payload)
+        except RemoteError:
+            # Events are fire and forget; while reconnecting there is nobody to tell.
+            log.debug("%s dropped: not connected", name)
+
+    async def _subscribe_events(self, name: str) -> None:
+        # Every event reaches every room occupant; Comm._deliver_event keeps the registered ones.
+        return None
+
+    # --- glue ----------------------------------------------------------------------------------
+
+    def _features(self) -> list[str]:
+        features = ["jabber:iq:rpc", "urn:nightcrew:rpc:timeout", "urn:nightcrew:event"]
+        for name in self.served_interfaces:
+            interface = interface_by_name(name)
+            features.append(f"{INTERFACE_FEATURE}{name}:{interface.version if interface else 1}")
+        return features
+
+    async def _on_session(self) -> None:
+        await self._require_room().join()
+
+    def _on_lost(self) -> None:
+        log.warning("%s lost its connection to the XMPP server; reconnecting", self.name)
+        self._require_rpc().fail_all("connection to the XMPP server lost during the call")
+        self._require_room().lost()
+
+    def _on_client_offline(self, client: str) -> None:
+        self._require_rpc().fail_calls_to(client)
+        self._client_offline(client)
+
+    def _require_connection(self) -> XmppConnection:
+        if self._connection is None:
+            raise RemoteError("comm is not open")
+        return self._connection
+
+    def _require_room(self) -> Room:
+        if self._room is None:
+            raise RemoteError("comm is not open")
+        return self._room
+
+    def _require_rpc(self) -> RpcChannel:
+        if self._rpc is None:
+            raise RemoteError("comm is not open")
+        return self._rpc
+
+
+def _interface_names(features: list[str], client: str) -> list[str]:
+    """Interface names from disco features; a version unlike ours is left out (incompatible)."""
+    names = []
+    for feature in features:
+        if not feature.startswith(INTERFACE_FEATURE):
+            continue
+        name, _, version = feature[len(INTERFACE_FEATURE) :].partition(":")
+        known = interface_by_name(name)
+        if known is not None and version and version != str(known.version):
+            log.warning("%s offers %s v%s, this process knows v%s", client, name, version, known.version)
+            continue
+        names.append(name)
+    return names

@@ -1,0 +1,247 @@
+"""One XMPP session on slixmpp: connect, authenticate, keep reconnecting, send and receive XML.
+
+This is the only file that knows slixmpp's life cycle. Its failures become nightcrew errors here:
+a refused login is :class:`XmppAuthError` (no retry: a wrong password does not get better), an
+unreachable server :class:`~nightcrew.errors.RemoteError`. After the first session, a lost
+connection is retried every second or so until :meth:`close`; ``on_session`` runs after every
+session start (join the room again), ``on_lost`` after every loss (fail calls in flight).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import socket
+import ssl
+import xml.etree.ElementTree as ET
+from collections.abc import Awaitable, Callable
+from pathlib import Path
+from typing import Any
+
+import slixmpp
+from slixmpp.xmlstream.handler import Callback
+from slixmpp.xmlstream.matcher import MatchXPath
+from slixmpp.xmlstream.stanzabase import StanzaBase
+
+from nightcrew.comm.xmpp._errors import XmppAuthError
+from nightcrew.comm.xmpp._settings import XmppSettings
+from nightcrew.errors import NightcrewError, RemoteError
+from nightcrew.log import current_module
+
+__all__ = ["XmppConnection"]
+
+log = logging.getLogger(__name__)
+
+#: SCRAM only: the password never travels, not even inside TLS.
+_MECHANISMS = {"SCRAM-SHA-1", "SCRAM-SHA-256", "SCRAM-SHA-512"}
+_RECONNECT_DELAYS = (0.2, 0.5, 1.0, 1.0, 2.0)
+
+
+class XmppConnection:
+    """A client session for one JID; nothing happens before :meth:`open`."""
+
+    def __init__(
+        self,
+        settings: XmppSettings,
+        *,
+        on_session: Callable[[], Awaitable[None]],
+        on_lost: Callable[[], None],
+        features: list[str],
+    ) -> None:
+        self._settings = settings
+        self._on_session = on_session
+        self._on_lost = on_lost
+        self._features = features
+        self._handlers: list[tuple[str, str, Callable[[StanzaBase], None]]] = []
+        self._client: slixmpp.ClientXMPP | None = None
+        self._session: asyncio.Future[None] | None = None
+        self._tls_done = False
+        self._online = False
+        self._closing = False
+        self._reconnect_task: asyncio.Task[None] | None = None
+
+    @property
+    def online(self) -> bool:
+        """Whether a session is established (stanzas can be sent)."""
+        return self._online
+
+    @property
+    def client(self) -> slixmpp.ClientXMPP:
+        if self._client is None:
+            raise RemoteError("not connected to the XMPP server")
+        return self._client
+
+    def add_handler(self, name: str, xpath: str, handler: Callable[[StanzaBase], None]) -> None:
+        """Call ``handler(stanza)`` for incoming stanzas matching ``xpath`` (before :meth:`open`)."""
+        self._handlers.append((name, xpath, handler))
+
+    # --- life cycle ----------------------------------------------------------------------------
+
+    async def open(self) -> None:
+        """Connect and log in; raises XmppAuthError or RemoteError (one attempt, no retry loop)."""
+        # slixmpp's tasks copy this context: keep them out of the module's log forwarding.
+        token = current_module.set(None)
+        try:
+            self._client = self._make_client()
+            await self._connect_once()
+        finally:
+            current_module.reset(token)
+
+    async def close(self) -> None:
+        """Leave the server; safe to call twice."""
+        self._closing = True
+        self._online = False  # a disconnect we asked for is not a loss
+        if self._reconnect_task is not None:
+            self._reconnect_task.cancel()
+            await asyncio.gather(self._reconnect_task, return_exceptions=True)
+            self._reconnect_task = None
+        client, self._client = self._client, None
+        if client is not None:
+            client.cancel_connection_attempt()
+            if client.transport is not None:
+                try:
+                    await asyncio.wait_for(client.disconnect(wait=1.0), 3)
+                except (TimeoutError, ConnectionError):
+                    client.abort()
+        self._online = False
+
+    def send(self, stanza: StanzaBase) -> None:
+        """Queue ``stanza``; RemoteError when there is no session (no silent queueing for later)."""
+        if not self._online or self._client is None:
+            raise RemoteError("not connected to the XMPP server")
+        self._client.send(stanza)
+
+    def stanza(self, kind: str, to: str, *payload: ET.Element, **attrs: str) -> StanzaBase:
+        """A ``<message>``, ``<presence>`` or ``<iq>`` to ``to`` carrying ``payload`` elements."""
+        client = self.client
+        made: StanzaBase
+        if kind == "iq":
+            made = client.make_iq(id=attrs.pop("id", None), ito=to)
+        elif kind == "message":
+            made = client.make_message(mto=to)
+        else:
+            made = client.make_presence(pto=to)
+        for name, value in attrs.items():  # type, and whatever else the caller sets
+            made[name] = value
+        for element in payload:
+            made.xml.append(element)
+        return made
+
+    # --- internals -----------------------------------------------------------------------------
+
+    def _make_client(self) -> slixmpp.ClientXMPP:
+        s = self._settings
+        client = slixmpp.ClientXMPP(
+            s.full_jid,
+            s.password,
+            plugin_config={
+                "feature_mechanisms": {"use_mechs": set(_MECHANISMS), "unencrypted_scram": not s.require_tls}
+            },
+        )
+        client.enable_direct_tls = False  # STARTTLS on the one c2s port
+        client.enable_starttls = True
+        client.enable_plaintext = False
+        if s.ca_file:
+            client.ca_certs = Path(s.ca_file)
+        if not s.verify_tls:
+            client.ssl_context.check_hostname = False
+            client.ssl_context.verify_mode = ssl.CERT_NONE
+        client.register_plugin("xep_0030")  # disco#info: answers interface discovery
+        disco: Any = client.plugin["xep_0030"]
+        for feature in self._features:
+            disco.add_feature(feature)
+        for name, xpath, handler in self._handlers:
+            client.register_handler(Callback(name, MatchXPath(xpath), handler))
+        client.add_event_handler("session_start", self._on_session_start)
+        client.add_event_handler("tls_success", self._on_tls)
+        client.add_event_handler("failed_all_auth", self._on_auth_failed)
+        client.add_event_handler("connection_failed", self._on_connection_failed)
+        client.add_event_handler("disconnected", self._on_disconnected)
+        client.add_event_handler("stream_error", self._on_stream_error)
+        return client
+
+    async def _connect_once(self) -> None:
+        s = self._settings
+        client = self.client
+        self._session = asyncio.get_running_loop().create_future()
+        self._tls_done = False
+        client.connect(s.host, s.port)
+        try:
+            await asyncio.wait_for(self._session, s.connect_timeout)
+        except TimeoutError:
+            client.cancel_connection_attempt()
+            client.abort()
+            raise RemoteError(
+                f"no XMPP session with {s.host}:{s.port} within {s.connect_timeout:g} s"
+            ) from None
+        finally:
+            self._session = None
+        await self._on_session()
+
+    def _fail_session(self, error: NightcrewError) -> None:
+        if self._session is not None and not self._session.done():
+            self._session.set_exception(error)
+
+    def _on_session_start(self, _: Any) -> None:
+        transport = self.client.transport
+        raw = transport.get_extra_info("socket") if transport is not None else None
+        if raw is not None:
+            # A call's reply follows its timeout announcement at once: do not let Nagle hold it.
+            raw.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self._online = True
+        if self._session is not None and not self._session.done():
+            self._session.set_result(None)
+
+    def _on_tls(self, _: Any) -> None:
+        self._tls_done = True
+
+    def _on_auth_failed(self, _: Any) -> None:
+        s = self._settings
+        if s.require_tls and not self._tls_done:
+            reason = f"the server at {s.host}:{s.port} offers no TLS, which is required off loopback"
+        else:
+            reason = "wrong password or unknown account"
+        error = XmppAuthError(f"{s.bare_jid}: login refused ({reason})")
+        if self._session is not None:
+            self._fail_session(error)
+        else:
+            log.error("%s", error)
+            self._closing = True  # a refused login does not get better by retrying
+
+    def _on_connection_failed(self, error: Any) -> None:
+        s = self._settings
+        self.client.cancel_connection_attempt()  # we retry ourselves, at our own pace
+        self._fail_session(RemoteError(f"cannot connect to the XMPP server at {s.host}:{s.port}: {error}"))
+
+    def _on_stream_error(self, error: Any) -> None:
+        condition = error["condition"] if error is not None else "?"
+        if condition == "conflict":
+            log.error("%s: another session took over this account; not reconnecting", self._settings.bare_jid)
+            self._closing = True
+
+    def _on_disconnected(self, reason: Any) -> None:
+        was_online, self._online = self._online, False
+        self._fail_session(RemoteError(f"XMPP server closed the connection ({reason})"))
+        if was_online:
+            self._on_lost()
+            if not self._closing and self._reconnect_task is None:
+                self._reconnect_task = asyncio.get_running_loop().create_task(self._reconnect_loop())
+
+    async def _reconnect_loop(self) -> None:
+        attempt = 0
+        try:
+            while not self._closing:
+                await asyncio.sleep(_RECONNECT_DELAYS[min(attempt, len(_RECONNECT_DELAYS) - 1)])
+                attempt += 1
+                try:
+                    await self._connect_once()
+                except XmppAuthError as exc:
+                    log.error("%s", exc)
+                    return
+                except RemoteError as exc:
+                    log.debug("reconnect attempt %d failed: %s", attempt, exc)
+                    continue
+                log.info("%s reconnected to the XMPP server", self._settings.bare_jid)
+                return
+        finally:
+            self._reconnect_task = None

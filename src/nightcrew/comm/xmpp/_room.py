@@ -1,0 +1,205 @@
+"""Presence, discovery and events: every module is an occupant of one MUC room (XEP-0045).
+
+Why a room: it works the same on Prosody and ejabberd without roster or pubsub setup, gives
+online/offline for free (occupant presence) and broadcasts events to everyone in it. The nickname
+is the module name; the room is non-anonymous, so each occupant's real JID (where calls and disco
+queries go) is in its presence. Events are groupchat messages; each receiver keeps those it
+registered for.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import contextlib
+import json
+import logging
+import xml.etree.ElementTree as ET
+from collections.abc import Callable
+from datetime import datetime
+from typing import Any
+
+from slixmpp.xmlstream.stanzabase import StanzaBase
+
+from nightcrew.comm.xmpp._connection import XmppConnection
+from nightcrew.comm.xmpp._rpc import NS_HINTS
+from nightcrew.errors import ConfigError, NightcrewError, RemoteError
+
+__all__ = ["NS_EVENT", "NS_MODULE", "Room"]
+
+log = logging.getLogger(__name__)
+
+NS_MUC = "http://jabber.org/protocol/muc"
+NS_MUC_USER = "http://jabber.org/protocol/muc#user"
+NS_EVENT = "urn:nightcrew:event"
+NS_MODULE = "urn:nightcrew:module"
+_C = "{jabber:client}"
+_JOIN_TIMEOUT = 10.0
+
+
+class Room:
+    """Membership of one module in the nightcrew room."""
+
+    def __init__(
+        self,
+        connection: XmppConnection,
+        room_jid: str,
+        nick: str,
+        *,
+        on_online: Callable[[str], None],
+        on_offline: Callable[[str], None],
+        on_event: Callable[[str, dict[str, Any], str], None],
+    ) -> None:
+        self._connection = connection
+        self._room_jid = room_jid
+        self._nick = nick
+        self._on_online = on_online
+        self._on_offline = on_offline
+        self._on_event = on_event
+        self._occupants: dict[str, str] = {}  # nick → real full JID
+        self._previous: dict[str, str] | None = None  # occupants before a reconnect
+        self._joined: asyncio.Future[None] | None = None
+        self._state = "starting"
+        connection.add_handler("nightcrew room presence", f"{_C}presence", self._on_presence)
+        connection.add_handler("nightcrew event", f"{_C}message/{{{NS_EVENT}}}event", self._on_message)
+
+    @property
+    def occupants(self) -> list[str]:
+        """Names of the other modules in the room."""
+        return [nick for nick in self._occupants if nick != self._nick]
+
+    def jid_of(self, nick: str) -> str:
+        """The real JID of module ``nick``; RemoteError if it is not online."""
+        jid = self._occupants.get(nick) if nick != self._nick else None
+        if jid is None:
+            raise RemoteError(f"module '{nick}' is not online")
+        return jid
+
+    # --- joining -------------------------------------------------------------------------------
+
+    async def join(self) -> None:
+        """Enter the room (again after a reconnect) and wait for the occupant list."""
+        self._joined = asyncio.get_running_loop().create_future()
+        self._connection.send(self._presence())
+        try:
+            await asyncio.wait_for(self._joined, _JOIN_TIMEOUT)
+        except TimeoutError:
+            raise RemoteError(f"no answer from room {self._room_jid} within {_JOIN_TIMEOUT:g} s") from None
+        finally:
+            self._joined = None
+
+    def lost(self) -> None:
+        """The connection is gone; remember who was there to tell differences after rejoining."""
+        if self._previous is None:
+            self._previous = dict(self._occupants)
+        self._occupants.clear()
+
+    def advertise_state(self, state: str) -> None:
+        """Tell the room this module's state (in its presence)."""
+        self._state = state
+        with contextlib.suppress(NightcrewError):  # if offline, the next join carries it
+            self._connection.send(self._presence(join=False))
+
+    def _presence(self, *, join: bool = True) -> StanzaBase:
+        module = ET.Element(f"{{{NS_MODULE}}}module", state=self._state)
+        status = ET.Element(f"{_C}status")
+        status.text = self._state
+        payload = [status, module]
+        if join:
+            muc = ET.Element(f"{{{NS_MUC}}}x")
+            ET.SubElement(muc, f"{{{NS_MUC}}}history", maxstanzas="0")  # no old events
+            payload.insert(0, muc)
+        return self._connection.stanza("presence", f"{self._room_jid}/{self._nick}", *payload)
+
+    # --- incoming ------------------------------------------------------------------------------
+
+    def _on_presence(self, stanza: StanzaBase) -> None:
+        sender = stanza["from"]
+        if sender.bare != self._room_jid:
+            return
+        nick = sender.resource
+        kind = stanza["type"]
+        if kind == "error":
+            self._on_join_error(stanza)
+            return
+        user = stanza.xml.find(f"{{{NS_MUC_USER}}}x")
+        statuses = user.findall(f"{{{NS_MUC_USER}}}status") if user is not None else []
+        codes = {status.get("code") for status in statuses}
+        if "110" in codes:  # our own presence: the occupant list is complete
+            if kind != "unavailable":
+                self._complete_join()
+            return
+        if kind == "unavailable":
+            if self._occupants.pop(nick, None) is not None and self._joined is None:
+                self._on_offline(nick)
+            return
+        item = user.find(f"{{{NS_MUC_USER}}}item") if user is not None else None
+        jid = item.get("jid") if item is not None else None
+        if not jid:
+            log.warning("room %s hides real JIDs; module '%s' cannot be called", self._room_jid, nick)
+            return
+        known = nick in self._occupants
+        self._occupants[nick] = jid
+        if not known and self._joined is None:
+            self._on_online(nick)
+
+    def _complete_join(self) -> None:
+        if self._previous is not None:  # after a reconnect: report who came and went meanwhile
+            previous, self._previous = self._previous, None
+            for nick in previous:
+                if nick not in self._occupants:
+                    self._on_offline(nick)
+            for nick in self._occupants:
+                if nick not in previous and nick != self._nick:
+                    self._on_online(nick)
+        if self._joined is not None and not self._joined.done():
+            self._joined.set_result(None)
+
+    def _on_join_error(self, stanza: StanzaBase) -> None:
+        condition = stanza["error"]["condition"]
+        if condition == "conflict":
+            error: NightcrewError = ConfigError(
+                f"another module named '{self._nick}' is already in room {self._room_jid}"
+            )
+        else:
+            error = RemoteError(f"cannot enter room {self._room_jid}: {condition}")
+        if self._joined is not None and not self._joined.done():
+            self._joined.set_exception(error)
+        else:
+            log.error("%s", error)
+
+    # --- events --------------------------------------------------------------------------------
+
+    def publish(self, name: str, payload: dict[str, Any]) -> None:
+        """Send event ``name`` with wire fields ``payload`` to the room."""
+        element = ET.Element(f"{{{NS_EVENT}}}event", name=name)
+        element.text = json.dumps(payload, default=_json_value, separators=(",", ":"))
+        stanza = self._connection.stanza(
+            "message", self._room_jid, element, ET.Element(f"{{{NS_HINTS}}}no-store"), type="groupchat"
+        )
+        self._connection.send(stanza)
+
+    def _on_message(self, stanza: StanzaBase) -> None:
+        sender = stanza["from"]
+        if stanza["type"] != "groupchat" or sender.bare != self._room_jid or sender.resource == self._nick:
+            return
+        element = stanza.xml.find(f"{{{NS_EVENT}}}event")
+        if element is None:
+            return
+        name = element.get("name", "")
+        try:
+            payload = json.loads(element.text or "{}")
+        except ValueError:
+            log.warning("dropped %s from %s: payload is not JSON", name, sender.resource)
+            return
+        if isinstance(payload, dict) and name:
+            self._on_event(name, payload, sender.resource)
+
+
+def _json_value(value: Any) -> Any:
+    """JSON for the wire values JSON lacks: datetimes as ISO 8601, bytes as base64."""
+    if isinstance(value, datetime):
+        return value.isoformat()
+    if isinstance(value, bytes):
+        return base64.b64encode(value).decode("ascii")
+    raise TypeError(f"{type(value).__name__} is not a wire value")

@@ -1,0 +1,27 @@
+"""A private XMPP server for nightcrew: ``nightcrew server init|start|stop|status``.
+
+:func:`init_server` writes a Prosody configuration for loopback (or a given address), a
+self-signed certificate and one account per module configuration; :func:`start_server` runs
+Prosody in the background with its own data directory and pidfile, no root or systemd needed.
+"""
+
+from nightcrew.server._accounts import Account, accounts_from_configs
+from nightcrew.server._prosody import (
+    ServerSettings,
+    init_server,
+    register_account,
+    server_status,
+    start_server,
+    stop_server,
+)
+
+__all__ = [
+    "Account",
+    "ServerSettings",
+    "accounts_from_configs",
+    "init_server",
+    "register_account",
+    "server_status",
+    "start_server",
+    "stop_server",
+]

@@ -1,0 +1,53 @@
+"""Which XMPP accounts a set of module configurations needs."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+from nightcrew.comm.xmpp._settings import parse_jid
+from nightcrew.config import load_config
+from nightcrew.errors import ConfigError
+
+__all__ = ["Account", "accounts_from_configs"]
+
+
+@dataclass(frozen=True)
+class Account:
+    """One module's login: ``user@domain`` with its password."""
+
+    user: str
+    domain: str
+    password: str
+
+    @property
+    def jid(self) -> str:
+        return f"{self.user}@{self.domain}"
+
+
+def accounts_from_configs(
+    paths: Iterable[str | os.PathLike[str]], *, environ: Mapping[str, str] | None = None
+) -> list[Account]:
+    """The accounts of every config whose ``comm:`` has a ``jid`` (``${VAR}`` resolved).
+
+    Raises:
+        ConfigError: A file cannot be read, a JID is malformed or has no password, or one JID
+            appears twice with different passwords.
+    """
+    found: dict[str, Account] = {}
+    for path in paths:
+        config = load_config(path, environ=environ)
+        comm = config.get("comm")
+        if not isinstance(comm, Mapping) or "jid" not in comm:
+            continue
+        user, domain, _ = parse_jid(str(comm["jid"]))
+        password = comm.get("password")
+        if not password:
+            raise ConfigError(f"{os.fspath(path)}: key 'comm.password': missing")
+        account = Account(user, domain, str(password))
+        previous = found.get(account.jid)
+        if previous is not None and previous.password != account.password:
+            raise ConfigError(f"{os.fspath(path)}: {account.jid} appears twice with different passwords")
+        found[account.jid] = account
+    return list(found.values())
