@@ -19,7 +19,7 @@ from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.modules import Module
 from nightcrew.server import Account, init_server, register_account, start_server, stop_server
 
-from .xmpp_servers import DOMAIN, XmppServer, free_port, require_command
+from .xmpp_servers import DOMAIN, MODULE_NAMES, PASSWORD, XmppServer, free_port, require_command
 
 M = TypeVar("M", bound=Module)
 
@@ -83,7 +83,7 @@ def ejabberd_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[XmppSe
     from .ejabberd import running_ejabberd
 
     require_command("ejabberdctl", "ejabberd")
-    with running_ejabberd(tmp_path_factory.mktemp("ejabberd")) as server:
+    with running_ejabberd(MODULE_NAMES, PASSWORD) as server:
         yield server
 
 

@@ -20,6 +20,11 @@ from nightcrew.server import Account
 
 DOMAIN = "observatory.test"
 PASSWORD = "secret-for-tests"
+#: Module names the tests use, registered when a server starts (others are registered on demand).
+MODULE_NAMES = [
+    "calc", "caller", "plain", "listener", "sender", "watcher", "other", "viewer",
+    "telescope", "camera", "operator",
+]  # fmt: skip
 
 
 def free_port() -> int:
