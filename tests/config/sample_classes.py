@@ -10,6 +10,7 @@ from abc import ABC, abstractmethod
 from enum import Enum
 from typing import Any, Literal
 
+from nightcrew.errors import ConfigError
 from nightcrew.interfaces.base import Interface
 
 
@@ -129,7 +130,9 @@ class Kitchen:
 class Picky(Thing):
     """A constructor that refuses a value the type hint cannot rule out."""
 
-    def __init__(self, value: int) -> None:
+    def __init__(self, value: int, limit: int = 10) -> None:
         if value < 0:
             raise ValueError("value must not be negative")
+        if value > limit:
+            raise ConfigError(f"value must be <= {limit}, got {value}", key="value")
         super().__init__(value)

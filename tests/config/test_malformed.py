@@ -398,6 +398,19 @@ def test_constructor_error_is_reported_with_location(tmp_path: Path, monkeypatch
     assert (info.value.file, info.value.line, info.value.key) == ("main.yaml", 3, "things[0]")
 
 
+def test_constructor_config_error_points_at_the_key_it_names(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    write_files(
+        tmp_path, main(f"class: {S}.Kitchen\nthings:\n  - class: {S}.Picky\n    limit: 5\n    value: 7\n")
+    )
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(
+        ConfigError, match=r"^main\.yaml:5: key 'things\[0\]\.value': value must be <= 5, got 7$"
+    ):
+        load_and_build("main.yaml")
+
+
 def test_validate_reports_the_first_problem_in_file_order(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

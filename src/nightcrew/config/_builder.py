@@ -71,6 +71,17 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
             kwargs[key] = _build_value(value, hint, join_key(prefix, key), location_in(node, key, owner))
     try:
         return cls(**kwargs)
+    except ConfigError as exc:
+        if exc.file or not exc.key or exc.key.split(".")[0] not in node:
+            raise
+        # The constructor named the offending key: point at that key's line in the file.
+        location = location_in(node, exc.key.split(".")[0], owner)
+        raise ConfigError(
+            exc.message,
+            file=location.file if location else None,
+            line=location.line if location else None,
+            key=join_key(prefix, exc.key),
+        ) from exc
     except Exception as exc:
         # The configuration passed every check we know of, but the constructor refused it.
         location = location_in(node, "class", owner)
