@@ -1,5 +1,6 @@
 """The simulated observatory's devices: ordinary modules built on the device bases."""
 
+from nightcrew.modules.sim.camera import SimCamera
 from nightcrew.modules.sim.filters import SimFilterWheel
 from nightcrew.modules.sim.focuser import SimFocuser
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth
@@ -11,6 +12,7 @@ __all__ = [
     "ISimFocuserTruth",
     "ISimTelescopeTruth",
     "ISimWeatherTruth",
+    "SimCamera",
     "SimDome",
     "SimFilterWheel",
     "SimFocuser",
