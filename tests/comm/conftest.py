@@ -87,13 +87,6 @@ def ejabberd_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[XmppSe
         yield server
 
 
-@pytest.fixture
-def xmpp_server(request: pytest.FixtureRequest) -> XmppServer:
-    """The server of the current ``network`` parametrisation (for XMPP-only tests)."""
-    server: XmppServer = request.getfixturevalue(f"{request.param}_server")
-    return server
-
-
 _TRANSPORTS = [
     "local",
     pytest.param("prosody", marks=pytest.mark.xmpp),
@@ -105,6 +98,16 @@ _TRANSPORTS = [
 async def network(request: pytest.FixtureRequest) -> AsyncIterator[Network]:
     server = None if request.param == "local" else request.getfixturevalue(f"{request.param}_server")
     net = Network(request.param, server)
+    try:
+        yield net
+    finally:
+        await net.close()
+
+
+@pytest.fixture(params=_TRANSPORTS[1:])
+async def xmpp_network(request: pytest.FixtureRequest) -> AsyncIterator[Network]:
+    """Like ``network``, for tests of what only the XMPP transport has (logins, reconnects)."""
+    net = Network(request.param, request.getfixturevalue(f"{request.param}_server"))
     try:
         yield net
     finally:

@@ -81,6 +81,7 @@ class XmppConnection:
         """Connect and log in; raises XmppAuthError or RemoteError (one attempt, no retry loop)."""
         # slixmpp's tasks copy this context: keep them out of the module's log forwarding.
         token = current_module.set(None)
+        _quiet_slixmpp()
         try:
             self._client = self._make_client()
             await self._connect_once()
@@ -245,3 +246,20 @@ class XmppConnection:
                 return
         finally:
             self._reconnect_task = None
+
+
+def _quiet_slixmpp() -> None:
+    """Keep slixmpp's routine INFO lines and its own report of a refused login off the console.
+
+    nightcrew reports connection losses and refused logins itself, once. Under debug logging
+    (and when an application set these loggers' levels) nothing is changed.
+    """
+    if logging.getLogger().getEffectiveLevel() <= logging.DEBUG:
+        return
+    for name, level in (
+        ("slixmpp", logging.WARNING),
+        ("slixmpp.features.feature_mechanisms", logging.CRITICAL),
+    ):
+        logger = logging.getLogger(name)
+        if logger.level == logging.NOTSET:
+            logger.setLevel(level)

@@ -115,9 +115,9 @@ class Room:
 
     def _on_presence(self, stanza: StanzaBase) -> None:
         sender = stanza["from"]
-        if sender.bare != self._room_jid:
-            return
         nick = sender.resource
+        if sender.bare != self._room_jid or not nick:
+            return  # not from the room, or from the room itself
         kind = stanza["type"]
         if kind == "error":
             self._on_join_error(stanza)

@@ -1,0 +1,93 @@
+"""``nightcrew server init|start|stop|status DIR``: a private Prosody for nightcrew modules.
+
+``init DIR [--host 127.0.0.1] [--port 5222] [--domain D] CONFIG...`` writes a Prosody
+configuration, a self-signed certificate (``DIR/certs/<domain>.crt``, for the modules'
+``ca_file``) and one account per module configuration with a ``comm: {jid, password}``
+(``${VAR}`` resolved from the environment). ``start`` runs Prosody in the background with
+its data, log and pidfile in DIR; ``stop`` ends it; ``status`` says whether it runs (exit 0) or
+not (exit 3). Using an existing Prosody or ejabberd instead: see docs/xmpp-servers.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from nightcrew.server import (
+    ServerSettings,
+    accounts_from_configs,
+    init_server,
+    server_status,
+    start_server,
+    stop_server,
+)
+
+__all__ = ["add_parser"]
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    parser: argparse.ArgumentParser = subparsers.add_parser(
+        "server", help="a private XMPP server (Prosody)", description=__doc__.split("\n\n", 1)[1]
+    )
+    actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
+    init = actions.add_parser(
+        "init",
+        help="write config, certificate and accounts",
+        usage="nightcrew server init DIR [--host HOST] [--port PORT] [--domain DOMAIN] [CONFIG ...]",
+        description=_init_options().format_help().split("\n\n", 1)[1],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    init.add_argument("directory", metavar="DIR")
+    # Options may come between DIR and the configs, which one argparse pass cannot take apart.
+    init.add_argument("rest", nargs=argparse.REMAINDER, help=argparse.SUPPRESS)
+    init.set_defaults(func=_init)
+    for name, func, text in (
+        ("start", _start, "start the server in the background"),
+        ("stop", _stop, "stop the server"),
+        ("status", _status, "tell whether the server runs"),
+    ):
+        action = actions.add_parser(name, help=text)
+        action.add_argument("directory", metavar="DIR")
+        action.set_defaults(func=func)
+    return parser
+
+
+def _init_options() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="nightcrew server init DIR", add_help=False)
+    parser.add_argument("configs", nargs="*", metavar="CONFIG", help="module YAML files with comm.jid")
+    parser.add_argument("--host", default="127.0.0.1", help="address to listen on (default: loopback)")
+    parser.add_argument("--port", type=int, default=5222, help="client port (default: 5222)")
+    parser.add_argument("--domain", action="append", default=[], help="XMPP domain (default: from the JIDs)")
+    return parser
+
+
+def _init(args: argparse.Namespace) -> int:
+    options = _init_options().parse_intermixed_args(args.rest)
+    accounts = accounts_from_configs(options.configs)
+    settings = init_server(
+        args.directory, accounts, host=options.host, port=options.port, domains=options.domain
+    )
+    names = ", ".join(a.jid for a in accounts) or "no accounts"
+    print(
+        f"server in {args.directory}: {settings.host}:{settings.port}, {' '.join(settings.domains)}; {names}"
+    )
+    return 0
+
+
+def _start(args: argparse.Namespace) -> int:
+    pid = start_server(args.directory)
+    settings = ServerSettings.load(Path(args.directory))
+    print(f"prosody running (pid {pid}) on {settings.host}:{settings.port}")
+    return 0
+
+
+def _stop(args: argparse.Namespace) -> int:
+    print("stopped" if stop_server(args.directory) else "not running")
+    return 0
+
+
+def _status(args: argparse.Namespace) -> int:
+    pid = server_status(args.directory)
+    print(f"running (pid {pid})" if pid is not None else "not running")
+    return 0 if pid is not None else 3

@@ -1,0 +1,93 @@
+"""What only the XMPP transport has: logins, TLS, reconnects after a server restart."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+import pytest
+
+from nightcrew.comm.xmpp import XmppAuthError, XmppComm
+from nightcrew.errors import ConfigError, RemoteError
+from nightcrew.events import TestEvent
+from nightcrew.modules import Module
+
+from .conftest import Network
+from .sample import Calculator, ICalculator, ISlow, Listener
+from .xmpp_servers import DOMAIN
+
+pytestmark = pytest.mark.xmpp
+
+
+async def test_wrong_password_is_one_clear_error(xmpp_network: Network) -> None:
+    server = xmpp_network.server
+    assert server is not None
+    server.account("calc")
+    comm = XmppComm(f"calc@{DOMAIN}", "wrong", server=server.address, ca_file=server.ca_file)
+    started = time.monotonic()
+    with pytest.raises(XmppAuthError, match=r"calc@observatory.test: login refused \(wrong password"):
+        await Module(comm=comm).open()
+    assert time.monotonic() - started < 5  # no retry loop
+
+
+async def test_unknown_account_is_one_clear_error(xmpp_network: Network) -> None:
+    server = xmpp_network.server
+    assert server is not None
+    comm = XmppComm(f"nobody@{DOMAIN}", "whatever", server=server.address, ca_file=server.ca_file)
+    with pytest.raises(XmppAuthError, match=r"nobody@observatory\.test: login refused"):
+        await Module(comm=comm).open()
+
+
+async def test_untrusted_certificate_is_refused(xmpp_network: Network) -> None:
+    server = xmpp_network.server
+    assert server is not None
+    account = server.account("calc")
+    comm = XmppComm(account.jid, account.password, server=server.address, connect_timeout=3)
+    with pytest.raises(RemoteError, match=r"no XMPP session|cannot connect|closed the connection"):
+        await Module(comm=comm).open()
+
+
+def test_config_errors_are_found_when_the_comm_is_built() -> None:
+    with pytest.raises(ConfigError, match="not a JID"):
+        XmppComm("camera", "pw")
+    with pytest.raises(ConfigError, match="not host:port"):
+        XmppComm("camera@obs.local", "pw", server="a:b:c")
+    with pytest.raises(ConfigError, match="TLS cannot be turned off"):
+        XmppComm("camera@obs.local", "pw", server="192.0.2.1", require_tls=False)
+    comm = XmppComm("camera@obs.local/dome", "pw")
+    assert comm.name == "camera" and comm.jid == "camera@obs.local/dome"
+
+
+async def _until(condition: object, seconds: float) -> None:
+    deadline = time.monotonic() + seconds
+    while not condition():  # type: ignore[operator]
+        if time.monotonic() > deadline:
+            raise AssertionError(f"not within {seconds} s")
+        await asyncio.sleep(0.05)
+
+
+async def test_modules_reconnect_after_a_server_restart(xmpp_network: Network) -> None:
+    if xmpp_network.kind != "prosody":
+        pytest.skip("restarts are tested on Prosody (ejabberd takes ~8 s to start)")
+    server = xmpp_network.server
+    assert server is not None
+    calc = await xmpp_network.start(Calculator, "calc")
+    listener = await xmpp_network.start(Listener, "listener")
+    proxy = await listener.comm.proxy("calc", ICalculator)
+    slow = await listener.comm.proxy("calc", ISlow)
+    assert await proxy.add(1, 2) == 3.0
+    in_flight = asyncio.ensure_future(slow.wait(30))  # announces 3000 s
+    await asyncio.sleep(0.3)
+
+    restarted = time.monotonic()
+    await asyncio.to_thread(server.restart)
+    with pytest.raises(RemoteError, match=r"went offline during the call|connection to the XMPP server lost"):
+        await asyncio.wait_for(in_flight, 3)  # fails fast instead of hanging
+
+    # every module is back within 10 s: in the room, calls through the old proxy, events
+    await _until(lambda: "calc" in listener.comm.clients and "listener" in calc.comm.clients, 10)
+    assert await proxy.add(2, 2) == 4.0
+    assert time.monotonic() - restarted < 10
+    await calc.comm.send_event(TestEvent(message="after restart"))
+    await asyncio.wait_for(listener.arrived.wait(), 5)
+    assert listener.received[-1] == (TestEvent(message="after restart"), "calc")
