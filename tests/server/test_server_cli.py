@@ -1,0 +1,87 @@
+"""``nightcrew server init|start|stop|status`` with a real Prosody."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+from pathlib import Path
+
+import pytest
+
+from nightcrew.cli.main import main
+from nightcrew.comm.xmpp import XmppComm
+from nightcrew.errors import ConfigError
+from nightcrew.modules import Module
+from nightcrew.server import Account, accounts_from_configs
+
+pytestmark = pytest.mark.xmpp
+
+
+def _config(path: Path, jid: str, password: str) -> Path:
+    path.write_text(
+        "class: nightcrew.modules.Module\n"
+        "comm:\n"
+        "  class: nightcrew.comm.xmpp.XmppComm\n"
+        f"  jid: {jid}\n"
+        f"  password: {password}\n"
+    )
+    return path
+
+
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
+def test_accounts_come_from_module_configs_with_env_resolved(tmp_path: Path) -> None:
+    camera = _config(tmp_path / "camera.yaml", "camera@obs.local", "${CAMERA_PASSWORD}")
+    roof = _config(tmp_path / "roof.yaml", "roof@obs.local/dome", "plain")
+    local = tmp_path / "local.yaml"
+    local.write_text("class: nightcrew.modules.Module\nname: local\n")
+    accounts = accounts_from_configs([camera, roof, local], environ={"CAMERA_PASSWORD": "s3cret"})
+    assert accounts == [Account("camera", "obs.local", "s3cret"), Account("roof", "obs.local", "plain")]
+
+
+def test_one_jid_with_two_passwords_is_refused(tmp_path: Path) -> None:
+    first = _config(tmp_path / "a.yaml", "camera@obs.local", "one")
+    second = _config(tmp_path / "b.yaml", "camera@obs.local", "two")
+    with pytest.raises(ConfigError, match=r"camera@obs\.local appears twice"):
+        accounts_from_configs([first, second])
+
+
+async def test_init_start_status_stop(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    if shutil.which("prosody") is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("prosody is not installed")
+        pytest.skip("prosody is not installed")
+    os.environ["NC_TEST_CAMERA_PASSWORD"] = "s3cret"
+    camera = _config(tmp_path / "camera.yaml", "camera@obs.local", "${NC_TEST_CAMERA_PASSWORD}")
+    directory = tmp_path / "server"
+    port = _free_port()
+    try:
+        assert main(["server", "init", str(directory), "--port", str(port), str(camera)]) == 0
+        config = (directory / "prosody.cfg.lua").read_text()
+        enabled = next(line for line in config.splitlines() if line.startswith("modules_enabled"))
+        assert 'interfaces = { "127.0.0.1" }' in config and "limits" not in enabled
+        assert main(["server", "status", str(directory)]) == 3
+        assert main(["server", "start", str(directory)]) == 0
+        assert main(["server", "status", str(directory)]) == 0
+        comm = XmppComm(
+            "camera@obs.local",
+            "s3cret",
+            server=f"127.0.0.1:{port}",
+            ca_file=str(directory / "certs" / "obs.local.crt"),
+            require_tls=True,  # the server offers TLS with the certificate init made
+        )
+        module = Module(comm=comm)
+        await module.open()
+        await module.close()
+    finally:
+        main(["server", "stop", str(directory)])
+        del os.environ["NC_TEST_CAMERA_PASSWORD"]
+    assert main(["server", "status", str(directory)]) == 3
+    out = capsys.readouterr().out
+    assert "camera@obs.local" in out and "not running" in out
