@@ -1,4 +1,8 @@
-"""Every example under examples/sim/ is a valid configuration that builds a module."""
+"""Every example of the simulated observatory is a valid configuration that builds a module.
+
+The files ship inside the package (``nightcrew/modules/sim/observatory/``); ``examples/sim`` is a
+link to that directory, so the examples and what ``nightcrew sim`` runs are the same files.
+"""
 
 from __future__ import annotations
 
@@ -6,16 +10,34 @@ from pathlib import Path
 
 import pytest
 
-from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.config import build_object, config_files, load_config, validate_config
 from nightcrew.modules import Module
+from nightcrew.modules.sim.night import bundled_observatory
 
-EXAMPLES = sorted((Path(__file__).resolve().parents[2] / "examples" / "sim").glob("*.yaml"))
+REPOSITORY = Path(__file__).resolve().parents[2]
+EXAMPLES = config_files([bundled_observatory()])
+
+
+def test_examples_sim_is_the_bundled_observatory() -> None:
+    assert (REPOSITORY / "examples" / "sim").resolve() == bundled_observatory().resolve()
 
 
 def test_there_is_an_example_for_every_sim_device() -> None:
     classes = {load_config(path)["class"].rsplit(".", 1)[1] for path in EXAMPLES}
-    expected = {"SimTelescope", "SimFocuser", "SimFilterWheel", "SimRoof", "SimDome", "SimWeatherStation"}
+    expected = {
+        "SimTelescope",
+        "SimFocuser",
+        "SimFilterWheel",
+        "SimRoof",
+        "SimDome",
+        "SimWeatherStation",
+        "SimCamera",
+    }
     assert expected <= classes
+
+
+def test_the_site_fragment_is_not_a_module_file() -> None:
+    assert all(path.name != "site.yaml" for path in EXAMPLES)
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)

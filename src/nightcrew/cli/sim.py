@@ -1,0 +1,171 @@
+"""``nightcrew sim``: run the simulated observatory through a night, fast, and write its images.
+
+All modules of the bundled observatory (``examples/sim``: weather, roof, telescope, focuser,
+filter wheel, camera) run in this process on one accelerated clock. The night starts after
+astronomical dusk of ``--date`` at the observatory's site: the roof opens, the telescope slews to
+a few well-known star fields high in the sky and the camera takes one exposure per filter in each;
+then the telescope parks and the roof closes (also after an error or Ctrl-C). FITS files go to
+``--out``; progress is shown on stderr, a summary on stdout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import logging
+import signal
+import sys
+import time
+from datetime import date, datetime
+from pathlib import Path
+from typing import Any, TextIO
+
+from nightcrew.clock import AcceleratedClock
+from nightcrew.comm.local import LocalNetwork
+from nightcrew.config import load_config, to_plain
+from nightcrew.errors import ConfigError
+from nightcrew.modules.sim.night import (
+    NightReport,
+    ProgressCallback,
+    build_observatory,
+    bundled_observatory,
+    run_night,
+)
+from nightcrew.modules.sim.night_plan import Step, choose_targets, night_start, plan_night
+from nightcrew.site import Site
+
+__all__ = ["add_parser"]
+
+#: A moonless autumn night (new moon on 2026-11-09) with Cygnus and Cassiopeia high after dusk.
+DEFAULT_NIGHT = "2026-11-10"
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    parser: argparse.ArgumentParser = subparsers.add_parser(
+        "sim", help="run the simulated observatory through a night", description=__doc__.split("\n\n", 1)[1]
+    )
+    parser.add_argument("--out", type=Path, default=Path("sim-output"), help="directory for the FITS files")
+    parser.add_argument("--date", type=_night, default=_night(DEFAULT_NIGHT), help="night (YYYY-MM-DD)")
+    parser.add_argument("--speed", type=_positive, default=60.0, help="clock seconds per wall second")
+    parser.add_argument("--seed", type=int, default=None, help="replace the seeds of all modules")
+    parser.add_argument("--targets", type=_count, default=3, help="number of star fields")
+    parser.add_argument("--filters", default="V,R", help="comma-separated filters, one exposure each")
+    parser.add_argument("--exposure-time", type=_positive, default=30.0, help="seconds per exposure")
+    parser.add_argument(
+        "--configs", type=Path, default=None, help="directory of module files (default: the bundled ones)"
+    )
+    parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
+    parser.set_defaults(func=_sim_command)
+    return parser
+
+
+def _sim_command(args: argparse.Namespace) -> int:
+    directory: Path = args.configs or bundled_observatory()
+    site = _site_of(directory)
+    start = night_start(args.date, site)
+    try:
+        targets = choose_targets(site, start.timestamp(), args.targets)
+    except ValueError as exc:
+        raise ConfigError(f"--date {args.date}: {exc}") from exc
+    filters = [name.strip() for name in args.filters.split(",") if name.strip()]
+    steps = plan_night(targets, list(filters) or [None], args.exposure_time)
+
+    # Module chatter would bury the progress line; -v (or --debug) shows it.
+    quiet = not (args.verbose or args.debug)
+    logger = logging.getLogger("nightcrew")
+    old_level = logger.level
+    if quiet:
+        logger.setLevel(logging.WARNING)
+    wall_start = time.monotonic()
+    try:
+        report = asyncio.run(_run(directory, args, start, steps, _progress_printer(sys.stderr)))
+    finally:
+        logger.setLevel(old_level)
+    _print_summary(report, args, start, time.monotonic() - wall_start)
+    return 0 if report.completed else 130
+
+
+async def _run(
+    directory: Path, args: argparse.Namespace, start: datetime, steps: list[Step], progress: ProgressCallback
+) -> NightReport:
+    clock = AcceleratedClock(start, speed=args.speed)
+    network = LocalNetwork()
+    modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        loop.add_signal_handler(sig, stop.set)
+    try:
+        return await run_night(
+            modules, steps, clock=clock, network=network, out_dir=args.out, progress=progress, stop=stop
+        )
+    finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.remove_signal_handler(sig)
+
+
+def _site_of(directory: Path) -> Site:
+    """The observatory's site: the one the telescope's file gives."""
+    path = directory / "telescope.yaml"
+    if not path.is_file():
+        raise ConfigError(f"no telescope.yaml in {directory}: the night needs a telescope")
+    site = load_config(path).get("site")
+    if not isinstance(site, dict):
+        raise ConfigError("the telescope needs a site (latitude, longitude, elevation)", file=str(path))
+    try:
+        return Site(**to_plain(site))
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"invalid site: {exc}", file=str(path), key="site") from exc
+
+
+def _progress_printer(stream: TextIO) -> ProgressCallback:
+    """Progress as one rewritten line on a terminal, one line per step elsewhere."""
+    tty = stream.isatty()
+
+    def show(number: int, total: int, step: Step, now: datetime) -> None:
+        done = round(20 * (number - 1) / max(1, total - 1))
+        line = f"[{'#' * done}{'.' * (20 - done)}] {number}/{total} {now:%H:%M:%S} UTC  {step.describe()}"
+        if tty:
+            stream.write("\r\033[K" + line + ("\n" if number == total else ""))
+        else:
+            stream.write(line + "\n")
+        stream.flush()
+
+    return show
+
+
+def _print_summary(report: NightReport, args: argparse.Namespace, start: datetime, wall: float) -> None:
+    state = "night complete" if report.completed else "night stopped early"
+    print(
+        f"{state}: {len(report.frames)} frames written to {args.out} "
+        f"(night of {args.date}, clock from {start:%H:%M} UTC at {args.speed:g}x; {wall:.1f} s wall time)"
+    )
+    for path in report.files:
+        print(f"  {path}")
+
+
+def _night(text: str) -> date:
+    try:
+        return date.fromisoformat(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a date (YYYY-MM-DD): {text!r}") from None
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {text}")
+    return value
