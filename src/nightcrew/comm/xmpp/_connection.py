@@ -155,6 +155,7 @@ class XmppConnection:
             client.register_handler(Callback(name, MatchXPath(xpath), handler))
         client.add_event_handler("session_start", self._on_session_start)
         client.add_event_handler("tls_success", self._on_tls)
+        client.add_event_handler("ssl_invalid_chain", self._on_untrusted_certificate)
         client.add_event_handler("failed_all_auth", self._on_auth_failed)
         client.add_event_handler("connection_failed", self._on_connection_failed)
         client.add_event_handler("disconnected", self._on_disconnected)
@@ -196,6 +197,17 @@ class XmppConnection:
     def _on_tls(self, _: Any) -> None:
         self._tls_done = True
 
+    def _on_untrusted_certificate(self, error: Any) -> None:
+        self._fail_session(self._loss_error(error))
+        self.client.abort()
+
+    def _loss_error(self, reason: Any) -> RemoteError:
+        s = self._settings
+        if isinstance(reason, ssl.SSLCertVerificationError):
+            why = reason.verify_message or str(reason)
+            return RemoteError(f"the certificate of {s.host}:{s.port} is not trusted ({why}); see ca_file")
+        return RemoteError(f"XMPP server closed the connection ({reason})")
+
     def _on_auth_failed(self, _: Any) -> None:
         s = self._settings
         if s.require_tls and not self._tls_done:
@@ -222,7 +234,7 @@ class XmppConnection:
 
     def _on_disconnected(self, reason: Any) -> None:
         was_online, self._online = self._online, False
-        self._fail_session(RemoteError(f"XMPP server closed the connection ({reason})"))
+        self._fail_session(self._loss_error(reason))
         if was_online:
             self._on_lost()
             if not self._closing and self._reconnect_task is None:
