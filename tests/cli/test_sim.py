@@ -1,0 +1,127 @@
+"""``nightcrew sim``: the bundled observatory runs a night and writes complete, solvable frames."""
+
+from __future__ import annotations
+
+import shutil
+from datetime import UTC, date, datetime
+from pathlib import Path
+
+import pytest
+from astropy.io import fits  # type: ignore[import-untyped]
+
+from nightcrew.cli.main import main
+from nightcrew.modules.sim.ephemeris import moon_illumination, sun_altitude
+from nightcrew.modules.sim.night_plan import FAMOUS_FIELDS, choose_targets, night_start, plan_night
+from nightcrew.site import Site
+
+from ..sim.solving import offset_arcsec, solve_field
+
+SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0)
+HEADER_KEYS = (
+    "DATE-OBS",
+    "EXPTIME",
+    "IMAGETYP",
+    "FILTER",
+    "RA",
+    "DEC",
+    "OBJCTRA",
+    "AIRMASS",
+    "FOCUS",
+    "GAIN",
+    "PIXSCALE",
+    "SITELAT",
+    "SIM-RA",
+    "SIM-DEC",
+)
+
+
+@pytest.fixture(scope="module")
+def night(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
+    """One short night for all tests here: two fields, V and R, 30 s each."""
+    out = tmp_path_factory.mktemp("night")
+    code = main(["sim", "--out", str(out), "--speed", "100", "--targets", "2", "--filters", "V,R"])
+    return code, out
+
+
+def test_the_night_exits_cleanly_and_writes_one_file_per_exposure(night: tuple[int, Path]) -> None:
+    code, out = night
+    assert code == 0
+    files = sorted(out.glob("*.fits"))
+    assert len(files) == 4
+    filters = []
+    for path in files:
+        header = fits.getheader(path)
+        missing = [key for key in HEADER_KEYS if key not in header]
+        assert not missing, f"{path.name} lacks {missing}"
+        assert header["EXPTIME"] == 30.0 and header["IMAGETYP"] == "object"
+        assert header["DATE-OBS"].startswith("2026-11-10T17:")  # after dusk on the default night
+        filters.append(header["FILTER"])
+    assert sorted(filters) == ["R", "R", "V", "V"]
+
+
+def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["sim", "--out", str(tmp_path), "--speed", "200", "--targets", "1", "--filters", "V"])
+    out, err = capsys.readouterr()
+    assert code == 0
+    assert "1/5" in err and "5/5" in err and "park telescope, close roof" in err
+    assert "night complete: 1 frames written to" in out
+    assert len(list(tmp_path.glob("*.fits"))) == 1
+
+
+@pytest.mark.parametrize(
+    ("argument", "message"),
+    [
+        (["--date", "2026-13-01"], "not a date"),
+        (["--speed", "0"], "must be > 0"),
+        (["--targets", "0"], "must be >= 1"),
+    ],
+)
+def test_bad_arguments_are_one_clear_error(
+    argument: list[str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        main(["sim", "--out", str(tmp_path), *argument])
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_unknown_filter_fails_after_a_safe_shutdown(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = main(["sim", "--out", str(tmp_path), "--speed", "200", "--targets", "1", "--filters", "Halpha"])
+    _, err = capsys.readouterr()
+    assert code == 1
+    assert "unknown filter 'Halpha'; known filters: B, V, R, I, clear" in err
+    assert "park telescope, close roof" in err
+
+
+@pytest.mark.solver
+def test_a_frame_solves_to_the_true_pointing(night: tuple[int, Path], tmp_path: Path) -> None:
+    _, out = night
+    image = tmp_path / "frame.fits"
+    shutil.copy(sorted(out.glob("*-V.fits"))[0], image)
+    header = fits.getheader(image)
+    wcs = solve_field(
+        image, scale_arcsec=header["PIXSCALE"], workdir=tmp_path, hint=(header["RA"], header["DEC"])
+    )
+    # The mount missed its target by about an arcminute; the solution finds where it really points.
+    assert offset_arcsec(wcs, (header["NAXIS2"], header["NAXIS1"]), header["SIM-RA"], header["SIM-DEC"]) < 5.0
+
+
+def test_the_default_night_is_dark_and_its_fields_are_high() -> None:
+    start = night_start(date(2026, 11, 10), SITE)
+    t = start.timestamp()
+    assert sun_altitude(SITE.latitude, SITE.longitude, t) < -18.0
+    assert moon_illumination(t) < 0.05
+    targets = choose_targets(SITE, t, 3)
+    assert [target.name for target in targets] == ["M52", "M39", "Sadr"]  # ordered by azimuth
+    steps = plan_night(targets, ["V", "R"], 30.0)
+    assert [s.action for s in steps].count("expose") == 6
+    assert (steps[0].action, steps[-1].action) == ("prepare", "shutdown")
+
+
+def test_without_astronomical_night_the_start_is_solar_midnight() -> None:
+    start = night_start(date(2026, 6, 21), SITE)
+    assert start.astimezone(UTC).hour == 23  # 9.94° east: solar midnight at 23:20 UTC
+    assert len(choose_targets(SITE, start.timestamp(), 20)) < len(FAMOUS_FIELDS)
+    assert start > datetime(2026, 6, 21, 12, tzinfo=UTC)
