@@ -12,14 +12,17 @@ Errors derive from :class:`AstrometryError` (an :class:`~nightcrew.images.errors
 
 from nightcrew.images.astrometry._errors import AstrometryError, NoSolutionError, SolverUnavailableError
 from nightcrew.images.astrometry._match import CatalogMatch, CatalogMatcher
+from nightcrew.images.astrometry._remote import API_VERSION, RemoteSolver
 from nightcrew.images.astrometry._solve_field import SolveField, SolveHints
 from nightcrew.images.astrometry._tan import TanFit, TanWcs, fit_tan_wcs, sky_to_standard, standard_to_sky
 
 __all__ = [
+    "API_VERSION",
     "AstrometryError",
     "CatalogMatch",
     "CatalogMatcher",
     "NoSolutionError",
+    "RemoteSolver",
     "SolveField",
     "SolveHints",
     "SolverUnavailableError",
