@@ -1,11 +1,11 @@
-# The README's commands: `make example` (run a first module) and `make test` (set up + whole suite).
+# The README's commands: `make sim` (run the simulated observatory) and `make test` (set up + whole suite).
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 # Debian packages of the real components the tests use (XMPP servers, plate solver).
 SYSTEM_PACKAGES := prosody ejabberd
 
-.PHONY: setup system-deps lint test example bench clean
+.PHONY: setup system-deps lint test sim example bench clean
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -26,6 +26,10 @@ lint: setup
 
 test: setup system-deps lint
 	$(PY) -m pytest -q
+
+# The simulated observatory through one night, fast; FITS files go to sim-output/.
+sim: setup
+	$(VENV)/bin/nightcrew sim --out sim-output
 
 example: setup
 	$(VENV)/bin/nightcrew run examples/standalone.yaml
