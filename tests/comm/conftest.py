@@ -112,3 +112,13 @@ async def xmpp_network(request: pytest.FixtureRequest) -> AsyncIterator[Network]
         yield net
     finally:
         await net.close()
+
+
+@pytest.fixture
+async def prosody_network(prosody_server: XmppServer) -> AsyncIterator[Network]:
+    """A Network on Prosody only (tests that restart the server or run processes)."""
+    net = Network("prosody", prosody_server)
+    try:
+        yield net
+    finally:
+        await net.close()

@@ -50,11 +50,6 @@ def nightcrew(*args: str, env: dict[str, str]) -> subprocess.Popen[str]:
     )
 
 
-@pytest.fixture
-def prosody_network(prosody_server: XmppServer) -> Network:
-    return Network("prosody", prosody_server)
-
-
 async def test_two_processes_call_each_other_and_exchange_events(
     prosody_network: Network, tmp_path: Path
 ) -> None:
