@@ -118,10 +118,20 @@ class SimCamera(BaseCamera):
             catalog = StarCatalog(depth=catalog_depth, seed=seed)
         except ValueError as exc:
             raise ConfigError(str(exc), key="catalog_depth") from exc
+        self._catalog = catalog
         self._stars = StarFieldCache(catalog)
         self._stars_lock = threading.Lock()  # an aborted render may still run in its thread
         self._rng = np.random.default_rng(seed)
         self._warned: set[str] = set()
+        self.add_background_task(self._warm_up_task, restart=False)
+
+    async def _warm_up_task(self) -> None:
+        # Reading the bundled catalog takes a few seconds: do it now, not in the first readout.
+        await asyncio.to_thread(self._blocking_warm_up)
+
+    def _blocking_warm_up(self) -> None:
+        with self._stars_lock:
+            self._catalog.query(0.0, 0.0, 0.01)
 
     # --- BaseCamera hooks ----------------------------------------------------------------------
 
@@ -134,13 +144,16 @@ class SimCamera(BaseCamera):
     async def _hw_expose(self, settings: ExposureSettings) -> Frame:
         scene = await self._look_around() if settings.shutter_open else Scene(None, roof_open=False)
         start = self.clock.time()
-        await self.clock.sleep(settings.exposure_time)
-        await self._set_exposure_status(ExposureStatus.READOUT)
         rng = self._rng.spawn(1)[0]
-        frame, _ = await asyncio.gather(
-            asyncio.to_thread(self._blocking_render, scene, settings, start, rng),
-            self.clock.sleep(self._readout_time),
-        )
+        # The scene is fixed at the start, so render while the clock runs down the exposure: on a
+        # fast clock the render time would otherwise show up as a long readout.
+        render = asyncio.ensure_future(asyncio.to_thread(self._blocking_render, scene, settings, start, rng))
+        try:
+            await self.clock.sleep(settings.exposure_time)
+            await self._set_exposure_status(ExposureStatus.READOUT)
+            frame, _ = await asyncio.gather(render, self.clock.sleep(self._readout_time))
+        finally:
+            render.cancel()  # aborted: drop the frame (the thread finishes on its own)
         return frame
 
     # --- asking the other devices --------------------------------------------------------------
