@@ -104,6 +104,11 @@ class XmppConnection:
                     await asyncio.wait_for(client.disconnect(wait=1.0), 3)
                 except (TimeoutError, ConnectionError):
                     client.abort()
+            # slixmpp leaves its outgoing-stanza task running after a disconnect; end it with us.
+            filters = client._run_out_filters
+            if filters is not None and not filters.done():
+                filters.cancel()
+                await asyncio.gather(filters, return_exceptions=True)
         self._online = False
 
     def send(self, stanza: StanzaBase) -> None:
