@@ -37,6 +37,7 @@ class PlainClient:
         self.xmpp.ca_certs = Path(ca_file)
         self.messages: asyncio.Queue[ET.Element] = asyncio.Queue()
         self.occupants: dict[str, str] = {}  # nick -> real JID
+        self.states: dict[str, str] = {}  # nick -> module state last announced in presence
         self.xmpp.register_handler(Callback("m", MatchXPath("{jabber:client}message"), self._message))
         self.xmpp.register_handler(Callback("p", MatchXPath("{jabber:client}presence"), self._presence))
 
@@ -47,6 +48,9 @@ class PlainClient:
         item = stanza.xml.find(f"{{{MUC_USER}}}x/{{{MUC_USER}}}item")
         if item is not None and item.get("jid"):
             self.occupants[stanza["from"].resource] = item.get("jid")
+        module = stanza.xml.find("{urn:nightcrew:module}module")
+        if module is not None:
+            self.states[stanza["from"].resource] = module.get("state", "")
 
     async def connect(self, host: str, port: int) -> None:
         started: asyncio.Future[None] = asyncio.get_running_loop().create_future()
@@ -124,3 +128,14 @@ async def test_a_plain_client_sends_an_event_a_module_receives(
     )
     await asyncio.wait_for(listener.arrived.wait(), 5)
     assert listener.received == [(TestEvent(message="hello"), "operator")]
+
+
+async def test_module_state_changes_are_announced_in_presence(
+    prosody_network: Network, plain_client: PlainClient
+) -> None:
+    calc = await prosody_network.start(Calculator, "calc")
+    await _wait_for(lambda: plain_client.states.get("calc") == "ready")
+    calc.set_error("lost the filter wheel")
+    await _wait_for(lambda: plain_client.states.get("calc") == "error")
+    await calc.reset_error()
+    await _wait_for(lambda: plain_client.states.get("calc") == "ready")

@@ -142,6 +142,17 @@ class Comm(ABC):
     def clock(self) -> Clock:
         return self._clock
 
+    def advertise_state(self, state: str) -> None:  # noqa: B027 - optional hook, empty by default
+        """Let the others see this module's lifecycle state; transports with presence override it."""
+
+    def wall_timeout(self, seconds: float) -> float:
+        """Wall seconds to wait for something that takes ``seconds`` of clock time over this comm.
+
+        The clock time, converted at the clock's speed, plus the transport's allowance for the
+        network (``rpc_grace``), which does not speed up with a simulated clock.
+        """
+        return self._clock.to_wall(seconds) + self._rpc_grace
+
     @property
     def is_open(self) -> bool:
         """Whether the comm is connected (between :meth:`open` and :meth:`close`)."""
@@ -231,10 +242,10 @@ class Comm(ABC):
         loop = asyncio.get_running_loop()
         call = PendingCall(client)
         try:
-            async with asyncio.timeout(self._clock.to_wall(DEFAULT_TIMEOUT) + self._rpc_grace) as deadline:
+            async with asyncio.timeout(self.wall_timeout(DEFAULT_TIMEOUT)) as deadline:
 
                 def extend(timeout: float) -> None:
-                    deadline.reschedule(loop.time() + self._clock.to_wall(timeout) + self._rpc_grace)
+                    deadline.reschedule(loop.time() + self.wall_timeout(timeout))
 
                 call._on_announce = extend
                 await self._send_call(client, method, args, call)

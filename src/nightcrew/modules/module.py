@@ -94,6 +94,8 @@ class Module(Object, IModule, IConfig):
             log.error("%s entered error state: %s", self.name, error)
         else:
             log.debug("%s: %s -> %s", self.name, old, state)
+        if self.comm.is_open:
+            self.comm.advertise_state(state.value)
         self.on_state_changed(old, state)
 
     def on_state_changed(self, old: ModuleState, new: ModuleState) -> None:

@@ -204,7 +204,7 @@ class ExposingModule(Module, IAbortable, IExposure):
         return frame
 
     async def _headers(self, when: str) -> dict[str, FitsCard]:
-        return await collect_headers(self.comm, self.clock, when, self._header_timeout)
+        return await collect_headers(self.comm, when, self._header_timeout)
 
     async def _write(self, filename: str, data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> None:
         try:

@@ -7,7 +7,6 @@ import logging
 import math
 import re
 
-from nightcrew.clock import Clock
 from nightcrew.comm.base import Comm
 from nightcrew.errors import NightcrewError
 from nightcrew.interfaces import FitsCard, IFitsHeaderAfter, IFitsHeaderBefore
@@ -21,17 +20,18 @@ _VALUE_TYPES = (bool, int, float, str, type(None))
 
 
 async def collect_headers(
-    comm: Comm, clock: Clock, when: str, wait_limit: float, namespaces: list[str] | None = None
+    comm: Comm, when: str, wait_limit: float, namespaces: list[str] | None = None
 ) -> dict[str, FitsCard]:
     """Cards from every other module offering IFitsHeaderBefore (``when="before"``) or ...After.
 
-    Providers are asked concurrently; one that fails or takes longer than ``wait_limit`` clock seconds
-    is logged and left out, so a slow or broken peer never stalls an exposure. When two providers
-    give the same keyword, the one whose name sorts last wins (deterministic).
+    Providers are asked concurrently; one that fails or takes longer than ``wait_limit`` clock
+    seconds (plus the comm's network allowance) is logged and left out, so a slow or broken peer
+    never stalls an exposure. When two providers give the same keyword, the one whose name sorts
+    last wins (deterministic).
     """
     interface = IFitsHeaderBefore if when == "before" else IFitsHeaderAfter
     names = sorted(n for n in await comm.clients_with_interface(interface) if n != comm.name)
-    results = await asyncio.gather(*(_ask(comm, clock, name, when, wait_limit, namespaces) for name in names))
+    results = await asyncio.gather(*(_ask(comm, name, when, wait_limit, namespaces) for name in names))
     merged: dict[str, FitsCard] = {}
     for cards in results:
         merged.update(cards)
@@ -39,10 +39,11 @@ async def collect_headers(
 
 
 async def _ask(
-    comm: Comm, clock: Clock, name: str, when: str, wait_limit: float, namespaces: list[str] | None
+    comm: Comm, name: str, when: str, wait_limit: float, namespaces: list[str] | None
 ) -> dict[str, FitsCard]:
     try:
-        async with clock.timeout(wait_limit):
+        # Across processes the network adds wall time that a fast simulated clock does not shrink.
+        async with asyncio.timeout(comm.wall_timeout(wait_limit)):
             if when == "before":
                 cards = await (await comm.proxy(name, IFitsHeaderBefore)).get_fits_header_before(namespaces)
             else:
