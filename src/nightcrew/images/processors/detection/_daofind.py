@@ -24,11 +24,13 @@ def detect_sources_dao(
     fwhm: float,
     threshold: float = 5.0,
     box_size: int = 64,
+    roundness_limit: float = 1.0,
     saturation: float | None = None,
 ) -> Table:
     """Stars of about ``fwhm`` pixels in ``data`` (raw pixels; SEP's background is subtracted here).
 
-    ``threshold`` is in sigma of the background noise. Returns the catalog of :mod:`._catalog`
+    ``threshold`` is in sigma of the background noise; ``roundness_limit`` bounds DAOStarFinder's
+    roundness statistics (1 is photutils' default). Returns the catalog of :mod:`._catalog`
     plus DAOStarFinder's ``sharpness``, ``roundness1`` and ``roundness2``; ``fwhm`` and
     ``ellipticity`` are not measured (NaN).
     """
@@ -36,7 +38,11 @@ def detect_sources_dao(
 
     background = estimate_background(data, mask, box_size=box_size)
     data -= background.level
-    finder = DAOStarFinder(threshold=threshold * background.global_rms, fwhm=fwhm)
+    finder = DAOStarFinder(
+        threshold=threshold * background.global_rms,
+        fwhm=fwhm,
+        roundness_range=(-roundness_limit, roundness_limit),
+    )
     found = finder(data, mask=mask)
     if found is None or len(found) == 0:
         return catalog_table({"x": np.zeros(0)})
@@ -74,6 +80,8 @@ class DaoSourceDetection(ImageProcessor):
         Detection threshold in sigma of the background noise.
     box_size
         Background mesh size (pixels).
+    roundness_limit
+        Accepted range (±) of the roundness statistics; 1 is photutils' default.
     saturation
         Raw saturation level (data units) if the header has no ``SATURATE``.
     """
@@ -84,6 +92,7 @@ class DaoSourceDetection(ImageProcessor):
         fwhm: float = 3.0,
         threshold: float = 5.0,
         box_size: int = 64,
+        roundness_limit: float = 1.0,
         saturation: float | None = None,
         **kwargs: Any,
     ) -> None:
@@ -94,6 +103,7 @@ class DaoSourceDetection(ImageProcessor):
         self.fwhm = fwhm
         self.threshold = threshold
         self.box_size = box_size
+        self.roundness_limit = roundness_limit
         self.saturation = saturation
 
     async def __call__(self, image: Image) -> Image:
@@ -107,5 +117,6 @@ class DaoSourceDetection(ImageProcessor):
             fwhm=self.fwhm,
             threshold=self.threshold,
             box_size=self.box_size,
+            roundness_limit=self.roundness_limit,
             saturation=saturation_level(image, self.saturation),
         )
