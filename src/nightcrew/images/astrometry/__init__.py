@@ -7,11 +7,21 @@ Three solvers, fastest first:
 - :class:`SolveField` runs astrometry.net's ``solve-field`` locally (a blind search is possible).
 - :class:`RemoteSolver` asks a remote solve service over HTTP (see :mod:`._remote` for the API).
 
+Each has a processor for pipelines (:class:`CatalogAstrometry`, :class:`SolveFieldAstrometry`,
+:class:`RemoteAstrometry`, and :class:`FirstSolution` to chain them as fallbacks).
+
 Errors derive from :class:`AstrometryError` (an :class:`~nightcrew.images.errors.ImageError`).
 """
 
 from nightcrew.images.astrometry._errors import AstrometryError, NoSolutionError, SolverUnavailableError
+from nightcrew.images.astrometry._image_wcs import AstrometryResult, with_wcs
 from nightcrew.images.astrometry._match import CatalogMatch, CatalogMatcher
+from nightcrew.images.astrometry._processors import (
+    CatalogAstrometry,
+    FirstSolution,
+    RemoteAstrometry,
+    SolveFieldAstrometry,
+)
 from nightcrew.images.astrometry._remote import API_VERSION, RemoteSolver
 from nightcrew.images.astrometry._solve_field import SolveField, SolveHints
 from nightcrew.images.astrometry._tan import TanFit, TanWcs, fit_tan_wcs, sky_to_standard, standard_to_sky
@@ -19,11 +29,16 @@ from nightcrew.images.astrometry._tan import TanFit, TanWcs, fit_tan_wcs, sky_to
 __all__ = [
     "API_VERSION",
     "AstrometryError",
+    "AstrometryResult",
+    "CatalogAstrometry",
     "CatalogMatch",
     "CatalogMatcher",
+    "FirstSolution",
     "NoSolutionError",
+    "RemoteAstrometry",
     "RemoteSolver",
     "SolveField",
+    "SolveFieldAstrometry",
     "SolveHints",
     "SolverUnavailableError",
     "TanFit",
@@ -31,4 +46,5 @@ __all__ = [
     "fit_tan_wcs",
     "sky_to_standard",
     "standard_to_sky",
+    "with_wcs",
 ]

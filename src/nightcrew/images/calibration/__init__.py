@@ -24,9 +24,12 @@ from nightcrew.images.calibration._masters import (
     master_dark,
     master_flat,
 )
+from nightcrew.images.calibration._processor import Calibration, CalibrationError
 
 __all__ = [
+    "Calibration",
     "CalibrationCache",
+    "CalibrationError",
     "Combined",
     "FrameKey",
     "MasterInfo",

@@ -1,0 +1,298 @@
+"""Astrometry processors: each solves an image's detected stars and writes the WCS into its header.
+
+From YAML, after a detection step::
+
+    - class: nightcrew.images.astrometry.CatalogAstrometry
+      pixel_scale_arcsec: 1.16        # unbinned; times XBINNING
+    - class: nightcrew.images.astrometry.SolveFieldAstrometry
+      timeout_s: 60
+    - class: nightcrew.images.astrometry.RemoteAstrometry
+      url: http://solver.example.org:8080
+    - class: nightcrew.images.astrometry.FirstSolution   # the first solver that succeeds
+      solvers: [{class: ...CatalogAstrometry}, {class: ...SolveFieldAstrometry}]
+
+The result is also in ``image.metadata["astrometry"]`` (:class:`AstrometryResult`).
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from astropy.io import fits  # type: ignore[import-untyped]
+
+from nightcrew.config import build_object
+from nightcrew.errors import ConfigError
+from nightcrew.images.astrometry._errors import AstrometryError
+from nightcrew.images.astrometry._image_wcs import (
+    AstrometryResult,
+    image_epoch_jyear,
+    image_pixel_scale,
+    image_pointing,
+    image_stars,
+    require_pointing,
+    with_wcs,
+)
+from nightcrew.images.astrometry._match import CatalogMatch, CatalogMatcher
+from nightcrew.images.astrometry._remote import RemoteSolver
+from nightcrew.images.astrometry._solve_field import SolveField, SolveHints
+from nightcrew.images.errors import ImageError, MissingWcsError
+from nightcrew.images.image import Image
+from nightcrew.images.processor import ImageProcessor, require
+from nightcrew.sim.catalog import StarCatalog
+from nightcrew.sim.catalog_data import CATALOG_EPOCH_JYEAR
+
+__all__ = ["CatalogAstrometry", "FirstSolution", "RemoteAstrometry", "SolveFieldAstrometry"]
+
+
+def _configured(build: Any, **arguments: Any) -> Any:
+    """``build(**arguments)``, a ValueError turned into a ConfigError naming its argument."""
+    try:
+        return build(**arguments)
+    except ValueError as exc:
+        name = str(exc).split(" ", 1)[0]
+        raise ConfigError(str(exc), key=name if name in arguments else None) from exc
+
+
+class CatalogAstrometry(ImageProcessor):
+    """Fast solve near the header's RA/DEC against the star catalog (:class:`CatalogMatcher`).
+
+    Args:
+        pixel_scale_arcsec: Unbinned pixel scale (times ``XBINNING``); None: from the image.
+        catalog_depth: Faintest catalog magnitude (as :class:`~nightcrew.sim.catalog.StarCatalog`).
+        catalog_seed: Seed of the catalog's synthetic stars (the simulation's sky).
+        flux_column: Catalog column ranking the detected stars.
+        **matcher: Options of :class:`CatalogMatcher` (``search_radius_arcmin``, ...).
+    """
+
+    def __init__(
+        self,
+        *,
+        pixel_scale_arcsec: float | None = None,
+        catalog_depth: float = 16.0,
+        catalog_seed: int = 0,
+        flux_column: str = "flux",
+        bright_stars: int = 40,
+        fit_stars: int = 400,
+        search_radius_arcmin: float = 15.0,
+        scale_tolerance: float = 0.03,
+        match_radius_px: float = 2.0,
+        min_matches: int = 10,
+        allow_flip: bool = True,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        require(
+            pixel_scale_arcsec is None or pixel_scale_arcsec > 0,
+            "pixel_scale_arcsec",
+            f"pixel_scale_arcsec must be positive, got {pixel_scale_arcsec}",
+        )
+        self.pixel_scale_arcsec = pixel_scale_arcsec
+        self.flux_column = flux_column
+        self.catalog: StarCatalog = _configured(StarCatalog, depth=catalog_depth, seed=catalog_seed)
+        self.matcher: CatalogMatcher = _configured(
+            CatalogMatcher,
+            bright_stars=bright_stars,
+            fit_stars=fit_stars,
+            search_radius_arcmin=search_radius_arcmin,
+            scale_tolerance=scale_tolerance,
+            match_radius_px=match_radius_px,
+            min_matches=min_matches,
+            allow_flip=allow_flip,
+        )
+
+    async def __call__(self, image: Image) -> Image:
+        match = await asyncio.to_thread(self._blocking_solve, image)
+        result = AstrometryResult("catalog", match.matched, match.rms_arcsec)
+        return with_wcs(image, match.wcs.header_cards(), result)
+
+    def _blocking_solve(self, image: Image) -> CatalogMatch:
+        x, y, flux = image_stars(image, self.flux_column)
+        ra, dec = require_pointing(image)
+        scale = image_pixel_scale(image, self.pixel_scale_arcsec)
+        if scale is None:
+            raise MissingWcsError("the catalog matcher needs a pixel scale: configure pixel_scale_arcsec")
+        radius = self.matcher.catalog_radius_deg(image.shape, scale)
+        stars = self.catalog.query(ra, dec, radius, epoch=image_epoch_jyear(image, CATALOG_EPOCH_JYEAR))
+        return self.matcher.solve(
+            x,
+            y,
+            flux,
+            shape=image.shape,
+            catalog_ra=stars["ra"],
+            catalog_dec=stars["dec"],
+            catalog_mag=stars["mag"],
+            ra_deg=ra,
+            dec_deg=dec,
+            pixel_scale_arcsec=scale,
+        )
+
+
+class _HintedSolver(ImageProcessor):
+    """Common options of the solvers that take :class:`SolveHints`."""
+
+    def __init__(
+        self,
+        *,
+        pixel_scale_arcsec: float | None,
+        scale_tolerance: float,
+        radius_deg: float,
+        flux_column: str,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        _configured(
+            SolveHints,
+            pixel_scale_arcsec=pixel_scale_arcsec,
+            scale_tolerance=scale_tolerance,
+            radius_deg=radius_deg,
+        )
+        self.pixel_scale_arcsec = pixel_scale_arcsec
+        self.scale_tolerance = scale_tolerance
+        self.radius_deg = radius_deg
+        self.flux_column = flux_column
+
+    def hints(self, image: Image) -> SolveHints:
+        """Position (when the header has one) and scale (when known) of ``image``."""
+        pointing = image_pointing(image)
+        return SolveHints(
+            ra_deg=None if pointing is None else pointing[0],
+            dec_deg=None if pointing is None else pointing[1],
+            radius_deg=self.radius_deg,
+            pixel_scale_arcsec=image_pixel_scale(image, self.pixel_scale_arcsec),
+            scale_tolerance=self.scale_tolerance,
+        )
+
+
+class SolveFieldAstrometry(_HintedSolver):
+    """Local astrometry.net ``solve-field`` on the detected stars (or on the pixels without a catalog).
+
+    Args:
+        pixel_scale_arcsec: Unbinned pixel scale hint (times ``XBINNING``); None: from the image.
+        scale_tolerance: Relative uncertainty of the scale hint.
+        radius_deg: Search radius around the header's position.
+        use_pixels: Let solve-field find the stars even when the image has a catalog.
+        executable, timeout_s, cpu_limit_s, max_stars, tweak_order, downsample, config:
+            See :class:`SolveField`.
+    """
+
+    def __init__(
+        self,
+        *,
+        pixel_scale_arcsec: float | None = None,
+        scale_tolerance: float = 0.1,
+        radius_deg: float = 1.0,
+        flux_column: str = "flux",
+        use_pixels: bool = False,
+        executable: str = "solve-field",
+        timeout_s: float = 120.0,
+        cpu_limit_s: float = 60.0,
+        max_stars: int = 200,
+        tweak_order: int = 2,
+        downsample: int = 2,
+        config: str | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(
+            pixel_scale_arcsec=pixel_scale_arcsec,
+            scale_tolerance=scale_tolerance,
+            radius_deg=radius_deg,
+            flux_column=flux_column,
+            **kwargs,
+        )
+        self.use_pixels = use_pixels
+        self.solver: SolveField = _configured(
+            SolveField,
+            executable=executable,
+            timeout_s=timeout_s,
+            cpu_limit_s=cpu_limit_s,
+            max_stars=max_stars,
+            tweak_order=tweak_order,
+            downsample=downsample,
+            config=config,
+        )
+
+    async def __call__(self, image: Image) -> Image:
+        hints = self.hints(image)
+        cards: fits.Header
+        if self.use_pixels or image.catalog is None:
+            cards = await self.solver.solve_image(image.data, hints=hints)
+        else:
+            x, y, flux = image_stars(image, self.flux_column)
+            cards = await self.solver.solve_stars(x, y, flux, shape=image.shape, hints=hints)
+        return with_wcs(image, cards, AstrometryResult("astrometry.net"))
+
+
+class RemoteAstrometry(_HintedSolver):
+    """A remote solve service (:class:`RemoteSolver`, JSON API documented there) on the detected stars.
+
+    Args:
+        url: Base URL of the service.
+        timeout_s: Limit of one request.
+        max_stars: Brightest stars sent.
+        pixel_scale_arcsec, scale_tolerance, radius_deg: Hints, as for :class:`SolveFieldAstrometry`.
+    """
+
+    def __init__(
+        self,
+        *,
+        url: str,
+        timeout_s: float = 60.0,
+        max_stars: int = 200,
+        pixel_scale_arcsec: float | None = None,
+        scale_tolerance: float = 0.1,
+        radius_deg: float = 1.0,
+        flux_column: str = "flux",
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(
+            pixel_scale_arcsec=pixel_scale_arcsec,
+            scale_tolerance=scale_tolerance,
+            radius_deg=radius_deg,
+            flux_column=flux_column,
+            **kwargs,
+        )
+        self.client: RemoteSolver = _configured(
+            RemoteSolver, url=url, timeout_s=timeout_s, max_stars=max_stars
+        )
+
+    async def __call__(self, image: Image) -> Image:
+        x, y, flux = image_stars(image, self.flux_column)
+        cards = await self.client.solve_stars(x, y, flux, shape=image.shape, hints=self.hints(image))
+        return with_wcs(image, cards, AstrometryResult("remote"))
+
+
+class FirstSolution(ImageProcessor):
+    """Tries solvers in order and returns the first solution (e.g. the fast matcher, then solve-field).
+
+    An image error of one solver (no solution, missing solver, too few stars) is logged at debug
+    level and the next one is tried; when all fail, the last error is raised.
+
+    Args:
+        solvers: Processors, or their descriptions (mappings with ``class``).
+    """
+
+    def __init__(self, solvers: Sequence[ImageProcessor | Mapping[str, Any]], **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        require(len(solvers) > 0, "solvers", "solvers must name at least one processor")
+        self.solvers: list[ImageProcessor] = []
+        for index, solver in enumerate(solvers):
+            if not isinstance(solver, ImageProcessor | Mapping):
+                raise ConfigError(
+                    f"expected an image processor or its description, got {solver!r}", key=f"solvers.{index}"
+                )
+            built = solver if isinstance(solver, ImageProcessor) else build_object(solver, ImageProcessor)
+            self.solvers.append(self.add_child(built))
+
+    async def __call__(self, image: Image) -> Image:
+        error: ImageError | None = None
+        for solver in self.solvers:
+            try:
+                return await solver(image)
+            except ImageError as exc:
+                error = exc
+        assert error is not None
+        raise (
+            error if isinstance(error, AstrometryError) else AstrometryError(f"no solver succeeded: {error}")
+        )
