@@ -8,14 +8,12 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
-from astropy.io import fits  # type: ignore[import-untyped]
 from astropy.wcs import WCS  # type: ignore[import-untyped]
 
+from nightcrew.images.astrometry import SolveField, SolveHints
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.projection import Pointing
 from nightcrew.sim.render import (
@@ -43,7 +41,7 @@ def solve_field_executable() -> str:
 # Fields near the Milky Way: the real catalog stops at G = 10 (fainter stars are synthetic and
 # absent from Tycho-2), so a 0.66 deg field needs a rich sky to hold enough real quads.
 @pytest.mark.parametrize("pointing", [Pointing(269.45, 4.7, 0.0), Pointing(269.0, 5.0, 30.0)])
-def test_solve_field_finds_the_true_pointing(tmp_path: Path, pointing: Pointing) -> None:
+async def test_solve_field_finds_the_true_pointing(pointing: Pointing) -> None:
     executable = solve_field_executable()
     camera, optics, exposure = CameraModel(), Optics(), Exposure(30.0)
     geometry = frame_geometry(camera, optics, exposure)
@@ -60,37 +58,11 @@ def test_solve_field_finds_the_true_pointing(tmp_path: Path, pointing: Pointing)
         exposure=exposure,
         rng=np.random.default_rng(11),
     )
-    image = tmp_path / "frame.fits"
-    fits.writeto(image, frame.data)  # no WCS: a blind solve (with a pixel-scale hint)
-    scale = geometry.pixel_scale_arcsec
-    result = subprocess.run(
-        [
-            executable,
-            "--overwrite",
-            "--no-plots",
-            "--no-remove-lines",
-            "--scale-units",
-            "arcsecperpix",
-            "--scale-low",
-            f"{0.9 * scale}",
-            "--scale-high",
-            f"{1.1 * scale}",
-            "--cpulimit",
-            "60",
-            "--dir",
-            str(tmp_path),
-            str(image),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=240,
-        stdin=subprocess.DEVNULL,
-        check=False,
+    # A blind solve (no position hint) with a pixel-scale hint, through the shared solve-field helper.
+    solver = SolveField(executable=executable, cpu_limit_s=60.0, timeout_s=240.0)
+    header = await solver.solve_image(
+        frame.data, hints=SolveHints(pixel_scale_arcsec=geometry.pixel_scale_arcsec)
     )
-    solution = tmp_path / "frame.wcs"
-    assert solution.exists(), f"not solved:\n{result.stdout[-2000:]}\n{result.stderr[-2000:]}"
-    header = fits.getheader(solution)
-    header["NAXIS"] = 2  # the .wcs file carries no image; say it describes a 2-D one
     wcs = WCS(header)
     rows, cols = frame.data.shape
     ra, dec = wcs.all_pix2world([(cols - 1) / 2.0], [(rows - 1) / 2.0], 0)
