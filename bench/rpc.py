@@ -226,6 +226,8 @@ async def _befriend(server: Server, first: str, second: str) -> None:
         client.auto_authorize = True
         client.auto_subscribe = True
         await _raw_connect(client, server)
+        await client.get_roster()
+        client.send_presence()  # subscription requests go to available resources
     try:
         clients[0].send_presence_subscription(pto=f"{second}@{DOMAIN}")
         clients[1].send_presence_subscription(pto=f"{first}@{DOMAIN}")
