@@ -10,9 +10,10 @@ from __future__ import annotations
 import argparse
 import ast
 import json
+import logging
 import os
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from collections.abc import AsyncIterator, Iterator
+from contextlib import asynccontextmanager, contextmanager
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
@@ -37,6 +38,7 @@ __all__ = [
     "operator_module",
     "parse_cli_arguments",
     "parse_shell_call",
+    "quiet_module_logs",
 ]
 
 
@@ -56,6 +58,22 @@ def load_comm(path: str | None) -> Comm:
     comm = build_object(load_config(path), Comm)
     assert isinstance(comm, Comm)
     return comm
+
+
+@contextmanager
+def quiet_module_logs(debug: bool) -> Iterator[None]:
+    """Keep the operator's own module chatter ("operator is ready") off stderr unless ``debug``.
+
+    What an operator command prints is its answer; warnings and errors still show.
+    """
+    logger = logging.getLogger("nightcrew")
+    old_level = logger.level
+    if not debug:
+        logger.setLevel(logging.WARNING)
+    try:
+        yield
+    finally:
+        logger.setLevel(old_level)
 
 
 @asynccontextmanager
@@ -94,7 +112,8 @@ async def list_modules(comm: Comm) -> list[ModuleInfo]:
                 state, label = str(await module.get_state()), await module.get_label()
             except NightcrewError:
                 pass
-        infos.append(ModuleInfo(name, state, label, interfaces))
+        # Sorted: XMPP service discovery gives the features in no particular order.
+        infos.append(ModuleInfo(name, state, label, sorted(interfaces)))
     return infos
 
 

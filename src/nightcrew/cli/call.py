@@ -17,6 +17,7 @@ from nightcrew.cli._operator import (
     load_comm,
     operator_module,
     parse_cli_arguments,
+    quiet_module_logs,
 )
 
 __all__ = ["add_parser"]
@@ -40,5 +41,6 @@ async def _call(comm_file: str | None, target: str, texts: list[str]) -> str:
 
 
 def _command(args: argparse.Namespace) -> int:
-    print(asyncio.run(_call(args.comm, args.target, args.arguments)))
+    with quiet_module_logs(args.debug):
+        print(asyncio.run(_call(args.comm, args.target, args.arguments)))
     return 0

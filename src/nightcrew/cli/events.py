@@ -12,7 +12,13 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
-from nightcrew.cli._operator import add_comm_argument, format_value, load_comm, operator_module
+from nightcrew.cli._operator import (
+    add_comm_argument,
+    format_value,
+    load_comm,
+    operator_module,
+    quiet_module_logs,
+)
 from nightcrew.comm.base import Comm
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.events.base import Event, event_by_name, event_names
@@ -78,7 +84,8 @@ async def _watch(comm_file: str | None, names: list[str] | None, count: int | No
 
 def _command(args: argparse.Namespace) -> int:
     try:
-        asyncio.run(_watch(args.comm, args.types, args.count))
+        with quiet_module_logs(args.debug):
+            asyncio.run(_watch(args.comm, args.types, args.count))
     except KeyboardInterrupt:
         print(file=sys.stderr)
     return 0

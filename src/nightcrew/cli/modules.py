@@ -6,7 +6,14 @@ import argparse
 import asyncio
 from typing import Any
 
-from nightcrew.cli._operator import ModuleInfo, add_comm_argument, list_modules, load_comm, operator_module
+from nightcrew.cli._operator import (
+    ModuleInfo,
+    add_comm_argument,
+    list_modules,
+    load_comm,
+    operator_module,
+    quiet_module_logs,
+)
 
 __all__ = ["add_parser", "format_table"]
 
@@ -31,11 +38,13 @@ def format_table(infos: list[ModuleInfo]) -> str:
 
 
 async def _list(comm_file: str | None) -> str:
+    # No waiting for presence: a comm's open() returns once it knows who is online (on XMPP,
+    # once the room has sent its complete occupant list).
     async with operator_module(load_comm(comm_file)) as operator:
-        await asyncio.sleep(0.5)  # let presence of the others arrive
         return format_table(await list_modules(operator.comm))
 
 
 def _command(args: argparse.Namespace) -> int:
-    print(asyncio.run(_list(args.comm)))
+    with quiet_module_logs(args.debug):
+        print(asyncio.run(_list(args.comm)))
     return 0

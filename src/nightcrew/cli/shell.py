@@ -21,6 +21,7 @@ from nightcrew.cli._operator import (
     method_names,
     operator_module,
     parse_shell_call,
+    quiet_module_logs,
 )
 from nightcrew.cli.modules import format_table
 from nightcrew.comm.base import Comm
@@ -121,6 +122,7 @@ async def _shell(comm_file: str | None) -> None:
 
 
 def _command(args: argparse.Namespace) -> int:
-    asyncio.run(_shell(args.comm))
+    with quiet_module_logs(args.debug):
+        asyncio.run(_shell(args.comm))
     print()
     return 0
