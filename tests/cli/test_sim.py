@@ -37,16 +37,30 @@ HEADER_KEYS = (
 
 @pytest.fixture(scope="module")
 def night(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
-    """One short night for all tests here: two fields, V and R, 30 s each."""
+    """One short night for all tests here: 2 biases, 2 darks, then two fields in V and R, 30 s each."""
     out = tmp_path_factory.mktemp("night")
-    code = main(["sim", "--out", str(out), "--speed", "100", "--targets", "2", "--filters", "V,R"])
+    code = main(
+        [
+            "sim",
+            "--out",
+            str(out),
+            "--speed",
+            "100",
+            "--targets",
+            "2",
+            "--filters",
+            "V,R",
+            "--calibration-frames",
+            "2",
+        ]
+    )
     return code, out
 
 
 def test_the_night_exits_cleanly_and_writes_one_file_per_exposure(night: tuple[int, Path]) -> None:
     code, out = night
     assert code == 0
-    files = sorted(out.glob("*.fits"))
+    files = sorted(out.glob("*-object-*.fits"))
     assert len(files) == 4
     filters = []
     for path in files:
@@ -59,13 +73,53 @@ def test_the_night_exits_cleanly_and_writes_one_file_per_exposure(night: tuple[i
     assert sorted(filters) == ["R", "R", "V", "V"]
 
 
+def test_calibration_frames_come_first_with_the_roof_closed(night: tuple[int, Path]) -> None:
+    _, out = night
+    headers = [fits.getheader(path) for path in sorted(out.glob("*.fits"))]
+    kinds = [(h["IMAGETYP"], h["EXPTIME"]) for h in sorted(headers, key=lambda h: h["DATE-OBS"])]
+    assert kinds[:4] == [("bias", 0.0), ("bias", 0.0), ("dark", 30.0), ("dark", 30.0)]
+    assert {kind for kind, _ in kinds[4:]} == {"object"}
+
+
+def test_the_night_can_be_reduced(
+    night: tuple[int, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _, out = night
+    assert main(["reduce", str(out), str(tmp_path)]) == 0
+    summary = capsys.readouterr().out
+    assert "4 reduced (4 plate-solved)" in summary and "0 failed" in summary
+    assert "no master flat" in summary  # the simulated night takes no flats yet: said, not fatal
+    reduced = sorted(tmp_path.glob("*_red.fits"))
+    assert len(reduced) == 4
+    header = fits.getheader(reduced[0])
+    assert "CAL-BIAS" in header and "CAL-DARK" in header
+
+
 def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code = main(["sim", "--out", str(tmp_path), "--speed", "200", "--targets", "1", "--filters", "V"])
+    code = main(
+        [
+            "sim",
+            "--out",
+            str(tmp_path),
+            "--speed",
+            "200",
+            "--targets",
+            "1",
+            "--filters",
+            "V",
+            "--calibration-frames",
+            "0",
+        ]
+    )
     out, err = capsys.readouterr()
     assert code == 0
     assert "1/5" in err and "5/5" in err and "park telescope, close roof" in err
     assert "night complete: 1 frames written to" in out
     assert len(list(tmp_path.glob("*.fits"))) == 1
+    # Without calibration frames the night is still solved and measured, and says so.
+    assert main(["reduce", str(tmp_path), str(tmp_path / "reduced")]) == 0
+    out = capsys.readouterr().out
+    assert "1 reduced (1 plate-solved)" in out and "not calibrated: no master bias" in out
 
 
 @pytest.mark.parametrize(
@@ -115,9 +169,10 @@ def test_the_default_night_is_dark_and_its_fields_are_high() -> None:
     assert moon_illumination(t) < 0.05
     targets = choose_targets(SITE, t, 3)
     assert [target.name for target in targets] == ["M52", "M39", "Sadr"]  # ordered by azimuth
-    steps = plan_night(targets, ["V", "R"], 30.0)
-    assert [s.action for s in steps].count("expose") == 6
-    assert (steps[0].action, steps[-1].action) == ("prepare", "shutdown")
+    steps = plan_night(targets, ["V", "R"], 30.0, calibration_frames=3)
+    assert [s.action for s in steps].count("expose") == 12
+    assert [s.image_type for s in steps[:6]] == ["bias"] * 3 + ["dark"] * 3
+    assert (steps[6].action, steps[-1].action) == ("prepare", "shutdown")
 
 
 def test_without_astronomical_night_the_start_is_solar_midnight() -> None:

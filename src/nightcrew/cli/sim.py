@@ -52,6 +52,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument("--filters", default="V,R", help="comma-separated filters, one exposure each")
     parser.add_argument("--exposure-time", type=_positive, default=30.0, help="seconds per exposure")
     parser.add_argument(
+        "--calibration-frames",
+        type=_non_negative,
+        default=3,
+        help="biases and darks taken before the roof opens, so the night can be reduced (0: none)",
+    )
+    parser.add_argument(
         "--configs", type=Path, default=None, help="directory of module files (default: the bundled ones)"
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
@@ -68,7 +74,7 @@ def _sim_command(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise ConfigError(f"--date {args.date}: {exc}") from exc
     filters = [name.strip() for name in args.filters.split(",") if name.strip()]
-    steps = plan_night(targets, list(filters) or [None], args.exposure_time)
+    steps = plan_night(targets, list(filters) or [None], args.exposure_time, args.calibration_frames)
 
     # Module chatter would bury the progress line; -v (or --debug) shows it.
     quiet = not (args.verbose or args.debug)
@@ -161,11 +167,15 @@ def _positive(text: str) -> float:
     return value
 
 
-def _count(text: str) -> int:
+def _count(text: str, minimum: int = 1) -> int:
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {text}")
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text}")
     return value
+
+
+def _non_negative(text: str) -> int:
+    return _count(text, minimum=0)

@@ -205,18 +205,24 @@ async def _reduce_frame(
         image = Image.from_bytes(await asyncio.to_thread(entry.path.read_bytes))
         key = frame_key(image.header)
         bias = select_master(library, MasterKind.BIAS, key)
-        if bias is None:
-            return replace(row, message=f"no master bias for binning {key.binning}")
         dark = select_master(library, MasterKind.DARK, key)
         flat = select_master(library, MasterKind.FLAT, key)
-        image = await asyncio.to_thread(
-            calibrate_image,
-            image,
-            bias=masters[bias.path],
-            dark=None if dark is None else masters[dark.path],
-            flat=None if flat is None else masters[flat.path],
-        )
+        # A night without some calibration frames is still worth solving and measuring: calibrate
+        # with what there is and say what was missing.
+        missing = [kind.value for kind, m in ((MasterKind.DARK, dark), (MasterKind.FLAT, flat)) if m is None]
+        if bias is None:
+            notes = [f"not calibrated: no master bias for binning {key.binning}"]
+        else:
+            notes = [f"no master {', '.join(missing)}"] if missing else []
+            image = await asyncio.to_thread(
+                calibrate_image,
+                image,
+                bias=masters[bias.path],
+                dark=None if dark is None else masters[dark.path],
+                flat=None if flat is None else masters[flat.path],
+            )
         image, message = await pipeline.run(image)
+        message = "; ".join([*notes, message] if message else notes)
         output = name.split(".fits")[0].split(".fit")[0] + "_red.fits"
         content = await asyncio.to_thread(image.to_bytes)
         await asyncio.to_thread((out_dir / output).write_bytes, content)

@@ -28,7 +28,6 @@ from nightcrew.interfaces import (
     IFilters,
     IFocuser,
     IImageType,
-    ImageType,
     IRoof,
     ITelescope,
 )
@@ -179,7 +178,7 @@ class _Night:
         if step.filter_name is not None:
             await (await proxy(FILTERS, IFilters)).set_filter(step.filter_name)
         await (await proxy(CAMERA, IExposureTime)).set_exposure_time(step.exposure_time)
-        await (await proxy(CAMERA, IImageType)).set_image_type(ImageType.OBJECT)
+        await (await proxy(CAMERA, IImageType)).set_image_type(step.image_type)
         filename = await (await proxy(CAMERA, ICamera)).grab_data()
         self._report.frames.append(filename)
         self._report.files.append(self._out_dir / filename.removeprefix(f"/{IMAGES_ROOT}/"))

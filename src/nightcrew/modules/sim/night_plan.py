@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from datetime import UTC, date, datetime, timedelta
 from typing import Literal
 
+from nightcrew.interfaces import ImageType
 from nightcrew.modules.sim.ephemeris import astronomical_dusk
 from nightcrew.modules.telescope.coords import radec_to_altaz
 from nightcrew.site import Site
@@ -51,12 +52,14 @@ StepAction = Literal["prepare", "focus", "slew", "expose", "shutdown"]
 
 @dataclass(frozen=True)
 class Step:
-    """One step of the night; ``target``/``filter_name``/``exposure_time`` where they apply."""
+    """One step of the night; ``target``/``filter_name``/``exposure_time``/``image_type`` where
+    they apply (a bias or dark is an ``expose`` step without a target)."""
 
     action: StepAction
     target: Target | None = None
     filter_name: str | None = None
     exposure_time: float = 0.0
+    image_type: ImageType = ImageType.OBJECT
 
     def describe(self) -> str:
         """A short text for progress lines."""
@@ -66,6 +69,10 @@ class Step:
             return "focus"
         if self.action == "shutdown":
             return "park telescope, close roof"
+        if self.image_type is ImageType.BIAS:
+            return "bias"
+        if self.image_type is ImageType.DARK:
+            return f"dark {self.exposure_time:g} s"
         name = self.target.name if self.target is not None else "?"
         if self.action == "slew":
             return f"slew to {name}"
@@ -108,9 +115,20 @@ def choose_targets(
     return [t for _, _, t in sorted(chosen, key=lambda x: x[1])]
 
 
-def plan_night(targets: list[Target], filters: list[str | None], exposure_time: float) -> list[Step]:
-    """Prepare, focus, then for each target a slew and one exposure per filter, then shut down."""
-    steps = [Step("prepare"), Step("focus")]
+def plan_night(
+    targets: list[Target], filters: list[str | None], exposure_time: float, calibration_frames: int = 0
+) -> list[Step]:
+    """Calibration frames, prepare, focus, per target a slew and an exposure per filter, shut down.
+
+    ``calibration_frames`` biases and as many darks of ``exposure_time`` come first, while the
+    roof is still closed (as observers take them), so that the night can be reduced.
+    """
+    steps = [Step("expose", image_type=ImageType.BIAS) for _ in range(calibration_frames)]
+    steps += [
+        Step("expose", exposure_time=exposure_time, image_type=ImageType.DARK)
+        for _ in range(calibration_frames)
+    ]
+    steps += [Step("prepare"), Step("focus")]
     for target in targets:
         steps.append(Step("slew", target))
         steps.extend(Step("expose", target, name, exposure_time) for name in filters)
