@@ -152,7 +152,9 @@ def test_gate_declares_bad_at_once_and_good_after_the_minimum_time() -> None:
     assert gate.update(True, 599) is None
     assert gate.update(True, 600) is WeatherChange.GOOD and declared_good(gate)
     assert gate.update(True, 700) is None
-    assert gate.update(False, 710) is WeatherChange.BAD and gate.eta is None
+    assert gate.update(False, 710) is WeatherChange.BAD
+    eta = gate.eta
+    assert eta is None
     assert gate.update(False, 720) is None
     assert gate.update(True, 730) is None
     assert gate.update(False, 1000) is None  # a short dry spell resets the timer
