@@ -145,16 +145,19 @@ def declared_good(gate: GoodWeatherGate) -> bool:
     return gate.is_good  # a call, so mypy does not narrow the property between asserts
 
 
+def eta_of(gate: GoodWeatherGate) -> float | None:
+    return gate.eta
+
+
 def test_gate_declares_bad_at_once_and_good_after_the_minimum_time() -> None:
     gate = GoodWeatherGate(min_good_time=600)
-    assert gate.update(True, 0) is None and gate.eta == 600  # starting: nothing declared yet
+    assert gate.update(True, 0) is None and eta_of(gate) == 600  # starting: nothing declared yet
     assert not declared_good(gate)
     assert gate.update(True, 599) is None
     assert gate.update(True, 600) is WeatherChange.GOOD and declared_good(gate)
     assert gate.update(True, 700) is None
     assert gate.update(False, 710) is WeatherChange.BAD
-    eta = gate.eta
-    assert eta is None
+    assert eta_of(gate) is None
     assert gate.update(False, 720) is None
     assert gate.update(True, 730) is None
     assert gate.update(False, 1000) is None  # a short dry spell resets the timer
