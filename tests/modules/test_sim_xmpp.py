@@ -1,0 +1,175 @@
+"""The bundled simulated observatory as six ``nightcrew run`` processes on one Prosody.
+
+Each process runs one of the overlays in ``examples/sim-processes`` (a bundled module file plus an
+XmppComm and an accelerated clock); a driver module in this test process opens the roof, points
+at M39, sets focus and filter and takes an exposure. The camera process writes the FITS file, with
+the headers the *other* processes gave it over XMPP, and real stars in it.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import sep  # type: ignore[import-not-found]
+from astropy.io import fits  # type: ignore[import-untyped]
+
+from nightcrew.clock import AcceleratedClock
+from nightcrew.interfaces import (
+    ICamera,
+    IExposureTime,
+    IFilters,
+    IFocuser,
+    IImageType,
+    ImageType,
+    IModule,
+    IRoof,
+    ITelescope,
+)
+from nightcrew.modules import Module
+from nightcrew.modules.sim.interfaces import ISimFocuserTruth
+
+# The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
+from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
+from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+
+pytestmark = pytest.mark.xmpp
+REPOSITORY = Path(__file__).resolve().parents[2]
+OVERLAYS = REPOSITORY / "examples" / "sim-processes"
+MODULES = ["weather", "roof", "telescope", "focuser", "filters", "camera"]
+M39 = (322.95, 48.43)
+#: Dusk of the default night of ``nightcrew sim``; every process starts its clock here.
+CLOCK_START = "2026-11-10T17:50:00"
+CLOCK_SPEED = 20.0
+#: Wall seconds for all processes to come up (the camera loads its star catalog).
+START_TIMEOUT = 30.0
+
+
+@pytest.fixture
+def network(request: pytest.FixtureRequest) -> Network:
+    prosody: Network = request.getfixturevalue("prosody_network")
+    return prosody
+
+
+@pytest.fixture
+def observatory(network: Network, tmp_path: Path) -> Iterator[Path]:
+    """One ``nightcrew run`` process per module in the test's room; yields the images directory."""
+    server = network.server
+    assert server is not None and server.ca_file is not None
+    for name in MODULES:
+        server.account(name)
+    images = tmp_path / "images"
+    env = {
+        **os.environ,
+        "SIM_XMPP_PASSWORD": PASSWORD,
+        "SIM_XMPP_SERVER": server.address,
+        "SIM_XMPP_DOMAIN": DOMAIN,
+        "SIM_XMPP_ROOM": network.room,
+        "SIM_XMPP_CA_FILE": server.ca_file,
+        "SIM_CLOCK_START": CLOCK_START,
+        "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
+        "SIM_IMAGES": str(images),
+    }
+    processes = {
+        name: subprocess.Popen(
+            [sys.executable, "-m", "nightcrew", "run", str(OVERLAYS / f"{name}.yaml")],
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for name in MODULES
+    }
+    try:
+        yield images
+        problems = _stop_all(processes)
+    finally:
+        for process in processes.values():  # after a failure: no process outlives the test
+            if process.poll() is None:
+                process.kill()
+                process.communicate()
+    assert not problems, "\n".join(problems)
+
+
+def _stop_all(processes: dict[str, subprocess.Popen[str]]) -> list[str]:
+    """SIGTERM to all, then each must exit 0; returns what went wrong, with the process's stderr."""
+    for process in processes.values():
+        if process.poll() is None:
+            process.send_signal(signal.SIGTERM)
+    problems = []
+    for name, process in processes.items():
+        try:
+            _, stderr = process.communicate(timeout=15)
+        except subprocess.TimeoutExpired:
+            problems.append(f"{name} did not stop within 15 s of SIGTERM")
+            continue
+        if process.returncode != 0:
+            problems.append(f"{name} exited {process.returncode}:\n{stderr}")
+    return problems
+
+
+async def wait_until_ready(driver: Module, names: list[str]) -> None:
+    """Until every module is in the room and READY (it joins the room before it is ready)."""
+    deadline = time.monotonic() + START_TIMEOUT
+    waiting = set(names)
+    while waiting:
+        assert time.monotonic() < deadline, f"not ready within {START_TIMEOUT:g} s: {sorted(waiting)}"
+        for name in sorted(waiting & set(driver.comm.clients)):
+            module = await driver.comm.proxy(name, IModule)
+            if str(await module.get_state()) == "ready":
+                waiting.discard(name)
+        await asyncio.sleep(0.2)
+
+
+async def observe_m39(driver: Module) -> str:
+    """What a script would do: open up, point, focus, choose a filter, expose; the file's VFS path."""
+    proxy = driver.comm.proxy
+    roof, telescope = await proxy("roof", IRoof), await proxy("telescope", ITelescope)
+    await asyncio.gather(roof.open_roof(), telescope.init())
+    best_focus = await (await proxy("focuser", ISimFocuserTruth)).get_best_focus()
+    await asyncio.gather(
+        telescope.move_radec(*M39),
+        (await proxy("focuser", IFocuser)).set_focus(round(best_focus, 3)),
+        (await proxy("filters", IFilters)).set_filter("R"),
+    )
+    await (await proxy("camera", IExposureTime)).set_exposure_time(10.0)
+    await (await proxy("camera", IImageType)).set_image_type(ImageType.OBJECT)
+    filename: str = await (await proxy("camera", ICamera)).grab_data()
+    return filename
+
+
+def count_stars(data: Any) -> int:
+    image = np.asarray(data, dtype=np.float64)
+    background = sep.Background(image)
+    return len(sep.extract(image - background, 5.0, err=background.globalrms, minarea=5))
+
+
+async def test_six_processes_take_an_exposure_with_headers_from_the_others(
+    network: Network, observatory: Path
+) -> None:
+    driver = await network.start(Module, "operator", clock=AcceleratedClock(CLOCK_START, speed=CLOCK_SPEED))
+    await wait_until_ready(driver, MODULES)
+
+    filename = await asyncio.wait_for(observe_m39(driver), 60)
+
+    path = observatory / filename.removeprefix("/images/")
+    assert path.is_file(), f"{filename} not in {observatory}"
+    with fits.open(path) as hdus:
+        header, data = hdus[0].header, hdus[0].data
+        assert header["RA"] == pytest.approx(M39[0], abs=1e-6)  # from the telescope process
+        assert header["DEC"] == pytest.approx(M39[1], abs=1e-6)
+        assert 1.0 <= header["AIRMASS"] < 2.0
+        assert header["FILTER"] == "R"  # from the filter wheel process
+        assert 20.0 < header["FOCUS"] < 30.0  # from the focuser process
+        assert header["IMAGETYP"] == "object" and header["EXPTIME"] == 10.0
+        assert header["DATE-OBS"].startswith("2026-11-10T17:5")  # the shared clock
+        assert count_stars(data) > 100
