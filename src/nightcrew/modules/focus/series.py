@@ -1,0 +1,209 @@
+"""Auto-focus: a series of exposures through focus, a width per frame, a hyperbola fit.
+
+``auto_focus(count, step, exposure_time)`` takes ``count`` frames ``step`` mm apart, centred on the
+focus the focuser has when called, measures each frame's star width with a :class:`FocusMeasure`
+and fits :func:`nightcrew.focus.series.fit_focus_hyperbola`. On success the focuser goes to the
+fitted focus and a FocusFoundEvent is sent; on any failure (a minimum outside the series, too few
+stars, an abort) the focuser goes back to where it was, so a failed series never leaves the
+telescope worse focused than before.
+
+Example (YAML)::
+
+    class: nightcrew.modules.focus.AutoFocusSeries
+    camera: camera
+    focuser: focuser
+    measure: {class: nightcrew.modules.focus.series.PhotometryFocusMeasure, min_peak_snr: 10}
+"""
+
+from __future__ import annotations
+
+import abc
+import asyncio
+import logging
+import math
+from typing import Any
+
+from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
+from nightcrew.events import FocusFoundEvent
+from nightcrew.focus.series import (
+    MIN_FRAMES,
+    FocusSeriesError,
+    fit_focus_hyperbola,
+    photometry_width,
+    projection_width,
+)
+from nightcrew.images import Image
+from nightcrew.images.processors._shared import estimate_background, float_data, saturation_level
+from nightcrew.images.processors.detection import detect_sources_sep
+from nightcrew.interfaces import IAutoFocus, ICamera, IExposureTime, IFocuser, IImageType, ImageType
+from nightcrew.modules.module import Module
+from nightcrew.modules.motion.runner import MotionRunner
+from nightcrew.object import Object
+
+__all__ = ["AutoFocusSeries", "FocusMeasure", "PhotometryFocusMeasure", "ProjectionFocusMeasure"]
+
+log = logging.getLogger(__name__)
+
+
+class FocusMeasure(Object, abc.ABC):
+    """How sharp a frame is: a width in pixels, smaller is sharper."""
+
+    async def __call__(self, image: Image) -> float:
+        return await asyncio.to_thread(self._blocking_width, image)
+
+    @abc.abstractmethod
+    def _blocking_width(self, image: Image) -> float:
+        """The width (pixels); raises FocusSeriesError when the frame cannot tell."""
+
+
+class ProjectionFocusMeasure(FocusMeasure):
+    """Width of the autocorrelation peak of the frame's x/y projections (no detection; donuts work)."""
+
+    def _blocking_width(self, image: Image) -> float:
+        return projection_width(image.data, image.mask)
+
+
+class PhotometryFocusMeasure(FocusMeasure):
+    """Median FWHM of the detected stars (SEP detection, as the image processors use it).
+
+    Args:
+        threshold: Detection threshold in sigma.
+        min_peak_snr: Only stars whose peak is this many sigma above the sky count.
+        min_stars: Fewest stars a frame needs.
+    """
+
+    def __init__(
+        self, *, threshold: float = 5.0, min_peak_snr: float = 10.0, min_stars: int = 3, **kwargs: Any
+    ) -> None:
+        super().__init__(**kwargs)
+        if not (threshold > 0 and min_peak_snr > 0 and min_stars >= 1):
+            raise ConfigError(
+                f"need threshold > 0, min_peak_snr > 0, min_stars >= 1; got {threshold}, "
+                f"{min_peak_snr}, {min_stars}",
+                key="threshold",
+            )
+        self.threshold, self.min_peak_snr, self.min_stars = threshold, min_peak_snr, min_stars
+
+    def _blocking_width(self, image: Image) -> float:
+        data = float_data(image)
+        noise = estimate_background(data, image.mask).global_rms
+        catalog = detect_sources_sep(
+            data, image.mask, threshold=self.threshold, saturation=saturation_level(image, None)
+        )
+        return photometry_width(
+            catalog["fwhm"],
+            catalog["flags"],
+            catalog["peak"],
+            noise=noise,
+            min_peak_snr=self.min_peak_snr,
+            min_stars=self.min_stars,
+        )
+
+
+class AutoFocusSeries(Module, IAutoFocus):
+    """Finds the best focus by a series of exposures.
+
+    Args:
+        camera: Module offering ICamera (with IExposureTime and IImageType).
+        focuser: Module offering IFocuser.
+        measure: How sharp a frame is; default :class:`PhotometryFocusMeasure`.
+        use_offset: Step the focuser's offset instead of its base position (keeps a focus model's
+            base untouched; the result is then base + offset).
+        **kwargs: Module options.
+    """
+
+    def __init__(
+        self,
+        *,
+        camera: str | ICamera,
+        focuser: str | IFocuser,
+        measure: FocusMeasure | None = None,
+        use_offset: bool = False,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        self._camera, self._focuser = camera, focuser
+        self._measure = self.add_child(measure or PhotometryFocusMeasure())
+        self._use_offset = use_offset
+        self._runner = MotionRunner("focus series")
+        self._status: dict[str, Any] = {"running": False}
+
+    # --- IAutoFocus ----------------------------------------------------------------------------
+
+    async def auto_focus(self, count: int, step: float, exposure_time: float) -> tuple[float, float]:
+        if not (isinstance(count, int) and count >= MIN_FRAMES):
+            raise InvalidArgumentError(f"count must be an integer >= {MIN_FRAMES}, got {count!r}")
+        if not (math.isfinite(step) and step > 0 and math.isfinite(exposure_time) and exposure_time >= 0):
+            raise InvalidArgumentError(
+                f"step must be > 0 mm and exposure_time >= 0 s, got {step} and {exposure_time}"
+            )
+        self._runner.check_idle()
+        return await self._runner.run("auto_focus", self._series(count, step, exposure_time))
+
+    async def auto_focus_status(self) -> dict[str, Any]:
+        return dict(self._status)
+
+    async def abort(self) -> None:
+        await self._runner.stop("aborted on request")
+
+    # --- the series ----------------------------------------------------------------------------
+
+    async def _series(self, count: int, step: float, exposure_time: float) -> tuple[float, float]:
+        focuser = await self.proxy(self._focuser, IFocuser)
+        camera = await self.proxy(self._camera, ICamera)
+        original = await (focuser.get_focus_offset() if self._use_offset else focuser.get_focus())
+        positions = [original + (i - (count - 1) / 2.0) * step for i in range(count)]
+        widths: list[float] = []
+        self._status = {"running": True, "count": count, "step": step, "done": 0, "measurements": []}
+        found = False
+        try:
+            if isinstance(camera, IExposureTime):
+                await camera.set_exposure_time(exposure_time)
+            if isinstance(camera, IImageType):
+                await camera.set_image_type(ImageType.FOCUS)
+            filter_name: str | None = None
+            for position in positions:
+                await self._move(focuser, position)
+                image = await Image.from_vfs(self.vfs, await camera.grab_data(broadcast=False))
+                filter_name = _filter_of(image)
+                try:
+                    width = await self._measure(image)
+                except NightcrewError as exc:  # a frame without stars does not end the series
+                    log.warning("%s: focus %.4f: no width (%s)", self.name, position, exc)
+                    width = math.nan
+                widths.append(width)
+                log.info("%s: focus %.4f mm: width %.2f px", self.name, position, width)
+                self._status["done"] = len(widths)
+                self._status["measurements"].append((position, width))
+            fit = fit_focus_hyperbola(positions, widths)
+            await self._move(focuser, fit.focus)
+            found = True
+        except FocusSeriesError as exc:
+            log.warning("%s: focus series failed: %s", self.name, exc)
+            raise
+        finally:
+            self._status["running"] = False
+            if not found:
+                await asyncio.shield(self._restore(focuser, original))
+        best = fit.focus + (await focuser.get_focus() if self._use_offset else 0.0)
+        log.info(
+            "%s: best focus %.4f ± %.4f mm (min width %.2f px)", self.name, best, fit.error, fit.min_width
+        )
+        self._status.update(focus=best, error=fit.error)
+        await self.comm.send_event(FocusFoundEvent(focus=best, error=fit.error, filter_name=filter_name))
+        return best, fit.error
+
+    async def _move(self, focuser: IFocuser, position: float) -> None:
+        await (focuser.set_focus_offset(position) if self._use_offset else focuser.set_focus(position))
+
+    async def _restore(self, focuser: IFocuser, original: float) -> None:
+        try:
+            await self._move(focuser, original)
+            log.info("%s: focus restored to %.4f", self.name, original)
+        except NightcrewError as exc:
+            log.error("%s: could not restore the focus to %.4f: %s", self.name, original, exc)
+
+
+def _filter_of(image: Image) -> str | None:
+    value = image.header.get("FILTER")
+    return value if isinstance(value, str) else None
