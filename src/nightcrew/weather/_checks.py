@@ -28,7 +28,7 @@ class CheckResult:
     @property
     def reason(self) -> str:
         """Why the check failed ("" if it did not)."""
-        return "; ".join(v.reason for v in self.verdicts if not v.good)
+        return "; ".join(dict.fromkeys(v.reason for v in self.verdicts if not v.good))
 
 
 class SensorCheck:
