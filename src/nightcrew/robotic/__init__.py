@@ -1,0 +1,1 @@
+"""Robotic operation: what to observe (tasks), when (scheduler), and running it (mastermind)."""

@@ -1,0 +1,112 @@
+"""Requests and request groups: what a user submits.
+
+A :class:`RequestGroup` (name, proposal, observation type, priority, IPP) holds one or more
+:class:`Request` values. A request is the unit the scheduler places: it must run in one go, on a
+telescope matching its :class:`Location`, inside one of its :class:`Window` intervals, and does its
+configurations in order. Each request becomes one task in an archive.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from datetime import datetime
+from enum import StrEnum
+from typing import Self
+
+from pydantic import Field, model_validator
+
+from nightcrew.robotic.tasks._base import Number, TaskModel, UtcDatetime, raise_problems
+from nightcrew.robotic.tasks._configuration import Configuration
+
+__all__ = ["Location", "ObservationType", "Request", "RequestGroup", "Window"]
+
+
+class ObservationType(StrEnum):
+    """How urgent a request group is (as in the LCO portal)."""
+
+    NORMAL = "NORMAL"
+    TIME_CRITICAL = "TIME_CRITICAL"
+    RAPID_RESPONSE = "RAPID_RESPONSE"
+
+
+class Location(TaskModel):
+    """Which telescopes may do a request: a class (e.g. ``0m4``), optionally narrowed down."""
+
+    telescope_class: str = Field(min_length=1)
+    site: str | None = None
+    enclosure: str | None = None
+    telescope: str | None = None
+
+
+class Window(TaskModel):
+    """An interval in which a request may be done; times without a zone are UTC."""
+
+    start: UtcDatetime
+    end: UtcDatetime
+
+    @model_validator(mode="after")
+    def _check_order(self) -> Self:
+        if self.end <= self.start:
+            raise_problems([("end", f"must be after start ({self.start.isoformat()})")])
+        return self
+
+
+class Request(TaskModel):
+    """Configurations done in one go on one telescope, inside one of the windows.
+
+    Args:
+        location: Where it may run.
+        windows: When it may run (at least one).
+        configurations: What to do, in order (at least one).
+        acceptability_threshold: Per cent of the exposure time that must be done for the request
+            to count as completed, 0..100.
+        observation_note: Free text for the observer.
+    """
+
+    location: Location
+    windows: tuple[Window, ...] = Field(min_length=1)
+    configurations: tuple[Configuration, ...] = Field(min_length=1)
+    acceptability_threshold: Number = Field(default=90.0, ge=0.0, le=100.0)
+    observation_note: str = ""
+
+    @property
+    def first_start(self) -> datetime:
+        """Start of the earliest window."""
+        return min(window.start for window in self.windows)
+
+    @property
+    def last_end(self) -> datetime:
+        """End of the latest window: after it the request can no longer be done."""
+        return max(window.end for window in self.windows)
+
+
+class RequestGroup(TaskModel):
+    """Requests submitted together.
+
+    Args:
+        name: For people, 1..100 characters.
+        proposal: The proposal (programme) it belongs to.
+        observation_type: How urgent it is.
+        priority: Weight > 0 for the scheduler (larger goes first).
+        ipp: Intra-proposal priority, 0.5..2.0: scales ``priority`` within the proposal.
+        requests: At least one.
+    """
+
+    name: str = Field(min_length=1, max_length=100)
+    proposal: str = Field(min_length=1)
+    observation_type: ObservationType = ObservationType.NORMAL
+    priority: Number = Field(default=1.0, gt=0.0)
+    ipp: Number = Field(default=1.0, ge=0.5, le=2.0)
+    requests: tuple[Request, ...] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _check_names_fit(self) -> Self:
+        raise_problems(self._blank_problems())
+        return self
+
+    def _blank_problems(self) -> Iterator[tuple[str, str]]:
+        # min_length accepts "  "; a name of spaces cannot be told apart in a table.
+        if not self.name.strip():
+            yield "name", "must not be blank"
+        if not self.proposal.strip():
+            yield "proposal", "must not be blank"

@@ -1,0 +1,184 @@
+"""The life of a task: its states, the allowed changes between them, and what was done so far.
+
+::
+
+    PENDING ──> SCHEDULED ──> RUNNING ──> COMPLETED
+       │  <────────┘  │          │
+       │              │          ├──> FAILED (reason) ──> SCHEDULED / RUNNING / PENDING (retry)
+       └──────────────┴──────────┴──> CANCELED (reason)          WINDOW_EXPIRED
+
+A FAILED task may be tried again while a window is left (the scheduler sees it, like PENDING);
+COMPLETED, CANCELED and WINDOW_EXPIRED are final. Every change goes through
+:meth:`TaskStatus.transition`, which checks :data:`ALLOWED_TRANSITIONS`.
+"""
+
+from __future__ import annotations
+
+from datetime import datetime
+from enum import StrEnum
+from typing import Annotated
+
+from pydantic import Field, Strict
+
+from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.tasks._base import TaskModel, UtcDatetime
+from nightcrew.robotic.tasks._configuration import ConfigurationType
+from nightcrew.robotic.tasks._errors import InvalidTransitionError
+from nightcrew.robotic.tasks._request import Request
+
+__all__ = [
+    "ALLOWED_TRANSITIONS",
+    "FINAL_STATES",
+    "SCHEDULABLE_STATES",
+    "TaskProgress",
+    "TaskState",
+    "TaskStatus",
+]
+
+
+class TaskState(StrEnum):
+    """Where a task is in its life."""
+
+    PENDING = "PENDING"  # waiting to be scheduled
+    SCHEDULED = "SCHEDULED"  # in the current schedule
+    RUNNING = "RUNNING"  # being observed
+    COMPLETED = "COMPLETED"  # done
+    FAILED = "FAILED"  # the last attempt failed (see the reason); may be tried again
+    CANCELED = "CANCELED"  # withdrawn by a person
+    WINDOW_EXPIRED = "WINDOW_EXPIRED"  # the last window ended before it was done
+
+
+_S = TaskState
+#: State -> the states it may change to.
+ALLOWED_TRANSITIONS: dict[TaskState, frozenset[TaskState]] = {
+    _S.PENDING: frozenset({_S.SCHEDULED, _S.RUNNING, _S.CANCELED, _S.WINDOW_EXPIRED}),
+    _S.SCHEDULED: frozenset({_S.PENDING, _S.RUNNING, _S.CANCELED, _S.WINDOW_EXPIRED}),
+    _S.RUNNING: frozenset({_S.COMPLETED, _S.FAILED, _S.CANCELED}),
+    _S.FAILED: frozenset({_S.PENDING, _S.SCHEDULED, _S.RUNNING, _S.CANCELED, _S.WINDOW_EXPIRED}),
+    _S.COMPLETED: frozenset(),
+    _S.CANCELED: frozenset(),
+    _S.WINDOW_EXPIRED: frozenset(),
+}
+#: States from which nothing follows.
+FINAL_STATES = frozenset(state for state, following in ALLOWED_TRANSITIONS.items() if not following)
+#: States whose tasks the scheduler may place.
+SCHEDULABLE_STATES = frozenset({_S.PENDING, _S.SCHEDULED, _S.FAILED})
+#: States that need a reason.
+_STATES_WITH_REASON = frozenset({_S.FAILED, _S.CANCELED})
+
+ExposureCount = Annotated[int, Strict(), Field(ge=0)]
+
+
+class TaskProgress(TaskModel):
+    """What was done: ``exposures_done[c][i]`` exposures of instrument config ``i`` of configuration ``c``.
+
+    Empty means nothing was recorded. Kept when a task fails, so a retry (or a person) knows what
+    is already there.
+    """
+
+    exposures_done: tuple[tuple[ExposureCount, ...], ...] = ()
+
+    @classmethod
+    def nothing_done(cls, request: Request) -> TaskProgress:
+        """Zero exposures for every instrument config of ``request``."""
+        return cls(exposures_done=tuple((0,) * len(c.instrument_configs) for c in request.configurations))
+
+    def count(self, configuration: int, instrument_config: int) -> int:
+        """Exposures done of one instrument config (0 if nothing was recorded)."""
+        try:
+            return self.exposures_done[configuration][instrument_config]
+        except IndexError:
+            return 0
+
+    def with_exposures(
+        self, request: Request, configuration: int, instrument_config: int, count: int = 1
+    ) -> TaskProgress:
+        """A copy with ``count`` more exposures of one instrument config of ``request``."""
+        done = [
+            list(row) for row in (self.exposures_done or TaskProgress.nothing_done(request).exposures_done)
+        ]
+        done[configuration][instrument_config] += count
+        return TaskProgress(exposures_done=tuple(tuple(row) for row in done))
+
+    @property
+    def total_exposures(self) -> int:
+        """All exposures done."""
+        return sum(sum(row) for row in self.exposures_done)
+
+    def check_fits(self, request: Request) -> None:
+        """Raise InvalidArgumentError unless the shape matches ``request`` (or nothing is recorded)."""
+        if not self.exposures_done:
+            return
+        expected = [len(c.instrument_configs) for c in request.configurations]
+        if [len(row) for row in self.exposures_done] != expected:
+            raise InvalidArgumentError(
+                f"progress has {[len(row) for row in self.exposures_done]} instrument configs per "
+                f"configuration, the request {expected}"
+            )
+
+    def exposure_time_done(self, request: Request) -> float:
+        """Seconds of exposure done."""
+        return sum(
+            self.count(c, i) * instrument_config.exposure_time
+            for c, configuration in enumerate(request.configurations)
+            for i, instrument_config in enumerate(configuration.instrument_configs)
+        )
+
+    def configuration_complete(self, request: Request, configuration: int) -> bool:
+        """Whether every exposure of a configuration was taken (a REPEAT_EXPOSE: at least one cycle)."""
+        config = request.configurations[configuration]
+        if config.type is ConfigurationType.REPEAT_EXPOSE:
+            return all(self.count(configuration, i) >= 1 for i in range(len(config.instrument_configs)))
+        return all(
+            self.count(configuration, i) >= instrument_config.exposure_count
+            for i, instrument_config in enumerate(config.instrument_configs)
+        )
+
+
+class TaskStatus(TaskModel):
+    """A task's state and what goes with it.
+
+    Args:
+        state: Where the task is.
+        reason: Why it FAILED or was CANCELED ("" otherwise).
+        progress: Exposures done (kept across failures).
+        started_at: When the last attempt started.
+        finished_at: When it reached its last COMPLETED/FAILED/CANCELED/WINDOW_EXPIRED.
+        modified_at: When the status last changed.
+    """
+
+    state: TaskState = TaskState.PENDING
+    reason: str = ""
+    progress: TaskProgress = Field(default=TaskProgress())
+    started_at: UtcDatetime | None = None
+    finished_at: UtcDatetime | None = None
+    modified_at: UtcDatetime | None = None
+
+    def transition(
+        self, state: TaskState, *, at: datetime, reason: str = "", progress: TaskProgress | None = None
+    ) -> TaskStatus:
+        """The status after changing to ``state`` at ``at``.
+
+        Raises:
+            InvalidTransitionError: :data:`ALLOWED_TRANSITIONS` forbids the change, or a FAILED or
+                CANCELED state comes without a reason.
+        """
+        if state not in ALLOWED_TRANSITIONS[self.state]:
+            raise InvalidTransitionError(f"a {self.state} task cannot become {state}")
+        if state in _STATES_WITH_REASON and not reason.strip():
+            raise InvalidTransitionError(f"a task can only become {state} with a reason")
+        ends = state in FINAL_STATES or state is TaskState.FAILED
+        return TaskStatus(
+            state=state,
+            reason=reason,
+            progress=self.progress if progress is None else progress,
+            started_at=at if state is TaskState.RUNNING else self.started_at,
+            finished_at=at if ends else None,
+            modified_at=at,
+        )
+
+    def with_progress(self, progress: TaskProgress, *, at: datetime) -> TaskStatus:
+        """The status with new progress; only while RUNNING."""
+        if self.state is not TaskState.RUNNING:
+            raise InvalidTransitionError(f"progress can only be recorded while RUNNING, not {self.state}")
+        return self.model_copy(update={"progress": progress, "modified_at": at})

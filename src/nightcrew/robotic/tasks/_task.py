@@ -1,0 +1,83 @@
+"""A task: one request of a request group, with its id and status, as archives hand it out."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from pydantic import Field
+
+from nightcrew.robotic.tasks._base import Integer, Number, TaskModel
+from nightcrew.robotic.tasks._request import ObservationType, Request, RequestGroup
+from nightcrew.robotic.tasks._state import SCHEDULABLE_STATES, TaskState, TaskStatus
+
+__all__ = ["Task", "tasks_of_group"]
+
+
+class Task(TaskModel):
+    """One request with what the scheduler and the runner need from its group.
+
+    Args:
+        id: The archive's id of the task (unique in the archive).
+        group_id: The archive's id of the request group.
+        name: The group's name.
+        proposal: The group's proposal.
+        observation_type: The group's observation type.
+        priority: The group's priority.
+        ipp: The group's intra-proposal priority.
+        request_index: Position of the request in its group (0-based).
+        request: What to do.
+        status: State, reason and progress.
+    """
+
+    id: str = Field(min_length=1)
+    group_id: str
+    name: str
+    proposal: str
+    observation_type: ObservationType = ObservationType.NORMAL
+    priority: Number = Field(default=1.0, gt=0.0)
+    ipp: Number = 1.0
+    request_index: Integer = 0
+    request: Request
+    status: TaskStatus = Field(default=TaskStatus())
+
+    @property
+    def state(self) -> TaskState:
+        """The task's state."""
+        return self.status.state
+
+    @property
+    def effective_priority(self) -> float:
+        """Priority scaled by the IPP: what the scheduler weighs."""
+        return self.priority * self.ipp
+
+    @property
+    def schedulable(self) -> bool:
+        """Whether the state lets the scheduler place it (windows are not looked at)."""
+        return self.status.state in SCHEDULABLE_STATES
+
+    def with_status(self, status: TaskStatus) -> Task:
+        """A copy with another status."""
+        return self.model_copy(update={"status": status})
+
+
+def tasks_of_group(
+    group: RequestGroup, group_id: str, task_ids: Sequence[str], statuses: Sequence[TaskStatus] | None = None
+) -> list[Task]:
+    """One task per request of ``group``, with the given ids (and statuses, default PENDING)."""
+    if len(task_ids) != len(group.requests):
+        raise ValueError(f"{len(group.requests)} requests need as many task ids, got {len(task_ids)}")
+    return [
+        Task(
+            id=task_id,
+            group_id=group_id,
+            name=group.name,
+            proposal=group.proposal,
+            observation_type=group.observation_type,
+            priority=group.priority,
+            ipp=group.ipp,
+            request_index=index,
+            request=request,
+            status=statuses[index] if statuses is not None else TaskStatus(),
+        )
+        for index, (task_id, request) in enumerate(zip(task_ids, group.requests, strict=True))
+    ]
