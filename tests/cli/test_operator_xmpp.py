@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import os
 import sys
+import time
 from collections.abc import AsyncIterator
 from pathlib import Path
 
@@ -115,18 +116,27 @@ async def test_a_remote_error_is_one_line_and_exit_1(op_file: str) -> None:
     assert done.stderr.splitlines() == ["nightcrew: error: calc: division by zero"]
 
 
-async def test_events_prints_an_event_sent_meanwhile(network: Network, op_file: str) -> None:
+async def test_events_prints_an_event_while_other_commands_use_the_same_file(
+    network: Network, op_file: str
+) -> None:
     sender = await network.start(Calculator, "sender")
-    process = await start("events", "--type", "TestEvent", "--count", "1", "--comm", op_file)
+    watcher = await start("events", "--type", "TestEvent", "--count", "1", "--comm", op_file)
     try:
+        deadline = time.monotonic() + COMMAND_TIMEOUT
+        while "operator" not in sender.comm.clients:
+            assert time.monotonic() < deadline, "the watcher did not join"
+            await asyncio.sleep(0.1)
+        # A second command with the same account must not take the watcher's session over.
+        done = await nightcrew("call", "calc.add", "1", "2", "--comm", op_file)
+        assert (done.code, done.stdout) == (0, "3.0\n")
         # The watcher registers right after joining; send until it has printed one and left.
         async with asyncio.timeout(COMMAND_TIMEOUT):
-            while process.returncode is None:
+            while watcher.returncode is None:
                 await sender.comm.send_event(TestEvent(message="hello operator"))
                 await asyncio.sleep(0.2)
     finally:
-        done = await finish(process)
-    assert done.code == 0, done.stderr
+        done = await finish(watcher)
+    assert (done.code, done.stderr) == (0, "")
     (line,) = done.stdout.splitlines()
     assert line.split(" ", 3)[1:] == ["sender", "TestEvent", '{"message": "hello operator"}']
 

@@ -55,7 +55,14 @@ def load_comm(path: str | None) -> Comm:
     """The comm described in ``path`` (a file with ``class:`` and the comm's keys)."""
     if not path:
         raise ConfigError("no comm given: use --comm FILE.yaml or set NIGHTCREW_COMM")
-    comm = build_object(load_config(path), Comm)
+    config = load_config(path)
+    # Operator commands often run side by side with one file (``events`` in one terminal, ``call``
+    # in another). On XMPP a second login with the same resource takes the first session over, so
+    # each command gets a resource of its own unless the file's JID names one.
+    jid = config.get("jid")
+    if isinstance(jid, str) and "/" not in jid:
+        config.set_located("jid", f"{jid}/operator-{os.getpid()}", config.location_of("jid"))
+    comm = build_object(config, Comm)
     assert isinstance(comm, Comm)
     return comm
 
