@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import json
+import os
 import shutil
 import signal
 import socket
@@ -57,12 +58,28 @@ class RpcFigures:
     median_ms: float
     p99_ms: float
     calls_per_s: float
+    #: CPU time per call in the throughput rounds, caller + callee + Prosody: on a busy machine
+    #: the steadiest figure of the three (wall times include other processes' turns).
+    cpu_us: float
+
+
+def process_cpu_s(pid: int) -> float:
+    """User + system CPU seconds used so far by process ``pid`` (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 async def measure(
-    call: Callable[[], Awaitable[Any]], calls: int, concurrency: int, rounds: int
+    call: Callable[[], Awaitable[Any]],
+    calls: int,
+    concurrency: int,
+    rounds: int,
+    cpu: Callable[[], float],
 ) -> RpcFigures:
-    """Latency of sequential calls, then throughput with ``concurrency`` calls in flight."""
+    """Latency of sequential calls, then throughput with ``concurrency`` calls in flight.
+
+    ``cpu()`` returns the CPU seconds used so far by every process taking part.
+    """
     for _ in range(min(100, calls)):  # warm-up: caches, TLS buffers, the server's routes
         await call()
     latencies = []
@@ -77,14 +94,17 @@ async def measure(
             await call()
 
     rates = []
+    cpu_before = cpu()
     for _ in range(rounds):
         start = time.perf_counter()
         await asyncio.gather(*(worker() for _ in range(concurrency)))
         rates.append(per_worker * concurrency / (time.perf_counter() - start))
+    cpu_used = cpu() - cpu_before
     return RpcFigures(
         median_ms=statistics.median(latencies) * 1e3,
         p99_ms=statistics.quantiles(latencies, n=100)[98] * 1e3,
         calls_per_s=statistics.median(rates),
+        cpu_us=cpu_used / (rounds * per_worker * concurrency) * 1e6,
     )
 
 
@@ -105,20 +125,29 @@ class BenchAdder(Module, IBenchAdder):
 class Server:
     address: str
     ca_file: str
+    pid: int = 0  # Prosody's, for its CPU time (0 in children, which do not measure)
+
+    def cpu_with(self, callee: int) -> Callable[[], float]:
+        """CPU seconds so far of this process, the callee and the server."""
+        return lambda: time.process_time() + process_cpu_s(callee) + process_cpu_s(self.pid)
 
     def comm(self, user: str) -> XmppComm:
         return XmppComm(f"{user}@{DOMAIN}", PASSWORD, server=self.address, room=ROOM, ca_file=self.ca_file)
 
 
 async def bench_nightcrew(server: Server, options: argparse.Namespace) -> RpcFigures:
-    async with child(_self_command("adder", server)):
+    async with child(_self_command("adder", server)) as callee:
         caller = Module(comm=server.comm("caller"))
         await caller.open()
         try:
             await _wait_for(lambda: "adder" in caller.comm.clients, "adder did not join the room")
             adder = await caller.comm.proxy("adder", IBenchAdder)
             return await measure(
-                lambda: adder.add(1.0, 2.0), options.calls, options.concurrency, options.rounds
+                lambda: adder.add(1.0, 2.0),
+                options.calls,
+                options.concurrency,
+                options.rounds,
+                cpu=server.cpu_with(callee.pid),
             )
         finally:
             await caller.close()
@@ -161,7 +190,7 @@ async def _raw_connect(client: Any, server: Server) -> None:
 
 
 async def bench_raw(server: Server, options: argparse.Namespace) -> RpcFigures:
-    async with child(_self_command("echo", server)):
+    async with child(_self_command("echo", server)) as callee:
         client = _raw_client("pinger", server)
         await _raw_connect(client, server)
         try:
@@ -172,7 +201,9 @@ async def bench_raw(server: Server, options: argparse.Namespace) -> RpcFigures:
                 iq.xml.append(ET.Element(f"{{{NS_ECHO}}}echo"))
                 await iq.send(timeout=10)
 
-            return await measure(ping, options.calls, options.concurrency, options.rounds)
+            return await measure(
+                ping, options.calls, options.concurrency, options.rounds, cpu=server.cpu_with(callee.pid)
+            )
         finally:
             await client.disconnect(wait=1.0)
 
@@ -202,7 +233,7 @@ async def bench_pyobs(server: Server, python: Path, options: argparse.Namespace)
     await _befriend(server, "pyadder", "pycaller")
     probe = str(HERE / "pyobs_probe.py")
     common = ["--server", server.address, "--domain", DOMAIN, "--password", PASSWORD]
-    async with child([str(python), probe, "serve", "--user", "pyadder", *common]):
+    async with child([str(python), probe, "serve", "--user", "pyadder", *common]) as callee:
         command = [str(python), probe, "call", "--user", "pycaller", "--callee", "pyadder", *common]
         command += ["--calls", str(options.calls), "--concurrency", str(options.concurrency)]
         command += ["--rounds", str(options.rounds)]
@@ -210,13 +241,34 @@ async def bench_pyobs(server: Server, python: Path, options: argparse.Namespace)
             *command, stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE
         )
         try:
-            out, _ = await asyncio.wait_for(process.communicate(), 600)
+            figures = await asyncio.wait_for(_probe_figures(process, server, callee.pid), 600)
         finally:
             await _end(process)
         if process.returncode != 0:
             raise RuntimeError(f"pyobs probe failed (exit {process.returncode})")
-        figures = json.loads(out.decode().strip().splitlines()[-1])
-        return RpcFigures(**figures)
+        return figures
+
+
+async def _probe_figures(process: asyncio.subprocess.Process, server: Server, callee: int) -> RpcFigures:
+    """Read the probe's output; at each ``mark <its CPU s>`` line add the callee's and server's CPU."""
+    assert process.stdout is not None
+    others = [0.0, 0.0]
+    probe_cpu = [0.0, 0.0]
+    marks = 0
+    async for line in process.stdout:
+        words = line.decode().split()
+        if words[:1] == ["mark"] and marks < 2:
+            probe_cpu[marks] = float(words[1])
+            others[marks] = process_cpu_s(callee) + process_cpu_s(server.pid)
+            marks += 1
+        elif line.startswith(b"{"):
+            data = json.loads(line)
+            calls = data.pop("throughput_calls")
+            cpu_used = probe_cpu[1] - probe_cpu[0] + others[1] - others[0]
+            await process.wait()
+            return RpcFigures(**data, cpu_us=cpu_used / calls * 1e6)
+    await process.wait()
+    raise RuntimeError(f"pyobs probe failed (exit {process.returncode})")
 
 
 async def _befriend(server: Server, first: str, second: str) -> None:
@@ -385,15 +437,16 @@ def _ratio(value: float, reference: float) -> str:
 def print_table(
     raw: RpcFigures, nightcrew: RpcFigures, pyobs: RpcFigures | None, pyobs_note: str, starts: StartFigures
 ) -> None:
-    head = f"{'row (2 processes each, STARTTLS, loopback)':<44} {'median ms':>9} {'p99 ms':>8} {'calls/s':>8}"
-    print(head + f" {'median vs raw':>13} {'calls/s vs raw':>14}")
-    rows = [("raw slixmpp IQ echo (floor)", raw), ("nightcrew RPC add()", nightcrew)]
+    head = f"{'row (2 processes each, loopback)':<44} {'median ms':>9} {'p99 ms':>8} {'calls/s':>8}"
+    print(head + f" {'CPU µs/call':>11} {'median vs raw':>13} {'calls/s vs raw':>14} {'CPU vs raw':>10}")
+    rows = [("raw slixmpp IQ echo (floor), STARTTLS", raw), ("nightcrew RPC add(), STARTTLS", nightcrew)]
     if pyobs is not None:
-        rows.append(("pyobs-core 2.19.1 RPC", pyobs))
+        rows.append(("pyobs-core 2.19.1 RPC add(), no TLS", pyobs))
     for name, f in rows:
         print(
-            f"{name:<44} {f.median_ms:>9.3f} {f.p99_ms:>8.3f} {f.calls_per_s:>8.0f}"
+            f"{name:<44} {f.median_ms:>9.3f} {f.p99_ms:>8.3f} {f.calls_per_s:>8.0f} {f.cpu_us:>11.0f}"
             f" {_ratio(f.median_ms, raw.median_ms):>13} {_ratio(f.calls_per_s, raw.calls_per_s):>14}"
+            f" {_ratio(f.cpu_us, raw.cpu_us):>10}"
         )
     if pyobs is None:
         print(f"{'pyobs-core 2.19.1 RPC':<44} {pyobs_note}")
@@ -423,9 +476,9 @@ async def run_bench(options: argparse.Namespace, directory: Path) -> None:
     port = _free_port()
     accounts = [Account(user, DOMAIN, PASSWORD) for user in USERS]
     init_server(directory, accounts, host="127.0.0.1", port=port, domains=[DOMAIN])
-    start_server(directory)
+    pid = start_server(directory)
     try:
-        server = Server(f"127.0.0.1:{port}", str(directory / "certs" / f"{DOMAIN}.crt"))
+        server = Server(f"127.0.0.1:{port}", str(directory / "certs" / f"{DOMAIN}.crt"), pid)
         raw = await bench_raw(server, options)
         nightcrew = await bench_nightcrew(server, options)
         pyobs: RpcFigures | None = None
