@@ -1,0 +1,55 @@
+"""AutonomousWarning warns, keeps a flag file and runs its command while a module is autonomous."""
+
+from __future__ import annotations
+
+import logging
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from nightcrew.interfaces import IAutonomous
+from nightcrew.modules import Module
+from nightcrew.modules.utils import AutonomousWarning
+from tests.modules.conftest import Observatory
+from tests.modules.weather.conftest import wait_for
+
+
+class Robot(Module, IAutonomous):
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.on = False
+
+    async def is_autonomous(self) -> bool:
+        return self.on
+
+
+async def test_warns_while_a_module_is_autonomous(
+    fast_observatory: Observatory, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    obs = fast_observatory
+    robot = await obs.start(Robot, "mastermind")
+    beeps = tmp_path / "beeps"
+    command = [sys.executable, "-c", f"open({str(beeps)!r}, 'a').write('beep\\n')"]
+    warning = await obs.start(
+        AutonomousWarning,
+        "warning",
+        interval=5.0,
+        repeat=60.0,
+        flag_file="/cache/flag",
+        command=command,
+    )
+    await obs.clock.sleep(10.0)
+    assert warning.autonomous == [] and not await obs.vfs.exists("/cache/flag")
+    with caplog.at_level(logging.WARNING):
+        robot.on = True
+        await wait_for(obs, lambda: warning.autonomous == ["mastermind"], 30.0)
+        await wait_for(obs, lambda: beeps.exists(), 4000.0)  # a Python start takes wall time
+    assert "autonomous, may move at any time: mastermind" in caplog.text
+    assert await obs.vfs.read_bytes("/cache/flag") == b"mastermind\n"
+    robot.on = False
+    await wait_for(obs, lambda: warning.autonomous == [], 30.0)
+    await obs.clock.sleep(1.0)
+    assert not await obs.vfs.exists("/cache/flag")
+    assert beeps.read_text() == "beep\n"
