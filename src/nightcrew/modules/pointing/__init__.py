@@ -1,0 +1,16 @@
+"""Pointing automation: acquisition of targets, auto-guiding, and the offsets they send."""
+
+from nightcrew.modules.pointing.acquisition import Acquisition, AcquisitionFailedError
+from nightcrew.modules.pointing.apply import ApplyAltAzOffsets, ApplyOffsets, ApplyRaDecOffsets
+from nightcrew.modules.pointing.guiding import AutoGuiding, BaseGuiding, ScienceFrameAutoGuiding
+
+__all__ = [
+    "Acquisition",
+    "AcquisitionFailedError",
+    "ApplyAltAzOffsets",
+    "ApplyOffsets",
+    "ApplyRaDecOffsets",
+    "AutoGuiding",
+    "BaseGuiding",
+    "ScienceFrameAutoGuiding",
+]
