@@ -1,0 +1,29 @@
+"""Task archives (where tasks come from, where their fate goes) and schedule stores.
+
+- :class:`TaskArchive` / :class:`ScheduleStore`: the abstract interfaces.
+- :class:`SqliteTaskArchive`: the embedded default (one file; ``nightcrew tasks`` works on it).
+- :class:`YamlTaskArchive`: request groups in a YAML file written by hand, reloaded on change.
+- :class:`LcoPortalArchive`: an LCO observation portal over its HTTP API.
+"""
+
+from __future__ import annotations
+
+from nightcrew.robotic.archives._base import (
+    ScheduleEntry,
+    ScheduleStore,
+    TaskArchive,
+    TaskChange,
+    TaskListener,
+)
+from nightcrew.robotic.archives._local import LocalTaskArchive
+from nightcrew.robotic.archives._sqlite import SqliteTaskArchive
+
+__all__ = [
+    "LocalTaskArchive",
+    "ScheduleEntry",
+    "ScheduleStore",
+    "SqliteTaskArchive",
+    "TaskArchive",
+    "TaskChange",
+    "TaskListener",
+]

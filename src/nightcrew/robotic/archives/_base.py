@@ -1,0 +1,142 @@
+"""What every task archive and schedule store offers.
+
+A :class:`TaskArchive` hands out tasks and records what happens to them; a :class:`ScheduleStore`
+keeps the schedule (which task runs when). An archive that owns its tasks (SQLite, a YAML file)
+implements both, the LCO portal client too. Listeners hear of every change as a
+:class:`TaskChange`, so a scheduler can plan again when tasks come, go or change.
+"""
+
+from __future__ import annotations
+
+import inspect
+import logging
+from abc import ABC, abstractmethod
+from collections.abc import Awaitable, Callable, Iterable, Sequence
+from dataclasses import dataclass
+from datetime import datetime
+from types import TracebackType
+from typing import Self
+
+from nightcrew.clock import Clock, RealClock
+from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.tasks import Task, TaskProgress
+
+__all__ = ["ScheduleEntry", "ScheduleStore", "TaskArchive", "TaskChange", "TaskListener"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class ScheduleEntry:
+    """Task ``task_id`` is planned from ``start`` to ``end`` (aware datetimes)."""
+
+    task_id: str
+    start: datetime
+    end: datetime
+
+    def __post_init__(self) -> None:
+        if self.start.tzinfo is None or self.end.tzinfo is None:
+            raise InvalidArgumentError(f"schedule entry {self.task_id}: start and end need a time zone")
+        if self.end <= self.start:
+            raise InvalidArgumentError(
+                f"schedule entry {self.task_id}: end {self.end} is not after {self.start}"
+            )
+
+
+@dataclass(frozen=True)
+class TaskChange:
+    """Tasks were added, changed or removed; an empty ``task_ids`` means "any of them"."""
+
+    task_ids: frozenset[str] = frozenset()
+
+
+#: Called with every change; may be a coroutine function.
+TaskListener = Callable[[TaskChange], Awaitable[None] | None]
+
+
+class TaskArchive(ABC):
+    """Where the tasks come from and where their fate goes.
+
+    Use as ``async with archive:`` (or ``open()``/``close()``); constructors do no I/O.
+
+    Args:
+        clock: Gives "now" (window expiry, timestamps) and paces polling.
+    """
+
+    def __init__(self, *, clock: Clock | None = None) -> None:
+        self.clock: Clock = clock or RealClock()
+        self._listeners: list[TaskListener] = []
+
+    async def open(self) -> None:  # noqa: B027 - optional hook, empty by default
+        """Acquire resources (connections, polling tasks)."""
+
+    async def close(self) -> None:  # noqa: B027 - optional hook, empty by default
+        """Release them; safe to call twice."""
+
+    async def __aenter__(self) -> Self:
+        await self.open()
+        return self
+
+    async def __aexit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        await self.close()
+
+    def add_listener(self, listener: TaskListener) -> None:
+        """Call ``listener`` on every change of tasks."""
+        self._listeners.append(listener)
+
+    def remove_listener(self, listener: TaskListener) -> None:
+        """Stop calling ``listener``."""
+        self._listeners.remove(listener)
+
+    async def _notify(self, task_ids: Iterable[str] = ()) -> None:
+        change = TaskChange(frozenset(task_ids))
+        for listener in list(self._listeners):
+            try:
+                result = listener(change)
+                if inspect.isawaitable(result):
+                    await result
+            except Exception:  # a broken listener must not break the archive or the other listeners
+                log.exception("task listener %r failed", listener)
+
+    @abstractmethod
+    async def get_schedulable_tasks(self) -> list[Task]:
+        """Tasks the scheduler may place now: schedulable state and a window not yet over."""
+
+    @abstractmethod
+    async def get_task(self, task_id: str) -> Task:
+        """The task ``task_id``; raises TaskNotFoundError if there is none."""
+
+    @abstractmethod
+    async def mark_started(self, task_id: str) -> Task:
+        """The task is being observed (RUNNING)."""
+
+    @abstractmethod
+    async def record_progress(self, task_id: str, progress: TaskProgress) -> Task:
+        """What a RUNNING task has done so far, so an interruption loses nothing."""
+
+    @abstractmethod
+    async def mark_finished(self, task_id: str, progress: TaskProgress) -> Task:
+        """The task ended as planned (COMPLETED) having done ``progress``."""
+
+    @abstractmethod
+    async def mark_failed(self, task_id: str, reason: str, progress: TaskProgress) -> Task:
+        """The task ended early (FAILED) for ``reason`` having done ``progress``."""
+
+
+class ScheduleStore(ABC):
+    """Keeps the schedule: entries of (task id, start, end)."""
+
+    @abstractmethod
+    async def write_schedule(self, entries: Sequence[ScheduleEntry], *, replace_from: datetime) -> None:
+        """Replace the entries starting at or after ``replace_from`` by ``entries``.
+
+        Earlier entries (the past, the task running now) stay as they are.
+        """
+
+    @abstractmethod
+    async def read_schedule(
+        self, *, start: datetime | None = None, end: datetime | None = None
+    ) -> list[ScheduleEntry]:
+        """Entries overlapping ``[start, end)`` (all if not given), by start time."""
