@@ -23,6 +23,7 @@ import slixmpp
 from slixmpp.xmlstream.handler import Callback
 from slixmpp.xmlstream.matcher.base import MatcherBase
 from slixmpp.xmlstream.stanzabase import StanzaBase
+from slixmpp.xmlstream.tostring import tostring
 
 from nightcrew.comm.xmpp._errors import XmppAuthError
 from nightcrew.comm.xmpp._settings import XmppSettings
@@ -62,6 +63,7 @@ class XmppConnection:
         self._online = False
         self._closing = False
         self._reconnect_task: asyncio.Task[None] | None = None
+        self._outbox: list[str] = []  # serialized stanzas waiting for the next flush
 
     @property
     def online(self) -> bool:
@@ -99,6 +101,7 @@ class XmppConnection:
     async def close(self) -> None:
         """Leave the server; safe to call twice."""
         self._closing = True
+        self._flush()  # what was sent before close() still goes out
         self._online = False  # a disconnect we asked for is not a loss
         if self._reconnect_task is not None:
             self._reconnect_task.cancel()
@@ -120,10 +123,19 @@ class XmppConnection:
         self._online = False
 
     def send(self, stanza: StanzaBase) -> None:
-        """Queue ``stanza``; RemoteError when there is no session (no silent queueing for later)."""
-        if not self._online or self._client is None:
+        """Queue ``stanza``; RemoteError when there is no session (no silent queueing for later).
+
+        Stanzas sent in one turn of the event loop leave in one write at the start of the next
+        (slixmpp's send queue writes each on its own): a callee's timeout announcement and a fast
+        result share a TCP segment, and a burst of calls costs one system call, not fifty. This
+        bypasses slixmpp's outgoing filters, which only its plugins we do not load use.
+        """
+        client = self._client
+        if not self._online or client is None:
             raise RemoteError("not connected to the XMPP server")
-        self._client.send(stanza)
+        self._outbox.append(tostring(stanza.xml, xmlns=client.default_ns, stream=client, top_level=True))
+        if len(self._outbox) == 1:
+            asyncio.get_running_loop().call_soon(self._flush)
 
     def stanza(self, kind: str, to: str, *payload: ET.Element, **attrs: str) -> StanzaBase:
         """A ``<message>``, ``<presence>`` or ``<iq>`` to ``to`` carrying ``payload`` elements."""
@@ -142,6 +154,15 @@ class XmppConnection:
         return made
 
     # --- internals -----------------------------------------------------------------------------
+
+    def _flush(self) -> None:
+        if not self._outbox:
+            return
+        data, self._outbox = "".join(self._outbox), []
+        client = self._client
+        if self._online and client is not None and client.transport is not None:
+            client.send_raw(data)
+        # else the connection was lost meanwhile: its calls have failed already (on_lost)
 
     def _make_client(self) -> slixmpp.ClientXMPP:
         s = self._settings
