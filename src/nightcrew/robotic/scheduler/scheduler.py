@@ -1,0 +1,159 @@
+"""The scheduler: blocks and a night in, a schedule out, by the MIP (default) or astroplan's greedy.
+
+Re-planning is the same call with the current time: ``schedule(blocks, night, now=..., exclude=done
+| failed, in_progress=slot)`` plans only what is left, from ``now`` (or the end of the block in
+progress) to the end of the night. Times are always passed in; nothing here reads a clock.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Collection, Sequence
+from datetime import UTC, datetime, timedelta
+from typing import Literal
+
+import numpy as np
+
+from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.scheduler.baseline import solve_priority
+from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, Schedule, ScheduledSlot
+from nightcrew.robotic.scheduler.constraints import DEFAULT_CONSTRAINTS, Constraint
+from nightcrew.robotic.scheduler.mip import solve_time_indexed
+from nightcrew.robotic.scheduler.problem import Placement, SchedulingProblem, build_problem, check_placement
+
+__all__ = ["SOLVERS", "Scheduler"]
+
+SolverName = Literal["mip", "priority"]
+#: The solvers to choose from by name.
+SOLVERS: tuple[SolverName, ...] = ("mip", "priority")
+
+
+class Scheduler:
+    """Plans a night.
+
+    Args:
+        solver: ``"mip"`` (optimal time-indexed MIP, HiGHS) or ``"priority"`` (astroplan's greedy).
+        step_s: Length of a time slice in seconds; blocks start on slice edges.
+        slew_overhead_s: Worst-case slew plus settling added in front of every block.
+        time_limit_s: Seconds the MIP may search before returning its best schedule.
+        mip_rel_gap: The MIP stops once within this fraction of its proven bound.
+        constraints: Constraint callables; by default those the blocks' Constraints and windows ask for.
+    """
+
+    def __init__(
+        self,
+        *,
+        solver: SolverName = "mip",
+        step_s: float = 300.0,
+        slew_overhead_s: float = 100.0,
+        time_limit_s: float = 10.0,
+        mip_rel_gap: float = 1e-3,
+        constraints: Sequence[Constraint] = DEFAULT_CONSTRAINTS,
+    ) -> None:
+        if solver not in SOLVERS:
+            raise InvalidArgumentError(f"solver must be one of {', '.join(SOLVERS)}, got {solver!r}")
+        if not step_s > 0:
+            raise InvalidArgumentError(f"step_s must be > 0, got {step_s}")
+        if not slew_overhead_s >= 0:
+            raise InvalidArgumentError(f"slew_overhead_s must be >= 0, got {slew_overhead_s}")
+        if not time_limit_s > 0:
+            raise InvalidArgumentError(f"time_limit_s must be > 0, got {time_limit_s}")
+        if not 0 <= mip_rel_gap < 1:
+            raise InvalidArgumentError(f"mip_rel_gap must be within 0..1, got {mip_rel_gap}")
+        self.solver: SolverName = solver
+        self.step_s = step_s
+        self.slew_overhead_s = slew_overhead_s
+        self.time_limit_s = time_limit_s
+        self.mip_rel_gap = mip_rel_gap
+        self.constraints = tuple(constraints)
+
+    def problem(
+        self,
+        blocks: Sequence[SchedulableBlock],
+        night: Night,
+        *,
+        start: datetime | None = None,
+    ) -> SchedulingProblem:
+        """The grid form of ``blocks`` from ``start`` (default: the night's start) to the night's end."""
+        begin = night.start if start is None else max(night.start, start)
+        return build_problem(
+            blocks,
+            night.site,
+            begin.timestamp(),
+            night.end.timestamp(),
+            step_s=self.step_s,
+            slew_overhead_s=self.slew_overhead_s,
+            constraints=self.constraints,
+        )
+
+    def solve(self, problem: SchedulingProblem) -> Placement:
+        """Choose start slices with the configured solver."""
+        solvers: dict[SolverName, Callable[[SchedulingProblem], Placement]] = {
+            "mip": self._solve_mip,
+            "priority": solve_priority,
+        }
+        placement = solvers[self.solver](problem)
+        check_placement(problem, placement.starts)
+        return placement
+
+    def _solve_mip(self, problem: SchedulingProblem) -> Placement:
+        return solve_time_indexed(
+            problem.can_start,
+            problem.lengths,
+            problem.weights,
+            time_limit=self.time_limit_s,
+            mip_rel_gap=self.mip_rel_gap,
+        )
+
+    def schedule(
+        self,
+        blocks: Sequence[SchedulableBlock],
+        night: Night,
+        *,
+        now: datetime | None = None,
+        exclude: Collection[str] = (),
+        in_progress: ScheduledSlot | None = None,
+    ) -> Schedule:
+        """Plan the (rest of the) night.
+
+        Args:
+            blocks: Every block that could be observed; not modified.
+            night: The night to fill.
+            now: Plan from this time on (default: the night's start).
+            exclude: Ids of blocks not to plan again (done, failed, cancelled).
+            in_progress: The slot being observed now: kept first, and planning starts at its end.
+        """
+        began = time.perf_counter()
+        start = night.start if now is None else max(night.start, now)
+        if in_progress is not None:
+            start = max(start, in_progress.end)
+        skip = set(exclude) | ({in_progress.block_id} if in_progress is not None else set())
+        candidates = [b for b in blocks if b.id not in skip]
+        kept = (in_progress,) if in_progress is not None else ()
+        if start >= night.end:
+            return Schedule(kept, 0.0, 0.0, self.solver, time.perf_counter() - began, "night over")
+        problem = self.problem(candidates, night, start=start)
+        placement = self.solve(problem)
+        return Schedule(
+            slots=kept + _slots(problem, placement),
+            objective=placement.objective,
+            bound=placement.bound,
+            solver=self.solver,
+            wall_time_s=time.perf_counter() - began,
+            status=placement.status,
+        )
+
+
+def _slots(problem: SchedulingProblem, placement: Placement) -> tuple[ScheduledSlot, ...]:
+    """The placed blocks as time slots, by start; a slot ends when its observation does."""
+    slots = []
+    for row in np.flatnonzero(placement.starts >= 0):
+        block = problem.blocks[row]
+        begin = problem.grid.start + problem.grid.step * float(placement.starts[row])
+        end = begin + float(problem.overhead_s[row]) + block.duration_s
+        slots.append(ScheduledSlot(block.id, _utc(begin), _utc(end)))
+    return tuple(sorted(slots, key=lambda slot: slot.start))
+
+
+def _utc(unix_time: float) -> datetime:
+    return datetime(1970, 1, 1, tzinfo=UTC) + timedelta(seconds=unix_time)
