@@ -1,0 +1,192 @@
+"""``nightcrew tasks``: add, list, show and cancel tasks in the SQLite task archive.
+
+``add FILE...`` validates request group files (YAML or JSON) and stores each with one task per
+request; if any file is invalid, every problem is printed with its field path, nothing is stored and
+the exit code is 2. ``list`` prints a table, ``show ID`` one task in full, ``cancel ID`` withdraws a
+task. The database is ``--db PATH``, else ``$NIGHTCREW_TASKS_DB``, else ``./nightcrew-tasks.sqlite``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import os
+import sys
+from collections.abc import Sequence
+from datetime import datetime
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.robotic.tasks import (
+    InvalidTaskError,
+    RequestGroup,
+    TaskState,
+    estimate_duration,
+    load_request_group_file,
+)
+
+__all__ = ["DEFAULT_DB", "add_parser"]
+
+#: The database used without --db and $NIGHTCREW_TASKS_DB.
+DEFAULT_DB = "nightcrew-tasks.sqlite"
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    parser: argparse.ArgumentParser = subparsers.add_parser(
+        "tasks", help="add, list, show and cancel tasks", description=__doc__.split("\n\n", 1)[1]
+    )
+    # --db works before and after the action; SUPPRESS keeps the later one from hiding the first.
+    db = argparse.ArgumentParser(add_help=False)
+    db.add_argument("--db", type=Path, default=argparse.SUPPRESS, help="the task database")
+    parser.add_argument("--db", type=Path, default=None, help="the task database")
+    actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
+
+    add = actions.add_parser("add", parents=[db], help="validate request group files and store them")
+    add.add_argument("files", metavar="FILE", type=Path, nargs="+", help="request group (YAML or JSON)")
+    add.set_defaults(func=_run(_add))
+
+    listing = actions.add_parser("list", parents=[db], help="print a table of the tasks")
+    listing.add_argument(
+        "--state", type=_state, action="append", help="only tasks in this state (repeatable)"
+    )
+    listing.set_defaults(func=_run(_list))
+
+    show = actions.add_parser("show", parents=[db], help="print one task in full")
+    show.add_argument("task_id", metavar="ID")
+    show.set_defaults(func=_run(_show))
+
+    cancel = actions.add_parser("cancel", parents=[db], help="cancel a task that has not ended")
+    cancel.add_argument("task_id", metavar="ID")
+    cancel.add_argument("--reason", default="canceled from the command line", help="why (stored with it)")
+    cancel.set_defaults(func=_run(_cancel))
+    return parser
+
+
+def database_path(args: argparse.Namespace) -> Path:
+    """--db, else $NIGHTCREW_TASKS_DB, else ./nightcrew-tasks.sqlite."""
+    if args.db is not None:
+        return Path(args.db)
+    return Path(os.environ.get("NIGHTCREW_TASKS_DB") or DEFAULT_DB)
+
+
+def _run(action: Any) -> Any:
+    def run(args: argparse.Namespace) -> int:
+        code: int = asyncio.run(action(args))
+        return code
+
+    return run
+
+
+async def _add(args: argparse.Namespace) -> int:
+    groups: list[RequestGroup] = []
+    invalid: list[InvalidTaskError] = []
+    for path in args.files:
+        try:
+            groups.append(load_request_group_file(path))
+        except InvalidTaskError as exc:
+            invalid.append(exc)
+    if invalid:
+        for error in invalid:
+            print(f"nightcrew: error: {error.source}: invalid request group:", file=sys.stderr)
+            for problem in error.problems:
+                print(f"  {problem}", file=sys.stderr)
+        print("nothing was stored", file=sys.stderr)
+        return 2
+    async with _archive(args) as archive:
+        for group in groups:
+            tasks = await archive.add_request_group(group)
+            ids = ", ".join(task.id for task in tasks)
+            print(
+                f"added {group.name!r} (group {tasks[0].group_id}): task{'s' if len(tasks) > 1 else ''} {ids}"
+            )
+    return 0
+
+
+async def _list(args: argparse.Namespace) -> int:
+    async with _archive(args) as archive:
+        tasks = await archive.list_tasks(states=args.state)
+    rows = [["ID", "STATE", "NAME", "PROPOSAL", "PRIORITY", "DURATION", "WINDOWS", "CONFIGURATIONS"]]
+    for task in tasks:
+        rows.append(
+            [
+                task.id,
+                task.state.value,
+                task.name,
+                task.proposal,
+                f"{task.effective_priority:g}",
+                _duration(estimate_duration(task.request).total_s),
+                f"{_time(task.request.first_start)} - {_time(task.request.last_end)}",
+                " ".join(_configuration_summary(c.type.value, c.target) for c in task.request.configurations),
+            ]
+        )
+    print(_table(rows))
+    if not tasks:
+        print("(no tasks)")
+    return 0
+
+
+async def _show(args: argparse.Namespace) -> int:
+    async with _archive(args) as archive:
+        task = await archive.get_task(args.task_id)
+    status = task.status
+    estimate = estimate_duration(task.request)
+    print(f"task {task.id}: request {task.request_index} of group {task.group_id} {task.name!r}")
+    print(f"state: {status.state.value}" + (f" ({status.reason})" if status.reason else ""))
+    kind = task.observation_type.value
+    print(f"proposal: {task.proposal}, {kind}, priority {task.priority:g} x ipp {task.ipp:g}")
+    print(f"duration: {_duration(estimate.total_s)} (set-up {_duration(estimate.setup_s)})")
+    for label, when in (("started", status.started_at), ("finished", status.finished_at)):
+        if when is not None:
+            print(f"{label}: {when.isoformat()}")
+    for c, configuration in enumerate(task.request.configurations):
+        for i, instrument_config in enumerate(configuration.instrument_configs):
+            done = status.progress.count(c, i)
+            print(f"done: configuration {c} series {i}: {done}/{instrument_config.exposure_count} exposures")
+    print("request:")
+    text = yaml.safe_dump(task.request.model_dump(mode="json"), sort_keys=False, allow_unicode=True)
+    print("  " + text.rstrip().replace("\n", "\n  "))
+    return 0
+
+
+async def _cancel(args: argparse.Namespace) -> int:
+    async with _archive(args) as archive:
+        task = await archive.cancel(args.task_id, args.reason)
+    print(f"task {task.id} ({task.name}): {task.state.value}")
+    return 0
+
+
+def _archive(args: argparse.Namespace) -> SqliteTaskArchive:
+    return SqliteTaskArchive(database_path(args), poll_interval=0)
+
+
+def _state(text: str) -> TaskState:
+    try:
+        return TaskState(text.upper())
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"unknown state {text!r} (one of {', '.join(s.value for s in TaskState)})"
+        ) from None
+
+
+def _configuration_summary(kind: str, target: Any) -> str:
+    return f"{kind}({target.name})" if target is not None else kind
+
+
+def _duration(seconds: float) -> str:
+    minutes, secs = divmod(round(seconds), 60)
+    hours, minutes = divmod(minutes, 60)
+    return f"{hours}h{minutes:02d}m" if hours else f"{minutes}m{secs:02d}s"
+
+
+def _time(when: datetime) -> str:
+    return when.strftime("%Y-%m-%d %H:%M")
+
+
+def _table(rows: Sequence[Sequence[str]]) -> str:
+    widths = [max(len(row[column]) for row in rows) for column in range(len(rows[0]))]
+    return "\n".join(
+        "  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip() for row in rows
+    )
