@@ -17,6 +17,7 @@ from nightcrew.robotic.archives._base import (
 )
 from nightcrew.robotic.archives._local import LocalTaskArchive
 from nightcrew.robotic.archives._sqlite import SqliteTaskArchive
+from nightcrew.robotic.archives._yaml import YamlTaskArchive
 
 __all__ = [
     "LocalTaskArchive",
@@ -26,4 +27,5 @@ __all__ = [
     "TaskArchive",
     "TaskChange",
     "TaskListener",
+    "YamlTaskArchive",
 ]
