@@ -27,7 +27,7 @@ def _write(path: Path, groups: object) -> None:
 def _second_group() -> dict[str, object]:
     data = valid_group_data()
     data["name"] = "second"
-    data["requests"] = data["requests"][1:]  # type: ignore[index]
+    data["requests"] = data["requests"][1:]
     return data
 
 
@@ -69,8 +69,9 @@ async def test_a_bad_edit_keeps_the_last_good_tasks(tmp_path: Path) -> None:
         broken["requests"][0]["windows"][0]["end"] = "2026-11-10T12:00:00Z"
         _write(path, [_second_group(), broken, _second_group()])
         assert not await archive.check_for_changes()
-        assert archive.last_error is not None
-        assert [str(p) for p in archive.last_error.problems] == [
+        error = archive.last_error
+        assert error is not None
+        assert [str(p) for p in error.problems] == [
             "[1].requests[0].windows[0].end: must be after start (2026-11-10T17:50:00+00:00)",
             "[2].name: another group is called 'second'",
         ]
