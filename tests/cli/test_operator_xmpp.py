@@ -110,10 +110,13 @@ async def test_call_prints_the_result(op_file: str) -> None:
     assert (done.code, done.stdout, done.stderr) == (0, "5.5\n", "")
 
 
-async def test_a_remote_error_is_one_line_and_exit_1(op_file: str) -> None:
+async def test_a_remote_error_or_an_absent_module_is_one_line_and_exit_1(op_file: str) -> None:
     done = await nightcrew("call", "calc.divide", "1", "0", "--comm", op_file)
     assert (done.code, done.stdout) == (1, "")
     assert done.stderr.splitlines() == ["nightcrew: error: calc: division by zero"]
+    done = await nightcrew("call", "dome.open_roof", "--comm", op_file)
+    assert (done.code, done.stdout) == (1, "")
+    assert done.stderr.splitlines() == ["nightcrew: error: module 'dome' is not online"]
 
 
 async def test_events_prints_an_event_while_other_commands_use_the_same_file(
