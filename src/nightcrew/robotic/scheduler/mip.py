@@ -24,6 +24,7 @@ import numpy.typing as npt
 from scipy.optimize import LinearConstraint, linprog, milp  # type: ignore[import-untyped]
 from scipy.sparse import csr_array  # type: ignore[import-untyped]
 
+from nightcrew.robotic.scheduler.lagrangian import IntervalVariables, lagrangian_schedule
 from nightcrew.robotic.scheduler.problem import Placement
 
 __all__ = ["solve_time_indexed"]
@@ -66,8 +67,9 @@ def solve_time_indexed(
     if len(block_of) <= kernel_size:
         chosen, objective, bound, status = _solve_mip(matrix, costs, time_limit, mip_rel_gap)
     else:
+        variables = IntervalVariables(block_of, start_of, lengths[block_of], costs, n_blocks, n_slices)
         chosen, objective, bound, status = _solve_on_kernel(
-            matrix, costs, kernel_size, began + time_limit, mip_rel_gap
+            variables, matrix, kernel_size, began + time_limit, mip_rel_gap
         )
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)
@@ -93,35 +95,48 @@ def _solve_mip(
 
 
 def _solve_on_kernel(
-    matrix: csr_array, costs: FloatArray, kernel_size: int, deadline: float, mip_rel_gap: float
+    variables: IntervalVariables,
+    matrix: csr_array,
+    kernel_size: int,
+    deadline: float,
+    mip_rel_gap: float,
 ) -> tuple[IntArray, float, float, str]:
-    """The MIP on the ``kernel_size`` variables the LP relaxation likes best, with a proven bound.
+    """A large instance: LP relaxation, Lagrangian schedule, then the MIP on a kernel of variables.
 
     Large instances (500 blocks: ~30 000 variables) spend HiGHS's whole time limit in root cuts
-    without a good schedule. The LP relaxation (a fraction of a second) ranks the variables by
-    reduced cost ``r = A^T y - c``: by weak duality every schedule using variable ``k`` scores at
-    most ``lp_bound - r[k]``. So once the kernel's MIP has found ``objective``, all variables with
-    ``r > lp_bound - objective`` are provably useless, and if the kernel held all the others, the
-    kernel MIP's dual bound holds for the whole problem; otherwise the LP bound is reported.
+    without finding a good schedule. So: the LP relaxation (a fraction of a second) gives prices;
+    :func:`lagrangian_schedule` turns them into a good schedule (typically > 99 % of the bound);
+    its value ``incumbent`` then proves most variables useless: with the LP's reduced costs
+    ``r = A^T y - c``, weak duality says every schedule using variable ``k`` scores at most
+    ``lp_bound - r[k]``. The MIP runs on the remaining variables (at most ``kernel_size``, those of
+    smallest reduced cost); if the kernel held every variable with ``r <= lp_bound - incumbent``,
+    its dual bound holds for the whole problem, otherwise the LP bound is reported.
     """
+    costs = variables.value_of
     relaxation = linprog(-costs, A_ub=matrix, b_ub=np.ones(matrix.shape[0]), bounds=(0, 1), method="highs")
     if relaxation.status != 0:
         return _solve_mip(matrix, costs, deadline - time.perf_counter(), mip_rel_gap)
     prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
     reduced = matrix.T @ prices - costs
     lp_bound = float(prices.sum() + np.maximum(0.0, -reduced).sum())  # weak duality: valid for any prices
+    best, incumbent, lagrangian_bound = lagrangian_schedule(variables, prices[: variables.n_blocks])
+    upper = min(lp_bound, lagrangian_bound)
+
     kernel = np.argsort(reduced, kind="stable")[:kernel_size]
     kernel = np.union1d(kernel, np.flatnonzero(relaxation.x > 1e-9))
-    chosen, objective, kernel_bound, status = _solve_mip(
-        matrix[:, kernel], costs[kernel], deadline - time.perf_counter(), mip_rel_gap
-    )
+    status = "limit reached"
+    kernel_bound = upper
+    if deadline - time.perf_counter() > 0.2:
+        chosen, objective, kernel_bound, status = _solve_mip(
+            matrix[:, kernel], costs[kernel], deadline - time.perf_counter(), mip_rel_gap
+        )
+        if objective > incumbent:
+            best, incumbent = kernel[chosen], objective
     left_out = np.ones(len(costs), dtype=np.bool_)
     left_out[kernel] = False
-    if np.all(reduced[left_out] > lp_bound - objective + 1e-9):
-        bound = min(lp_bound, max(objective, kernel_bound))
-    else:
-        bound, status = lp_bound, "limit reached" if status == "optimal" else status
-    return kernel[chosen], objective, bound, status
+    if np.all(reduced[left_out] > lp_bound - incumbent + 1e-9):
+        return best, incumbent, min(upper, max(incumbent, kernel_bound)), status
+    return best, incumbent, upper, "limit reached" if status == "optimal" else status
 
 
 def _constraint_matrix(

@@ -1,0 +1,139 @@
+"""Fast good schedules for large instances: Lagrangian relaxation of "each block at most once".
+
+Without that rule, the time-indexed problem is weighted interval scheduling on one telescope, which
+a dynamic programme over the slices solves exactly in linear time. Prices ``mu[b]`` on using block
+``b`` turn the rule into a penalty; for any prices ``>= 0``, ``DP(w - mu) + sum(mu)`` is an upper
+bound, and subgradient steps on the prices drive the DP towards schedules that use every block at
+most once. Each DP schedule is repaired (repeated blocks dropped) and its gaps filled greedily, which
+gives the feasible schedules; the best one warms up the MIP's search and bounds its kernel.
+Pure numpy on the variable arrays of :mod:`~nightcrew.robotic.scheduler.mip`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["IntervalVariables", "lagrangian_schedule"]
+
+IntArray = npt.NDArray[np.int64]
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class IntervalVariables:
+    """The MIP's variables: variable ``k`` starts block ``block_of[k]`` at slice ``start_of[k]``
+    and occupies ``length_of[k]`` slices, worth ``value_of[k]``."""
+
+    block_of: IntArray
+    start_of: IntArray
+    length_of: IntArray
+    value_of: FloatArray
+    n_blocks: int
+    n_slices: int
+
+
+def _best_intervals(variables: IntervalVariables, values: FloatArray) -> IntArray:
+    """Variables of a max-value set of non-overlapping intervals (blocks may repeat): DP over slices."""
+    n = variables.n_slices
+    best = np.zeros(n + 1)
+    pick = np.full(n, -1, dtype=np.int64)
+    order = np.argsort(variables.start_of, kind="stable")
+    bounds = np.searchsorted(variables.start_of[order], np.arange(n + 1))
+    ends = variables.start_of + variables.length_of
+    for s in range(n - 1, -1, -1):
+        best[s] = best[s + 1]
+        here = order[bounds[s] : bounds[s + 1]]
+        if len(here):
+            totals = values[here] + best[ends[here]]
+            top = int(np.argmax(totals))
+            if totals[top] > best[s]:
+                best[s], pick[s] = totals[top], here[top]
+    chosen = []
+    s = 0
+    while s < n:
+        if pick[s] < 0:
+            s += 1
+        else:
+            chosen.append(int(pick[s]))
+            s = int(ends[pick[s]])
+    return np.array(chosen, dtype=np.int64)
+
+
+def _repair_and_fill(variables: IntervalVariables, chosen: IntArray, block_order: IntArray) -> IntArray:
+    """Keep the most valuable use of every block, then add unused blocks where they fit (in
+    ``block_order``, at their earliest free start)."""
+    used = np.zeros(variables.n_blocks, dtype=np.bool_)
+    busy = np.zeros(variables.n_slices, dtype=np.int64)
+    kept = []
+    for k in chosen[np.argsort(-variables.value_of[chosen], kind="stable")]:
+        block = variables.block_of[k]
+        if not used[block]:
+            used[block] = True
+            busy[variables.start_of[k] : variables.start_of[k] + variables.length_of[k]] = 1
+            kept.append(int(k))
+    # Variables are sorted by block (np.nonzero order): block b owns first[b]:first[b + 1].
+    first = np.searchsorted(variables.block_of, np.arange(variables.n_blocks + 1))
+    busy_before = np.concatenate([[0], np.cumsum(busy)])
+    for block in block_order:
+        if used[block] or first[block] == first[block + 1]:
+            continue
+        own = np.arange(first[block], first[block + 1])
+        starts = variables.start_of[own]
+        free = busy_before[starts + variables.length_of[own]] == busy_before[starts]
+        if not free.any():
+            continue
+        k = int(own[np.argmax(free)])
+        used[block] = True
+        busy[variables.start_of[k] : variables.start_of[k] + variables.length_of[k]] = 1
+        busy_before = np.concatenate([[0], np.cumsum(busy)])
+        kept.append(k)
+    return np.array(sorted(kept), dtype=np.int64)
+
+
+def lagrangian_schedule(
+    variables: IntervalVariables, prices: FloatArray, *, iterations: int = 150
+) -> tuple[IntArray, float, float]:
+    """Best feasible variables found, their value, and the best Lagrangian upper bound.
+
+    Args:
+        variables: The interval variables.
+        prices: Starting prices per block (e.g. the LP duals of the "at most once" rows), >= 0.
+        iterations: Subgradient steps.
+    """
+    value = variables.value_of
+    first_var = np.searchsorted(variables.block_of, np.arange(variables.n_blocks))
+    first_var = np.minimum(first_var, len(value) - 1)
+    block_density = np.where(
+        np.isin(np.arange(variables.n_blocks), variables.block_of),
+        value[first_var] / variables.length_of[first_var],
+        0.0,
+    )
+    block_order = np.argsort(-block_density, kind="stable")
+    mu = np.maximum(0.0, prices.astype(np.float64).copy())
+    best_vars = np.zeros(0, dtype=np.int64)
+    best_value, upper = 0.0, np.inf
+    step_scale, stalled = 1.0, 0
+    for _ in range(iterations):
+        chosen = _best_intervals(variables, value - mu[variables.block_of])
+        bound = float((value - mu[variables.block_of])[chosen].sum() + mu.sum())
+        if bound < upper - 1e-9:
+            upper, stalled = bound, 0
+        else:
+            stalled += 1
+            if stalled >= 10:
+                step_scale, stalled = step_scale / 2, 0
+        feasible = _repair_and_fill(variables, chosen, block_order)
+        feasible_value = float(value[feasible].sum())
+        if feasible_value > best_value:
+            best_vars, best_value = feasible, feasible_value
+        uses = np.bincount(variables.block_of[chosen], minlength=variables.n_blocks)
+        gradient = 1.0 - uses  # d(bound)/d(mu)
+        norm = float(np.dot(gradient, gradient))
+        if norm == 0 or upper - best_value <= 1e-6 * max(1.0, upper) or step_scale < 1e-4:
+            break
+        step = step_scale * (bound - best_value) / norm
+        mu = np.maximum(0.0, mu - step * gradient)
+    return best_vars, best_value, upper
