@@ -1,0 +1,94 @@
+"""From tasks to the scheduler's :class:`~nightcrew.robotic.scheduler.SchedulableBlock` values.
+
+The scheduler knows nothing of the task model; this adapter gives it what it needs of each task:
+
+- ``id``: the task id; ``priority``: priority x IPP; ``windows``: the request's windows;
+- ``duration_s``: the configurations' estimated time, ``setup_s``: the request's own set-up
+  (both from an :class:`OverheadModel`; the scheduler adds its slew overhead on top);
+- ``target``: the first configuration's target (proper motion and epoch kept);
+- ``constraints``: the strictest limits over all configurations.
+
+A task without any target (only BIAS, DARK, SKY_FLAT or SCRIPT configurations) has no block yet:
+the scheduler places blocks by sky position, so such tasks are left out and listed in
+:attr:`BlockConversion.left_out` for the caller to run another way (e.g. before the roof opens).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from nightcrew.robotic.archives import TaskArchive
+from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
+from nightcrew.robotic.tasks._duration import DEFAULT_OVERHEADS, OverheadModel, estimate_duration
+from nightcrew.robotic.tasks._task import Task
+
+__all__ = ["ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of"]
+
+
+def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
+    """The block for ``task``, or None if none of its configurations has a target."""
+    configurations = task.request.configurations
+    target = next((c.target for c in configurations if c.target is not None), None)
+    if target is None:
+        return None
+    limits = [c.constraints for c in configurations]
+    estimate = estimate_duration(task.request, overheads)
+    return SchedulableBlock(
+        id=task.id,
+        priority=task.effective_priority,
+        duration_s=sum(estimate.configurations_s),
+        target=Target(
+            ra=target.ra,
+            dec=target.dec,
+            pm_ra_cosdec=target.proper_motion_ra,
+            pm_dec=target.proper_motion_dec,
+            epoch=target.epoch,
+        ),
+        constraints=Constraints(
+            max_airmass=min(c.max_airmass for c in limits),
+            max_sun_altitude=min(c.max_sun_altitude for c in limits),
+            min_moon_distance=max(c.min_lunar_distance for c in limits),
+            max_moon_illumination=min(c.max_lunar_phase for c in limits),
+        ),
+        windows=tuple((window.start, window.end) for window in task.request.windows),
+        setup_s=estimate.setup_s,
+    )
+
+
+@dataclass(frozen=True)
+class BlockConversion:
+    """Blocks for the tasks that have one, and the ids of those that have none."""
+
+    blocks: tuple[SchedulableBlock, ...]
+    left_out: tuple[str, ...]
+
+
+def blocks_of(tasks: Iterable[Task], overheads: OverheadModel = DEFAULT_OVERHEADS) -> BlockConversion:
+    """Blocks for ``tasks`` (in order), with the ids of the tasks left out."""
+    blocks: list[SchedulableBlock] = []
+    left_out: list[str] = []
+    for task in tasks:
+        block = block_of(task, overheads)
+        if block is None:
+            left_out.append(task.id)
+        else:
+            blocks.append(block)
+    return BlockConversion(tuple(blocks), tuple(left_out))
+
+
+class ArchiveBlockSource:
+    """The scheduler's view of a task archive: ``await source.get_schedulable_blocks()``.
+
+    Args:
+        archive: Where the tasks come from.
+        overheads: For the durations.
+    """
+
+    def __init__(self, archive: TaskArchive, overheads: OverheadModel = DEFAULT_OVERHEADS) -> None:
+        self.archive = archive
+        self.overheads = overheads
+
+    async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
+        """Blocks of the archive's schedulable tasks that have a target."""
+        return list(blocks_of(await self.archive.get_schedulable_tasks(), self.overheads).blocks)
