@@ -21,7 +21,7 @@ from nightcrew.errors import ConfigError, NightcrewError
 __all__ = ["main"]
 
 #: Subcommand modules, in the order ``--help`` lists them.
-SUBCOMMANDS = ["run", "check", "modules", "call", "events", "shell", "server", "sim", "reduce", "tasks"]
+SUBCOMMANDS = ["run", "check", "modules", "call", "events", "shell", "server", "sim", "reduce", "tasks", "flats"]
 
 
 def build_parser() -> argparse.ArgumentParser:

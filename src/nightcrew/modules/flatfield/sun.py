@@ -1,0 +1,14 @@
+"""The Sun seen from the site, for the flat-field modules (one sun formula: the simulator's ephemeris)."""
+
+from __future__ import annotations
+
+from nightcrew.modules.sim.ephemeris import sun_radec
+from nightcrew.modules.telescope.coords import radec_to_altaz
+from nightcrew.site import Site
+
+__all__ = ["sun_altaz"]
+
+
+def sun_altaz(site: Site, unix_time: float) -> tuple[float, float]:
+    """(altitude, azimuth) of the Sun in degrees at ``unix_time``, azimuth east of north."""
+    return radec_to_altaz(*sun_radec(unix_time), site.latitude, site.longitude, unix_time)
