@@ -23,10 +23,10 @@ import slixmpp
 from slixmpp.xmlstream.handler import Callback
 from slixmpp.xmlstream.matcher.base import MatcherBase
 from slixmpp.xmlstream.stanzabase import StanzaBase
-from slixmpp.xmlstream.tostring import tostring
 
 from nightcrew.comm.xmpp._errors import XmppAuthError
 from nightcrew.comm.xmpp._settings import XmppSettings
+from nightcrew.comm.xmpp._xmltext import stanza_text
 from nightcrew.errors import NightcrewError, RemoteError
 from nightcrew.log import current_module
 
@@ -37,6 +37,7 @@ log = logging.getLogger(__name__)
 #: SCRAM only: the password never travels, not even inside TLS.
 _MECHANISMS = {"SCRAM-SHA-1", "SCRAM-SHA-256", "SCRAM-SHA-512"}
 _RECONNECT_DELAYS = (0.2, 0.5, 1.0, 1.0, 2.0)
+_STANZA_KINDS = frozenset({"iq", "message", "presence"})
 #: ``{ns}stanza`` or ``{ns}stanza/{ns}child`` (namespaces may contain slashes).
 _STANZA_PATH = re.compile(r"(?P<root>\{[^}]*\}[^/{}]+)(?:/(?P<child>\{[^}]*\}[^/{}]+))?")
 
@@ -122,7 +123,7 @@ class XmppConnection:
                 await asyncio.gather(filters, return_exceptions=True)
         self._online = False
 
-    def send(self, stanza: StanzaBase) -> None:
+    def send(self, stanza: ET.Element) -> None:
         """Queue ``stanza``; RemoteError when there is no session (no silent queueing for later).
 
         Stanzas sent in one turn of the event loop leave in one write at the start of the next
@@ -133,24 +134,19 @@ class XmppConnection:
         client = self._client
         if not self._online or client is None:
             raise RemoteError("not connected to the XMPP server")
-        self._outbox.append(tostring(stanza.xml, xmlns=client.default_ns, stream=client, top_level=True))
+        self._outbox.append(stanza_text(stanza, client.default_ns))
         if len(self._outbox) == 1:
             asyncio.get_running_loop().call_soon(self._flush)
 
-    def stanza(self, kind: str, to: str, *payload: ET.Element, **attrs: str) -> StanzaBase:
-        """A ``<message>``, ``<presence>`` or ``<iq>`` to ``to`` carrying ``payload`` elements."""
-        client = self.client
-        made: StanzaBase
-        if kind == "iq":
-            made = client.make_iq(id=attrs.pop("id", None), ito=to)
-        elif kind == "message":
-            made = client.make_message(mto=to)
-        else:
-            made = client.make_presence(pto=to)
-        for name, value in attrs.items():  # type, and whatever else the caller sets
-            made[name] = value
-        for element in payload:
-            made.xml.append(element)
+    def stanza(self, kind: str, to: str, *payload: ET.Element, **attrs: str) -> ET.Element:
+        """A ``<message>``, ``<presence>`` or ``<iq>`` to ``to`` carrying ``payload`` elements.
+
+        ``attrs`` are the stanza's other attributes (``type``, ``id``); see :meth:`send`.
+        """
+        if kind not in _STANZA_KINDS:
+            raise ValueError(f"not a stanza: {kind}")
+        made = ET.Element(f"{{{self.client.default_ns}}}{kind}", {"to": to, **attrs})
+        made.extend(payload)
         return made
 
     # --- internals -----------------------------------------------------------------------------

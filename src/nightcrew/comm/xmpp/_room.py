@@ -100,7 +100,7 @@ class Room:
         with contextlib.suppress(NightcrewError):  # if offline, the next join carries it
             self._connection.send(self._presence(join=False))
 
-    def _presence(self, *, join: bool = True) -> StanzaBase:
+    def _presence(self, *, join: bool = True) -> ET.Element:
         module = ET.Element(f"{{{NS_MODULE}}}module", state=self._state)
         status = ET.Element(f"{_C}status")
         status.text = self._state
