@@ -15,12 +15,17 @@ from nightcrew.robotic.archives._base import (
     TaskChange,
     TaskListener,
 )
+from nightcrew.robotic.archives._lco import LcoPortalArchive
+from nightcrew.robotic.archives._lco_client import LcoPortalClient, PortalError
 from nightcrew.robotic.archives._local import LocalTaskArchive
 from nightcrew.robotic.archives._sqlite import SqliteTaskArchive
 from nightcrew.robotic.archives._yaml import YamlTaskArchive
 
 __all__ = [
+    "LcoPortalArchive",
+    "LcoPortalClient",
     "LocalTaskArchive",
+    "PortalError",
     "ScheduleEntry",
     "ScheduleStore",
     "SqliteTaskArchive",
