@@ -7,8 +7,7 @@ import asyncio
 import pytest
 
 from nightcrew.errors import ConfigError
-from nightcrew.modules.image import Seeing
-from nightcrew.modules.image.seeing import zenith_seeing
+from nightcrew.modules.image.seeing import Seeing, zenith_seeing
 from tests.modules.test_sim_camera import expose, start_observatory
 
 from .conftest import ObservatoryFactory
