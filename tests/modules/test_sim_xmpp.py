@@ -51,7 +51,7 @@ M39 = (322.95, 48.43)
 CLOCK_START = "2026-11-10T17:50:00"
 CLOCK_SPEED = 20.0
 #: Wall seconds for all processes to come up (the camera loads its star catalog).
-START_TIMEOUT = 30.0
+START_TIMEOUT = 60.0
 
 
 @pytest.fixture
@@ -60,14 +60,59 @@ def network(request: pytest.FixtureRequest) -> Network:
     return prosody
 
 
+class Processes:
+    """The module processes, their logs (stderr in files: a pipe nobody reads could fill up)."""
+
+    def __init__(self, logs: Path) -> None:
+        self.logs = logs
+        self.running: dict[str, subprocess.Popen[bytes]] = {}
+
+    def start(self, name: str, env: dict[str, str]) -> None:
+        with open(self.logs / f"{name}.log", "wb") as log:
+            self.running[name] = subprocess.Popen(
+                [sys.executable, "-m", "nightcrew", "run", str(OVERLAYS / f"{name}.yaml")],
+                env=env,
+                stdout=subprocess.DEVNULL,
+                stderr=log,
+            )
+
+    def log(self, name: str) -> str:
+        return (self.logs / f"{name}.log").read_text(errors="replace")
+
+    def check_alive(self) -> None:
+        for name, process in self.running.items():
+            assert process.poll() is None, f"{name} exited {process.returncode}:\n{self.log(name)}"
+
+    def stop(self) -> list[str]:
+        """SIGTERM to all, then each must exit 0; returns what went wrong, with the process's log."""
+        for process in self.running.values():
+            if process.poll() is None:
+                process.send_signal(signal.SIGTERM)
+        problems = []
+        for name, process in self.running.items():
+            try:
+                process.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                problems.append(f"{name} did not stop within 15 s of SIGTERM")
+            else:
+                if process.returncode != 0:
+                    problems.append(f"{name} exited {process.returncode}:\n{self.log(name)}")
+        return problems
+
+    def kill(self) -> None:
+        for process in self.running.values():
+            if process.poll() is None:
+                process.kill()
+                process.wait()
+
+
 @pytest.fixture
-def observatory(network: Network, tmp_path: Path) -> Iterator[Path]:
-    """One ``nightcrew run`` process per module in the test's room; yields the images directory."""
+def observatory(network: Network, tmp_path: Path) -> Iterator[Processes]:
+    """One ``nightcrew run`` process per module in the test's room; images go to tmp_path/images."""
     server = network.server
     assert server is not None and server.ca_file is not None
     for name in MODULES:
         server.account(name)
-    images = tmp_path / "images"
     env = {
         **os.environ,
         "SIM_XMPP_PASSWORD": PASSWORD,
@@ -77,51 +122,25 @@ def observatory(network: Network, tmp_path: Path) -> Iterator[Path]:
         "SIM_XMPP_CA_FILE": server.ca_file,
         "SIM_CLOCK_START": CLOCK_START,
         "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
-        "SIM_IMAGES": str(images),
+        "SIM_IMAGES": str(tmp_path / "images"),
     }
-    processes = {
-        name: subprocess.Popen(
-            [sys.executable, "-m", "nightcrew", "run", str(OVERLAYS / f"{name}.yaml")],
-            env=env,
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        for name in MODULES
-    }
+    processes = Processes(tmp_path)
     try:
-        yield images
-        problems = _stop_all(processes)
+        for name in MODULES:
+            processes.start(name, env)
+        yield processes
+        problems = processes.stop()
     finally:
-        for process in processes.values():  # after a failure: no process outlives the test
-            if process.poll() is None:
-                process.kill()
-                process.communicate()
+        processes.kill()  # after a failure: no process outlives the test
     assert not problems, "\n".join(problems)
 
 
-def _stop_all(processes: dict[str, subprocess.Popen[str]]) -> list[str]:
-    """SIGTERM to all, then each must exit 0; returns what went wrong, with the process's stderr."""
-    for process in processes.values():
-        if process.poll() is None:
-            process.send_signal(signal.SIGTERM)
-    problems = []
-    for name, process in processes.items():
-        try:
-            _, stderr = process.communicate(timeout=15)
-        except subprocess.TimeoutExpired:
-            problems.append(f"{name} did not stop within 15 s of SIGTERM")
-            continue
-        if process.returncode != 0:
-            problems.append(f"{name} exited {process.returncode}:\n{stderr}")
-    return problems
-
-
-async def wait_until_ready(driver: Module, names: list[str]) -> None:
+async def wait_until_ready(driver: Module, processes: Processes) -> None:
     """Until every module is in the room and READY (it joins the room before it is ready)."""
     deadline = time.monotonic() + START_TIMEOUT
-    waiting = set(names)
+    waiting = set(processes.running)
     while waiting:
+        processes.check_alive()
         assert time.monotonic() < deadline, f"not ready within {START_TIMEOUT:g} s: {sorted(waiting)}"
         for name in sorted(waiting & set(driver.comm.clients)):
             module = await driver.comm.proxy(name, IModule)
@@ -154,15 +173,15 @@ def count_stars(data: Any) -> int:
 
 
 async def test_six_processes_take_an_exposure_with_headers_from_the_others(
-    network: Network, observatory: Path
+    network: Network, observatory: Processes, tmp_path: Path
 ) -> None:
     driver = await network.start(Module, "operator", clock=AcceleratedClock(CLOCK_START, speed=CLOCK_SPEED))
-    await wait_until_ready(driver, MODULES)
+    await wait_until_ready(driver, observatory)
 
     filename = await asyncio.wait_for(observe_m39(driver), 60)
 
-    path = observatory / filename.removeprefix("/images/")
-    assert path.is_file(), f"{filename} not in {observatory}"
+    path = tmp_path / "images" / filename.removeprefix("/images/")
+    assert path.is_file(), f"{filename} not in {path.parent}"
     with fits.open(path) as hdus:
         header, data = hdus[0].header, hdus[0].data
         assert header["RA"] == pytest.approx(M39[0], abs=1e-6)  # from the telescope process
