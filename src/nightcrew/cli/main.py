@@ -24,20 +24,28 @@ __all__ = ["main"]
 SUBCOMMANDS = ["run", "check", "modules", "call", "events", "shell", "server", "sim", "reduce", "tasks", "flats"]
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The parser; with ``argv`` naming a subcommand, only that subcommand's module is imported.
+
+    Importing every subcommand costs ~1 s (``sim`` pulls in astropy), which a ``nightcrew run``
+    of one module should not pay; ``--help`` and unknown commands still see them all.
+    """
     parser = argparse.ArgumentParser(prog="nightcrew", description="Observatory control system.")
     parser.add_argument("--version", action="version", version=f"nightcrew {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for name in SUBCOMMANDS:
+    # Global options take no values, so the first other word is the subcommand.
+    command = next((word for word in argv or () if not word.startswith("-")), None)
+    for name in [command] if command in SUBCOMMANDS else SUBCOMMANDS:
         module = importlib.import_module(f"nightcrew.cli.{name}")
         module.add_parser(subparsers)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(words)
+    args = parser.parse_args(words)
     logging.basicConfig(
         level=logging.DEBUG if args.debug else logging.INFO,
         format="%(asctime)s %(levelname)-7s %(name)s: %(message)s",
