@@ -45,6 +45,21 @@ def test_accounts_come_from_module_configs_with_env_resolved(tmp_path: Path) -> 
     assert accounts == [Account("camera", "obs.local", "s3cret"), Account("roof", "obs.local", "plain")]
 
 
+def test_accounts_come_from_comm_descriptions_too(tmp_path: Path) -> None:
+    # A file holding just a comm, as the operator commands take with --comm.
+    operator = tmp_path / "operator.yaml"
+    operator.write_text(
+        "class: nightcrew.comm.xmpp.XmppComm\njid: operator@obs.local\npassword: ${OP_PASSWORD}\n"
+    )
+    assert accounts_from_configs([operator], environ={"OP_PASSWORD": "pw"}) == [
+        Account("operator", "obs.local", "pw")
+    ]
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("class: nightcrew.comm.xmpp.XmppComm\njid: operator@obs.local\n")
+    with pytest.raises(ConfigError, match="key 'password': missing"):
+        accounts_from_configs([bad])
+
+
 def test_one_jid_with_two_passwords_is_refused(tmp_path: Path) -> None:
     first = _config(tmp_path / "a.yaml", "camera@obs.local", "one")
     second = _config(tmp_path / "b.yaml", "camera@obs.local", "two")

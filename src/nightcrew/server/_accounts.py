@@ -29,7 +29,9 @@ class Account:
 def accounts_from_configs(
     paths: Iterable[str | os.PathLike[str]], *, environ: Mapping[str, str] | None = None
 ) -> list[Account]:
-    """The accounts of every config whose ``comm:`` has a ``jid`` (``${VAR}`` resolved).
+    """The accounts of every module config whose ``comm:`` has a ``jid``, and of every comm
+    description alone in a file (``jid`` at the top level, as ``--comm`` files for the operator
+    commands are); ``${VAR}`` resolved.
 
     Raises:
         ConfigError: A file cannot be read, a JID is malformed or has no password, or one JID
@@ -38,13 +40,13 @@ def accounts_from_configs(
     found: dict[str, Account] = {}
     for path in paths:
         config = load_config(path, environ=environ)
-        comm = config.get("comm")
+        comm, prefix = (config, "") if "jid" in config else (config.get("comm"), "comm.")
         if not isinstance(comm, Mapping) or "jid" not in comm:
             continue
         user, domain, _ = parse_jid(str(comm["jid"]))
         password = comm.get("password")
         if not password:
-            raise ConfigError(f"{os.fspath(path)}: key 'comm.password': missing")
+            raise ConfigError(f"{os.fspath(path)}: key '{prefix}password': missing")
         account = Account(user, domain, str(password))
         previous = found.get(account.jid)
         if previous is not None and previous.password != account.password:
