@@ -10,9 +10,20 @@ Model (all on the slice grid of :mod:`~nightcrew.robotic.scheduler.sky`):
   needed only at slices where some variable starts;
 * objective: maximise ``sum weights[b] * x[b, t]`` (the caller passes priority x observed hours).
 
-The result carries HiGHS's dual bound (``OptimizeResult.mip_dual_bound``): no schedule on this grid
-can score more, so objective / bound measures how far from optimal a time-limited run stopped.
-Pure: arrays in, arrays out; no clock, no I/O.
+Solving it plainly, HiGHS often spends its whole time limit in root cuts on a few thousand
+variables without a good schedule (scipy cannot hand it a starting solution). So the search runs in
+three steps, each keeping a proven upper bound:
+
+1. the LP relaxation (a fraction of a second) gives prices ``y`` on the rows and the LP bound;
+2. :func:`~nightcrew.robotic.scheduler.lagrangian.lagrangian_schedule` turns the prices into a good
+   schedule (``incumbent``, typically > 99 % of the bound) and a Lagrangian bound; if the gap is
+   already below ``mip_rel_gap``, that is the answer;
+3. reduced costs ``r = A^T y - c`` prove variables useless: by weak duality every schedule using
+   variable ``k`` scores at most ``lp_bound - r[k]``. The MIP runs on the variables with
+   ``r <= lp_bound - incumbent`` (at most ``kernel_size``, smallest ``r`` first); when none was
+   left out, HiGHS's dual bound (``OptimizeResult.mip_dual_bound``) holds for the whole problem.
+
+Pure: arrays in, arrays out; no clock, no I/O (wall time only to honour the time limit).
 """
 
 from __future__ import annotations
@@ -42,7 +53,7 @@ def solve_time_indexed(
     weights: FloatArray,
     *,
     time_limit: float = 10.0,
-    mip_rel_gap: float = 1e-3,
+    mip_rel_gap: float = 5e-3,
     kernel_size: int = 4000,
 ) -> Placement:
     """Choose start slices maximising the weight of the placed blocks without overlaps.
@@ -51,28 +62,53 @@ def solve_time_indexed(
         can_start: (n_blocks, n_slices): where each block may start.
         lengths: Slices each block occupies once started (>= 1).
         weights: Value of placing each block (> 0).
-        time_limit: Seconds HiGHS may spend in all; the best schedule found so far is returned then.
-        mip_rel_gap: Stop when (bound - objective) / objective is below this.
-        kernel_size: Above this many variables, solve the MIP on a kernel picked by the LP (see
-            :func:`_solve_on_kernel`); below, on all variables.
+        time_limit: Seconds to spend in all; the best schedule found so far is returned then.
+        mip_rel_gap: Stop when (bound - objective) / bound is below this.
+        kernel_size: Most variables handed to the MIP (step 3 above).
     """
-    began = time.perf_counter()
+    deadline = time.perf_counter() + time_limit
     n_blocks, n_slices = can_start.shape
     block_of, start_of = np.nonzero(can_start)
     starts = np.full(n_blocks, -1, dtype=np.int64)
     if len(block_of) == 0:
         return Placement(starts, 0.0, 0.0, "optimal")
     matrix = _constraint_matrix(block_of, start_of, lengths, n_blocks, n_slices)
-    costs = weights[block_of]
-    if len(block_of) <= kernel_size:
-        chosen, objective, bound, status = _solve_mip(matrix, costs, time_limit, mip_rel_gap)
-    else:
-        variables = IntervalVariables(block_of, start_of, lengths[block_of], costs, n_blocks, n_slices)
-        chosen, objective, bound, status = _solve_on_kernel(
-            variables, matrix, kernel_size, began + time_limit, mip_rel_gap
-        )
+    variables = IntervalVariables(
+        block_of, start_of, lengths[block_of], weights[block_of], n_blocks, n_slices
+    )
+    chosen, objective, bound, status = _solve(variables, matrix, kernel_size, deadline, mip_rel_gap)
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)
+
+
+def _solve(
+    variables: IntervalVariables, matrix: csr_array, kernel_size: int, deadline: float, mip_rel_gap: float
+) -> tuple[IntArray, float, float, str]:
+    """Chosen variables, their value, a proven upper bound and a status (steps 1-3 of the module)."""
+    costs = variables.value_of
+    relaxation = linprog(-costs, A_ub=matrix, b_ub=np.ones(matrix.shape[0]), bounds=(0, 1), method="highs")
+    if relaxation.status != 0:  # never seen; the plain MIP is still right
+        return _solve_mip(matrix, costs, deadline - time.perf_counter(), mip_rel_gap)
+    prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
+    reduced = matrix.T @ prices - costs
+    lp_bound = float(prices.sum() + np.maximum(0.0, -reduced).sum())  # weak duality: valid for any prices
+    best, incumbent, lagrangian_bound = lagrangian_schedule(variables, prices[: variables.n_blocks])
+    upper = min(lp_bound, lagrangian_bound)
+    if upper - incumbent <= mip_rel_gap * upper:
+        return best, incumbent, upper, "optimal"
+
+    useful = np.flatnonzero(reduced <= lp_bound - incumbent + 1e-9)
+    kernel = useful[np.argsort(reduced[useful], kind="stable")[:kernel_size]]
+    if deadline - time.perf_counter() < 0.2:
+        return best, incumbent, upper, "limit reached"
+    chosen, objective, kernel_bound, status = _solve_mip(
+        matrix[:, kernel], costs[kernel], deadline - time.perf_counter(), mip_rel_gap
+    )
+    if objective > incumbent:
+        best, incumbent = kernel[chosen], objective
+    if len(kernel) == len(useful):  # every variable left out is proven useless
+        return best, incumbent, min(upper, max(incumbent, kernel_bound)), status
+    return best, incumbent, upper, "limit reached" if status == "optimal" else status
 
 
 def _solve_mip(
@@ -92,51 +128,6 @@ def _solve_mip(
         return np.zeros(0, dtype=np.int64), 0.0, bound, status
     chosen = np.flatnonzero(result.x > 0.5)
     return chosen, float(costs[chosen].sum()), bound, status
-
-
-def _solve_on_kernel(
-    variables: IntervalVariables,
-    matrix: csr_array,
-    kernel_size: int,
-    deadline: float,
-    mip_rel_gap: float,
-) -> tuple[IntArray, float, float, str]:
-    """A large instance: LP relaxation, Lagrangian schedule, then the MIP on a kernel of variables.
-
-    Large instances (500 blocks: ~30 000 variables) spend HiGHS's whole time limit in root cuts
-    without finding a good schedule. So: the LP relaxation (a fraction of a second) gives prices;
-    :func:`lagrangian_schedule` turns them into a good schedule (typically > 99 % of the bound);
-    its value ``incumbent`` then proves most variables useless: with the LP's reduced costs
-    ``r = A^T y - c``, weak duality says every schedule using variable ``k`` scores at most
-    ``lp_bound - r[k]``. The MIP runs on the remaining variables (at most ``kernel_size``, those of
-    smallest reduced cost); if the kernel held every variable with ``r <= lp_bound - incumbent``,
-    its dual bound holds for the whole problem, otherwise the LP bound is reported.
-    """
-    costs = variables.value_of
-    relaxation = linprog(-costs, A_ub=matrix, b_ub=np.ones(matrix.shape[0]), bounds=(0, 1), method="highs")
-    if relaxation.status != 0:
-        return _solve_mip(matrix, costs, deadline - time.perf_counter(), mip_rel_gap)
-    prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
-    reduced = matrix.T @ prices - costs
-    lp_bound = float(prices.sum() + np.maximum(0.0, -reduced).sum())  # weak duality: valid for any prices
-    best, incumbent, lagrangian_bound = lagrangian_schedule(variables, prices[: variables.n_blocks])
-    upper = min(lp_bound, lagrangian_bound)
-
-    kernel = np.argsort(reduced, kind="stable")[:kernel_size]
-    kernel = np.union1d(kernel, np.flatnonzero(relaxation.x > 1e-9))
-    status = "limit reached"
-    kernel_bound = upper
-    if deadline - time.perf_counter() > 0.2:
-        chosen, objective, kernel_bound, status = _solve_mip(
-            matrix[:, kernel], costs[kernel], deadline - time.perf_counter(), mip_rel_gap
-        )
-        if objective > incumbent:
-            best, incumbent = kernel[chosen], objective
-    left_out = np.ones(len(costs), dtype=np.bool_)
-    left_out[kernel] = False
-    if np.all(reduced[left_out] > lp_bound - incumbent + 1e-9):
-        return best, incumbent, min(upper, max(incumbent, kernel_bound)), status
-    return best, incumbent, upper, "limit reached" if status == "optimal" else status
 
 
 def _constraint_matrix(

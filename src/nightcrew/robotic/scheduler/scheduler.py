@@ -47,7 +47,7 @@ class Scheduler:
         step_s: float = 300.0,
         slew_overhead_s: float = 100.0,
         time_limit_s: float = 10.0,
-        mip_rel_gap: float = 1e-3,
+        mip_rel_gap: float = 5e-3,
         constraints: Sequence[Constraint] = DEFAULT_CONSTRAINTS,
     ) -> None:
         if solver not in SOLVERS:

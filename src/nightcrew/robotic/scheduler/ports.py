@@ -1,0 +1,81 @@
+"""What the scheduler module needs from the outside world, as minimal protocols, and the night.
+
+A task archive (YAML, SQLite, LCO portal ...) offers the blocks still to observe; a schedule store
+keeps the plan the mastermind reads. Both are implemented elsewhere; :class:`MemoryScheduleStore`
+is the in-process store for the simulator and the tests.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from datetime import UTC, datetime, timedelta
+from typing import Protocol, runtime_checkable
+
+from nightcrew.errors import InvalidArgumentError
+from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
+from nightcrew.site import Site
+
+__all__ = ["MemoryScheduleStore", "ScheduleStore", "TaskArchive", "night_around"]
+
+
+@runtime_checkable
+class TaskArchive(Protocol):
+    """Source of the blocks to schedule (those neither done nor expired)."""
+
+    async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
+        """The blocks that may still be observed."""
+        ...
+
+
+@runtime_checkable
+class ScheduleStore(Protocol):
+    """Keeps the current schedule."""
+
+    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+        """Replace the schedule by ``slots`` (ordered by start), planned at ``planned_at``."""
+        ...
+
+
+class MemoryScheduleStore:
+    """The schedule in memory, with the time it was planned at."""
+
+    def __init__(self) -> None:
+        self.slots: tuple[ScheduledSlot, ...] = ()
+        self.planned_at: datetime | None = None
+
+    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+        self.slots = tuple(slots)
+        self.planned_at = planned_at
+
+
+def night_around(
+    site: Site, now: datetime, *, max_sun_altitude: float = -12.0, step_s: float = 300.0
+) -> Night:
+    """The night going on at ``now``, or else the next one: while the Sun is below the limit.
+
+    The start is ``now`` when the Sun is already down; edges are found to a second by bisection.
+    """
+
+    def dark(unix_time: float) -> bool:
+        return sun_altitude(site.latitude, site.longitude, unix_time) <= max_sun_altitude
+
+    def next_change(unix_time: float, to_dark: bool) -> float:
+        t = unix_time
+        for _ in range(int(2 * 86400 / step_s)):  # the Sun crosses any altitude it reaches daily
+            if dark(t + step_s) == to_dark:
+                low, high = t, t + step_s
+                while high - low > 1.0:
+                    middle = (low + high) / 2
+                    low, high = (low, middle) if dark(middle) == to_dark else (middle, high)
+                return high
+            t += step_s
+        raise InvalidArgumentError(
+            f"the Sun does not cross {max_sun_altitude}° near {now} at latitude {site.latitude}"
+        )
+
+    now_unix = now.timestamp()
+    start = now_unix if dark(now_unix) else next_change(now_unix, to_dark=True)
+    end = next_change(start, to_dark=False)
+    epoch = datetime(1970, 1, 1, tzinfo=UTC)
+    return Night(epoch + timedelta(seconds=start), epoch + timedelta(seconds=end), site)
