@@ -34,8 +34,12 @@ sim: setup
 example: setup
 	$(VENV)/bin/nightcrew run examples/standalone.yaml
 
+# Every benchmark that needs no options; bench/rpc.py starts its own Prosody (system-deps) and
+# compares with pyobs-core only when given --pyobs-venv PATH.
 bench: setup
 	$(PY) bench/local_rpc.py
+	$(PY) bench/render.py
+	$(PY) bench/rpc.py
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache
