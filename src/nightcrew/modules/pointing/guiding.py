@@ -107,6 +107,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         self._loop_state = LoopState.STOPPED
         self._bad_frames = 0
         self._target: tuple[str | None, float, float] | None = None  # OBJECT, RA, Dec of the reference
+        self._expected: tuple[float, float] | None = None  # the new target after a MoveRaDecEvent
 
     async def open(self) -> None:
         await super().open()
@@ -169,6 +170,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
     async def on_move_radec(self, event: MoveRaDecEvent, sender: str) -> bool:
         if sender == self._telescope and self._loop_state is not LoopState.STOPPED:
             await self._new_reference(f"telescope moved to {event.ra:.4f}, {event.dec:.4f}")
+            self._expected = (event.ra, event.dec)
         return True
 
     async def _new_reference(self, reason: str) -> None:
@@ -183,6 +185,12 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         if self._loop_state is LoopState.STOPPED:
             return None
         target = _target_of(image)
+        if self._expected is not None and target is not None:
+            # A frame exposed before the telescope moved must not become the new reference.
+            if angular_separation(*self._expected, *target[1:]) * 3600.0 > self._retarget_distance:
+                log.debug("%s: skipping a frame of the previous target", self.name)
+                return None
+            self._expected = None
         if self._target is not None and _moved(self._target, target, self._retarget_distance):
             await self._new_reference(f"target changed to {target}")
         try:
