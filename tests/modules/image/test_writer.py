@@ -1,0 +1,41 @@
+"""ImageWriter copies each new image to a path made from its header, through the VFS."""
+
+from __future__ import annotations
+
+import pytest
+
+from nightcrew.config import build_object
+from nightcrew.errors import ConfigError
+from nightcrew.modules.image import ImageWriter
+from nightcrew.vfs import MemoryFile, VirtualFileSystem
+from tests.modules.conftest import Observatory
+from tests.modules.devices import GradientCamera
+from tests.modules.weather.conftest import wait_for
+
+
+async def test_new_images_are_copied_by_pattern(fast_observatory: Observatory) -> None:
+    obs = fast_observatory
+    # The writer sees the camera's /cache and an archive of its own.
+    vfs = VirtualFileSystem({"cache": obs.vfs.roots["cache"], "archive": MemoryFile()})
+    writer = await obs.start(
+        ImageWriter,
+        "writer",
+        vfs=vfs,
+        pattern="/archive/{IMAGETYP}/{DATE-OBS}-{EXPTIME:.1f}.fits",
+        sources=["camera"],
+    )
+    camera = await obs.start(GradientCamera, "camera")
+    await camera.set_exposure_time(2.0)
+    original = await camera.grab_data()
+    await wait_for(obs, lambda: bool(writer.written), 2000.0)
+    (copy,) = writer.written
+    assert copy.startswith("/archive/object/2024-01-15T22-") and copy.endswith("-2.0.fits")
+    assert await vfs.read_bytes(copy) == await obs.vfs.read_bytes(original)
+
+
+def test_a_bad_pattern_is_a_config_error_naming_the_key() -> None:
+    with pytest.raises(ConfigError, match="must be an absolute VFS file path") as info:
+        build_object(
+            {"class": "nightcrew.modules.image.ImageWriter", "name": "w", "pattern": "archive/x.fits"}
+        )
+    assert info.value.key == "pattern"
