@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import time
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from datetime import UTC, datetime
 
 __all__ = ["AcceleratedClock", "Clock", "RealClock"]
@@ -61,22 +62,32 @@ class AcceleratedClock(Clock):
     Args:
         start: Epoch the clock shows when created (aware datetime or ISO string; naive means UTC).
         speed: Clock seconds per wall second, > 0.
+        wall_start: The wall-clock time at which the clock shows ``start``; by default the moment
+            it is created. Modules in separate processes that share ``start``, ``speed`` and
+            ``wall_start`` show the same time, however far apart they started.
     """
 
-    def __init__(self, start: datetime | str, speed: float = 1.0) -> None:
-        if isinstance(start, str):
-            start = datetime.fromisoformat(start)
-        if start.tzinfo is None:
-            start = start.replace(tzinfo=UTC)
+    def __init__(
+        self, start: datetime | str, speed: float = 1.0, *, wall_start: datetime | str | None = None
+    ) -> None:
         if not speed > 0:
             raise ValueError(f"clock speed must be > 0, got {speed}")
-        self._start = start.timestamp()
+        self._start = _utc(start).timestamp()
         self._speed = float(speed)
-        self._wall0 = time.monotonic()
+        # Anchored to the monotonic clock when private, to the shared wall clock when synchronised.
+        self._now: Callable[[], float] = time.monotonic if wall_start is None else time.time
+        self._wall0 = time.monotonic() if wall_start is None else _utc(wall_start).timestamp()
 
     @property
     def speed(self) -> float:
         return self._speed
 
     def time(self) -> float:
-        return self._start + (time.monotonic() - self._wall0) * self._speed
+        return self._start + (self._now() - self._wall0) * self._speed
+
+
+def _utc(moment: datetime | str) -> datetime:
+    """An aware datetime from a datetime or an ISO string; naive means UTC."""
+    if isinstance(moment, str):
+        moment = datetime.fromisoformat(moment)
+    return moment.replace(tzinfo=UTC) if moment.tzinfo is None else moment

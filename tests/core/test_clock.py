@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import time
 from datetime import UTC, datetime
 
@@ -39,3 +40,14 @@ async def test_accelerated_clock_timeout_is_in_clock_seconds() -> None:
 def test_accelerated_clock_refuses_a_bad_speed() -> None:
     with pytest.raises(ValueError, match="speed must be > 0"):
         AcceleratedClock("2026-11-22T18:00:00", speed=0)
+
+
+async def test_clocks_sharing_a_wall_start_agree_however_late_they_were_made() -> None:
+    wall_start = datetime.fromtimestamp(time.time() - 5, tz=UTC).isoformat()
+    first = AcceleratedClock("2026-11-10T17:50:00", speed=60, wall_start=wall_start)
+    await asyncio.sleep(0.2)  # a second process starting later
+    second = AcceleratedClock("2026-11-10T17:50:00", speed=60, wall_start=wall_start)
+    assert abs(first.time() - second.time()) < 0.1
+    # 5 s of wall time since wall_start = 300 clock seconds after the start epoch
+    expected = datetime(2026, 11, 10, 17, 55, tzinfo=UTC).timestamp()
+    assert second.time() == pytest.approx(expected, abs=60 * 0.5)
