@@ -1,5 +1,6 @@
 """Focus modules: the temperature focus model (and, later, focus series)."""
 
 from nightcrew.modules.focus.model import FocusModel
+from nightcrew.modules.focus.series import AutoFocusSeries
 
-__all__ = ["FocusModel"]
+__all__ = ["AutoFocusSeries", "FocusModel"]
