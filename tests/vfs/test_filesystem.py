@@ -25,6 +25,7 @@ from nightcrew.vfs import (
 def test_public_surface_is_curated() -> None:
     assert sorted(nightcrew.vfs.__all__) == [
         "FileRoot",
+        "HttpFile",
         "LocalFile",
         "MemoryFile",
         "TempFile",

@@ -2,7 +2,8 @@
 
 A path's first component names a root (``/cache/img.fits`` → root ``cache``); each root is a
 :class:`FileRoot`: :class:`LocalFile` (a directory on disk), :class:`MemoryFile` (in-process,
-shareable by name), :class:`TempFile` (a temporary directory removed on close). Errors are
+shareable by name), :class:`TempFile` (a temporary directory removed on close), :class:`HttpFile`
+(an HTTP file cache, see :mod:`nightcrew.modules.image.http_cache`). Errors are
 described in :mod:`nightcrew.vfs._errors` and derive from :class:`nightcrew.errors.NightcrewError`.
 """
 
@@ -14,6 +15,7 @@ from nightcrew.vfs._errors import (
     VfsPathError,
 )
 from nightcrew.vfs._filesystem import VirtualFileSystem
+from nightcrew.vfs._http import HttpFile
 from nightcrew.vfs._local import LocalFile
 from nightcrew.vfs._memory import MemoryFile
 from nightcrew.vfs._root import FileRoot
@@ -21,6 +23,7 @@ from nightcrew.vfs._temp import TempFile
 
 __all__ = [
     "FileRoot",
+    "HttpFile",
     "LocalFile",
     "MemoryFile",
     "TempFile",
