@@ -1,0 +1,163 @@
+"""The scheduler module: keeps a schedule of the night in a store, re-planning when things change.
+
+It plans again when the archive's blocks change (polled), when a task fails (TaskFailedEvent: the
+block is left out for the rest of the night), when one starts or finishes (its slot is kept, done
+blocks leave), and when the weather turns good again (GoodWeatherEvent: from its ``eta`` on). The
+optimisation itself is :class:`nightcrew.robotic.scheduler.Scheduler`, run in a worker thread.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from collections.abc import Sequence
+from datetime import datetime, timedelta
+from typing import Any
+
+from nightcrew.errors import ConfigError
+from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
+from nightcrew.modules.module import Module
+from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
+from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, ScheduleStore, TaskArchive, night_around
+from nightcrew.robotic.scheduler.scheduler import SolverName
+
+__all__ = ["SchedulerModule"]
+
+log = logging.getLogger(__name__)
+
+
+class SchedulerModule(Module):
+    """Plans the night from a task archive into a schedule store.
+
+    Args:
+        archive: Where the blocks come from (an object or its description).
+        store: Where the schedule goes; in memory by default.
+        solver: ``mip`` (optimal) or ``priority`` (astroplan's greedy).
+        step_s: Time slice of the scheduler, seconds.
+        slew_overhead_s: Worst-case slew and settling added to every block, seconds.
+        time_limit_s: Time the MIP may take, wall seconds.
+        poll_interval_s: How often to look for changed blocks, clock seconds.
+        max_sun_altitude: The night is while the Sun is below this altitude (degrees).
+    """
+
+    def __init__(
+        self,
+        *,
+        archive: TaskArchive | dict[str, Any],
+        store: ScheduleStore | dict[str, Any] | None = None,
+        solver: SolverName = "mip",
+        step_s: float = 300.0,
+        slew_overhead_s: float = 100.0,
+        time_limit_s: float = 10.0,
+        poll_interval_s: float = 60.0,
+        max_sun_altitude: float = -12.0,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        self._archive: TaskArchive = _built(archive, TaskArchive, "archive")
+        self._store: ScheduleStore = _built(store or MemoryScheduleStore(), ScheduleStore, "store")
+        self.add_child(self._archive)
+        self.add_child(self._store)
+        self._scheduler = Scheduler(
+            solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
+        )
+        self._poll_interval = poll_interval_s
+        self._max_sun_altitude = max_sun_altitude
+        self._replan_wanted = asyncio.Event()
+        self._not_before: datetime | None = None  # after bad weather: plan from the eta on
+        self._failed: set[str] = set()
+        self._done: set[str] = set()
+        self._in_progress: ScheduledSlot | None = None
+        self._last_blocks: tuple[SchedulableBlock, ...] | None = None
+        #: The last schedule made (for status displays and tests).
+        self.schedule: Schedule | None = None
+        self.add_background_task(self._replan_loop, name="replan loop")
+
+    async def open(self) -> None:
+        await super().open()
+        await self.comm.register_event(TaskFailedEvent, self.on_task_failed)
+        await self.comm.register_event(TaskStartedEvent, self.on_task_started)
+        await self.comm.register_event(TaskFinishedEvent, self.on_task_finished)
+        await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
+
+    # --- events ---------------------------------------------------------------------------------
+
+    async def on_task_failed(self, event: TaskFailedEvent, sender: str) -> None:
+        log.info("task %s failed (%s): re-planning without it", event.id, event.reason)
+        self._failed.add(event.id)
+        if self._in_progress is not None and self._in_progress.block_id == event.id:
+            self._in_progress = None
+        self._replan_wanted.set()
+
+    async def on_task_started(self, event: TaskStartedEvent, sender: str) -> None:
+        now = self.clock.now()
+        end = event.eta or now + timedelta(seconds=self._scheduler.step_s)
+        self._in_progress = ScheduledSlot(event.id, now, end)
+
+    async def on_task_finished(self, event: TaskFinishedEvent, sender: str) -> None:
+        self._done.add(event.id)
+        if self._in_progress is not None and self._in_progress.block_id == event.id:
+            self._in_progress = None
+
+    async def on_good_weather(self, event: GoodWeatherEvent, sender: str) -> None:
+        log.info("weather is good again: re-planning")
+        self._not_before = event.eta
+        self._replan_wanted.set()
+
+    # --- planning -------------------------------------------------------------------------------
+
+    async def _replan_loop(self) -> None:
+        while True:
+            blocks = tuple(await self._archive.get_schedulable_blocks())
+            if self._replan_wanted.is_set() or blocks != self._last_blocks:
+                self._replan_wanted.clear()
+                self._last_blocks = blocks
+                await self.replan(blocks)
+            with contextlib.suppress(TimeoutError):
+                async with self.clock.timeout(self._poll_interval):
+                    await self._replan_wanted.wait()
+
+    async def replan(self, blocks: Sequence[SchedulableBlock]) -> Schedule:
+        """Plan the rest of the night now and write it to the store."""
+        now = self.clock.now()
+        start = max(now, self._not_before) if self._not_before is not None else now
+        if self.site is None:
+            raise ConfigError("the scheduler needs the observatory's site", key="site")
+        night = night_around(self.site, start, max_sun_altitude=self._max_sun_altitude)
+        exclude = frozenset(self._failed | self._done)
+        schedule = await asyncio.to_thread(
+            self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
+        )
+        self.schedule = schedule
+        await self._store.set_schedule(schedule.slots, now)
+        log.info(
+            "planned %d blocks from %s (%s, objective %.2f, %.1f s)",
+            len(schedule.slots),
+            f"{start:%H:%M}",
+            schedule.status,
+            schedule.objective,
+            schedule.wall_time_s,
+        )
+        return schedule
+
+    def _blocking_solve(
+        self,
+        blocks: list[SchedulableBlock],
+        night: Night,
+        start: datetime,
+        exclude: frozenset[str],
+        in_progress: ScheduledSlot | None,
+    ) -> Schedule:
+        return self._scheduler.schedule(blocks, night, now=start, exclude=exclude, in_progress=in_progress)
+
+
+def _built(value: Any, expected: type[Any], key: str) -> Any:
+    """``value`` itself, or the object its description builds, checked against ``expected``."""
+    if isinstance(value, dict):
+        from nightcrew.config import build_object
+
+        value = build_object(value)
+    if not isinstance(value, expected):
+        raise ConfigError(f"expected a {expected.__name__}, got {type(value).__name__}", key=key)
+    return value

@@ -1,0 +1,125 @@
+"""The scheduler module re-plans on changed tasks, failed tasks and good weather (in-process, fast clock)."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator
+from dataclasses import dataclass
+from datetime import UTC, datetime, timedelta
+
+import pytest
+
+from nightcrew.clock import AcceleratedClock
+from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.events import GoodWeatherEvent, TaskFailedEvent
+from nightcrew.modules import Module
+from nightcrew.modules.robotic import SchedulerModule
+from nightcrew.robotic.scheduler import Night, SchedulableBlock
+from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, night_around
+from nightcrew.robotic.scheduler.synthetic import synthetic_blocks
+from nightcrew.site import Site
+
+SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0, name="Göttingen")
+EPOCH = datetime(2024, 1, 15, 20, 0, tzinfo=UTC)
+BLOCKS = synthetic_blocks(Night(EPOCH, EPOCH + timedelta(hours=10), SITE), 25, seed=11)
+
+
+class ListArchive:
+    """The blocks in a list that the test may change."""
+
+    def __init__(self, blocks: list[SchedulableBlock]) -> None:
+        self.blocks = blocks
+
+    async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
+        return list(self.blocks)
+
+
+class CountingStore(MemoryScheduleStore):
+    def __init__(self) -> None:
+        super().__init__()
+        self.writes = 0
+        self.written = asyncio.Event()
+
+    async def set_schedule(self, slots: object, planned_at: datetime) -> None:
+        await super().set_schedule(slots, planned_at)  # type: ignore[arg-type]
+        self.writes += 1
+        self.written.set()
+
+    async def next_write(self) -> None:
+        self.written.clear()
+        await asyncio.wait_for(self.written.wait(), timeout=20)
+
+
+@dataclass
+class Setup:
+    scheduler: SchedulerModule
+    sender: Module
+    archive: ListArchive
+    store: CountingStore
+
+
+@pytest.fixture
+async def setup() -> AsyncIterator[Setup]:
+    network = LocalNetwork()
+    clock = AcceleratedClock(EPOCH, speed=10.0)
+    archive, store = ListArchive(list(BLOCKS)), CountingStore()
+    scheduler = SchedulerModule(
+        archive=archive,
+        store=store,
+        time_limit_s=2.0,
+        poll_interval_s=20.0,
+        comm=LocalComm("scheduler", network=network),
+        clock=clock,
+        site=SITE,
+    )
+    sender = Module(comm=LocalComm("mastermind", network=network), clock=clock)
+    await sender.open()
+    await scheduler.open()
+    try:
+        await asyncio.wait_for(store.written.wait(), timeout=20)  # the first plan
+        yield Setup(scheduler, sender, archive, store)
+    finally:
+        await scheduler.close()
+        await sender.close()
+
+
+async def test_the_first_plan_is_written_at_start(setup: Setup) -> None:
+    assert setup.store.writes == 1
+    assert setup.store.slots
+    assert setup.store.planned_at is not None and setup.store.planned_at >= EPOCH
+    assert setup.store.slots[0].start >= EPOCH
+
+
+async def test_a_failed_task_is_left_out_of_the_new_plan(setup: Setup) -> None:
+    failed = setup.store.slots[0].block_id
+    await setup.sender.comm.send_event(TaskFailedEvent(name=failed, id=failed, reason="dome stuck"))
+    await setup.store.next_write()
+    assert setup.store.writes == 2
+    assert failed not in {slot.block_id for slot in setup.store.slots}
+    assert setup.store.planned_at is not None
+    assert all(slot.start >= setup.store.planned_at - timedelta(seconds=1) for slot in setup.store.slots)
+
+
+async def test_good_weather_plans_from_its_eta(setup: Setup) -> None:
+    eta = EPOCH + timedelta(hours=2)
+    await setup.sender.comm.send_event(GoodWeatherEvent(eta=eta))
+    await setup.store.next_write()
+    assert setup.store.writes == 2
+    assert all(slot.start >= eta for slot in setup.store.slots)
+
+
+async def test_changed_tasks_are_noticed_by_polling(setup: Setup) -> None:
+    first = setup.store.slots[0].block_id
+    setup.archive.blocks = [b for b in setup.archive.blocks if b.id != first]
+    await setup.store.next_write()  # within one poll interval: 20 clock s = 2 wall s
+    assert first not in {slot.block_id for slot in setup.store.slots}
+
+
+def test_the_night_is_found_around_now() -> None:
+    night = night_around(SITE, EPOCH)
+    assert night.start == EPOCH
+    dawn = datetime(2024, 1, 16, 6, 0, tzinfo=UTC)
+    assert dawn - timedelta(minutes=30) < night.end < dawn + timedelta(minutes=30)
+    afternoon = night_around(SITE, datetime(2024, 1, 15, 12, 0, tzinfo=UTC))
+    dusk = datetime(2024, 1, 15, 17, 0, tzinfo=UTC)  # nautical twilight ends about then
+    assert dusk - timedelta(minutes=30) < afternoon.start < dusk + timedelta(minutes=30)
