@@ -11,14 +11,15 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from datetime import datetime, timedelta
-from typing import Any
+from typing import Any, TypeVar
 
 from nightcrew.errors import ConfigError
 from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.modules.module import Module
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
+from nightcrew.robotic.scheduler.adapters import as_schedule_store, as_task_archive
 from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, ScheduleStore, TaskArchive, night_around
 from nightcrew.robotic.scheduler.scheduler import SolverName
 
@@ -26,13 +27,17 @@ __all__ = ["SchedulerModule"]
 
 log = logging.getLogger(__name__)
 
+T = TypeVar("T")
+
 
 class SchedulerModule(Module):
     """Plans the night from a task archive into a schedule store.
 
     Args:
-        archive: Where the blocks come from (an object or its description).
-        store: Where the schedule goes; in memory by default.
+        archive: Where the blocks come from: a block source or an archive of
+            :mod:`nightcrew.robotic.archives` (an object or its description).
+        store: Where the schedule goes: a store of slots or an archive's schedule store; in memory
+            by default.
         solver: ``mip`` (optimal) or ``priority`` (astroplan's greedy).
         step_s: Time slice of the scheduler, seconds.
         slew_overhead_s: Worst-case slew and settling added to every block, seconds.
@@ -55,10 +60,11 @@ class SchedulerModule(Module):
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
-        self._archive: TaskArchive = _built(archive, TaskArchive, "archive")
-        self._store: ScheduleStore = _built(store or MemoryScheduleStore(), ScheduleStore, "store")
-        self.add_child(self._archive)
-        self.add_child(self._store)
+        # Archives of nightcrew.robotic.archives are wrapped by the adapters; open them with us.
+        archive_object = self.add_child(_built(archive, "archive"))
+        store_object = self.add_child(_built(store or MemoryScheduleStore(), "store"))
+        self._archive: TaskArchive = _adapted(as_task_archive, archive_object, "archive")
+        self._store: ScheduleStore = _adapted(as_schedule_store, store_object, "store")
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
         )
@@ -152,12 +158,17 @@ class SchedulerModule(Module):
         return self._scheduler.schedule(blocks, night, now=start, exclude=exclude, in_progress=in_progress)
 
 
-def _built(value: Any, expected: type[Any], key: str) -> Any:
-    """``value`` itself, or the object its description builds, checked against ``expected``."""
+def _built(value: Any, key: str) -> Any:
+    """``value`` itself, or the object its description builds."""
     if isinstance(value, dict):
         from nightcrew.config import build_object
 
-        value = build_object(value)
-    if not isinstance(value, expected):
-        raise ConfigError(f"expected a {expected.__name__}, got {type(value).__name__}", key=key)
+        return build_object(value)
     return value
+
+
+def _adapted(adapt: Callable[[object], T], value: object, key: str) -> T:
+    try:
+        return adapt(value)
+    except TypeError as exc:
+        raise ConfigError(str(exc), key=key) from exc

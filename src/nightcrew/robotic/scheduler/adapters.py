@@ -1,0 +1,47 @@
+"""The scheduler's ports on top of the task archives of :mod:`nightcrew.robotic.archives`.
+
+The scheduler module speaks two small protocols (:mod:`.ports`); the archives have richer
+interfaces. These adapters join them, so a module file can name an archive directly.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from datetime import datetime
+
+from nightcrew.robotic import archives
+from nightcrew.robotic.scheduler.blocks import ScheduledSlot
+from nightcrew.robotic.scheduler.ports import ScheduleStore, TaskArchive
+from nightcrew.robotic.tasks.blocks import ArchiveBlockSource
+
+__all__ = ["ArchiveScheduleStore", "as_schedule_store", "as_task_archive"]
+
+
+class ArchiveScheduleStore:
+    """Writes schedules into an archive's schedule store, from the planning time on."""
+
+    def __init__(self, store: archives.ScheduleStore) -> None:
+        self.store = store
+
+    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+        # The slot running now started before planned_at: the archive keeps its own entry for it.
+        entries = [archives.ScheduleEntry(s.block_id, s.start, s.end) for s in slots if s.start >= planned_at]
+        await self.store.write_schedule(entries, replace_from=planned_at)
+
+
+def as_task_archive(value: object) -> TaskArchive:
+    """``value`` as a block source: an archive of tasks is wrapped, a block source kept."""
+    if isinstance(value, archives.TaskArchive):
+        return ArchiveBlockSource(value)
+    if isinstance(value, TaskArchive):
+        return value
+    raise TypeError(f"expected a task archive or a block source, got {type(value).__name__}")
+
+
+def as_schedule_store(value: object) -> ScheduleStore:
+    """``value`` as a schedule store: an archive's store is wrapped, a store of slots kept."""
+    if isinstance(value, archives.ScheduleStore):
+        return ArchiveScheduleStore(value)
+    if isinstance(value, ScheduleStore):
+        return value
+    raise TypeError(f"expected a schedule store, got {type(value).__name__}")
