@@ -190,3 +190,21 @@ async def test_true_pointing_misses_by_arcminutes_and_the_seed_repeats_it(observ
     assert all(0.01 < miss < 6.0 for miss in misses)
     assert misses[0] == pytest.approx(misses[1], abs=0.01)  # drift/periodic error add little in 1 s
     assert misses[0] != pytest.approx(misses[2], abs=0.01)
+
+
+async def test_an_offset_moves_the_true_pointing_by_the_offset_and_keeps_the_miss(
+    observatory: Observatory,
+) -> None:
+    # Drift and periodic error off: what remains of the truth is the slew's miss.
+    telescope = await _ready(observatory, pointing_error=5.0, drift_rate=0.0, periodic_amplitude=0.0)
+    await telescope.move_radec(*BETELGEUSE)
+    ra0, dec0 = await telescope.get_true_radec()
+    await telescope.set_offsets_radec(0.0, 0.01)  # 36" north
+    ra1, dec1 = await telescope.get_true_radec()
+    assert (dec1 - dec0) * 3600 == pytest.approx(36.0, abs=0.01)
+    assert (ra1 - ra0) * 3600 == pytest.approx(0.0, abs=0.01)
+    # A slew to a new target draws a new miss: away and back does not land on the same spot.
+    await telescope.move_radec(BETELGEUSE[0] + 1.0, BETELGEUSE[1])
+    await telescope.move_radec(*BETELGEUSE)
+    ra2, dec2 = await telescope.get_true_radec()
+    assert angular_separation(ra2, dec2, ra0, dec0) * 3600 > 1.0

@@ -11,13 +11,13 @@ from nightcrew.images import Image, ImageProcessor, Pipeline
 from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import LoopState, MotionStatus
 from nightcrew.modules.pointing import AutoGuiding, ScienceFrameAutoGuiding
-from nightcrew.modules.sim import SimCamera
+from nightcrew.modules.sim import SimCamera, SimTelescope
 from nightcrew.modules.telescope.coords import angular_separation
 from tests.modules.conftest import Observatory
 from tests.modules.test_sim_camera import CATALOG_DEPTH, SEED, observatory_module
 
 from .conftest import ObservatoryFactory
-from .pointing_sim import OffsetKeepingSimTelescope, start_pointing_observatory
+from .pointing_sim import start_pointing_observatory
 
 #: Clock speed of the 30-minute run: 50x makes it ~36 s of wall time. A guide cycle is a 0.5 s
 #: exposure, 0.2 s readout, 0.5 s settling, plus processing whose wall time (~50-100 ms on a busy
@@ -56,7 +56,7 @@ async def start_guider(obs: Observatory, name: str = "guider") -> SimCamera:
 
 
 async def sample_true_error(
-    obs: Observatory, mount: OffsetKeepingSimTelescope, probe: TrueReference, minutes: float
+    obs: Observatory, mount: SimTelescope, probe: TrueReference, minutes: float
 ) -> list[float]:
     """True distance (arcsec) from the reference pointing, every 5 clock seconds for ``minutes``.
 

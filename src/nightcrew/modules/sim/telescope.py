@@ -75,6 +75,8 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         self._fixed_altaz = self._park
         self._slew_error = SlewError(0.0, 0.0, 0.0)
         self._settled_at = 0.0
+        # Tracking drift accumulates from the moment a new RA/Dec target settled, offsets included.
+        self._drifting = False
 
     # --- where it points -----------------------------------------------------------------------
 
@@ -92,20 +94,26 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
     async def get_true_radec(self) -> tuple[float, float]:
         ra, dec = await self._hw_get_radec()
         now = self.clock.time()
-        tracked = now - self._settled_at if self._tracking is not None else 0.0
+        tracked = now - self._settled_at if self._drifting else 0.0
         east, north = self._errors.offset(self._slew_error, tracked, now)
         return apply_sky_offset(ra, dec, east, north)
 
     # --- motions -------------------------------------------------------------------------------
 
-    async def _travel(self, alt: float, az: float) -> None:
-        """Take as long as the slew from here to (alt, az); stopped midway, stay in between."""
+    async def _travel(self, alt: float, az: float, *, new_target: bool = True) -> None:
+        """Take as long as the slew from here to (alt, az); stopped midway, stay in between.
+
+        A slew to a new target draws a new pointing miss and restarts the drift; an offset
+        (``new_target=False``) keeps both, as a real mount's pointing model and tracking do.
+        """
         start_alt, start_az = self._reported_altaz()
         duration = slew_time(
             angular_separation(start_az, start_alt, az, alt), self._slew_rate, self._settle_time
         )
         started = self.clock.time()
+        self._fixed_altaz = (start_alt, start_az)  # report where the move starts, not a stale position
         self._tracking = None
+        self._drifting = self._drifting and not new_target
         try:
             await self.clock.sleep(duration)
         except asyncio.CancelledError:
@@ -114,8 +122,9 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
             self._fixed_altaz = (start_alt + f * (alt - start_alt), (start_az + f * daz) % 360.0)
             raise
         self._fixed_altaz = (alt, az)
-        self._slew_error = self._errors.draw_slew_error(self._rng)
-        self._settled_at = self.clock.time()
+        if new_target:
+            self._slew_error = self._errors.draw_slew_error(self._rng)
+            self._settled_at = self.clock.time()
 
     async def _hw_init(self) -> None:
         await self.clock.sleep(self._init_time)
@@ -127,14 +136,23 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         # Aim where the target will be when we arrive (close enough: where it is now), then track.
         await self._travel(*self._altaz_of(ra, dec))
         self._tracking = (ra, dec)
+        self._drifting = True
 
     async def _hw_move_altaz(self, alt: float, az: float) -> None:
         await self._travel(alt, az)
+
+    async def _hw_offset_radec(self, ra: float, dec: float) -> None:
+        await self._travel(*self._altaz_of(ra, dec), new_target=False)
+        self._tracking = (ra, dec)
+
+    async def _hw_offset_altaz(self, alt: float, az: float) -> None:
+        await self._travel(alt, az, new_target=False)
 
     async def _hw_stop(self) -> None:
         if self._tracking is not None:
             self._fixed_altaz = self._altaz_of(*self._tracking)
             self._tracking = None
+        self._drifting = False
 
     async def _hw_get_temperatures(self) -> dict[str, float]:
         return {}

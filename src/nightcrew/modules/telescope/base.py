@@ -113,6 +113,18 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     async def _hw_get_radec(self) -> tuple[float, float]:
         """Where the mount reports to point, ICRS degrees."""
 
+    async def _hw_offset_radec(self, ra: float, dec: float) -> None:
+        """Move to the offset position (ra, dec) of the current target and track.
+
+        A move by default; a mount with its own offset command (which keeps its pointing model
+        and tracking, unlike a slew to a new target) overrides this.
+        """
+        await self._hw_move_radec(ra, dec)
+
+    async def _hw_offset_altaz(self, alt: float, az: float) -> None:
+        """Move to the offset position (alt, az) of the current target; a move by default."""
+        await self._hw_move_altaz(alt, az)
+
     async def _hw_get_altaz(self) -> tuple[float, float]:
         """Where the mount reports to point as (alt, az); converted from RA/Dec unless overridden."""
         return self._altaz_of(*await self._hw_get_radec())
@@ -230,7 +242,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         self._check_altitude(self._altaz_of(ra, dec)[0], "offset position")
         self._offsets_radec = (dra, ddec)
         await self.comm.send_event(OffsetsRaDecEvent(dra=dra, ddec=ddec))
-        await self._slew("set_offsets_radec", lambda: self._hw_move_radec(ra, dec), MotionStatus.TRACKING)
+        await self._slew("set_offsets_radec", lambda: self._hw_offset_radec(ra, dec), MotionStatus.TRACKING)
 
     async def get_offsets_radec(self) -> tuple[float, float]:
         return self._offsets_radec
@@ -245,7 +257,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         self._check_altitude(alt, "offset position")
         self._offsets_altaz = (dalt, daz)
         await self.comm.send_event(OffsetsAltAzEvent(dalt=dalt, daz=daz))
-        await self._slew("set_offsets_altaz", lambda: self._hw_move_altaz(alt, az), MotionStatus.IDLE)
+        await self._slew("set_offsets_altaz", lambda: self._hw_offset_altaz(alt, az), MotionStatus.IDLE)
 
     async def get_offsets_altaz(self) -> tuple[float, float]:
         return self._offsets_altaz
