@@ -21,7 +21,19 @@ from nightcrew.errors import ConfigError, NightcrewError
 __all__ = ["main"]
 
 #: Subcommand modules, in the order ``--help`` lists them.
-SUBCOMMANDS = ["run", "check", "modules", "call", "events", "shell", "server", "sim", "reduce", "tasks", "flats"]
+SUBCOMMANDS = [
+    "run",
+    "check",
+    "modules",
+    "call",
+    "events",
+    "shell",
+    "server",
+    "sim",
+    "reduce",
+    "tasks",
+    "flats",
+]
 
 
 def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
