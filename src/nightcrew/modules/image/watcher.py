@@ -21,7 +21,6 @@ from nightcrew.interfaces import ModuleState
 from nightcrew.modules.image.watch_state import Backoff, PendingFile, WatchState
 from nightcrew.modules.module import Module
 from nightcrew.vfs import LocalFile, VfsError
-from nightcrew.vfs._paths import glob_regex
 
 __all__ = ["ImageWatcher"]
 
@@ -80,7 +79,7 @@ class ImageWatcher(Module):
             raise ConfigError("need 0 < retry_delay <= max_retry_delay", key="retry_delay")
         self._source = LocalFile(watch, mkdir=False)
         self._destinations = [d.rstrip("/") for d in destinations]
-        self._regex = glob_regex(pattern.strip("/"))
+        self._pattern = pattern.strip("/") or "**"
         self._interval = float(interval)
         state_path = os.path.abspath(state_file or os.path.join(watch, STATE_NAME))
         self._state_root = LocalFile(os.path.dirname(state_path))  # atomic writes for the state
@@ -126,7 +125,7 @@ class ImageWatcher(Module):
 
     async def sweep(self) -> None:
         """Take on complete files, copy what is due and delete originals whose copies are verified."""
-        present = [p for p in await self._source.list_files() if not _hidden(p) and self._regex.fullmatch(p)]
+        present = [p for p in await self._source.find(self._pattern) if not _hidden(p)]
         await self._take_on(present)
         for name in set(self._progress.files) - set(present):
             log.warning("%s: %s vanished before it was moved", self.name, name)

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+from aiohttp import web
 
 from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent
@@ -71,7 +72,7 @@ class Kiosk(Module):
         self._host, self._port, self._max_size = host, port, max_size
         self._png: bytes | None = None
         self._source = ""
-        self._runner: Any = None  # aiohttp.web.AppRunner while open
+        self._runner: web.AppRunner | None = None  # while open
         if camera is not None:
             self.add_background_task(self._grab_loop)
 
@@ -129,8 +130,6 @@ class Kiosk(Module):
     # --- web server ----------------------------------------------------------------------------
 
     async def _start_server(self) -> None:
-        from aiohttp import web
-
         async def page(request: web.Request) -> web.Response:
             refresh = max(5, int(self._interval)) if self._camera else 30
             return web.Response(text=_PAGE.format(refresh=refresh, title=self.name), content_type="text/html")
