@@ -1,0 +1,109 @@
+"""The camera side of a script: set up an instrument configuration, take (and abort) exposures."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from nightcrew.errors import NotSupportedError
+from nightcrew.interfaces import IBinning, ICamera, IExposureTime, IFilters, ImageType
+from nightcrew.robotic.runner import Script
+from nightcrew.robotic.scripts._steps import step
+from nightcrew.robotic.tasks import Configuration, InstrumentConfig
+
+__all__ = ["FILTER_ELEMENT", "Instrument", "instrument_supported"]
+
+log = logging.getLogger(__name__)
+
+#: The optical element the scripts know how to set: ``optical_elements: {filter: V}``.
+FILTER_ELEMENT = "filter"
+
+
+async def instrument_supported(
+    script: Script,
+    camera: str | ICamera,
+    filters: str | IFilters | None,
+    configuration: Configuration,
+    *,
+    timed: bool = True,
+    use_filters: bool = True,
+) -> bool:
+    """Whether the camera (and filter wheel) can take every instrument config of ``configuration``.
+
+    Args:
+        timed: The exposures need a settable exposure time (not for biases).
+        use_filters: Filters named in the instrument configs must be in the filter wheel.
+    """
+    if not await script.offers(camera, ICamera):
+        return False
+    configs = configuration.instrument_configs
+    if timed and not await script.offers(camera, IExposureTime):
+        return False
+    if any(c.binning != 1 for c in configs) and not await script.offers(camera, IBinning):
+        return False
+    unknown = {key for c in configs for key in c.optical_elements if key != FILTER_ELEMENT}
+    if unknown:
+        log.info("optical elements %s are not supported", ", ".join(sorted(unknown)))
+        return False
+    wanted = {c.optical_elements[FILTER_ELEMENT] for c in configs if FILTER_ELEMENT in c.optical_elements}
+    if not use_filters or not wanted:
+        return True
+    wheel = await script.optional_proxy(filters, IFilters)
+    available = set(await wheel.list_filters()) if wheel is not None else set()
+    return wanted <= available
+
+
+@dataclass(frozen=True)
+class Instrument:
+    """Proxies for one camera and its optional filter wheel, with what the camera offers."""
+
+    camera: ICamera
+    exposure_time: IExposureTime | None
+    binning: IBinning | None
+    filters: IFilters | None
+
+    @classmethod
+    async def connect(
+        cls, script: Script, camera: str | ICamera, filters: str | IFilters | None
+    ) -> Instrument:
+        """Proxies for ``camera`` (IExposureTime and IBinning if offered) and ``filters`` if there."""
+        return cls(
+            camera=await script.proxy(camera, ICamera),
+            exposure_time=await script.optional_proxy(camera, IExposureTime),
+            binning=await script.optional_proxy(camera, IBinning),
+            filters=await script.optional_proxy(filters, IFilters),
+        )
+
+    async def set_up(self, config: InstrumentConfig, *, timed: bool = True, use_filter: bool = True) -> None:
+        """Filter, binning and exposure time of ``config``.
+
+        Raises:
+            NotSupportedError: The camera or filter wheel cannot do what ``config`` asks.
+            ScriptError: A device failed.
+        """
+        filter_name = config.optical_elements.get(FILTER_ELEMENT)
+        if use_filter and filter_name is not None:
+            if self.filters is None:
+                raise NotSupportedError(f"filter {filter_name} requested, but no filter wheel is available")
+            await step(f"set filter {filter_name}", self.filters.set_filter(filter_name))
+        if self.binning is not None:
+            await step(
+                f"set binning {config.binning}", self.binning.set_binning(config.binning, config.binning)
+            )
+        elif config.binning != 1:
+            raise NotSupportedError(f"binning {config.binning} requested, but the camera cannot bin")
+        if timed:
+            if self.exposure_time is None:
+                raise NotSupportedError("the camera has no settable exposure time")
+            await step(
+                f"set exposure time {config.exposure_time:g} s",
+                self.exposure_time.set_exposure_time(config.exposure_time),
+            )
+
+    async def expose(self, image_type: ImageType) -> str:
+        """Take one frame of ``image_type`` and return its VFS path; aborted when cancelled."""
+        return await step(
+            f"{image_type.value} exposure",
+            self.camera.grab_data(True, image_type),
+            on_cancel=self.camera.abort,
+        )

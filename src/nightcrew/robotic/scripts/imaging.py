@@ -1,0 +1,160 @@
+"""The default imaging script: EXPOSE and REPEAT_EXPOSE configurations on one telescope and camera."""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from nightcrew.errors import NotSupportedError
+from nightcrew.interfaces import IAcquisition, IAutoGuiding, ICamera, IFilters, ImageType, ITelescope
+from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.scripts._instrument import Instrument, instrument_supported
+from nightcrew.robotic.scripts._repeat import RepeatTiming
+from nightcrew.robotic.scripts._steps import quietly, step
+from nightcrew.robotic.tasks import (
+    AcquisitionMode,
+    Configuration,
+    ConfigurationType,
+    GuidingConfig,
+    GuidingMode,
+    Task,
+)
+
+__all__ = ["ImagingScript"]
+
+log = logging.getLogger(__name__)
+
+_TYPES = frozenset({ConfigurationType.EXPOSE, ConfigurationType.REPEAT_EXPOSE})
+
+
+class ImagingScript(Script):
+    """Images a target: slew, acquire, guide, expose every instrument config, stop guiding.
+
+    EXPOSE takes each instrument config's ``exposure_count`` frames (filter, binning and exposure
+    time set first) as OBJECT frames, reporting progress after each. REPEAT_EXPOSE cycles through the
+    instrument configs until ``repeat_duration`` clock seconds have passed (see
+    :class:`~nightcrew.robotic.scripts._repeat.RepeatTiming`). Acquisition runs when the
+    configuration asks for it and an acquisition module is configured (skipped with a warning
+    otherwise). Optional guiding that fails to start only gives a warning; required guiding fails
+    the configuration. Aborted or failed, the script aborts the exposure and stops guiding.
+
+    Args:
+        telescope: Module offering ITelescope.
+        camera: Module offering ICamera (IExposureTime, IBinning if binning is asked for).
+        filters: Module offering IFilters; None: no filter wheel.
+        acquisition: Module offering IAcquisition; None: never acquire.
+        autoguider: Module offering IAutoGuiding; None: never guide.
+    """
+
+    def __init__(
+        self,
+        *,
+        telescope: str | ITelescope = "telescope",
+        camera: str | ICamera = "camera",
+        filters: str | IFilters | None = "filters",
+        acquisition: str | IAcquisition | None = None,
+        autoguider: str | IAutoGuiding | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        self._telescope, self._camera, self._filters = telescope, camera, filters
+        self._acquisition, self._autoguider = acquisition, autoguider
+
+    async def can_run(self, task: Task) -> bool:
+        config = the_configuration(task)
+        if config.type not in _TYPES or config.target is None:
+            return False
+        guiding = config.guiding_config
+        guiding_required = guiding.mode is GuidingMode.ON and not guiding.optional
+        if guiding_required and not await self.offers(self._autoguider, IAutoGuiding):
+            return False
+        return await self.offers(self._telescope, ITelescope) and await instrument_supported(
+            self, self._camera, self._filters, config
+        )
+
+    async def run(self, task: Task, progress: ProgressCallback) -> None:
+        config = the_configuration(task)
+        if config.type not in _TYPES or config.target is None:
+            raise NotSupportedError(
+                f"{type(self).__name__} runs EXPOSE and REPEAT_EXPOSE with a target, not {config.type}"
+            )
+        target = config.target
+        telescope = await self.proxy(self._telescope, ITelescope)
+        instrument = await Instrument.connect(self, self._camera, self._filters)
+        await step(
+            f"slew to {target.name}",
+            telescope.move_radec(target.ra, target.dec),
+            on_cancel=telescope.stop_motion,
+        )
+        await self._acquire(config)
+        guider = await self._start_guiding(config.guiding_config)
+        try:
+            reporter = ProgressReporter(task, progress)
+            if config.type is ConfigurationType.REPEAT_EXPOSE:
+                await self._expose_repeatedly(config, instrument, reporter)
+            else:
+                await self._expose(config, instrument, reporter)
+        finally:
+            if guider is not None:
+                await quietly("stop guiding", guider.stop)
+
+    async def _acquire(self, config: Configuration) -> None:
+        if config.acquisition_config.mode is AcquisitionMode.OFF:
+            return
+        if self._acquisition is None:
+            log.warning(
+                "acquisition %s asked for, but no acquisition module configured",
+                config.acquisition_config.mode,
+            )
+            return
+        acquisition = await self.proxy(self._acquisition, IAcquisition)
+        result = await step("acquisition", acquisition.acquire_target(), on_cancel=acquisition.abort)
+        log.info("acquired: %s", result)
+
+    async def _start_guiding(self, guiding: GuidingConfig) -> IAutoGuiding | None:
+        """The started guider; None when not asked for, or when optional and it failed to start."""
+        if guiding.mode is GuidingMode.OFF:
+            return None
+        try:
+            if self._autoguider is None:
+                raise NotSupportedError("guiding asked for, but no autoguider is configured")
+            guider = await self.proxy(self._autoguider, IAutoGuiding)
+            if guiding.exposure_time is not None:
+                await step("set the guiding exposure time", guider.set_exposure_time(guiding.exposure_time))
+            await step("start guiding", guider.start(), on_cancel=guider.stop)
+        except Exception as exc:  # optional guiding must never stop the exposures
+            if not guiding.optional:
+                raise
+            log.warning("optional guiding did not start, exposing without it: %s", exc)
+            return None
+        return guider
+
+    async def _expose(
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter
+    ) -> None:
+        for index, instrument_config in enumerate(config.instrument_configs):
+            await instrument.set_up(instrument_config)
+            for _ in range(instrument_config.exposure_count):
+                await instrument.expose(ImageType.OBJECT)
+                await reporter.add(index)
+
+    async def _expose_repeatedly(
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter
+    ) -> None:
+        assert config.repeat_duration is not None  # the task model requires it for REPEAT_EXPOSE
+        timing = RepeatTiming(self.clock.time(), config.repeat_duration)
+        cycles = 0
+        while True:
+            for index, instrument_config in enumerate(config.instrument_configs):
+                exposure_time = instrument_config.exposure_time
+                for number in range(instrument_config.exposure_count):
+                    started = self.clock.time()
+                    if cycles > 0 and not timing.fits(started, exposure_time):
+                        log.info("repeat duration %g s used up after %d cycles", timing.duration, cycles)
+                        return
+                    if number == 0:
+                        await instrument.set_up(instrument_config)
+                    await instrument.expose(ImageType.OBJECT)
+                    timing.record(started, self.clock.time(), exposure_time)
+                    await reporter.add(index)
+            cycles += 1
