@@ -1,0 +1,231 @@
+"""What the mastermind does next, decided from plain values: :func:`decide` and :func:`abort_cause`.
+
+Between tasks the mastermind looks at the world (:class:`Conditions`) and the schedule around now
+(:class:`Slot` values) and takes one :data:`Action`; while a task runs it asks :func:`abort_cause`
+whether the task must stop. The rules, in order:
+
+1. **Bad (or unknown) weather** and anything open or unparked: :class:`CloseAndPark`.
+2. A slot is **due** (``start <= now < end``, its task may run; of overlapping ones the earliest
+   that can run now): a task that needs no sky (BIAS,
+   DARK) runs at once; a sky task needs good weather and the Sun within its limits, then the roof
+   open and the telescope ready (:class:`OpenUp` first), then :class:`RunTask`. A roof moving by
+   someone else's hand is waited for.
+3. Otherwise, with the roof open or the telescope unparked: it **stays open** only if a sky task is
+   due or starts within ``keep_open`` and the Sun allows it now (or is setting towards its limit);
+   else :class:`CloseAndPark` (dawn, end of the schedule, a long gap).
+4. Otherwise :class:`Wait`.
+
+A running sky task is aborted on bad weather, a roof that is not open, or the Sun leaving its
+limits (dawn); a task that needs no sky is never aborted by these.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from datetime import datetime, timedelta
+from enum import StrEnum
+
+__all__ = [
+    "Action",
+    "CloseAndPark",
+    "Conditions",
+    "OpenUp",
+    "RoofState",
+    "RunTask",
+    "Slot",
+    "SunLimits",
+    "Wait",
+    "abort_cause",
+    "decide",
+]
+
+
+class RoofState(StrEnum):
+    """The roof as the mastermind sees it; anything it cannot tell is UNKNOWN (treated as not open)."""
+
+    OPEN = "open"
+    CLOSED = "closed"
+    OPENING = "opening"
+    CLOSING = "closing"
+    UNKNOWN = "unknown"
+
+
+@dataclass(frozen=True)
+class SunLimits:
+    """The Sun's altitude must be within ``[low, high]`` degrees (``low`` None: no lower limit)."""
+
+    high: float
+    low: float | None = None
+
+    def allows(self, altitude: float) -> bool:
+        """Whether a task with these limits may run with the Sun at ``altitude``."""
+        return altitude <= self.high and (self.low is None or altitude >= self.low)
+
+    def describe(self) -> str:
+        """For people: ``≤ -12°`` or ``-10° .. -3°``."""
+        return f"≤ {self.high:g}°" if self.low is None else f"{self.low:g}° .. {self.high:g}°"
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """The world at ``now``.
+
+    Args:
+        now: Clock time (aware).
+        sun_altitude: Degrees.
+        sun_rising: Whether the Sun's altitude is increasing (morning).
+        weather_good: The weather allows opening; False when unknown.
+        roof: The roof's state.
+        telescope_ready: Initialised and able to point (not parked, not in error).
+    """
+
+    now: datetime
+    sun_altitude: float
+    sun_rising: bool
+    weather_good: bool
+    roof: RoofState
+    telescope_ready: bool
+
+    @property
+    def closed_and_parked(self) -> bool:
+        """The safe state: roof closed and telescope not ready to point (parked)."""
+        return self.roof is RoofState.CLOSED and not self.telescope_ready
+
+
+@dataclass(frozen=True)
+class Slot:
+    """A schedule entry with what deciding needs from its task.
+
+    Args:
+        task_id: The archive's task id.
+        name: The task's name (for logs).
+        start: When the schedule wants it to begin.
+        end: When its slot ends; it is not started at or after ``end``.
+        needs_sky: It needs the roof open (anything but BIAS and DARK).
+        sun: Where the Sun must be (the observatory's cap applied).
+        may_run: False when the task is no longer to do (done, cancelled) or already failed by its
+            own fault in this very slot (so a broken task is not retried in a loop).
+    """
+
+    task_id: str
+    name: str
+    start: datetime
+    end: datetime
+    needs_sky: bool
+    sun: SunLimits
+    may_run: bool = True
+
+    def is_due(self, now: datetime) -> bool:
+        """Its slot has begun and not ended."""
+        return self.start <= now < self.end
+
+
+@dataclass(frozen=True)
+class RunTask:
+    """Run the task of ``slot`` now."""
+
+    slot: Slot
+
+
+@dataclass(frozen=True)
+class OpenUp:
+    """Open the roof and initialise the telescope for the sky task of ``slot``."""
+
+    slot: Slot
+
+
+@dataclass(frozen=True)
+class CloseAndPark:
+    """Close the roof and park the telescope, because of ``reason``."""
+
+    reason: str
+
+
+@dataclass(frozen=True)
+class Wait:
+    """Nothing to do before ``until`` (None: until something changes), because of ``reason``."""
+
+    reason: str
+    until: datetime | None = None
+
+
+Action = RunTask | OpenUp | CloseAndPark | Wait
+
+
+def decide(conditions: Conditions, slots: Sequence[Slot], *, keep_open: timedelta) -> Action:
+    """The next action; see the module docstring for the rules."""
+    if not conditions.weather_good and not conditions.closed_and_parked:
+        return CloseAndPark("the weather is bad")
+    now = conditions.now
+    runnable = sorted((slot for slot in slots if slot.may_run and slot.end > now), key=lambda s: s.start)
+    blocked: list[tuple[Slot, str]] = []
+    for due in (slot for slot in runnable if slot.is_due(now)):  # overlapping slots: earliest first
+        if not due.needs_sky:
+            return RunTask(due)
+        blocker = _sky_blocker(due, conditions)
+        if not blocker:
+            return _prepared_or_run(due, conditions)
+        blocked.append((due, blocker))
+    if not conditions.closed_and_parked and not _keep_open(runnable, conditions, keep_open):
+        return CloseAndPark(_closing_reason(runnable, conditions, keep_open))
+    if blocked:
+        return Wait(f"{blocked[0][0].name}: {blocked[0][1]}")
+    upcoming = next((slot for slot in runnable if slot.start > now), None)
+    if upcoming is None:
+        return Wait("nothing scheduled")
+    return Wait(f"next: {upcoming.name} at {upcoming.start:%H:%M:%S}", until=upcoming.start)
+
+
+def abort_cause(conditions: Conditions, slot: Slot) -> str | None:
+    """Why the running task of ``slot`` must stop now, or None if it may go on."""
+    if not slot.needs_sky:
+        return None
+    if not conditions.weather_good:
+        return "bad weather"
+    if conditions.roof is not RoofState.OPEN:
+        return f"the roof ({conditions.roof})"
+    if not slot.sun.allows(conditions.sun_altitude):
+        return f"the Sun at {conditions.sun_altitude:.1f}° (the task needs {slot.sun.describe()})"
+    return None
+
+
+def _sky_blocker(slot: Slot, conditions: Conditions) -> str:
+    """Why the sky task of ``slot`` cannot start now ("" if it can)."""
+    if not conditions.weather_good:
+        return "waiting for good weather"
+    if not slot.sun.allows(conditions.sun_altitude):
+        return f"the Sun is at {conditions.sun_altitude:.1f}°, the task needs {slot.sun.describe()}"
+    return ""
+
+
+def _prepared_or_run(slot: Slot, conditions: Conditions) -> Action:
+    if conditions.roof is RoofState.OPEN and conditions.telescope_ready:
+        return RunTask(slot)
+    if conditions.roof in (RoofState.OPENING, RoofState.CLOSING):
+        # Someone else moves it (a closing roof refuses to open): look again when it stopped.
+        return Wait(f"the roof is {conditions.roof}")
+    return OpenUp(slot)
+
+
+def _keep_open(runnable: Sequence[Slot], conditions: Conditions, keep_open: timedelta) -> bool:
+    """Whether a sky task will (soon) use the open roof."""
+    horizon = conditions.now + keep_open
+    return any(
+        slot.needs_sky and slot.start <= horizon and _sun_fits_soon(slot.sun, conditions) for slot in runnable
+    )
+
+
+def _sun_fits_soon(limits: SunLimits, conditions: Conditions) -> bool:
+    # At dusk a Sun still too high for a science task is coming down to it; at dawn it is not.
+    altitude = conditions.sun_altitude
+    return limits.allows(altitude) or (not conditions.sun_rising and altitude > limits.high)
+
+
+def _closing_reason(runnable: Sequence[Slot], conditions: Conditions, keep_open: timedelta) -> str:
+    sky = [slot for slot in runnable if slot.needs_sky]
+    if conditions.sun_rising and not any(slot.sun.allows(conditions.sun_altitude) for slot in sky):
+        return f"dawn: the Sun is at {conditions.sun_altitude:.1f}° and rising"
+    if not sky:
+        return "the end of the schedule"
+    return f"no sky task within {keep_open.total_seconds() / 60:g} min"

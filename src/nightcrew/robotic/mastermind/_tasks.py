@@ -1,0 +1,102 @@
+"""What the mastermind reads from a task: sky or not, Sun limits, exposures, FITS cards, reasons."""
+
+from __future__ import annotations
+
+from nightcrew.interfaces import FitsCard
+from nightcrew.robotic.archives import ScheduleEntry
+from nightcrew.robotic.mastermind._decide import Slot, SunLimits
+from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress
+
+__all__ = [
+    "focus_due",
+    "interruption_reason",
+    "needs_sky",
+    "planned_exposures",
+    "slot_for",
+    "sun_limits",
+    "task_cards",
+]
+
+#: Configuration types that work with the roof closed.
+_CLOSED_ROOF_TYPES = frozenset({ConfigurationType.BIAS, ConfigurationType.DARK})
+
+
+def needs_sky(task: Task) -> bool:
+    """Whether the task needs the roof open: any configuration but BIAS and DARK (SCRIPT too)."""
+    return any(c.type not in _CLOSED_ROOF_TYPES for c in task.request.configurations)
+
+
+def sun_limits(task: Task, *, max_sun_altitude: float, twilight_max_sun_altitude: float) -> SunLimits:
+    """The strictest Sun limits of the task's configurations, capped by the observatory.
+
+    Twilight tasks (with a SKY_FLAT configuration) are capped at ``twilight_max_sun_altitude``, all
+    others at ``max_sun_altitude``: a task may ask for a darker sky, never for a brighter one.
+    """
+    configurations = task.request.configurations
+    high = min(c.constraints.max_sun_altitude for c in configurations)
+    lows = [
+        c.constraints.min_sun_altitude for c in configurations if c.constraints.min_sun_altitude is not None
+    ]
+    twilight = any(c.type is ConfigurationType.SKY_FLAT for c in configurations)
+    cap = twilight_max_sun_altitude if twilight else max_sun_altitude
+    return SunLimits(high=min(high, cap), low=max(lows) if lows else None)
+
+
+def slot_for(
+    entry: ScheduleEntry,
+    task: Task,
+    *,
+    max_sun_altitude: float,
+    twilight_max_sun_altitude: float,
+    failed_here: bool = False,
+) -> Slot:
+    """The :class:`Slot` of a schedule entry; ``failed_here``: the task failed by its own fault in it."""
+    return Slot(
+        task_id=task.id,
+        name=task.name,
+        start=entry.start,
+        end=entry.end,
+        needs_sky=needs_sky(task),
+        sun=sun_limits(
+            task, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude
+        ),
+        may_run=task.schedulable and not failed_here,
+    )
+
+
+def planned_exposures(request: Request) -> int:
+    """Exposures the request asks for (one cycle of a REPEAT_EXPOSE)."""
+    return sum(ic.exposure_count for c in request.configurations for ic in c.instrument_configs)
+
+
+def interruption_reason(cause: str, task: Task, progress: TaskProgress) -> str:
+    """``interrupted by bad weather: 3 of 10 exposures done`` - the FAILED reason of an aborted task."""
+    return (
+        f"interrupted by {cause}: {progress.total_exposures} of "
+        f"{planned_exposures(task.request)} exposures done"
+    )
+
+
+def task_cards(task: Task) -> dict[str, FitsCard]:
+    """The FITS cards naming the task an image belongs to."""
+    return {
+        "TASK-ID": (task.id, "Task archive id"),
+        "TASK-NAM": (task.name, "Task (request group) name"),
+        "TASK-GRP": (task.group_id, "Request group id"),
+        "TASK-REQ": (task.request_index, "Request index in its group"),
+        "PROPOSAL": (task.proposal, "Proposal"),
+        "TASK-PRI": (task.effective_priority, "Task priority x IPP"),
+    }
+
+
+def focus_due(last_focus_temperature: float | None, temperature: float | None, threshold: float) -> bool:
+    """Whether to focus before the next sky task.
+
+    Yes when there was no focus yet; then only when the temperature is known and moved by more than
+    ``threshold`` (°C) since the last focus (the tube's length follows the temperature).
+    """
+    if last_focus_temperature is None:
+        return True
+    if temperature is None:
+        return False
+    return abs(temperature - last_focus_temperature) > threshold

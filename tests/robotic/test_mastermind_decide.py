@@ -1,0 +1,280 @@
+"""The mastermind's pure decisions: what to do next, when a running task must stop, task helpers."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime, timedelta
+from typing import Any
+
+import pytest
+
+from nightcrew.robotic.archives import ScheduleEntry
+from nightcrew.robotic.mastermind import (
+    CloseAndPark,
+    Conditions,
+    OpenUp,
+    RoofState,
+    RunTask,
+    Slot,
+    SunLimits,
+    Wait,
+    abort_cause,
+    decide,
+    focus_due,
+    interruption_reason,
+    needs_sky,
+    slot_for,
+    sun_limits,
+    task_cards,
+)
+from nightcrew.robotic.tasks import (
+    Task,
+    TaskProgress,
+    TaskState,
+    TaskStatus,
+    parse_request_group,
+    tasks_of_group,
+)
+
+NOW = datetime(2024, 1, 15, 22, tzinfo=UTC)
+KEEP_OPEN = timedelta(minutes=15)
+NIGHT = Conditions(
+    now=NOW,
+    sun_altitude=-40.0,
+    sun_rising=False,
+    weather_good=True,
+    roof=RoofState.OPEN,
+    telescope_ready=True,
+)
+SAFE = Conditions(
+    now=NOW,
+    sun_altitude=-40.0,
+    sun_rising=False,
+    weather_good=True,
+    roof=RoofState.CLOSED,
+    telescope_ready=False,
+)
+
+
+def _slot(name: str, start_min: float, end_min: float, *, sky: bool = True, **kwargs: Any) -> Slot:
+    kwargs.setdefault("sun", SunLimits(high=-12.0))
+    return Slot(
+        task_id=name,
+        name=name,
+        start=NOW + timedelta(minutes=start_min),
+        end=NOW + timedelta(minutes=end_min),
+        needs_sky=sky,
+        **kwargs,
+    )
+
+
+def _at(conditions: Conditions, **changes: Any) -> Conditions:
+    values = {**vars(conditions), **changes}
+    return Conditions(**values)
+
+
+# --- decide ------------------------------------------------------------------------------------
+
+
+def test_a_due_sky_task_runs_when_everything_is_ready() -> None:
+    slot = _slot("m31", -5, 30)
+    assert decide(NIGHT, [slot, _slot("m33", 30, 60)], keep_open=KEEP_OPEN) == RunTask(slot)
+
+
+def test_a_due_sky_task_first_opens_up_and_waits_for_a_roof_someone_else_moves() -> None:
+    slot = _slot("m31", 0, 30)
+    assert decide(SAFE, [slot], keep_open=KEEP_OPEN) == OpenUp(slot)
+    assert decide(_at(NIGHT, telescope_ready=False), [slot], keep_open=KEEP_OPEN) == OpenUp(slot)
+    assert decide(_at(NIGHT, roof=RoofState.UNKNOWN), [slot], keep_open=KEEP_OPEN) == OpenUp(slot)
+    for moving in (RoofState.OPENING, RoofState.CLOSING):
+        assert decide(_at(NIGHT, roof=moving), [slot], keep_open=KEEP_OPEN) == Wait(f"the roof is {moving}")
+
+
+@pytest.mark.parametrize("roof", list(RoofState))
+def test_bad_weather_closes_and_parks_whatever_is_due(roof: RoofState) -> None:
+    bad = _at(NIGHT, weather_good=False, roof=roof)
+    assert decide(bad, [_slot("m31", -5, 30)], keep_open=KEEP_OPEN) == CloseAndPark("the weather is bad")
+    assert decide(_at(bad, telescope_ready=False), [], keep_open=KEEP_OPEN) == (
+        Wait("nothing scheduled") if roof is RoofState.CLOSED else CloseAndPark("the weather is bad")
+    )
+
+
+def test_bad_weather_when_safe_waits_and_never_opens() -> None:
+    action = decide(_at(SAFE, weather_good=False), [_slot("m31", -5, 30)], keep_open=KEEP_OPEN)
+    assert action == Wait("m31: waiting for good weather")
+
+
+def test_tasks_without_sky_run_in_bad_weather_with_the_roof_closed() -> None:
+    darks = _slot("darks", -1, 30, sky=False)
+    assert decide(_at(SAFE, weather_good=False), [darks], keep_open=KEEP_OPEN) == RunTask(darks)
+    assert decide(_at(SAFE, sun_altitude=30.0), [darks], keep_open=KEEP_OPEN) == RunTask(darks)
+
+
+def test_a_sky_task_waits_for_the_sun_and_the_roof_stays_closed() -> None:
+    dusk = _at(SAFE, sun_altitude=-8.0)
+    assert decide(dusk, [_slot("m31", -5, 30)], keep_open=KEEP_OPEN) == Wait(
+        "m31: the Sun is at -8.0°, the task needs ≤ -12°"
+    )
+    flats = _slot("flats", -5, 30, sun=SunLimits(high=-3.0, low=-12.0))
+    assert decide(dusk, [flats], keep_open=KEEP_OPEN) == OpenUp(flats)
+    assert decide(_at(SAFE, sun_altitude=-14.0), [flats], keep_open=KEEP_OPEN) == Wait(
+        "flats: the Sun is at -14.0°, the task needs -12° .. -3°"
+    )
+
+
+def test_slots_not_due_or_not_runnable_are_skipped() -> None:
+    done = _slot("done", -5, 30, may_run=False)
+    over = _slot("over", -30, 0)
+    later = _slot("later", 60, 90)
+    action = decide(SAFE, [done, over, later], keep_open=KEEP_OPEN)
+    assert action == Wait("next: later at 23:00:00", until=later.start)
+    # overlapping slots: the earliest start goes first
+    first, second = _slot("first", -10, 20), _slot("second", -5, 20)
+    assert decide(NIGHT, [second, first], keep_open=KEEP_OPEN) == RunTask(first)
+
+
+def test_the_roof_stays_open_for_a_task_soon_and_closes_for_a_long_gap() -> None:
+    soon = _slot("soon", 10, 40)
+    assert decide(NIGHT, [soon], keep_open=KEEP_OPEN) == Wait("next: soon at 22:10:00", until=soon.start)
+    late = _slot("late", 60, 90)
+    assert decide(NIGHT, [late], keep_open=KEEP_OPEN) == CloseAndPark("no sky task within 15 min")
+    assert decide(NIGHT, [_slot("darks", 5, 30, sky=False)], keep_open=KEEP_OPEN) == CloseAndPark(
+        "the end of the schedule"
+    )
+    assert decide(NIGHT, [], keep_open=KEEP_OPEN) == CloseAndPark("the end of the schedule")
+    # a roof closed with the telescope still unparked is made safe too
+    assert decide(_at(NIGHT, roof=RoofState.CLOSED), [], keep_open=KEEP_OPEN) == CloseAndPark(
+        "the end of the schedule"
+    )
+
+
+def test_dawn_closes_and_parks_but_dusk_keeps_open_for_the_night() -> None:
+    science = _slot("m31", -5, 30)
+    dawn = _at(NIGHT, sun_altitude=-11.0, sun_rising=True)
+    assert decide(dawn, [science], keep_open=KEEP_OPEN) == CloseAndPark(
+        "dawn: the Sun is at -11.0° and rising"
+    )
+    dusk = _at(NIGHT, sun_altitude=-11.0, sun_rising=False)  # after the flats, before full dark
+    assert decide(dusk, [science], keep_open=KEEP_OPEN) == Wait(
+        "m31: the Sun is at -11.0°, the task needs ≤ -12°"
+    )
+    morning_flats = _slot("flats", 0, 30, sun=SunLimits(high=-3.0, low=-12.0))
+    assert decide(dawn, [science, morning_flats], keep_open=KEEP_OPEN) == RunTask(morning_flats)
+
+
+# --- abort_cause -------------------------------------------------------------------------------
+
+
+def test_a_running_sky_task_stops_for_weather_roof_and_sun() -> None:
+    slot = _slot("m31", -5, 30)
+    assert abort_cause(NIGHT, slot) is None
+    assert abort_cause(_at(NIGHT, weather_good=False), slot) == "bad weather"
+    assert abort_cause(_at(NIGHT, roof=RoofState.CLOSING), slot) == "the roof (closing)"
+    assert abort_cause(_at(NIGHT, sun_altitude=-11.5), slot) == "the Sun at -11.5° (the task needs ≤ -12°)"
+
+
+def test_a_running_task_without_sky_goes_on_whatever_happens() -> None:
+    darks = _slot("darks", -5, 30, sky=False)
+    assert abort_cause(_at(SAFE, weather_good=False, sun_altitude=10.0), darks) is None
+
+
+# --- tasks -------------------------------------------------------------------------------------
+
+
+def _task(configurations: list[dict[str, Any]], state: TaskState = TaskState.SCHEDULED) -> Task:
+    group = parse_request_group(
+        {
+            "name": "Test group",
+            "proposal": "tests",
+            "requests": [
+                {
+                    "location": {"telescope_class": "0m4"},
+                    "windows": [{"start": "2024-01-15T18:00:00Z", "end": "2024-01-16T06:00:00Z"}],
+                    "configurations": configurations,
+                }
+            ],
+        }
+    )
+    (task,) = tasks_of_group(
+        group, "g1", ["7"], [TaskStatus(state=state, reason="x" if state is TaskState.FAILED else "")]
+    )
+    return task
+
+
+EXPOSE = {
+    "type": "EXPOSE",
+    "target": {"name": "M31", "ra": 10.68, "dec": 41.27},
+    "instrument_configs": [
+        {"exposure_time": 10, "exposure_count": 3},
+        {"exposure_time": 5, "exposure_count": 2},
+    ],
+}
+DARK = {"type": "DARK", "instrument_configs": [{"exposure_time": 10, "exposure_count": 5}]}
+FLAT = {
+    "type": "SKY_FLAT",
+    "constraints": {"min_sun_altitude": -12, "max_sun_altitude": -1},
+    "instrument_configs": [{"exposure_time": 3}],
+}
+
+
+def test_sky_and_sun_limits_come_from_the_configurations_capped_by_the_observatory() -> None:
+    caps = {"max_sun_altitude": -12.0, "twilight_max_sun_altitude": -3.0}
+    assert not needs_sky(_task([DARK])) and needs_sky(_task([DARK, EXPOSE]))
+    assert sun_limits(_task([EXPOSE]), **caps) == SunLimits(high=-12.0)
+    assert sun_limits(_task([FLAT]), **caps) == SunLimits(high=-3.0, low=-12.0)
+    darker = {**EXPOSE, "constraints": {"max_sun_altitude": -18}}
+    assert sun_limits(_task([darker, EXPOSE]), **caps) == SunLimits(high=-18.0)
+    brighter = {**EXPOSE, "constraints": {"max_sun_altitude": -6}}
+    assert sun_limits(_task([brighter]), **caps) == SunLimits(high=-12.0)
+
+
+def test_a_slot_may_run_only_for_a_schedulable_task_not_failed_in_it() -> None:
+    entry = ScheduleEntry("7", NOW, NOW + timedelta(minutes=30))
+
+    def slot_of(task: Task, failed_here: bool = False) -> Slot:
+        return slot_for(
+            entry, task, max_sun_altitude=-12.0, twilight_max_sun_altitude=-3.0, failed_here=failed_here
+        )
+
+    slot = slot_of(_task([EXPOSE]))
+    assert (slot.task_id, slot.name, slot.start, slot.end, slot.needs_sky, slot.may_run) == (
+        "7",
+        "Test group",
+        entry.start,
+        entry.end,
+        True,
+        True,
+    )
+    assert slot_of(_task([EXPOSE], TaskState.FAILED)).may_run
+    assert not slot_of(_task([EXPOSE]), failed_here=True).may_run
+    for state in (TaskState.RUNNING, TaskState.COMPLETED, TaskState.CANCELED, TaskState.WINDOW_EXPIRED):
+        assert not slot_of(_task([EXPOSE], state)).may_run
+
+
+def test_the_interruption_reason_says_what_was_done() -> None:
+    task = _task([EXPOSE])
+    progress = TaskProgress.nothing_done(task.request).with_exposures(task.request, 0, 0, 2)
+    assert interruption_reason("bad weather", task, progress) == (
+        "interrupted by bad weather: 2 of 5 exposures done"
+    )
+
+
+def test_task_cards_name_the_task() -> None:
+    cards = task_cards(_task([EXPOSE]))
+    assert {key: value for key, (value, _) in cards.items()} == {
+        "TASK-ID": "7",
+        "TASK-NAM": "Test group",
+        "TASK-GRP": "g1",
+        "TASK-REQ": 0,
+        "PROPOSAL": "tests",
+        "TASK-PRI": 1.0,
+    }
+
+
+@pytest.mark.parametrize(
+    ("last", "now", "due"),
+    [(None, None, True), (None, 5.0, True), (5.0, None, False), (5.0, 6.5, False), (5.0, 2.9, True)],
+)
+def test_focus_is_due_first_and_then_after_a_temperature_change(
+    last: float | None, now: float | None, due: bool
+) -> None:
+    assert focus_due(last, now, threshold=2.0) is due
