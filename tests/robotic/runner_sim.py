@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 from astropy.io import fits  # type: ignore[import-untyped]
 
+from nightcrew.clock import Clock
 from nightcrew.events import NewImageEvent
 from nightcrew.modules import Module
 from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimFocuser, SimRoof, SimTelescope
@@ -26,13 +27,17 @@ SPEED = 200.0
 
 
 class ProgressLog:
-    """A progress callback that keeps every report."""
+    """A progress callback that keeps every report, and the clock time of each if given a clock."""
 
-    def __init__(self) -> None:
+    def __init__(self, clock: Clock | None = None) -> None:
         self.reports: list[TaskProgress] = []
+        self.times: list[float] = []
+        self._clock = clock
 
     async def __call__(self, progress: TaskProgress) -> None:
         self.reports.append(progress)
+        if self._clock is not None:
+            self.times.append(self._clock.time())
 
     @property
     def last(self) -> TaskProgress:

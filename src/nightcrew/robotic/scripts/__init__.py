@@ -1,13 +1,31 @@
 """Observing scripts the task runner picks by configuration type.
 
-=================  ==============================  =============================================
-script             configuration types             modules (constructor parameters)
-=================  ==============================  =============================================
-ImagingScript      EXPOSE, REPEAT_EXPOSE           telescope, camera, filters, acquisition,
-                                                   autoguider
-=================  ==============================  =============================================
+=====================  =====================  ===========================================================
+script                 runner key             modules (constructor parameters, default names)
+=====================  =====================  ===========================================================
+ImagingScript          EXPOSE, REPEAT_EXPOSE  telescope, camera, filters; acquisition, autoguider (None)
+CalibrationScript      BIAS, DARK             camera
+AutoFocusScript        AUTO_FOCUS             focus, telescope, filters (+ ``step`` in mm)
+SkyFlatScript          SKY_FLAT               flatfield
+PointingSeriesScript   SCRIPT:<name>          pointing
+=====================  =====================  ===========================================================
+
+Every script reaches the devices through proxies only, reports progress after every exposure (or
+series a module takes), names the failing step in its :class:`~nightcrew.robotic.runner.ScriptError`
+and, when cancelled, aborts what runs (exposure, slew, series) and stops guiding before re-raising.
 """
 
+from nightcrew.robotic.scripts.autofocus import AutoFocusScript, focus_step
+from nightcrew.robotic.scripts.calibration import CalibrationScript
 from nightcrew.robotic.scripts.imaging import ImagingScript
+from nightcrew.robotic.scripts.pointing import PointingSeriesScript
+from nightcrew.robotic.scripts.skyflat import SkyFlatScript
 
-__all__ = ["ImagingScript"]
+__all__ = [
+    "AutoFocusScript",
+    "CalibrationScript",
+    "ImagingScript",
+    "PointingSeriesScript",
+    "SkyFlatScript",
+    "focus_step",
+]

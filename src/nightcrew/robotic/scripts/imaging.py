@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import logging
 from typing import Any
 
@@ -79,8 +80,10 @@ class ImagingScript(Script):
                 f"{type(self).__name__} runs EXPOSE and REPEAT_EXPOSE with a target, not {config.type}"
             )
         target = config.target
-        telescope = await self.proxy(self._telescope, ITelescope)
-        instrument = await Instrument.connect(self, self._camera, self._filters)
+        telescope = await step("connect to the telescope", self.proxy(self._telescope, ITelescope))
+        instrument = await step(
+            "connect to the camera", Instrument.connect(self, self._camera, self._filters)
+        )
         await step(
             f"slew to {target.name}",
             telescope.move_radec(target.ra, target.dec),
@@ -118,15 +121,22 @@ class ImagingScript(Script):
         try:
             if self._autoguider is None:
                 raise NotSupportedError("guiding asked for, but no autoguider is configured")
-            guider = await self.proxy(self._autoguider, IAutoGuiding)
-            if guiding.exposure_time is not None:
-                await step("set the guiding exposure time", guider.set_exposure_time(guiding.exposure_time))
-            await step("start guiding", guider.start(), on_cancel=guider.stop)
+            return await step("start guiding", self._started_guider(self._autoguider, guiding))
         except Exception as exc:  # optional guiding must never stop the exposures
             if not guiding.optional:
                 raise
             log.warning("optional guiding did not start, exposing without it: %s", exc)
             return None
+
+    async def _started_guider(self, autoguider: str | IAutoGuiding, guiding: GuidingConfig) -> IAutoGuiding:
+        guider = await self.proxy(autoguider, IAutoGuiding)
+        if guiding.exposure_time is not None:
+            await guider.set_exposure_time(guiding.exposure_time)
+        try:
+            await guider.start()
+        except asyncio.CancelledError:
+            await quietly("stop guiding", guider.stop)
+            raise
         return guider
 
     async def _expose(
