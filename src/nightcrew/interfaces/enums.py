@@ -78,5 +78,6 @@ class WeatherSensor(StrEnum):
     RAIN = "rain"  # 1 when raining, 0 otherwise
     SKY_TEMPERATURE = "sky_temperature"  # °C, below ambient when clear
     DEW_POINT = "dew_point"  # °C
+    SUN_ALTITUDE = "sun_altitude"  # degrees above the horizon (computed, not measured)
     PARTICLES = "particles"  # counts per m³
     SKY_BRIGHTNESS = "sky_brightness"  # mag/arcsec²

@@ -84,7 +84,7 @@ async def test_rain_closes_the_roof_and_parks_the_telescope_within_a_minute(
     # Dry again at 600 s: good weather is declared only after the minimum good time.
     await wait_for(obs, lambda: len(recorder.of(GoodWeatherEvent)) == 2, 600.0)
     declared = obs.clock.time() - started
-    assert DRY_AT + MIN_GOOD <= declared <= DRY_AT + MIN_GOOD + 30.0
+    assert DRY_AT + MIN_GOOD <= declared <= DRY_AT + MIN_GOOD + 60.0  # never early; late by polling only
     eta = recorder.of(GoodWeatherEvent)[-1].eta
     assert eta is not None and abs(eta.timestamp() - obs.clock.time()) < 15.0
     assert len(recorder.of(BadWeatherEvent)) == 1  # announced on change only
