@@ -7,6 +7,7 @@ from typing import Any
 
 import pytest
 
+from nightcrew.interfaces import MotionStatus
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind import (
     CloseAndPark,
@@ -21,6 +22,7 @@ from nightcrew.robotic.mastermind import (
     decide,
     focus_due,
     interruption_reason,
+    kept_progress,
     needs_sky,
     slot_for,
     sun_limits,
@@ -271,10 +273,36 @@ def test_task_cards_name_the_task() -> None:
 
 
 @pytest.mark.parametrize(
-    ("last", "now", "due"),
-    [(None, None, True), (None, 5.0, True), (5.0, None, False), (5.0, 6.5, False), (5.0, 2.9, True)],
+    ("focused", "last", "now", "due"),
+    [
+        (False, None, None, True),
+        (False, 5.0, 5.0, True),
+        (True, 5.0, None, False),
+        (True, None, 5.0, False),
+        (True, 5.0, 6.5, False),
+        (True, 5.0, 2.9, True),
+    ],
 )
 def test_focus_is_due_first_and_then_after_a_temperature_change(
-    last: float | None, now: float | None, due: bool
+    focused: bool, last: float | None, now: float | None, due: bool
 ) -> None:
-    assert focus_due(last, now, threshold=2.0) is due
+    assert focus_due(focused=focused, last_temperature=last, temperature=now, threshold=2.0) is due
+
+
+def test_the_recorded_progress_never_shrinks_when_a_retry_counts_from_zero() -> None:
+    first = TaskProgress(exposures_done=((3, 0),))
+    retry = TaskProgress(exposures_done=((1, 0),))
+    assert kept_progress(first, retry) == first
+    assert kept_progress(first, TaskProgress(exposures_done=((3, 2),))) == TaskProgress(
+        exposures_done=((3, 2),)
+    )
+    assert kept_progress(TaskProgress(), retry) == retry
+    assert kept_progress(first, TaskProgress()) == first
+
+
+def test_the_roof_state_follows_the_motion_status() -> None:
+    assert RoofState.of_motion(MotionStatus.IDLE) is RoofState.OPEN
+    assert RoofState.of_motion(MotionStatus.PARKED) is RoofState.CLOSED
+    assert RoofState.of_motion(MotionStatus.PARKING) is RoofState.CLOSING
+    assert RoofState.of_motion(MotionStatus.MOVING) is RoofState.OPENING
+    assert RoofState.of_motion(MotionStatus.ERROR) is RoofState.UNKNOWN

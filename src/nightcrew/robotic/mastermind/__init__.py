@@ -3,7 +3,8 @@
 :func:`decide` takes the world (:class:`Conditions`) and the slots of the schedule around now and
 returns one :data:`Action` (:class:`RunTask`, :class:`OpenUp`, :class:`CloseAndPark`,
 :class:`Wait`); :func:`abort_cause` says why a running task must stop. The helpers in
-:mod:`._tasks` read what deciding needs from a task. The module
+:mod:`._tasks` read what deciding needs from a task; :func:`run_watched` runs a task (or a focus
+run) and cancels it as soon as a check finds a cause. The module
 :class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
 """
 
@@ -22,9 +23,11 @@ from nightcrew.robotic.mastermind._decide import (
     abort_cause,
     decide,
 )
+from nightcrew.robotic.mastermind._supervision import all_done, run_watched
 from nightcrew.robotic.mastermind._tasks import (
     focus_due,
     interruption_reason,
+    kept_progress,
     needs_sky,
     planned_exposures,
     slot_for,
@@ -43,11 +46,14 @@ __all__ = [
     "SunLimits",
     "Wait",
     "abort_cause",
+    "all_done",
     "decide",
     "focus_due",
     "interruption_reason",
+    "kept_progress",
     "needs_sky",
     "planned_exposures",
+    "run_watched",
     "slot_for",
     "sun_limits",
     "task_cards",

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 from datetime import datetime, timedelta
 from enum import StrEnum
 
+from nightcrew.interfaces import MotionStatus
+
 __all__ = [
     "Action",
     "CloseAndPark",
@@ -49,6 +51,20 @@ class RoofState(StrEnum):
     OPENING = "opening"
     CLOSING = "closing"
     UNKNOWN = "unknown"
+
+    @classmethod
+    def of_motion(cls, status: MotionStatus) -> RoofState:
+        """The roof state shown by a roof's motion status (IDLE is open, PARKED closed)."""
+        return _ROOF_BY_MOTION.get(status, cls.UNKNOWN)
+
+
+_ROOF_BY_MOTION = {
+    MotionStatus.IDLE: RoofState.OPEN,
+    MotionStatus.PARKED: RoofState.CLOSED,
+    MotionStatus.MOVING: RoofState.OPENING,
+    MotionStatus.INITIALIZING: RoofState.OPENING,
+    MotionStatus.PARKING: RoofState.CLOSING,
+}
 
 
 @dataclass(frozen=True)
@@ -127,12 +143,18 @@ class RunTask:
 
     slot: Slot
 
+    def describe(self) -> str:
+        return f"running task {self.slot.task_id} ({self.slot.name})"
+
 
 @dataclass(frozen=True)
 class OpenUp:
     """Open the roof and initialise the telescope for the sky task of ``slot``."""
 
     slot: Slot
+
+    def describe(self) -> str:
+        return f"opening up for task {self.slot.task_id} ({self.slot.name})"
 
 
 @dataclass(frozen=True)
@@ -141,6 +163,9 @@ class CloseAndPark:
 
     reason: str
 
+    def describe(self) -> str:
+        return f"closing and parking: {self.reason}"
+
 
 @dataclass(frozen=True)
 class Wait:
@@ -148,6 +173,9 @@ class Wait:
 
     reason: str
     until: datetime | None = None
+
+    def describe(self) -> str:
+        return f"waiting: {self.reason}"
 
 
 Action = RunTask | OpenUp | CloseAndPark | Wait

@@ -10,6 +10,7 @@ from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgre
 __all__ = [
     "focus_due",
     "interruption_reason",
+    "kept_progress",
     "needs_sky",
     "planned_exposures",
     "slot_for",
@@ -89,14 +90,30 @@ def task_cards(task: Task) -> dict[str, FitsCard]:
     }
 
 
-def focus_due(last_focus_temperature: float | None, temperature: float | None, threshold: float) -> bool:
+def kept_progress(recorded: TaskProgress, this_run: TaskProgress) -> TaskProgress:
+    """What to record: per instrument config the larger of the archived count and this run's.
+
+    The runner counts a retry from zero (scripts take every exposure again), so the record of an
+    interrupted task must not shrink when it runs again and is interrupted earlier.
+    """
+    if not recorded.exposures_done:
+        return this_run
+    if not this_run.exposures_done:
+        return recorded
+    rows = zip(recorded.exposures_done, this_run.exposures_done, strict=True)
+    return TaskProgress(exposures_done=tuple(tuple(map(max, a, b)) for a, b in rows))
+
+
+def focus_due(
+    *, focused: bool, last_temperature: float | None, temperature: float | None, threshold: float
+) -> bool:
     """Whether to focus before the next sky task.
 
-    Yes when there was no focus yet; then only when the temperature is known and moved by more than
-    ``threshold`` (°C) since the last focus (the tube's length follows the temperature).
+    Yes when there was no focus yet; then only when both temperatures are known and differ by more
+    than ``threshold`` (°C): the tube's length follows the temperature.
     """
-    if last_focus_temperature is None:
+    if not focused:
         return True
-    if temperature is None:
+    if last_temperature is None or temperature is None:
         return False
-    return abs(temperature - last_focus_temperature) > threshold
+    return abs(temperature - last_temperature) > threshold

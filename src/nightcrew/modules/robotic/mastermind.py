@@ -1,0 +1,489 @@
+"""The mastermind: runs the scheduled task due now whenever it can, and keeps the observatory safe.
+
+Every ``poll_interval`` clock seconds (at once on weather and roof events) it observes the world
+(weather verdict, roof, telescope, Sun), reads the schedule around now and lets
+:func:`nightcrew.robotic.mastermind.decide` choose: run the due task, open up for it, close and
+park, or wait. While a task runs it keeps watching and cancels the task when
+:func:`~nightcrew.robotic.mastermind.abort_cause` says so (bad weather, roof not open, dawn).
+
+Decisions:
+
+* **Weather**: with a ``weather`` module its verdict is polled, and Bad/GoodWeatherEvents act at
+  once; a module that does not answer means bad weather. Without one only the events count, and
+  until the first GoodWeatherEvent the weather is unknown, i.e. bad: the roof stays closed.
+* **Roof**: the mastermind opens the roof (and initialises the telescope) when a sky task is due
+  and may run, and closes it and parks the telescope on bad weather, at dawn, at the end of the
+  schedule and before a gap longer than ``keep_open``. Roof and telescope also close and park by
+  themselves on a BadWeatherEvent; the mastermind does not rely on them, nor they on it.
+* **Tasks**: an aborted task becomes FAILED with ``interrupted by <cause>: N of M exposures done``
+  and its progress - FAILED tasks are schedulable, so it is back in the pool, never lost. It may run
+  again in the same slot once the cause has passed (good weather), or where the scheduler puts it.
+  A task that failed by its own error is not retried in the same slot.
+* **Focus**: with an ``autofocus`` module, before the first sky task and whenever the temperature
+  moved by more than ``refocus_temperature_change`` since the last focus.
+* **Start/stop** (IStartStop): stopping aborts the running task, then closes and parks.
+* **Errors**: an error in the loop closes the roof and parks; the loop restarts with backoff.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from datetime import datetime, timedelta
+from typing import Any
+
+from nightcrew.config import build_object
+from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.events import (
+    BadWeatherEvent,
+    GoodWeatherEvent,
+    RoofClosingEvent,
+    TaskFailedEvent,
+    TaskFinishedEvent,
+    TaskStartedEvent,
+)
+from nightcrew.interfaces import (
+    FitsCard,
+    IAutoFocus,
+    IAutonomous,
+    IFitsHeaderBefore,
+    IRoof,
+    IStartStop,
+    ITelescope,
+    ITemperatures,
+    IWeather,
+    MotionStatus,
+)
+from nightcrew.modules.module import Module
+from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.robotic.archives import ScheduleStore, TaskArchive
+from nightcrew.robotic.mastermind import (
+    Action,
+    CloseAndPark,
+    Conditions,
+    OpenUp,
+    RoofState,
+    RunTask,
+    Slot,
+    abort_cause,
+    all_done,
+    decide,
+    focus_due,
+    interruption_reason,
+    kept_progress,
+    run_watched,
+    slot_for,
+    task_cards,
+)
+from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.tasks import Task, TaskNotFoundError, TaskProgress
+
+__all__ = ["Mastermind"]
+
+log = logging.getLogger(__name__)
+
+#: Telescope states in which it can point.
+_POINTING = frozenset({MotionStatus.IDLE, MotionStatus.SLEWING, MotionStatus.TRACKING, MotionStatus.MOVING})
+
+
+class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
+    """Runs the schedule unattended: the task due now, whenever weather, roof and Sun allow.
+
+    Args:
+        archive: Where tasks come from and their fate goes (an object or its description).
+        schedule: Where the schedule is read; the archive when it is also a ScheduleStore.
+        runner: Runs a task (TaskRunner or its description).
+        roof: Module offering IRoof.
+        telescope: Module offering ITelescope.
+        weather: Module offering IWeather; None: only weather events count (unknown is bad).
+        autofocus: Module offering IAutoFocus; None: never focus.
+        temperatures: Module offering ITemperatures for refocusing; None: the weather's temperature.
+        temperature_sensor: The sensor of ``temperatures`` to use.
+        max_sun_altitude: Highest Sun altitude for science tasks, degrees.
+        twilight_max_sun_altitude: Highest Sun altitude for twilight (SKY_FLAT) tasks, degrees.
+        keep_open: Clock seconds the roof stays open waiting for the next sky task.
+        poll_interval: Clock seconds between two looks at the world.
+        abort_timeout: Clock seconds an aborted task may take to clean up.
+        refocus_temperature_change: Refocus after this temperature change, °C.
+        focus_count, focus_step, focus_exposure_time: Arguments of ``auto_focus``.
+        autostart: Start robotic mode when the module opens.
+        **kwargs: Module options (``site`` is required: the Sun decides a lot).
+    """
+
+    def __init__(
+        self,
+        *,
+        archive: TaskArchive | dict[str, Any],
+        schedule: ScheduleStore | dict[str, Any] | None = None,
+        runner: TaskRunner | dict[str, Any],
+        roof: str | IRoof = "roof",
+        telescope: str | ITelescope = "telescope",
+        weather: str | IWeather | None = "weather",
+        autofocus: str | IAutoFocus | None = None,
+        temperatures: str | ITemperatures | None = None,
+        temperature_sensor: str = "temperature",
+        max_sun_altitude: float = -12.0,
+        twilight_max_sun_altitude: float = 0.0,
+        keep_open: float = 900.0,
+        poll_interval: float = 10.0,
+        abort_timeout: float = 60.0,
+        refocus_temperature_change: float = 2.0,
+        focus_count: int = 7,
+        focus_step: float = 0.05,
+        focus_exposure_time: float = 5.0,
+        autostart: bool = True,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        if self.site is None:
+            raise ConfigError("the mastermind needs the observatory's site (for the Sun)", key="site")
+        for key, value in (("poll_interval", poll_interval), ("abort_timeout", abort_timeout)):
+            if not value > 0:
+                raise ConfigError(f"must be > 0 seconds, got {value}", key=key)
+        self._archive, self._owns_archive = _built(archive, TaskArchive, "archive", self)
+        store = self._archive if schedule is None else _built(schedule, ScheduleStore, "schedule", self)[0]
+        if not isinstance(store, ScheduleStore):
+            raise ConfigError("the archive keeps no schedule: configure a ScheduleStore", key="schedule")
+        self._store: ScheduleStore = store
+        self._runner: TaskRunner = self.add_child(_built(runner, TaskRunner, "runner", self)[0])
+        self._roof, self._telescope, self._weather = roof, telescope, weather
+        self._autofocus, self._temperatures = autofocus, temperatures
+        self._temperature_sensor = temperature_sensor
+        self._sun_caps = {
+            "max_sun_altitude": max_sun_altitude,
+            "twilight_max_sun_altitude": twilight_max_sun_altitude,
+        }
+        self._keep_open = timedelta(seconds=keep_open)
+        self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
+        self._refocus_change = refocus_temperature_change
+        self._focus_args = (focus_count, focus_step, focus_exposure_time)
+        self._running = autostart
+        self._stop_cause: str | None = None  # why a running task must stop (operator)
+        self._wake = asyncio.Event()
+        self._weather_heard: bool | None = None  # the last weather event's verdict
+        self._good_from: datetime | None = None  # a GoodWeatherEvent's eta
+        self._current: Task | None = None
+        self._progress = TaskProgress()
+        self._failed_slots: set[tuple[str, datetime]] = set()  # (task, slot start): failed by itself
+        self._focused = False
+        self._focus_temperature: float | None = None
+        self._safe_since_stop = False
+        self._last_action: Action | None = None
+        self.add_background_task(self._robotic_loop, name="robotic loop")
+
+    # --- life cycle and events -----------------------------------------------------------------
+
+    async def open(self) -> None:
+        await self._archive.open()  # idempotent; a shared archive may be open already
+        await super().open()
+        await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
+        await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
+        await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
+
+    async def close(self) -> None:
+        await super().close()
+        if self._owns_archive:
+            await self._archive.close()
+
+    async def on_bad_weather(self, event: BadWeatherEvent, sender: str) -> None:
+        log.warning("%s: bad weather (%s)", self.name, event.reason or "no reason given")
+        self._weather_heard = False
+        self._wake.set()
+
+    async def on_good_weather(self, event: GoodWeatherEvent, sender: str) -> None:
+        log.info("%s: good weather%s", self.name, f" from {event.eta:%H:%M:%S}" if event.eta else "")
+        self._weather_heard, self._good_from = True, event.eta
+        self._wake.set()
+
+    async def on_roof_closing(self, event: RoofClosingEvent, sender: str) -> None:
+        self._wake.set()
+
+    # --- IStartStop, IAutonomous, IFitsHeaderBefore --------------------------------------------
+
+    async def start(self) -> None:
+        if not self._running:
+            log.info("%s: robotic mode started", self.name)
+        self._running, self._stop_cause, self._safe_since_stop = True, None, False
+        self._wake.set()
+
+    async def stop(self) -> None:
+        if self._running:
+            log.info("%s: robotic mode stopped", self.name)
+            self._running, self._stop_cause = False, "robotic mode being stopped"
+            self._wake.set()
+
+    async def is_running(self) -> bool:
+        return self._running
+
+    async def is_autonomous(self) -> bool:
+        return self._running
+
+    async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        return task_cards(self._current) if self._current is not None else {}
+
+    # --- the loop ------------------------------------------------------------------------------
+
+    async def _robotic_loop(self) -> None:
+        while True:
+            pause = self._poll
+            try:
+                if self._running:
+                    pause = await self._step()
+                elif not self._safe_since_stop:
+                    self._safe_since_stop = await self._close_and_park("robotic mode was stopped")
+            except Exception:
+                log.exception("%s: error in the robotic loop; closing the roof and parking", self.name)
+                await self._close_and_park("an error in the robotic loop")
+                raise  # restarted with backoff by add_background_task
+            await self._sleep(pause)
+
+    async def _step(self) -> float:
+        """Decide and act once; returns the clock seconds to wait before the next step."""
+        conditions = await self._observe()
+        slots, tasks = await self._read_slots(conditions.now)
+        action = decide(conditions, slots, keep_open=self._keep_open)
+        if action != self._last_action:
+            log.info("%s: %s", self.name, action.describe())
+            self._last_action = action
+        if isinstance(action, RunTask):
+            await self._run(action.slot, tasks[action.slot.task_id])
+            return 0.0
+        if isinstance(action, OpenUp):
+            return 1.0 if await self._open_up(conditions) else self._poll
+        if isinstance(action, CloseAndPark):
+            await self._close_and_park(action.reason)
+            return self._poll
+        if action.until is not None:
+            return max(0.0, min(self._poll, (action.until - conditions.now).total_seconds()))
+        return self._poll
+
+    async def _sleep(self, seconds: float) -> None:
+        """Wait ``seconds`` of clock time or until woken by an event."""
+        if seconds > 0:
+            with contextlib.suppress(TimeoutError):
+                async with self.clock.timeout(seconds):
+                    await self._wake.wait()
+        self._wake.clear()
+
+    # --- observing the world -------------------------------------------------------------------
+
+    async def _observe(self) -> Conditions:
+        now, unix = self.clock.now(), self.clock.time()
+        site = self.site
+        assert site is not None  # checked in the constructor
+        sun_now = sun_altitude(site.latitude, site.longitude, unix)
+        sun_later = sun_altitude(site.latitude, site.longitude, unix + 600.0)
+        weather_good, roof, telescope_ready = await asyncio.gather(
+            self._weather_good(), self._roof_state(), self._telescope_ready()
+        )
+        if self._good_from is not None and now < self._good_from:
+            weather_good = False
+        return Conditions(now, sun_now, sun_later > sun_now, weather_good, roof, telescope_ready)
+
+    async def _weather_good(self) -> bool:
+        if self._weather is None or self._weather_heard is False:
+            return self._weather_heard is True
+        try:
+            return await (await self.proxy(self._weather, IWeather)).is_weather_good()
+        except NightcrewError as exc:
+            log.warning("%s: no weather verdict (%s): taking it as bad", self.name, exc)
+            return False
+
+    async def _roof_state(self) -> RoofState:
+        try:
+            return RoofState.of_motion(await (await self.proxy(self._roof, IRoof)).get_motion_status())
+        except NightcrewError as exc:
+            log.warning("%s: roof status unknown: %s", self.name, exc)
+            return RoofState.UNKNOWN
+
+    async def _telescope_ready(self) -> bool:
+        try:
+            return await (await self.proxy(self._telescope, ITelescope)).get_motion_status() in _POINTING
+        except NightcrewError as exc:
+            log.warning("%s: telescope status unknown: %s", self.name, exc)
+            return False
+
+    async def _temperature(self) -> float | None:
+        try:
+            if self._temperatures is not None:
+                values = await (await self.proxy(self._temperatures, ITemperatures)).get_temperatures()
+                return values.get(self._temperature_sensor)
+            if self._weather is not None:
+                report = await (await self.proxy(self._weather, IWeather)).get_current_weather()
+                return report.sensors.get("temperature")
+        except NightcrewError as exc:
+            log.warning("%s: no temperature: %s", self.name, exc)
+        return None
+
+    async def _read_slots(self, now: datetime) -> tuple[list[Slot], dict[str, Task]]:
+        entries = await self._store.read_schedule(start=now, end=now + self._keep_open + timedelta(hours=1))
+        slots: list[Slot] = []
+        tasks: dict[str, Task] = {}
+        for entry in entries:
+            try:
+                task = tasks.get(entry.task_id) or await self._archive.get_task(entry.task_id)
+            except TaskNotFoundError:
+                log.warning("%s: scheduled task %s is not in the archive", self.name, entry.task_id)
+                continue
+            tasks[task.id] = task
+            failed_here = (task.id, entry.start) in self._failed_slots
+            slots.append(slot_for(entry, task, failed_here=failed_here, **self._sun_caps))
+        return slots, tasks
+
+    # --- acting --------------------------------------------------------------------------------
+
+    async def _open_up(self, conditions: Conditions) -> bool:
+        """Open the roof and initialise the telescope; False (logged) if either failed."""
+
+        async def open_roof() -> None:
+            await (await self.proxy(self._roof, IRoof)).open_roof()
+
+        async def init_telescope() -> None:
+            if not conditions.telescope_ready:
+                await (await self.proxy(self._telescope, ITelescope)).init()
+
+        return await all_done(
+            {"open the roof": open_roof(), "initialise the telescope": init_telescope()}, who=self.name
+        )
+
+    async def _close_and_park(self, reason: str) -> bool:
+        """Close the roof and park the telescope at the same time; False (logged) if either failed."""
+        log.info("%s: closing the roof and parking the telescope: %s", self.name, reason)
+
+        async def close_roof() -> None:
+            await (await self.proxy(self._roof, IRoof)).close_roof()
+
+        async def park() -> None:
+            await (await self.proxy(self._telescope, ITelescope)).park()
+
+        return await all_done({"close the roof": close_roof(), "park the telescope": park()}, who=self.name)
+
+    # --- running a task ------------------------------------------------------------------------
+
+    async def _run(self, slot: Slot, task: Task) -> None:
+        """Run the task of ``slot`` under watch and record how it ended; focus first if due."""
+        if not await self._can_run(task):
+            log.warning(
+                "%s: the runner cannot run task %s (%s); skipping its slot", self.name, task.id, task.name
+            )
+            self._failed_slots.add((task.id, slot.start))
+            return
+        if slot.needs_sky and not await self._focus_if_due(slot):
+            return
+        task = await self._archive.mark_started(task.id)
+        self._current, self._progress = task, task.status.progress
+        log.info("%s: task %s (%s) started", self.name, task.id, task.name)
+        await self.comm.send_event(TaskStartedEvent(name=task.name, id=task.id, eta=slot.end))
+        reason: str | None = None
+        try:
+            cause = await run_watched(
+                self._runner.run_task(task, self._on_progress),
+                lambda: self._abort_cause(slot),
+                wake=self._wake,
+                clock=self.clock,
+                poll_interval=self._poll,
+                abort_timeout=self._abort_timeout,
+            )
+            if cause is not None:
+                reason = interruption_reason(cause, task, self._progress)
+        except asyncio.CancelledError:
+            reason = interruption_reason("the mastermind shutting down", task, self._progress)
+            raise
+        except Exception as exc:  # the task's own failure: not again in this slot
+            self._failed_slots.add((task.id, slot.start))
+            reason = str(exc) or type(exc).__name__
+            if not isinstance(exc, NightcrewError):
+                raise  # a bug: the loop's fail-safe closes and parks
+        finally:
+            self._current = None
+            await self._record_end(task, reason)
+
+    async def _can_run(self, task: Task) -> bool:
+        try:
+            return await self._runner.can_run(task)
+        except NightcrewError as exc:
+            log.warning("%s: cannot check task %s: %s", self.name, task.id, exc)
+            return False
+
+    async def _abort_cause(self, slot: Slot) -> str | None:
+        return self._stop_cause or abort_cause(await self._observe(), slot)
+
+    async def _on_progress(self, progress: TaskProgress) -> None:
+        task = self._current
+        if task is None:
+            return
+        self._progress = kept_progress(self._progress, progress)
+        try:
+            await self._archive.record_progress(task.id, self._progress)
+        except Exception as exc:  # kept in memory and recorded at the end
+            log.warning("%s: could not record the progress of task %s: %s", self.name, task.id, exc)
+
+    async def _record_end(self, task: Task, reason: str | None) -> None:
+        """Mark the task finished (``reason`` None) or failed in the archive, and tell everybody."""
+        progress = self._progress
+        try:
+            if reason is None:
+                await self._archive.mark_finished(task.id, progress)
+            else:
+                await self._archive.mark_failed(task.id, reason, progress)
+        except Exception:
+            log.exception("%s: could not record the end of task %s in the archive", self.name, task.id)
+        if reason is None:
+            log.info("%s: task %s (%s) finished", self.name, task.id, task.name)
+            event: TaskFinishedEvent | TaskFailedEvent = TaskFinishedEvent(name=task.name, id=task.id)
+        else:
+            log.warning("%s: task %s (%s) failed: %s", self.name, task.id, task.name, reason)
+            event = TaskFailedEvent(name=task.name, id=task.id, reason=reason)
+        try:
+            await self.comm.send_event(event)
+        except NightcrewError as exc:
+            log.error("%s: could not announce the end of task %s: %s", self.name, task.id, exc)
+
+    async def _focus_if_due(self, slot: Slot) -> bool:
+        """Focus if configured and due; False if the focus run was aborted (the slot waits)."""
+        if self._autofocus is None:
+            return True
+        temperature = await self._temperature()
+        if not focus_due(
+            focused=self._focused,
+            last_temperature=self._focus_temperature,
+            temperature=temperature,
+            threshold=self._refocus_change,
+        ):
+            return True
+        log.info(
+            "%s: focusing (temperature %s, last focus at %s)", self.name, temperature, self._focus_temperature
+        )
+        autofocus = await self.proxy(self._autofocus, IAutoFocus)
+        try:
+            cause = await run_watched(
+                autofocus.auto_focus(*self._focus_args),
+                lambda: self._abort_cause(slot),
+                wake=self._wake,
+                clock=self.clock,
+                poll_interval=self._poll,
+                abort_timeout=self._abort_timeout,
+                on_abort=autofocus.abort,
+            )
+        except NightcrewError as exc:  # observing slightly out of focus beats not observing
+            log.warning("%s: focusing failed (%s); going on with the focus as it is", self.name, exc)
+            cause = None
+        if cause is not None:
+            log.warning("%s: focusing aborted: %s", self.name, cause)
+            return False
+        self._focused, self._focus_temperature = True, temperature
+        return True
+
+
+def _built(value: Any, expected: type[Any], key: str, owner: Module) -> tuple[Any, bool]:
+    """``value``, or the object its description builds (then also True: ours to close), checked."""
+    owned = isinstance(value, dict)
+    if owned:
+        built = build_object(value)
+        if isinstance(built, TaskArchive) and "clock" not in value:
+            built.clock = owner.clock  # "now" of a simulated night is the module's clock
+        value = built
+    if not isinstance(value, expected):
+        raise ConfigError(f"expected a {expected.__name__}, got {type(value).__name__}", key=key)
+    return value, owned
