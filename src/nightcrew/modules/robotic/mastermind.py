@@ -53,21 +53,17 @@ from nightcrew.interfaces import (
     ITelescope,
     ITemperatures,
     IWeather,
-    MotionStatus,
 )
 from nightcrew.modules.module import Module
-from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
     CloseAndPark,
-    Conditions,
+    ObservatoryControl,
     OpenUp,
-    RoofState,
     RunTask,
     Slot,
     abort_cause,
-    all_done,
     decide,
     focus_due,
     interruption_reason,
@@ -82,9 +78,6 @@ from nightcrew.robotic.tasks import Task, TaskNotFoundError, TaskProgress
 __all__ = ["Mastermind"]
 
 log = logging.getLogger(__name__)
-
-#: Telescope states in which it can point.
-_POINTING = frozenset({MotionStatus.IDLE, MotionStatus.SLEWING, MotionStatus.TRACKING, MotionStatus.MOVING})
 
 
 class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
@@ -147,9 +140,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             raise ConfigError("the archive keeps no schedule: configure a ScheduleStore", key="schedule")
         self._store: ScheduleStore = store
         self._runner: TaskRunner = self.add_child(_built(runner, TaskRunner, "runner", self)[0])
-        self._roof, self._telescope, self._weather = roof, telescope, weather
-        self._autofocus, self._temperatures = autofocus, temperatures
-        self._temperature_sensor = temperature_sensor
+        self._observatory = ObservatoryControl(
+            self,
+            self.site,
+            roof=roof,
+            telescope=telescope,
+            weather=weather,
+            temperatures=temperatures,
+            temperature_sensor=temperature_sensor,
+        )
+        self._autofocus = autofocus
         self._sun_caps = {
             "max_sun_altitude": max_sun_altitude,
             "twilight_max_sun_altitude": twilight_max_sun_altitude,
@@ -161,8 +161,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         self._running = autostart
         self._stop_cause: str | None = None  # why a running task must stop (operator)
         self._wake = asyncio.Event()
-        self._weather_heard: bool | None = None  # the last weather event's verdict
-        self._good_from: datetime | None = None  # a GoodWeatherEvent's eta
         self._current: Task | None = None
         self._progress = TaskProgress()
         self._failed_slots: set[tuple[str, datetime]] = set()  # (task, slot start): failed by itself
@@ -188,12 +186,12 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
 
     async def on_bad_weather(self, event: BadWeatherEvent, sender: str) -> None:
         log.warning("%s: bad weather (%s)", self.name, event.reason or "no reason given")
-        self._weather_heard = False
+        self._observatory.heard_bad_weather()
         self._wake.set()
 
     async def on_good_weather(self, event: GoodWeatherEvent, sender: str) -> None:
         log.info("%s: good weather%s", self.name, f" from {event.eta:%H:%M:%S}" if event.eta else "")
-        self._weather_heard, self._good_from = True, event.eta
+        self._observatory.heard_good_weather(event.eta)
         self._wake.set()
 
     async def on_roof_closing(self, event: RoofClosingEvent, sender: str) -> None:
@@ -231,16 +229,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                 if self._running:
                     pause = await self._step()
                 elif not self._safe_since_stop:
-                    self._safe_since_stop = await self._close_and_park("robotic mode was stopped")
+                    self._safe_since_stop = await self._observatory.close_and_park("robotic mode was stopped")
             except Exception:
                 log.exception("%s: error in the robotic loop; closing the roof and parking", self.name)
-                await self._close_and_park("an error in the robotic loop")
+                await self._observatory.close_and_park("an error in the robotic loop")
                 raise  # restarted with backoff by add_background_task
             await self._sleep(pause)
 
     async def _step(self) -> float:
         """Decide and act once; returns the clock seconds to wait before the next step."""
-        conditions = await self._observe()
+        conditions = await self._observatory.observe()
         slots, tasks = await self._read_slots(conditions.now)
         action = decide(conditions, slots, keep_open=self._keep_open)
         if action != self._last_action:
@@ -250,9 +248,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             await self._run(action.slot, tasks[action.slot.task_id])
             return 0.0
         if isinstance(action, OpenUp):
-            return 1.0 if await self._open_up(conditions) else self._poll
+            return 1.0 if await self._observatory.open_up(conditions) else self._poll
         if isinstance(action, CloseAndPark):
-            await self._close_and_park(action.reason)
+            await self._observatory.close_and_park(action.reason)
             return self._poll
         if action.until is not None:
             return max(0.0, min(self._poll, (action.until - conditions.now).total_seconds()))
@@ -266,55 +264,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                     await self._wake.wait()
         self._wake.clear()
 
-    # --- observing the world -------------------------------------------------------------------
-
-    async def _observe(self) -> Conditions:
-        now, unix = self.clock.now(), self.clock.time()
-        site = self.site
-        assert site is not None  # checked in the constructor
-        sun_now = sun_altitude(site.latitude, site.longitude, unix)
-        sun_later = sun_altitude(site.latitude, site.longitude, unix + 600.0)
-        weather_good, roof, telescope_ready = await asyncio.gather(
-            self._weather_good(), self._roof_state(), self._telescope_ready()
-        )
-        if self._good_from is not None and now < self._good_from:
-            weather_good = False
-        return Conditions(now, sun_now, sun_later > sun_now, weather_good, roof, telescope_ready)
-
-    async def _weather_good(self) -> bool:
-        if self._weather is None or self._weather_heard is False:
-            return self._weather_heard is True
-        try:
-            return await (await self.proxy(self._weather, IWeather)).is_weather_good()
-        except NightcrewError as exc:
-            log.warning("%s: no weather verdict (%s): taking it as bad", self.name, exc)
-            return False
-
-    async def _roof_state(self) -> RoofState:
-        try:
-            return RoofState.of_motion(await (await self.proxy(self._roof, IRoof)).get_motion_status())
-        except NightcrewError as exc:
-            log.warning("%s: roof status unknown: %s", self.name, exc)
-            return RoofState.UNKNOWN
-
-    async def _telescope_ready(self) -> bool:
-        try:
-            return await (await self.proxy(self._telescope, ITelescope)).get_motion_status() in _POINTING
-        except NightcrewError as exc:
-            log.warning("%s: telescope status unknown: %s", self.name, exc)
-            return False
-
-    async def _temperature(self) -> float | None:
-        try:
-            if self._temperatures is not None:
-                values = await (await self.proxy(self._temperatures, ITemperatures)).get_temperatures()
-                return values.get(self._temperature_sensor)
-            if self._weather is not None:
-                report = await (await self.proxy(self._weather, IWeather)).get_current_weather()
-                return report.sensors.get("temperature")
-        except NightcrewError as exc:
-            log.warning("%s: no temperature: %s", self.name, exc)
-        return None
+    # --- reading the schedule ------------------------------------------------------------------
 
     async def _read_slots(self, now: datetime) -> tuple[list[Slot], dict[str, Task]]:
         entries = await self._store.read_schedule(start=now, end=now + self._keep_open + timedelta(hours=1))
@@ -330,34 +280,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             failed_here = (task.id, entry.start) in self._failed_slots
             slots.append(slot_for(entry, task, failed_here=failed_here, **self._sun_caps))
         return slots, tasks
-
-    # --- acting --------------------------------------------------------------------------------
-
-    async def _open_up(self, conditions: Conditions) -> bool:
-        """Open the roof and initialise the telescope; False (logged) if either failed."""
-
-        async def open_roof() -> None:
-            await (await self.proxy(self._roof, IRoof)).open_roof()
-
-        async def init_telescope() -> None:
-            if not conditions.telescope_ready:
-                await (await self.proxy(self._telescope, ITelescope)).init()
-
-        return await all_done(
-            {"open the roof": open_roof(), "initialise the telescope": init_telescope()}, who=self.name
-        )
-
-    async def _close_and_park(self, reason: str) -> bool:
-        """Close the roof and park the telescope at the same time; False (logged) if either failed."""
-        log.info("%s: closing the roof and parking the telescope: %s", self.name, reason)
-
-        async def close_roof() -> None:
-            await (await self.proxy(self._roof, IRoof)).close_roof()
-
-        async def park() -> None:
-            await (await self.proxy(self._telescope, ITelescope)).park()
-
-        return await all_done({"close the roof": close_roof(), "park the telescope": park()}, who=self.name)
 
     # --- running a task ------------------------------------------------------------------------
 
@@ -407,7 +329,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             return False
 
     async def _abort_cause(self, slot: Slot) -> str | None:
-        return self._stop_cause or abort_cause(await self._observe(), slot)
+        return self._stop_cause or abort_cause(await self._observatory.observe(), slot)
 
     async def _on_progress(self, progress: TaskProgress) -> None:
         task = self._current
@@ -444,7 +366,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         """Focus if configured and due; False if the focus run was aborted (the slot waits)."""
         if self._autofocus is None:
             return True
-        temperature = await self._temperature()
+        temperature = await self._observatory.temperature()
         if not focus_due(
             focused=self._focused,
             last_temperature=self._focus_temperature,
