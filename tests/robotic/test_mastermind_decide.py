@@ -171,7 +171,7 @@ def test_a_running_sky_task_stops_for_weather_roof_and_sun() -> None:
     assert abort_cause(NIGHT, slot) is None
     assert abort_cause(_at(NIGHT, weather_good=False), slot) == "bad weather"
     assert abort_cause(_at(NIGHT, roof=RoofState.CLOSING), slot) == "the roof (closing)"
-    assert abort_cause(_at(NIGHT, sun_altitude=-11.5), slot) == "the Sun at -11.5° (the task needs ≤ -12°)"
+    assert abort_cause(_at(NIGHT, sun_altitude=-11.5), slot) == "the Sun at -11.50° (the task needs ≤ -12°)"
 
 
 def test_a_running_task_without_sky_goes_on_whatever_happens() -> None:

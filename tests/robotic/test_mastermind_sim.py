@@ -32,7 +32,14 @@ from nightcrew.events import (
 from nightcrew.interfaces import IAutoFocus, ModuleState, MotionStatus
 from nightcrew.modules import Module
 from nightcrew.modules.robotic.mastermind import Mastermind
-from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimRoof, SimTelescope, SimWeatherStation
+from nightcrew.modules.sim import (
+    SimCamera,
+    SimFilterWheel,
+    SimFocuser,
+    SimRoof,
+    SimTelescope,
+    SimWeatherStation,
+)
 from nightcrew.modules.weather import ModuleStation, Weather
 from nightcrew.robotic.archives import ScheduleEntry, SqliteTaskArchive
 from nightcrew.robotic.runner import TaskRunner
@@ -116,15 +123,15 @@ class QueueScheduler(Module):
         tasks = sorted(await self._archive.get_schedulable_tasks(), key=lambda t: int(t.id))
         if any(t.state is TaskState.FAILED for t in tasks):  # the first plan is the test's
             start = event.eta or self.clock.now()
-            await self._archive.write_schedule(_queue(tasks, start, self._slot), replace_from=start)
+            await self._archive.write_schedule(queue(tasks, start, self._slot), replace_from=start)
             self.plans += 1
 
 
-def _queue(tasks: list[Task], start: datetime, slot: timedelta) -> list[ScheduleEntry]:
+def queue(tasks: list[Task], start: datetime, slot: timedelta) -> list[ScheduleEntry]:
     return [ScheduleEntry(t.id, start + i * slot, start + (i + 1) * slot) for i, t in enumerate(tasks)]
 
 
-def _group(
+def group(
     target: dict[str, Any], count: int = EXPOSURES, exposure_time: float = EXPOSURE_TIME
 ) -> dict[str, Any]:
     return {
@@ -179,15 +186,16 @@ class Night:
         return [(await self.obs.vfs.read_fits(e.filename))[0].header for e in self.recorder.of(NewImageEvent)]
 
 
-async def _start(
-    obs: Observatory, tmp_path: Path, groups: list[dict[str, Any]], scenario: list[dict[str, Any]] | None
+async def start_night(
+    parts: Parts, groups: list[dict[str, Any]], scenario: list[dict[str, Any]] | None = None
 ) -> Night:
+    """The devices, the archive holding ``groups``, and with a ``scenario`` a weather station and Weather."""
+    obs, archive = parts
     recorder = await obs.start(Recorder, "recorder")
-    archive = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=obs.clock, poll_interval=0)
-    await archive.open()
     tasks = [task for group in groups for task in await archive.add_request_group(parse_request_group(group))]
     telescope = await obs.start(SimTelescope, "telescope", init_time=5.0, settle_time=1.0, seed=1)
     await obs.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V")
+    await obs.start(SimFocuser, "focuser", focus=25.0, best_focus=25.0)
     roof = await obs.start(SimRoof, "roof", open_time=30.0, close_time=30.0)
     camera = {"detector": DETECTOR, "catalog_depth": 12.0, "seed": 3, "readout_time": 1.0, "weather": None}
     await obs.start(SimCamera, "camera", roof="roof", **camera)
@@ -204,7 +212,7 @@ async def _start(
     return Night(obs, archive, recorder, roof, telescope, tasks=tasks)
 
 
-async def _start_mastermind(site: Night, **options: Any) -> Mastermind:
+async def start_mastermind(site: Night, **options: Any) -> Mastermind:
     runner = TaskRunner(scripts={"EXPOSE": ImagingScript(filters="filters")})
     options.setdefault("weather", "weather")
     site.mastermind = await site.obs.start(
@@ -219,29 +227,35 @@ async def _start_mastermind(site: Night, **options: Any) -> Mastermind:
     return site.mastermind
 
 
+Parts = tuple[Observatory, SqliteTaskArchive]
+
+
 @pytest.fixture
-async def observatory() -> AsyncIterator[Observatory]:
+async def parts(tmp_path: Path) -> AsyncIterator[Parts]:
+    """A fast observatory and an open SQLite archive on its clock; closed in that order."""
     obs = Observatory(speed=SPEED)
+    archive = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=obs.clock, poll_interval=0)
+    await archive.open()
     try:
-        yield obs
+        yield obs, archive
     finally:
         await obs.close()
+        await archive.close()
         MemoryFile.clear_shared()
 
 
 RAIN_AT, DRY_AT = 660.0, 900.0  # task b runs from ~600 s to ~740 s
 
 
-async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof_closed(
-    observatory: Observatory, tmp_path: Path
-) -> None:
+async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof_closed(parts: Parts) -> None:
     scenario = [
         {"at": 0, "temperature": 8.0},
         {"at": RAIN_AT - 10, "temperature": 8.0},
         {"at": RAIN_AT, "rain": True, "temperature": 3.0},
         {"at": DRY_AT, "rain": False},
     ]
-    site = await _start(observatory, tmp_path, [_group(PLEIADES), _group(ORION), _group(HYADES)], scenario)
+    site = await start_night(parts, [group(PLEIADES), group(ORION), group(HYADES)], scenario)
+    observatory = site.obs
     t0 = observatory.clock.time()
     now = observatory.clock.now()
     await observatory.start(QueueScheduler, "scheduler", archive=site.archive, slot=600.0)
@@ -254,7 +268,7 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
         ],
         replace_from=now,
     )
-    mastermind = await _start_mastermind(site, autofocus="recorder", refocus_temperature_change=2.0)
+    mastermind = await start_mastermind(site, autofocus="recorder", refocus_temperature_change=2.0)
     assert await mastermind.is_autonomous()
 
     async def all_completed() -> bool:

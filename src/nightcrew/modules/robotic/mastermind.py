@@ -230,8 +230,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                     pause = await self._step()
                 elif not self._safe_since_stop:
                     self._safe_since_stop = await self._observatory.close_and_park("robotic mode was stopped")
-            except Exception:
-                log.exception("%s: error in the robotic loop; closing the roof and parking", self.name)
+            except Exception as exc:  # the traceback is logged by the restart below
+                log.error("%s: error in the robotic loop (%s); closing the roof and parking", self.name, exc)
                 await self._observatory.close_and_park("an error in the robotic loop")
                 raise  # restarted with backoff by add_background_task
             await self._sleep(pause)

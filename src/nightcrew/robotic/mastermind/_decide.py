@@ -214,7 +214,7 @@ def abort_cause(conditions: Conditions, slot: Slot) -> str | None:
     if conditions.roof is not RoofState.OPEN:
         return f"the roof ({conditions.roof})"
     if not slot.sun.allows(conditions.sun_altitude):
-        return f"the Sun at {conditions.sun_altitude:.1f}° (the task needs {slot.sun.describe()})"
+        return f"the Sun at {conditions.sun_altitude:.2f}° (the task needs {slot.sun.describe()})"
     return None
 
 
