@@ -3,6 +3,7 @@
 from nightcrew.modules.pointing.acquisition import Acquisition, AcquisitionFailedError
 from nightcrew.modules.pointing.apply import ApplyAltAzOffsets, ApplyOffsets, ApplyRaDecOffsets
 from nightcrew.modules.pointing.guiding import AutoGuiding, BaseGuiding, ScienceFrameAutoGuiding
+from nightcrew.modules.pointing.series import PointingSeries as PointingSeries
 
 __all__ = [
     "Acquisition",

@@ -1,0 +1,316 @@
+"""Pointing series: point at a grid across the sky, solve each image, write commanded vs solved as CSV.
+
+For each point of an alt/az grid (:func:`pointing_grid`) the telescope moves there (to the RA/Dec
+of that alt/az at that moment, tracking, or to the alt/az itself), the camera exposes, the
+``solver`` pipeline plate-solves the frame (e.g. SEP detection + :class:`CatalogAstrometry`, or
+:class:`SolveFieldAstrometry`) and the solved centre is compared with the commanded position. The
+CSV is rewritten after every point, so an aborted series keeps what it measured. Its columns
+(:data:`CSV_COLUMNS`; angles in degrees, offsets in arcsec, solved minus commanded):
+
+==================  =============================================================================
+time                start of the exposure (ISO, UTC; the FITS DATE-OBS)
+alt_cmd, az_cmd     the grid point
+ra_cmd, dec_cmd     commanded ICRS position (sent to the mount, or the grid point's at ``time``)
+ra_solved, ...      solved ICRS centre of the frame, and its alt/az at ``time`` (``alt_solved``,
+                    ``az_solved``)
+dra, ddec           offsets on the sky: (ra_solved - ra_cmd) * cos(dec), dec_solved - dec_cmd
+dalt, daz           (alt_solved - alt_cmd), (az_solved - az_cmd) * cos(alt)
+stars, rms          stars the solution rests on and their residual RMS (arcsec), if known
+filename            VFS path of the frame
+error               why the point has no solution ("" when solved)
+==================  =============================================================================
+
+Example (YAML)::
+
+    class: nightcrew.modules.pointing.PointingSeries
+    telescope: telescope
+    camera: camera
+    alt_range: [30, 80]     # degrees, lowest and highest row
+    alt_steps: 3
+    az_steps: 8
+    min_altitude: 25        # points below are left out
+    filename: /pointing/pointing-{time}.csv
+    solver:
+      class: nightcrew.images.Pipeline
+      steps:
+        - {class: nightcrew.images.processors.detection.SepSourceDetection}
+        - {class: nightcrew.images.astrometry.CatalogAstrometry}
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+from collections.abc import Awaitable
+from dataclasses import asdict, dataclass
+from datetime import UTC, datetime
+from typing import Any, Literal
+
+from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.images import Image, ImageProcessor, Pipeline
+from nightcrew.images.astrometry import AstrometryResult, CatalogAstrometry
+from nightcrew.images.processors.detection import SepSourceDetection
+from nightcrew.interfaces import IBinning, ICamera, IExposureTime, ImageType, IPointingSeries, ITelescope
+from nightcrew.modules.module import Module
+from nightcrew.modules.motion.runner import MotionRunner
+from nightcrew.modules.telescope.coords import altaz_to_radec, radec_to_altaz
+
+__all__ = ["CSV_COLUMNS", "PointingRow", "PointingSeries", "pointing_grid", "pointing_row"]
+
+log = logging.getLogger(__name__)
+
+ARCSEC = 3600.0
+
+
+def pointing_grid(
+    alt_range: tuple[float, float], alt_steps: int, az_steps: int, min_altitude: float = 0.0
+) -> list[tuple[float, float]]:
+    """The (alt, az) points of a series, in the order to visit them (degrees).
+
+    ``alt_steps`` rows evenly from ``alt_range[0]`` to ``alt_range[1]`` (both included), each with
+    ``az_steps`` azimuths evenly around the horizon; every other row is shifted by half an azimuth
+    step (the rows interleave instead of lining up) and run backwards (shorter slews between rows).
+    Points below ``min_altitude`` are left out.
+    """
+    low, high = alt_range
+    alts = [low] if alt_steps == 1 else [low + (high - low) * i / (alt_steps - 1) for i in range(alt_steps)]
+    step = 360.0 / az_steps
+    points: list[tuple[float, float]] = []
+    for row, alt in enumerate(alts):
+        azimuths = [(step * (i + 0.5 * (row % 2))) % 360.0 for i in range(az_steps)]
+        if row % 2:
+            azimuths.reverse()
+        points.extend((alt, az) for az in azimuths if alt >= min_altitude)
+    return points
+
+
+@dataclass(frozen=True)
+class PointingRow:
+    """One line of the CSV (see the module docstring); solved fields are None without a solution."""
+
+    time: str
+    alt_cmd: float
+    az_cmd: float
+    ra_cmd: float
+    dec_cmd: float
+    ra_solved: float | None = None
+    dec_solved: float | None = None
+    alt_solved: float | None = None
+    az_solved: float | None = None
+    dra: float | None = None
+    ddec: float | None = None
+    dalt: float | None = None
+    daz: float | None = None
+    stars: int | None = None
+    rms: float | None = None
+    filename: str = ""
+    error: str = ""
+
+    def csv(self) -> dict[str, object]:
+        """The row for the CSV writer: rounded numbers, empty cells for missing values."""
+        return {key: "" if value is None else _rounded(value) for key, value in asdict(self).items()}
+
+
+#: Column names of the CSV, in order.
+CSV_COLUMNS = tuple(PointingRow.__dataclass_fields__)
+
+
+def _rounded(value: object) -> object:
+    return round(value, 7) if isinstance(value, float) else value
+
+
+def pointing_row(
+    time: str,
+    commanded_altaz: tuple[float, float],
+    commanded_radec: tuple[float, float],
+    solved_radec: tuple[float, float],
+    solved_altaz: tuple[float, float],
+    **extra: Any,
+) -> PointingRow:
+    """A solved row: the offsets (arcsec) of the solved from the commanded position."""
+    (alt, az), (ra, dec) = commanded_altaz, commanded_radec
+    (ra_s, dec_s), (alt_s, az_s) = solved_radec, solved_altaz
+    return PointingRow(
+        time,
+        alt,
+        az,
+        ra,
+        dec,
+        ra_s,
+        dec_s,
+        alt_s,
+        az_s,
+        dra=_wrapped(ra_s - ra) * math.cos(math.radians(dec)) * ARCSEC,
+        ddec=(dec_s - dec) * ARCSEC,
+        dalt=(alt_s - alt) * ARCSEC,
+        daz=_wrapped(az_s - az) * math.cos(math.radians(alt)) * ARCSEC,
+        **extra,
+    )
+
+
+def _wrapped(degrees: float) -> float:
+    """An angle difference in -180..180."""
+    return (degrees + 180.0) % 360.0 - 180.0
+
+
+class PointingSeries(Module, IPointingSeries):
+    """Measures the telescope's pointing across the sky (see the module docstring).
+
+    Args:
+        telescope: Module offering ITelescope.
+        camera: Module offering ICamera (IExposureTime and IBinning used if offered).
+        solver: Image processors that leave a WCS in the image; default SEP detection followed by
+            :class:`CatalogAstrometry` with its defaults.
+        alt_range: Altitudes of the lowest and highest row, degrees.
+        alt_steps: Rows of the grid.
+        az_steps: Azimuths per row.
+        min_altitude: Points below this altitude are left out, degrees.
+        move: ``radec``: track the RA/Dec of each point at the moment of the move; ``altaz``: move
+            to the alt/az itself (no tracking; keep exposures short).
+        exposure_time: Seconds per frame.
+        binning: Square binning of the frames (a wide field solves more surely), if the camera bins.
+        filename: VFS path of the CSV; ``{time}`` becomes the start time (``20240115T220000``).
+    """
+
+    def __init__(
+        self,
+        *,
+        telescope: str | ITelescope = "telescope",
+        camera: str | ICamera = "camera",
+        solver: ImageProcessor | None = None,
+        alt_range: tuple[float, float] = (30.0, 80.0),
+        alt_steps: int = 3,
+        az_steps: int = 8,
+        min_altitude: float = 20.0,
+        move: Literal["radec", "altaz"] = "radec",
+        exposure_time: float = 2.0,
+        binning: int = 1,
+        filename: str = "/pointing/pointing-{time}.csv",
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        low, high = alt_range
+        if not 0.0 <= low <= high <= 90.0:
+            raise ConfigError(
+                f"need 0 <= lowest <= highest <= 90 degrees, got {list(alt_range)}", key="alt_range"
+            )
+        if alt_steps < 1 or az_steps < 1:
+            raise ConfigError(
+                f"need at least one row and one azimuth, got {alt_steps} x {az_steps}", key="alt_steps"
+            )
+        if move not in ("radec", "altaz"):
+            raise ConfigError(f"must be 'radec' or 'altaz', got {move!r}", key="move")
+        if binning < 1:
+            raise ConfigError(f"must be >= 1, got {binning}", key="binning")
+        if not exposure_time >= 0:
+            raise ConfigError(f"must be >= 0 seconds, got {exposure_time}", key="exposure_time")
+        if self.site is None:
+            raise ConfigError("a pointing series needs the observatory site (alt/az to RA/Dec)", key="site")
+        self._points = pointing_grid((float(low), float(high)), alt_steps, az_steps, float(min_altitude))
+        if not self._points:
+            raise ConfigError(f"every point of the grid is below {min_altitude} degrees", key="min_altitude")
+        self._telescope, self._camera, self._move = telescope, camera, move
+        self._solver = self.add_child(solver or Pipeline([SepSourceDetection(), CatalogAstrometry()]))
+        self._exposure_time, self._binning, self._filename = float(exposure_time), binning, filename
+        self._runner = MotionRunner("pointing series")
+
+    @property
+    def points(self) -> list[tuple[float, float]]:
+        """The (alt, az) grid in the order visited."""
+        return list(self._points)
+
+    async def abort(self) -> None:
+        await self._runner.stop("aborted on request")
+
+    async def start_pointing_series(self) -> str:
+        self._runner.check_idle()
+        return await self._runner.run("pointing series", self._series())
+
+    async def _series(self) -> str:
+        telescope = await self.proxy(self._telescope, ITelescope)
+        camera = await self.proxy(self._camera, ICamera)
+        if isinstance(camera, IExposureTime):
+            await camera.set_exposure_time(self._exposure_time)
+        if isinstance(camera, IBinning):
+            await camera.set_binning(self._binning, self._binning)
+        path = self._filename.format(time=self.clock.now().strftime("%Y%m%dT%H%M%S"))
+        rows: list[PointingRow] = []
+        for number, (alt, az) in enumerate(self._points, start=1):
+            try:
+                row = await self._measure(telescope, camera, alt, az)
+            except asyncio.CancelledError:
+                await _quietly(camera.abort(), "abort the exposure")
+                await _quietly(telescope.stop_motion(), "stop the telescope")
+                raise
+            rows.append(row)
+            log.info(
+                "%s: point %d/%d alt %.1f az %.1f: %s",
+                self.name,
+                number,
+                len(self._points),
+                alt,
+                az,
+                row.error or f'dRA {row.dra:.1f}" dDec {row.ddec:.1f}"',
+            )
+            await self.vfs.write_csv(path, [r.csv() for r in rows], fieldnames=CSV_COLUMNS)
+        return path
+
+    async def _measure(self, telescope: ITelescope, camera: ICamera, alt: float, az: float) -> PointingRow:
+        """Move, expose and solve one point; a failed move or solve is a row with its error."""
+        assert self.site is not None  # checked in the constructor
+        lat, lon = self.site.latitude, self.site.longitude
+        radec = altaz_to_radec(alt, az, lat, lon, self.clock.time())
+        try:
+            if self._move == "radec":
+                await telescope.move_radec(*radec)
+            else:
+                await telescope.move_altaz(alt, az)
+            filename = await camera.grab_data(False, ImageType.OBJECT)
+        except NightcrewError as exc:
+            return PointingRow(_iso(self.clock.time()), alt, az, *radec, error=f"{type(exc).__name__}: {exc}")
+        image = await Image.from_vfs(self.vfs, filename)
+        start = _exposure_start(image, self.clock.time())
+        if self._move == "altaz":  # the grid point drifts across the sky: where it was when exposing
+            radec = altaz_to_radec(alt, az, lat, lon, start)
+        try:
+            solved = await self._solver(image)
+            rows, cols = solved.shape
+            ra_s, dec_s = (float(v[0]) for v in solved.pixel_to_sky([(cols - 1) / 2.0], [(rows - 1) / 2.0]))
+        except NightcrewError as exc:
+            return PointingRow(
+                _iso(start), alt, az, *radec, filename=filename, error=f"{type(exc).__name__}: {exc}"
+            )
+        result = solved.metadata.get("astrometry")
+        return pointing_row(
+            _iso(start),
+            (alt, az),
+            radec,
+            (ra_s % 360.0, dec_s),
+            radec_to_altaz(ra_s, dec_s, lat, lon, start),
+            stars=result.matched if isinstance(result, AstrometryResult) else None,
+            rms=result.rms_arcsec if isinstance(result, AstrometryResult) else None,
+            filename=filename,
+        )
+
+
+def _exposure_start(image: Image, default: float) -> float:
+    value = image.header.get("DATE-OBS")
+    if not isinstance(value, str):
+        return default
+    try:
+        start = datetime.fromisoformat(value)
+    except ValueError:
+        return default
+    return (start if start.tzinfo else start.replace(tzinfo=UTC)).timestamp()  # FITS times are UTC
+
+
+def _iso(unix_time: float) -> str:
+    return datetime.fromtimestamp(unix_time, UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
+
+
+async def _quietly(call: Awaitable[Any], what: str) -> None:
+    try:
+        await call
+    except NightcrewError as exc:
+        log.error("could not %s: %s", what, exc)
