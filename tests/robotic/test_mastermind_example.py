@@ -1,0 +1,33 @@
+"""examples/robotic/mastermind.yaml is a valid configuration that builds a Mastermind."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.errors import ConfigError
+from nightcrew.modules import Module
+from nightcrew.modules.robotic import Mastermind
+from nightcrew.robotic.scripts import ImagingScript
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "robotic" / "mastermind.yaml"
+
+
+def test_the_example_validates_and_builds(tmp_path: Path) -> None:
+    config = load_config(EXAMPLE, environ={"NIGHTCREW_TASKS_DB": str(tmp_path / "tasks.sqlite")})
+    validate_config(config, Module)
+    mastermind = build_object({**config, "name": "mastermind"}, Module)
+    assert isinstance(mastermind, Mastermind)
+    assert isinstance(mastermind._runner.scripts["EXPOSE"], ImagingScript)
+    assert not (tmp_path / "tasks.sqlite").exists()  # constructors do no I/O
+
+
+def test_a_mastermind_without_site_or_schedule_is_refused(tmp_path: Path) -> None:
+    config = load_config(EXAMPLE, environ={"NIGHTCREW_TASKS_DB": str(tmp_path / "tasks.sqlite")})
+    without_site = {key: value for key, value in config.items() if key != "site"}
+    with pytest.raises(ConfigError, match=r"key 'site': the mastermind needs the observatory's site"):
+        build_object({**without_site, "name": "mastermind"}, Module)
+    with pytest.raises(ConfigError, match="key 'poll_interval': must be > 0 seconds"):
+        build_object({**config, "name": "mastermind", "poll_interval": 0}, Module)
