@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
+from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.errors import ConfigError, NotSupportedError
-from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.runner import TaskRunner, configuration_task, merged_progress
 from nightcrew.robotic.scripts import ImagingScript
+from nightcrew.robotic.tasks import TaskProgress
 
 from .runner_sim import PLEIADES, ProgressLog, SimSetup, make_task, sim
 
@@ -68,3 +72,27 @@ def test_bad_script_keys_are_config_errors_naming_the_key() -> None:
         TaskRunner(scripts={"EXPOSURE": IMAGING})
     with pytest.raises(ConfigError, match=r"key 'scripts\.SCRIPT:'"):
         TaskRunner(scripts={"SCRIPT:": IMAGING})
+
+
+def test_the_example_runner_config_validates_and_builds_every_script() -> None:
+    path = Path(__file__).parents[2] / "examples" / "robotic" / "runner.yaml"
+    config = load_config(path)
+    validate_config(config, TaskRunner)
+    runner = build_object(config, TaskRunner)
+    assert {key: type(script).__name__ for key, script in runner.scripts.items()} == {
+        "EXPOSE": "ImagingScript",
+        "REPEAT_EXPOSE": "ImagingScript",
+        "BIAS": "CalibrationScript",
+        "DARK": "CalibrationScript",
+        "AUTO_FOCUS": "AutoFocusScript",
+        "SKY_FLAT": "SkyFlatScript",
+        "SCRIPT:pointing": "PointingSeriesScript",
+    }
+
+
+def test_a_task_is_narrowed_to_one_configuration_and_its_progress_put_back() -> None:
+    task = make_task(expose("V", "R"), {"type": "BIAS", "instrument_configs": [{"exposure_time": 0}]})
+    second = configuration_task(task, 1)
+    assert [c.type.value for c in second.request.configurations] == ["BIAS"]
+    done = merged_progress(TaskProgress.nothing_done(task.request), 1, TaskProgress(exposures_done=((1,),)))
+    assert done.exposures_done == ((0, 0), (1,))
