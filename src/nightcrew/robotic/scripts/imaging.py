@@ -110,7 +110,7 @@ class ImagingScript(Script):
                 config.acquisition_config.mode,
             )
             return
-        acquisition = await self.proxy(self._acquisition, IAcquisition)
+        acquisition = await step("connect to the acquisition", self.proxy(self._acquisition, IAcquisition))
         result = await step("acquisition", acquisition.acquire_target(), on_cancel=acquisition.abort)
         log.info("acquired: %s", result)
 
