@@ -1,4 +1,7 @@
-"""``nightcrew sim``: the bundled observatory runs a night and writes complete, solvable frames."""
+"""``nightcrew sim --quick``: the bundled observatory runs a short night and writes complete, solvable frames.
+
+The whole robotic night (the default) is tested in ``test_sim_night.py``.
+"""
 
 from __future__ import annotations
 
@@ -42,6 +45,7 @@ def night(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
     code = main(
         [
             "sim",
+            "--quick",
             "--out",
             str(out),
             "--speed",
@@ -100,6 +104,7 @@ def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     code = main(
         [
             "sim",
+            "--quick",
             "--out",
             str(tmp_path),
             "--speed",
@@ -129,6 +134,8 @@ def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]
         (["--date", "2026-13-01"], "not a date"),
         (["--speed", "0"], "must be > 0"),
         (["--targets", "0"], "must be >= 1"),
+        (["--weather", "hail"], "invalid choice: 'hail'"),
+        (["--hours", "-1"], "must be > 0"),
     ],
 )
 def test_bad_arguments_are_one_clear_error(
@@ -143,7 +150,9 @@ def test_bad_arguments_are_one_clear_error(
 def test_unknown_filter_fails_after_a_safe_shutdown(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = main(["sim", "--out", str(tmp_path), "--speed", "200", "--targets", "1", "--filters", "Halpha"])
+    code = main(
+        ["sim", "--quick", "--out", str(tmp_path), "--speed", "200", "--targets", "1", "--filters", "Halpha"]
+    )
     _, err = capsys.readouterr()
     assert code == 1
     assert "unknown filter 'Halpha'; known filters: B, V, R, I, clear" in err

@@ -1,11 +1,14 @@
-"""``nightcrew sim``: run the simulated observatory through a night, fast, and write its images.
+"""``nightcrew sim``: run the simulated observatory through a whole robotic night, fast.
 
-All modules of the bundled observatory (``examples/sim``: weather, roof, telescope, focuser,
-filter wheel, camera) run in this process on one accelerated clock. The night starts after
-astronomical dusk of ``--date`` at the observatory's site: the roof opens, the telescope slews to
-a few well-known star fields high in the sky and the camera takes one exposure per filter in each;
-then the telescope parks and the roof closes (also after an error or Ctrl-C). FITS files go to
-``--out``; progress is shown on stderr, a summary on stdout.
+All modules of the bundled observatory (``examples/sim``: weather station, roof, telescope,
+focuser, filter wheel, camera, and in ``robotic/`` the weather verdict, scheduler, mastermind,
+focus series, flat fields, acquisition, guiding, seeing and a recorder) run in this process on one
+accelerated clock, from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
+the mastermind runs them (sky flats, bias and darks, focus, science), the weather (``--weather``)
+may interrupt them, and at the end the telescope parks and the roof closes (also after an error or
+Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night report
+(report.html) go to ``--out``. ``--quick`` runs the short scripted night instead (a few fields, no
+scheduler). Progress is shown on stderr, a summary on stdout.
 """
 
 from __future__ import annotations
@@ -32,10 +35,13 @@ from nightcrew.modules.sim.night import (
     run_night,
 )
 from nightcrew.modules.sim.night_plan import Step, choose_targets, night_start, plan_night
+from nightcrew.modules.sim.whole_night_plan import WEATHER_SCENARIOS
 from nightcrew.site import Site
 
-__all__ = ["add_parser"]
+__all__ = ["NIGHT_SPEED", "add_parser", "site_of"]
 
+#: Clock seconds per wall second: the short night, and the whole night (14.5 h in ~3 minutes).
+QUICK_SPEED, NIGHT_SPEED = 60.0, 300.0
 #: A moonless autumn night (new moon on 2026-11-09) with Cygnus and Cassiopeia high after dusk.
 DEFAULT_NIGHT = "2026-11-10"
 
@@ -46,12 +52,28 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     parser.add_argument("--out", type=Path, default=Path("sim-output"), help="directory for the FITS files")
     parser.add_argument("--date", type=_night, default=_night(DEFAULT_NIGHT), help="night (YYYY-MM-DD)")
-    parser.add_argument("--speed", type=_positive, default=60.0, help="clock seconds per wall second")
-    parser.add_argument("--seed", type=int, default=None, help="replace the seeds of all modules")
-    parser.add_argument("--targets", type=_count, default=3, help="number of star fields")
-    parser.add_argument("--filters", default="V,R", help="comma-separated filters, one exposure each")
-    parser.add_argument("--exposure-time", type=_positive, default=30.0, help="seconds per exposure")
     parser.add_argument(
+        "--speed",
+        type=_positive,
+        default=None,
+        help=f"clock seconds per wall second (default {NIGHT_SPEED:g}; --quick: {QUICK_SPEED:g})",
+    )
+    parser.add_argument("--seed", type=int, default=None, help="replace the seeds of all modules")
+    parser.add_argument(
+        "--weather",
+        choices=WEATHER_SCENARIOS,
+        default="interruption",
+        help="clear; interruption: an hour of rain mid-night (default); random: from --seed",
+    )
+    parser.add_argument(
+        "--hours", type=_positive, default=None, help="stop after this many clock hours (default: at dawn)"
+    )
+    parser.add_argument("--quick", action="store_true", help="the short scripted night (no scheduler)")
+    quick = parser.add_argument_group("the short night (--quick)")
+    quick.add_argument("--targets", type=_count, default=3, help="number of star fields")
+    quick.add_argument("--filters", default="V,R", help="comma-separated filters, one exposure each")
+    quick.add_argument("--exposure-time", type=_positive, default=30.0, help="seconds per exposure")
+    quick.add_argument(
         "--calibration-frames",
         type=_non_negative,
         default=3,
@@ -65,9 +87,18 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     return parser
 
 
+def whole_night_command(args: argparse.Namespace) -> int:
+    from nightcrew.cli._sim_night import run_whole_night_command  # the heavier imports only here
+
+    return run_whole_night_command(args)
+
+
 def _sim_command(args: argparse.Namespace) -> int:
+    if not args.quick:
+        return whole_night_command(args)
+    args.speed = args.speed or QUICK_SPEED
     directory: Path = args.configs or bundled_observatory()
-    site = _site_of(directory)
+    site = site_of(directory)
     start = night_start(args.date, site)
     try:
         targets = choose_targets(site, start.timestamp(), args.targets)
@@ -110,7 +141,7 @@ async def _run(
             loop.remove_signal_handler(sig)
 
 
-def _site_of(directory: Path) -> Site:
+def site_of(directory: Path) -> Site:
     """The observatory's site: the one the telescope's file gives."""
     path = directory / "telescope.yaml"
     if not path.is_file():

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
@@ -36,7 +36,14 @@ from nightcrew.modules.sim.interfaces import ISimFocuserTruth
 from nightcrew.modules.sim.night_plan import Step
 from nightcrew.vfs import LocalFile, VirtualFileSystem
 
-__all__ = ["IMAGES_ROOT", "NightReport", "build_observatory", "bundled_observatory", "run_night"]
+__all__ = [
+    "IMAGES_ROOT",
+    "NightReport",
+    "build_observatory",
+    "bundled_observatory",
+    "park_and_close",
+    "run_night",
+]
 
 log = logging.getLogger(__name__)
 
@@ -64,12 +71,19 @@ class NightReport:
 
 
 def build_observatory(
-    directory: Path, *, clock: Clock, out_dir: Path, seed: int | None = None, network: LocalNetwork
+    directory: Path,
+    *,
+    clock: Clock,
+    out_dir: Path,
+    seed: int | None = None,
+    network: LocalNetwork,
+    overrides: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> list[Module]:
     """Validate, then build the modules of the top-level ``*.yaml`` files of ``directory``.
 
     Every module gets ``clock``, a VFS with the ``images`` root in ``out_dir`` and a comm on
-    ``network`` named after its file; ``seed`` replaces the seed of every file that sets one.
+    ``network`` named after its file; ``seed`` replaces the seed of every file that sets one, and
+    ``overrides`` (by module name) replace keys after validation (objects the file cannot say).
     Nothing is opened. Files in subdirectories (fragments, extras) are not modules of the night.
     """
     paths = sorted(directory.glob("*.yaml"))
@@ -81,14 +95,15 @@ def build_observatory(
     vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(out_dir))})
     modules = []
     for path, config in zip(paths, configs, strict=True):
-        overrides: dict[str, Any] = {
+        given: dict[str, Any] = {
             "comm": LocalComm(path.stem, network=network),
             "clock": clock,
             "vfs": vfs,
         }
         if seed is not None and "seed" in config:
-            overrides["seed"] = seed
-        config.update(overrides)
+            given["seed"] = seed
+        given.update((overrides or {}).get(path.stem, {}))
+        config.update(given)
         modules.append(build_object(config, Module))
     return modules
 
@@ -187,18 +202,22 @@ class _Night:
         return name in self._driver.comm.clients
 
     async def shutdown(self) -> None:
-        """Park the telescope and close the roof at the same time; log (never raise) failures."""
-        proxy = self._driver.comm.proxy
+        await park_and_close(self._driver)
 
-        async def park() -> None:
-            await (await proxy(TELESCOPE, ITelescope)).park()
 
-        async def close_roof() -> None:
-            await (await proxy(ROOF, IRoof)).close_roof()
+async def park_and_close(driver: Module) -> None:
+    """Park the telescope and close the roof at the same time; log (never raise) failures."""
+    proxy = driver.comm.proxy
 
-        results = await asyncio.gather(park(), close_roof(), return_exceptions=True)
-        for what, result in zip(("park the telescope", "close the roof"), results, strict=True):
-            if isinstance(result, NightcrewError):
-                log.error("could not %s: %s", what, result)
-            elif isinstance(result, BaseException):
-                raise result
+    async def park() -> None:
+        await (await proxy(TELESCOPE, ITelescope)).park()
+
+    async def close_roof() -> None:
+        await (await proxy(ROOF, IRoof)).close_roof()
+
+    results = await asyncio.gather(park(), close_roof(), return_exceptions=True)
+    for what, result in zip(("park the telescope", "close the roof"), results, strict=True):
+        if isinstance(result, NightcrewError):
+            log.error("could not %s: %s", what, result)
+        elif isinstance(result, BaseException):
+            raise result

@@ -1,0 +1,147 @@
+"""The whole robotic night of ``nightcrew sim`` (see :mod:`nightcrew.cli.sim` for the options)."""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import logging
+import signal
+import sys
+import time
+from datetime import datetime, timedelta
+from pathlib import Path
+from typing import Any, TextIO
+
+from nightcrew.clock import AcceleratedClock
+from nightcrew.errors import ConfigError
+from nightcrew.modules.sim.night import bundled_observatory
+from nightcrew.modules.sim.whole_night import NightProgress, ProgressCallback, WholeNight, run_whole_night
+from nightcrew.modules.sim.whole_night_plan import night_span, weather_scenario
+
+__all__ = ["NIGHT_CAMERA", "run_whole_night_command"]
+
+#: The camera of the whole night renders a quarter of the chip (1024 x 1024 px at 1.16"/px, a
+#: 20' field): every frame is still rendered and written, four times faster and smaller.
+NIGHT_CAMERA: dict[str, Any] = {"chip_width": 1024, "chip_height": 1024}
+
+
+def run_whole_night_command(args: argparse.Namespace) -> int:
+    from nightcrew.cli.sim import NIGHT_SPEED, site_of
+
+    directory: Path = args.configs or bundled_observatory()
+    site = site_of(directory)
+    try:
+        start, end = night_span(args.date, site)
+    except ValueError as exc:
+        raise ConfigError(f"--date {args.date}: {exc}") from exc
+    if args.hours is not None:
+        end = min(end, start + timedelta(hours=args.hours))
+    speed = args.speed or NIGHT_SPEED
+    duration = (end - start).total_seconds()
+    overrides = _device_overrides(directory, args.weather, duration, args.seed)
+
+    quiet = not (args.verbose or args.debug)
+    logger = logging.getLogger("nightcrew")
+    old_level = logger.level
+    if quiet:
+        logger.setLevel(logging.WARNING)
+    wall_start = time.monotonic()
+    try:
+        result = asyncio.run(_run(directory, args, start, end, speed, overrides, _printer(sys.stderr)))
+    finally:
+        logger.setLevel(old_level)
+    wall = time.monotonic() - wall_start
+    report = _write_report(args.out)
+    state = "night complete" if result.completed else "night stopped early"
+    print(
+        f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {args.weather} "
+        f"(night of {args.date}, {start:%H:%M}-{end:%H:%M} UTC at {speed:g}x; {wall:.1f} s wall time)"
+    )
+    print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
+    if report is not None:
+        print(f"  night report: {report}")
+    return 0 if result.completed else 130
+
+
+def _device_overrides(
+    directory: Path, weather: str, duration: float, seed: int | None
+) -> dict[str, dict[str, Any]]:
+    from nightcrew.config import load_config, to_plain
+
+    camera = load_config(directory / "camera.yaml") if (directory / "camera.yaml").is_file() else {}
+    detector = {**to_plain(camera.get("detector") or {}), **NIGHT_CAMERA}
+    station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
+    if seed is not None:
+        station["seed"] = seed
+    return {"weather": station, "camera": {"detector": detector}}
+
+
+async def _run(
+    directory: Path,
+    args: argparse.Namespace,
+    start: datetime,
+    end: datetime,
+    speed: float,
+    overrides: dict[str, dict[str, Any]],
+    progress: ProgressCallback,
+) -> WholeNight:
+    clock = AcceleratedClock(start, speed=speed)
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        loop.add_signal_handler(sig, stop.set)
+    try:
+        return await run_whole_night(
+            directory,
+            night=args.date,
+            site=_site(directory),
+            clock=clock,
+            end=end,
+            out_dir=args.out,
+            device_overrides=overrides,
+            seed=args.seed,
+            progress=progress,
+            stop=stop,
+        )
+    finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.remove_signal_handler(sig)
+
+
+def _site(directory: Path) -> Any:
+    from nightcrew.cli.sim import site_of
+
+    return site_of(directory)
+
+
+def _write_report(out: Path) -> Path | None:
+    try:
+        from nightcrew.report import write_report
+    except ImportError:  # the report is being built
+        return None
+    return write_report(out)
+
+
+def _printer(stream: TextIO) -> ProgressCallback:
+    """Progress as one rewritten line on a terminal, a line per clock half-hour elsewhere."""
+    tty = stream.isatty()
+    last: list[int] = [-1]
+
+    def show(p: NightProgress) -> None:
+        done = round(20 * p.fraction)
+        task = p.task or "-"
+        line = (
+            f"[{'#' * done}{'.' * (20 - done)}] {p.now:%H:%M} UTC  Sun {p.sun_altitude:+5.1f}°  "
+            f"frames {p.frames:4d}  {task[:40]}"
+        )
+        if tty:
+            stream.write("\r\033[K" + line)
+        else:
+            slot = (p.now.hour * 60 + p.now.minute) // 30
+            if slot == last[0]:
+                return
+            last[0] = slot
+            stream.write(line + "\n")
+        stream.flush()
+
+    return show

@@ -1,0 +1,224 @@
+"""A whole robotic night on the simulated observatory, in one process.
+
+The devices (the top-level files of the bundled observatory) and the robotic modules (its
+``robotic/`` directory: weather verdict, scheduler, mastermind with runner and scripts, focus
+series, flat fields, acquisition, guiding, seeing, recorder) are built on one in-process network
+and one accelerated clock. The task archive is a fresh SQLite file in ``out_dir`` loaded with the
+bundled sample tasks; the scheduler plans from it and the mastermind runs what it planned. Nobody
+drives the night: this function only watches (progress, the scheduler's plans into the recorder)
+until the clock reaches ``end`` or ``stop`` is set, then stops the mastermind, parks the telescope
+and closes the roof - also after an error - and closes every module.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from datetime import date, datetime
+from pathlib import Path
+from typing import Any
+
+from nightcrew.clock import Clock
+from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
+from nightcrew.interfaces import IStartStop
+from nightcrew.modules import Module
+from nightcrew.modules.robotic import SchedulerModule
+from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.modules.sim.night import build_observatory, park_and_close
+from nightcrew.modules.sim.night_blocks import NightBlockSource
+from nightcrew.modules.sim.night_recorder import EventRecorder
+from nightcrew.modules.sim.whole_night_plan import shifted_group
+from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.robotic.samples import load_samples
+from nightcrew.robotic.scheduler import Schedule
+from nightcrew.robotic.scheduler.adapters import as_schedule_store
+from nightcrew.site import Site
+
+__all__ = ["EVENTS_FILE", "FRAMES", "SCHEDULE_RECORD", "NightProgress", "WholeNight", "run_whole_night"]
+
+log = logging.getLogger(__name__)
+
+#: The recorder's file in the output directory.
+EVENTS_FILE = "events.jsonl"
+#: The ``kind`` of the recorder's lines with a plan of the scheduler.
+SCHEDULE_RECORD = "Schedule"
+#: The frames' directory in the output directory.
+FRAMES = "frames"
+#: Where the robotic modules' files are, below the observatory's directory.
+ROBOTIC = "robotic"
+
+
+@dataclass
+class NightProgress:
+    """What the progress line shows."""
+
+    now: datetime
+    sun_altitude: float
+    task: str | None
+    frames: int
+    fraction: float  # of the night's clock time
+
+
+@dataclass
+class WholeNight:
+    """How a night went: frames announced, tasks started, whether it ran to its end."""
+
+    frames: int = 0
+    tasks_started: int = 0
+    completed: bool = False
+
+
+ProgressCallback = Callable[[NightProgress], None]
+
+
+async def run_whole_night(
+    directory: Path,
+    *,
+    night: date,
+    site: Site,
+    clock: Clock,
+    end: datetime,
+    out_dir: Path,
+    device_overrides: dict[str, dict[str, Any]],
+    seed: int | None = None,
+    progress: ProgressCallback | None = None,
+    stop: asyncio.Event | None = None,
+) -> WholeNight:
+    """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc)."""
+    await asyncio.to_thread(_blocking_clear_records, out_dir)
+    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night)
+    network = LocalNetwork()
+    robotic: dict[str, dict[str, Any]] = {
+        "scheduler": {"archive": NightBlockSource(archive=archive), "store": as_schedule_store(archive)},
+        "mastermind": {"archive": archive},
+        "recorder": {"path": str(out_dir / EVENTS_FILE)},
+    }
+    frames = out_dir / FRAMES
+    modules = [
+        *build_observatory(
+            directory, clock=clock, out_dir=frames, seed=seed, network=network, overrides=device_overrides
+        ),
+        *build_observatory(
+            directory / ROBOTIC, clock=clock, out_dir=frames, seed=seed, network=network, overrides=robotic
+        ),
+    ]
+    watcher = _Watcher(LocalComm("night", network=network), clock, site)
+    opened: list[Module] = []
+    result = WholeNight()
+    try:
+        for module in [*modules, watcher]:
+            await module.open()
+            opened.append(module)
+        recorder = next(m for m in modules if isinstance(m, EventRecorder))
+        scheduler = next(m for m in modules if isinstance(m, SchedulerModule))
+        result.completed = await watcher.watch(end, recorder, scheduler, progress, stop or asyncio.Event())
+    finally:
+        await _stop_safely(watcher, opened)
+        result.frames, result.tasks_started = watcher.frames, watcher.tasks_started
+        await archive.close()
+    return result
+
+
+def _blocking_clear_records(out_dir: Path) -> None:
+    """Make ``out_dir``; remove the records and frames of an earlier night there."""
+    (out_dir / FRAMES).mkdir(parents=True, exist_ok=True)
+    for old in [*out_dir.glob("tasks.sqlite*"), out_dir / EVENTS_FILE, *(out_dir / FRAMES).glob("*.fits")]:
+        old.unlink(missing_ok=True)
+
+
+async def _fresh_archive(path: Path, clock: Clock, night: date) -> SqliteTaskArchive:
+    """A new archive at ``path`` holding the sample tasks for ``night``."""
+    archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
+    await archive.open()
+    for group in load_samples().values():
+        await archive.add_request_group(shifted_group(group, night))
+    return archive
+
+
+async def _stop_safely(watcher: Module, opened: list[Module]) -> None:
+    """Stop the mastermind, park and close (errors logged), then close every module."""
+    if watcher in opened:
+        try:
+            await (await watcher.proxy("mastermind", IStartStop)).stop()
+        except Exception as exc:  # the safe shutdown below matters more
+            log.error("could not stop the mastermind: %s", exc)
+        await park_and_close(watcher)
+    for module in reversed(opened):
+        try:
+            await module.close()
+        except Exception:
+            log.exception("closing %s failed", module.name)
+
+
+class _Watcher(Module):
+    """Listens to the night (frames, tasks) and shows it; drives nothing."""
+
+    def __init__(self, comm: LocalComm, clock: Clock, site: Site) -> None:
+        super().__init__(comm=comm, clock=clock)
+        self._where = site
+        self.frames = 0
+        self.tasks_started = 0
+        self.task: str | None = None
+
+    async def open(self) -> None:
+        await super().open()
+        await self.comm.register_event(NewImageEvent, self.on_new_image)
+        await self.comm.register_event(TaskStartedEvent, self.on_task_started)
+        await self.comm.register_event(TaskFinishedEvent, self.on_task_ended)
+        await self.comm.register_event(TaskFailedEvent, self.on_task_ended)
+
+    async def on_new_image(self, event: NewImageEvent, sender: str) -> None:
+        self.frames += 1
+
+    async def on_task_started(self, event: TaskStartedEvent, sender: str) -> None:
+        self.tasks_started += 1
+        self.task = event.name
+
+    async def on_task_ended(self, event: TaskFinishedEvent | TaskFailedEvent, sender: str) -> None:
+        self.task = None
+
+    async def watch(
+        self,
+        end: datetime,
+        recorder: EventRecorder,
+        scheduler: SchedulerModule,
+        progress: ProgressCallback | None,
+        stop: asyncio.Event,
+    ) -> bool:
+        """Until ``end`` (True) or ``stop`` (False): progress and the scheduler's plans."""
+        start = self.clock.now()
+        total = max(1.0, (end - start).total_seconds())
+        last_plan: Schedule | None = None
+        while self.clock.now() < end:
+            if scheduler.schedule is not None and scheduler.schedule is not last_plan:
+                last_plan = scheduler.schedule
+                recorder.record(SCHEDULE_RECORD, _plan_record(last_plan), sender=scheduler.name)
+            if progress is not None:
+                now = self.clock.now()
+                sun = sun_altitude(self._where.latitude, self._where.longitude, now.timestamp())
+                fraction = min(1.0, (now - start).total_seconds() / total)
+                progress(NightProgress(now, sun, self.task, self.frames, fraction))
+            try:
+                async with asyncio.timeout(0.5):  # wall seconds: the progress line's pace
+                    await stop.wait()
+                return False
+            except TimeoutError:
+                pass
+        return True
+
+
+def _plan_record(schedule: Schedule) -> dict[str, Any]:
+    return {
+        "solver": schedule.solver,
+        "status": schedule.status,
+        "objective": schedule.objective,
+        "bound": schedule.bound,
+        "wall_time_s": schedule.wall_time_s,
+        "slots": [
+            {"task": s.block_id, "start": s.start.isoformat(), "end": s.end.isoformat()}
+            for s in schedule.slots
+        ],
+    }

@@ -1,0 +1,131 @@
+"""What a whole simulated night is, as pure functions: its span, its weather, its tasks' dates.
+
+:func:`night_span` runs from the evening to the morning twilight (Sun at ``sun_altitude``, so the
+sky flats fit in), :func:`weather_scenario` gives the weather station's script for a named scenario
+and :func:`shifted_group` moves the sample tasks (written for 2026-11-10) to another night.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from datetime import UTC, date, datetime, timedelta
+from typing import Any
+
+from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.robotic.tasks import RequestGroup
+from nightcrew.site import Site
+
+__all__ = [
+    "SAMPLE_NIGHT",
+    "WEATHER_SCENARIOS",
+    "night_span",
+    "shifted_group",
+    "sun_crossing",
+    "weather_scenario",
+]
+
+#: The night the bundled sample tasks are written for.
+SAMPLE_NIGHT = date(2026, 11, 10)
+#: Names of the weather scenarios ``nightcrew sim --weather`` knows.
+WEATHER_SCENARIOS = ("clear", "interruption", "random")
+
+_CLEAR: dict[str, Any] = {
+    "temperature": 8.0,
+    "humidity": 60.0,
+    "wind_speed": 12.0,
+    "clouds": 0.05,
+    "rain": False,
+}
+
+
+def sun_crossing(
+    site: Site, after: float, altitude: float, *, rising: bool, within: float = 86400.0
+) -> float:
+    """Unix time of the first crossing of ``altitude`` by the Sun after ``after`` (to a second).
+
+    Raises:
+        ValueError: no such crossing ``within`` seconds (polar day or night).
+    """
+
+    def beyond(t: float) -> bool:  # on the far side of the crossing
+        above = sun_altitude(site.latitude, site.longitude, t) > altitude
+        return above if rising else not above
+
+    step, t = 600.0, after
+    while beyond(t):  # start on the near side
+        t += step
+        if t > after + within:
+            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
+    while not beyond(t + step):
+        t += step
+        if t > after + within:
+            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
+    return _bisect(beyond, t, t + step)
+
+
+def _bisect(beyond: Callable[[float], bool], low: float, high: float) -> float:
+    while high - low > 1.0:
+        middle = (low + high) / 2.0
+        low, high = (middle, high) if not beyond(middle) else (low, middle)
+    return high
+
+
+def night_span(night: date, site: Site, sun_altitude_deg: float = -2.0) -> tuple[datetime, datetime]:
+    """From the Sun sinking below ``sun_altitude_deg`` on the evening of ``night`` to it rising again.
+
+    Raises:
+        ValueError: the Sun does not set or rise through that altitude (polar day or night).
+    """
+    noon = (
+        datetime(night.year, night.month, night.day, 12, tzinfo=UTC).timestamp()
+        - site.longitude / 15.0 * 3600
+    )
+    dusk = sun_crossing(site, noon, sun_altitude_deg, rising=False)
+    dawn = sun_crossing(site, dusk, sun_altitude_deg, rising=True)
+    return datetime.fromtimestamp(round(dusk), tz=UTC), datetime.fromtimestamp(round(dawn), tz=UTC)
+
+
+def weather_scenario(name: str, duration: float) -> list[dict[str, Any]] | None:
+    """The station's scenario (entries ``at`` seconds from the start) for ``name``; None: random.
+
+    ``interruption`` clouds over towards the middle of the night, rains from there for an hour (a
+    quarter of a short night) and clears 20 minutes later.
+
+    Raises:
+        ValueError: an unknown name.
+    """
+    if name == "clear":
+        return [{"at": 0, **_CLEAR}, {"at": duration, "temperature": 4.0}]
+    if name == "interruption":
+        rain, wet = round(duration / 2.0), round(min(3600.0, duration / 4.0))
+        return [
+            {"at": 0, **_CLEAR},
+            {"at": rain - 900, "temperature": 6.0, "humidity": 75.0, "clouds": 0.3},
+            {"at": rain - 300, "humidity": 92.0, "clouds": 0.9},
+            {"at": rain, "rain": True, "humidity": 97.0},
+            {"at": rain + wet, "rain": False, "humidity": 85.0, "clouds": 0.5},
+            {"at": rain + wet + 1200, "humidity": 70.0, "clouds": 0.05},
+            {"at": duration, "temperature": 4.0},
+        ]
+    if name == "random":
+        return None
+    raise ValueError(f"unknown weather scenario {name!r} (known: {', '.join(WEATHER_SCENARIOS)})")
+
+
+def shifted_group(group: RequestGroup, night: date) -> RequestGroup:
+    """``group`` (written for :data:`SAMPLE_NIGHT`) with its windows moved to ``night``."""
+    shift = timedelta(days=(night - SAMPLE_NIGHT).days)
+    if not shift:
+        return group
+    requests = [
+        request.model_copy(
+            update={
+                "windows": [
+                    w.model_copy(update={"start": w.start + shift, "end": w.end + shift})
+                    for w in request.windows
+                ]
+            }
+        )
+        for request in group.requests
+    ]
+    return group.model_copy(update={"requests": requests})
