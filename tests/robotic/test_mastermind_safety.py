@@ -154,3 +154,25 @@ async def test_an_error_in_the_loop_closes_and_parks_and_the_loop_goes_on(
     await _wait(night, "task finished", finished, 300.0)
     assert "background task robotic loop crashed; restarting in 1 s" in caplog.text
     assert (await archive.get_task(task.id)).state is TaskState.COMPLETED
+
+
+async def test_a_task_left_running_by_a_killed_mastermind_is_failed_then_run_again(
+    parts: Parts, caplog: pytest.LogCaptureFixture
+) -> None:
+    obs, archive = parts
+    night = await start_night(parts, [group(PLEIADES, count=2, exposure_time=5.0)])
+    (task,) = night.tasks
+    now = obs.clock.now()
+    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await archive.mark_started(task.id)  # and then the process died
+    await obs.clock.sleep(60.0)
+    await start_mastermind(night, weather=GoodWeather())
+
+    async def finished() -> bool:
+        return bool(night.recorder.of(TaskFinishedEvent))
+
+    await _wait(night, "task finished", finished, 300.0)
+    assert "left running: interrupted by a restart of the mastermind: 0 of 2 exposures done" in caplog.text
+    stored = await archive.get_task(task.id)
+    assert stored.state is TaskState.COMPLETED and stored.status.progress.total_exposures == 2
+    assert [e.id for e in night.recorder.of(TaskStartedEvent)] == [task.id]

@@ -22,7 +22,8 @@ Decisions:
 * **Focus**: with an ``autofocus`` module, before the first sky task and whenever the temperature
   moved by more than ``refocus_temperature_change`` since the last focus.
 * **Start/stop** (IStartStop): stopping aborts the running task, then closes and parks.
-* **Errors**: an error in the loop closes the roof and parks; the loop restarts with backoff.
+* **Errors**: an error in the loop closes the roof and parks; the loop restarts with backoff. A task
+  left RUNNING by a mastermind that was killed is marked FAILED (with its progress) at start-up.
 """
 
 from __future__ import annotations
@@ -73,7 +74,7 @@ from nightcrew.robotic.mastermind import (
     task_cards,
 )
 from nightcrew.robotic.runner import TaskRunner
-from nightcrew.robotic.tasks import Task, TaskNotFoundError, TaskProgress
+from nightcrew.robotic.tasks import Task, TaskNotFoundError, TaskProgress, TaskState
 
 __all__ = ["Mastermind"]
 
@@ -223,9 +224,12 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
     # --- the loop ------------------------------------------------------------------------------
 
     async def _robotic_loop(self) -> None:
+        recovered = False
         while True:
             pause = self._poll
             try:
+                if not recovered:
+                    recovered = await self._recover_orphans()
                 if self._running:
                     pause = await self._step()
                 elif not self._safe_since_stop:
@@ -265,6 +269,21 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         self._wake.clear()
 
     # --- reading the schedule ------------------------------------------------------------------
+
+    async def _recover_orphans(self) -> bool:
+        """Tasks left RUNNING in the schedule of the last day (we were killed mid-task) become FAILED.
+
+        Assumes one mastermind per archive; the progress recorded so far is kept.
+        """
+        now = self.clock.now()
+        for entry in await self._store.read_schedule(start=now - timedelta(days=1), end=now):
+            task = await self._archive.get_task(entry.task_id)
+            if task.state is TaskState.RUNNING:
+                cause = "a restart of the mastermind"
+                reason = interruption_reason(cause, task, task.status.progress)
+                log.warning("%s: task %s was left running: %s", self.name, task.id, reason)
+                await self._archive.mark_failed(task.id, reason, task.status.progress)
+        return True
 
     async def _read_slots(self, now: datetime) -> tuple[list[Slot], dict[str, Task]]:
         entries = await self._store.read_schedule(start=now, end=now + self._keep_open + timedelta(hours=1))
