@@ -304,10 +304,11 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
     assert RAIN_AT <= bad <= RAIN_AT + 25
     assert failed - bad <= 10.0
     assert closed_after <= 60.0
-    (reason,) = [e.reason for e in rec.of(TaskFailedEvent)]
-    assert reason.startswith("interrupted by bad weather: ") and reason.endswith(
+    (failed_event,) = rec.of(TaskFailedEvent)
+    assert failed_event.reason.startswith("interrupted by bad weather: ") and failed_event.reason.endswith(
         f" of {EXPOSURES} exposures done"
     )
+    assert failed_event.retryable  # so the scheduler plans it again
 
     # Every image: the task's cards, exposed entirely while the roof was open.
     headers = await site.headers()

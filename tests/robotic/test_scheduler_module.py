@@ -100,6 +100,21 @@ async def test_a_failed_task_is_left_out_of_the_new_plan(setup: Setup) -> None:
     assert all(slot.start >= setup.store.planned_at - timedelta(seconds=1) for slot in setup.store.slots)
 
 
+async def test_an_interrupted_task_stays_in_the_new_plan(setup: Setup) -> None:
+    interrupted = setup.store.slots[0].block_id
+    await setup.sender.comm.send_event(
+        TaskFailedEvent(
+            name=interrupted,
+            id=interrupted,
+            reason="interrupted by bad weather: 2 of 6 exposures done",
+            retryable=True,
+        )
+    )
+    await setup.store.next_write()
+    assert setup.store.writes == 2
+    assert interrupted in {slot.block_id for slot in setup.store.slots}
+
+
 async def test_good_weather_plans_from_its_eta(setup: Setup) -> None:
     eta = EPOCH + timedelta(hours=2)
     await setup.sender.comm.send_event(GoodWeatherEvent(eta=eta))

@@ -34,3 +34,6 @@ class TaskFailedEvent(Event):
     name: str
     id: str
     reason: str  # for a person, e.g. the error message
+    # True when the task was interrupted from outside (weather, roof, dawn, shutdown) and may run
+    # again later; False when it failed by itself and should not be planned again tonight.
+    retryable: bool = False

@@ -317,6 +317,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         log.info("%s: task %s (%s) started", self.name, task.id, task.name)
         await self.comm.send_event(TaskStartedEvent(name=task.name, id=task.id, eta=slot.end))
         reason: str | None = None
+        interrupted = True  # from outside (weather, roof, Sun, shutdown): it may run again later
         try:
             cause = await run_watched(
                 self._runner.run_task(task, self._on_progress),
@@ -333,12 +334,13 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             raise
         except Exception as exc:  # the task's own failure: not again in this slot
             self._failed_slots.add((task.id, slot.start))
+            interrupted = False
             reason = str(exc) or type(exc).__name__
             if not isinstance(exc, NightcrewError):
                 raise  # a bug: the loop's fail-safe closes and parks
         finally:
             self._current = None
-            await self._record_end(task, reason)
+            await self._record_end(task, reason, retryable=interrupted)
 
     async def _can_run(self, task: Task) -> bool:
         try:
@@ -360,8 +362,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         except Exception as exc:  # kept in memory and recorded at the end
             log.warning("%s: could not record the progress of task %s: %s", self.name, task.id, exc)
 
-    async def _record_end(self, task: Task, reason: str | None) -> None:
-        """Mark the task finished (``reason`` None) or failed in the archive, and tell everybody."""
+    async def _record_end(self, task: Task, reason: str | None, *, retryable: bool = False) -> None:
+        """Mark the task finished (``reason`` None) or failed in the archive, and tell everybody.
+
+        ``retryable``: it was interrupted from outside and may be planned again (see TaskFailedEvent).
+        """
         progress = self._progress
         try:
             if reason is None:
@@ -375,7 +380,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             event: TaskFinishedEvent | TaskFailedEvent = TaskFinishedEvent(name=task.name, id=task.id)
         else:
             log.warning("%s: task %s (%s) failed: %s", self.name, task.id, task.name, reason)
-            event = TaskFailedEvent(name=task.name, id=task.id, reason=reason)
+            event = TaskFailedEvent(name=task.name, id=task.id, reason=reason, retryable=retryable)
         try:
             await self.comm.send_event(event)
         except NightcrewError as exc:

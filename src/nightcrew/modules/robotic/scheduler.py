@@ -1,7 +1,8 @@
 """The scheduler module: keeps a schedule of the night in a store, re-planning when things change.
 
 It plans again when the archive's blocks change (polled), when a task fails (TaskFailedEvent: the
-block is left out for the rest of the night), when one starts or finishes (its slot is kept, done
+block is left out for the rest of the night, unless the event says it was interrupted from outside
+and may run again, ``retryable``), when one starts or finishes (its slot is kept, done
 blocks leave), and when the weather turns good again (GoodWeatherEvent: from its ``eta`` on). The
 optimisation itself is :class:`nightcrew.robotic.scheduler.Scheduler`, run in a worker thread.
 """
@@ -90,8 +91,11 @@ class SchedulerModule(Module):
     # --- events ---------------------------------------------------------------------------------
 
     async def on_task_failed(self, event: TaskFailedEvent, sender: str) -> None:
-        log.info("task %s failed (%s): re-planning without it", event.id, event.reason)
-        self._failed.add(event.id)
+        if event.retryable:  # interrupted (weather, dawn ...): plan it again with what is left
+            log.info("task %s was interrupted (%s): re-planning with it", event.id, event.reason)
+        else:
+            log.info("task %s failed (%s): re-planning without it", event.id, event.reason)
+            self._failed.add(event.id)
         if self._in_progress is not None and self._in_progress.block_id == event.id:
             self._in_progress = None
         self._replan_wanted.set()
