@@ -309,6 +309,7 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
         f" of {EXPOSURES} exposures done"
     )
     assert failed_event.retryable  # so the scheduler plans it again
+    reason = failed_event.reason
 
     # Every image: the task's cards, exposed entirely while the roof was open.
     headers = await site.headers()
