@@ -8,7 +8,6 @@ import pytest
 
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import FitsValue
-from nightcrew.modules.camera.filenames import check_filename_pattern, format_filename
 from nightcrew.modules.telescope.coords import (
     airmass,
     altaz_to_radec,
@@ -18,6 +17,7 @@ from nightcrew.modules.telescope.coords import (
     moon_radec,
     radec_to_altaz,
 )
+from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 SITE = (51.56, 9.94, 201.0)
 TIMES = [1705356000.0, 1719792000.0, 1780000000.0]  # Jan 2024, Jul 2024, May 2026

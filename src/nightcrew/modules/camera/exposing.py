@@ -34,10 +34,10 @@ from nightcrew.errors import (
 )
 from nightcrew.events import ExposureStatusChangedEvent
 from nightcrew.interfaces import ExposureStatus, FitsCard, FitsValue, IAbortable, IExposure, ModuleState
-from nightcrew.modules.camera.filenames import check_filename_pattern, format_filename
 from nightcrew.modules.camera.fitsfile import build_hdu_list
 from nightcrew.modules.camera.headers import clean_cards, collect_headers
 from nightcrew.modules.module import Module
+from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 __all__ = ["ExposingModule", "Frame", "check_exposure_time"]
 

@@ -15,9 +15,9 @@ from typing import Any
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import NewImageEvent
 from nightcrew.interfaces import FitsValue, ImageType, ModuleState
-from nightcrew.modules.camera.filenames import check_filename_pattern, format_filename
 from nightcrew.modules.module import Module
 from nightcrew.vfs import VfsError
+from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 __all__ = ["ImageWriter", "read_header"]
 

@@ -7,6 +7,7 @@ from typing import Any
 
 from nightcrew.images.image import Image
 from nightcrew.images.processor import ImageProcessor
+from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 __all__ = ["FILENAME_KEY", "CreateFilename"]
 
@@ -25,16 +26,10 @@ class CreateFilename(ImageProcessor):
 
     def __init__(self, *, pattern: str, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        # The camera's helper is the one implementation of filename patterns (imported here, not
-        # at module level, to keep the image layer's import light).
-        from nightcrew.modules.camera.filenames import check_filename_pattern
-
         check_filename_pattern(pattern, key="pattern")
         self.pattern = pattern
 
     async def __call__(self, image: Image) -> Image:
-        from nightcrew.modules.camera.filenames import format_filename
-
         path = format_filename(self.pattern, image.header)
         result = image.copy()
         result.metadata[FILENAME_KEY] = path
