@@ -73,7 +73,8 @@ def _device_overrides(
     station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
     if seed is not None:
         station["seed"] = seed
-    return {"weather": station, "camera": {"detector": detector}}
+    # Start near the best focus (25 mm + the temperature's shift): the focus series then brackets it.
+    return {"weather": station, "camera": {"detector": detector}, "focuser": {"focus": 25.0}}
 
 
 async def _run(

@@ -33,6 +33,7 @@ SUBCOMMANDS = [
     "reduce",
     "tasks",
     "flats",
+    "report",
 ]
 
 

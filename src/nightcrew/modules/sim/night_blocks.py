@@ -16,19 +16,22 @@ from nightcrew.robotic.scheduler.ports import TaskArchive
 from nightcrew.robotic.tasks import Task, estimate_duration
 from nightcrew.robotic.tasks.blocks import block_of
 
-__all__ = ["NightBlockSource", "calibration_block"]
+__all__ = ["CALIBRATION_WEIGHT", "NightBlockSource", "calibration_block"]
 
 #: Where a task without a target is put for the scheduler: always high up in the north.
 _POLE = Target(ra=0.0, dec=89.0)
+#: Calibrations are short but the night's data need them: their priority counts this much more.
+CALIBRATION_WEIGHT = 10.0
 
 
 def calibration_block(task: Task) -> SchedulableBlock:
-    """A block for a task without a target: its windows, Sun limit and duration, near the pole."""
+    """A block for a task without a target: its windows, Sun limit and duration, near the pole,
+    with its priority weighted by :data:`CALIBRATION_WEIGHT`."""
     estimate = estimate_duration(task.request)
     configurations = task.request.configurations
     return SchedulableBlock(
         id=task.id,
-        priority=task.effective_priority,
+        priority=task.effective_priority * CALIBRATION_WEIGHT,
         duration_s=sum(estimate.configurations_s),
         target=_POLE,
         constraints=Constraints(

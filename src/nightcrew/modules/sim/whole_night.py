@@ -4,7 +4,8 @@ The devices (the top-level files of the bundled observatory) and the robotic mod
 ``robotic/`` directory: weather verdict, scheduler, mastermind with runner and scripts, focus
 series, flat fields, acquisition, guiding, seeing, recorder) are built on one in-process network
 and one accelerated clock. The task archive is a fresh SQLite file in ``out_dir`` loaded with the
-bundled sample tasks; the scheduler plans from it and the mastermind runs what it planned. Nobody
+bundled sample tasks and a low-priority survey that fills the night; the scheduler plans from it
+and the mastermind runs what it planned. Nobody
 drives the night: this function only watches (progress, the scheduler's plans into the recorder)
 until the clock reaches ``end`` or ``stop`` is set, then stops the mastermind, parks the telescope
 and closes the roof - also after an error - and closes every module.
@@ -29,22 +30,20 @@ from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.modules.sim.night import build_observatory, park_and_close
 from nightcrew.modules.sim.night_blocks import NightBlockSource
-from nightcrew.modules.sim.night_recorder import EventRecorder
-from nightcrew.modules.sim.whole_night_plan import shifted_group
+from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
+from nightcrew.modules.sim.whole_night_plan import shifted_group, survey_groups
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
 from nightcrew.robotic.scheduler.adapters import as_schedule_store
 from nightcrew.site import Site
 
-__all__ = ["EVENTS_FILE", "FRAMES", "SCHEDULE_RECORD", "NightProgress", "WholeNight", "run_whole_night"]
+__all__ = ["EVENTS_FILE", "FRAMES", "NightProgress", "WholeNight", "run_whole_night"]
 
 log = logging.getLogger(__name__)
 
 #: The recorder's file in the output directory.
 EVENTS_FILE = "events.jsonl"
-#: The ``kind`` of the recorder's lines with a plan of the scheduler.
-SCHEDULE_RECORD = "Schedule"
 #: The frames' directory in the output directory.
 FRAMES = "frames"
 #: Where the robotic modules' files are, below the observatory's directory.
@@ -114,6 +113,10 @@ async def run_whole_night(
             opened.append(module)
         recorder = next(m for m in modules if isinstance(m, EventRecorder))
         scheduler = next(m for m in modules if isinstance(m, SchedulerModule))
+        where = {"latitude": site.latitude, "longitude": site.longitude, "elevation": site.elevation}
+        recorder.record(
+            NIGHT_RECORD, {"site": where, "start": clock.now().isoformat(), "end": end.isoformat()}
+        )
         result.completed = await watcher.watch(end, recorder, scheduler, progress, stop or asyncio.Event())
     finally:
         await _stop_safely(watcher, opened)
@@ -133,8 +136,8 @@ async def _fresh_archive(path: Path, clock: Clock, night: date) -> SqliteTaskArc
     """A new archive at ``path`` holding the sample tasks for ``night``."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    for group in load_samples().values():
-        await archive.add_request_group(shifted_group(group, night))
+    for group in [*(shifted_group(g, night) for g in load_samples().values()), *survey_groups(night)]:
+        await archive.add_request_group(group)
     return archive
 
 

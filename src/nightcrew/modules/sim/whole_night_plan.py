@@ -12,7 +12,7 @@ from datetime import UTC, date, datetime, timedelta
 from typing import Any
 
 from nightcrew.modules.sim.ephemeris import sun_altitude
-from nightcrew.robotic.tasks import RequestGroup
+from nightcrew.robotic.tasks import RequestGroup, parse_request_group
 from nightcrew.site import Site
 
 __all__ = [
@@ -129,3 +129,46 @@ def shifted_group(group: RequestGroup, night: date) -> RequestGroup:
         for request in group.requests
     ]
     return group.model_copy(update={"requests": requests})
+
+
+def survey_groups(night: date, *, exposure_time: float = 240.0, count: int = 5) -> list[RequestGroup]:
+    """A low-priority survey of the well-known fields that fills the night between the samples.
+
+    One request per field, any time of ``night``: ``count`` exposures in V and in R, long enough
+    that the shutter is open most of the time. The scheduler takes them where nothing better fits.
+    """
+    from nightcrew.modules.sim.night_plan import FAMOUS_FIELDS
+
+    noon = datetime(night.year, night.month, night.day, 12, tzinfo=UTC)
+    window = {"start": noon.isoformat(), "end": (noon + timedelta(days=1)).isoformat()}
+    return [
+        parse_request_group(
+            {
+                "name": f"Survey {field.name}",
+                "proposal": "sim-survey",
+                "priority": 0.5,
+                "requests": [
+                    {
+                        "location": {"telescope_class": "0m4"},
+                        "windows": [window],
+                        "configurations": [
+                            {
+                                "type": "EXPOSE",
+                                "target": {"name": field.name, "ra": field.ra, "dec": field.dec},
+                                "constraints": {"max_airmass": 2.0},
+                                "instrument_configs": [
+                                    {
+                                        "exposure_time": exposure_time,
+                                        "exposure_count": count,
+                                        "optical_elements": {"filter": name},
+                                    }
+                                    for name in ("V", "R")
+                                ],
+                            }
+                        ],
+                    }
+                ],
+            }
+        )
+        for field in FAMOUS_FIELDS
+    ]
