@@ -8,7 +8,7 @@ import logging
 import signal
 import sys
 import time
-from datetime import datetime, timedelta
+from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -34,6 +34,11 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
         start, end = night_span(args.date, site)
     except ValueError as exc:
         raise ConfigError(f"--date {args.date}: {exc}") from exc
+    if args.start is not None:
+        day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
+        start = datetime.combine(day, args.start, tzinfo=UTC)
+        if not start < end:
+            raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
     if args.hours is not None:
         end = min(end, start + timedelta(hours=args.hours))
     speed = args.speed or NIGHT_SPEED

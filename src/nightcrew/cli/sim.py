@@ -20,6 +20,7 @@ import signal
 import sys
 import time
 from datetime import date, datetime
+from datetime import time as time_of_day
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -64,6 +65,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         choices=WEATHER_SCENARIOS,
         default="interruption",
         help="clear; interruption: an hour of rain mid-night (default); random: from --seed",
+    )
+    parser.add_argument(
+        "--start",
+        type=_clock_time,
+        default=None,
+        help="UTC time (HH:MM) to start at instead of dusk; before noon: the morning after --date",
     )
     parser.add_argument(
         "--hours", type=_positive, default=None, help="stop after this many clock hours (default: at dawn)"
@@ -186,6 +193,13 @@ def _night(text: str) -> date:
         return date.fromisoformat(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a date (YYYY-MM-DD): {text!r}") from None
+
+
+def _clock_time(text: str) -> time_of_day:
+    try:
+        return time_of_day.fromisoformat(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a time (HH:MM): {text!r}") from None
 
 
 def _positive(text: str) -> float:

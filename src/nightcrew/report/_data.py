@@ -154,7 +154,8 @@ def bad_weather_intervals(records: Sequence[Record], end: float) -> list[Interva
         elif record.kind == "GoodWeatherEvent" and bad_since is not None:
             eta = record.data.get("eta")
             good_from = max(record.t, parse_time(eta)) if eta else record.t
-            intervals.append((bad_since, good_from))
+            if good_from > bad_since:
+                intervals.append((bad_since, good_from))
             bad_since = None
     if bad_since is not None:
         intervals.append((bad_since, end))

@@ -1,7 +1,8 @@
 """The night's numbers, from the records (pure: intervals in Unix seconds in, numbers out).
 
-* **Shutter open**: the part of the good-weather dark time (Sun below ``sun_limit``, weather not
-  bad) covered by light exposures.
+* **Roof open**: the part of the good-weather dark time (Sun below ``sun_limit``, weather not bad)
+  in which the roof (the observatory's shutter) was open.
+* **Camera shutter open**: the part of the good-weather dark time covered by light exposures.
 * **Exposures while closed**: light frames whose exposure is not inside a roof-open interval.
 * **Roof-close delay**: from each BadWeatherEvent that found the roof open to the next
   RoofClosedEvent.
@@ -43,11 +44,16 @@ class NightNumbers:
     """The night in numbers (times in clock seconds)."""
 
     good_dark_s: float
+    roof_open_s: float
     shutter_open_s: float
     light_frames_while_closed: int
     science_frames_while_closed: int
     roof_close_delays_s: tuple[float, ...]
     tasks: tuple[TaskRun, ...]
+
+    @property
+    def roof_open_fraction(self) -> float:
+        return self.roof_open_s / self.good_dark_s if self.good_dark_s > 0 else 0.0
 
     @property
     def shutter_open_fraction(self) -> float:
@@ -73,6 +79,7 @@ def night_numbers(
     closed = exposures_while_closed(night.frames, roof)
     return NightNumbers(
         good_dark_s=total(good_dark),
+        roof_open_s=total(intersect(roof, good_dark)),
         shutter_open_s=total(intersect(_union(light), good_dark)),
         light_frames_while_closed=len(closed),
         science_frames_while_closed=sum(1 for f in closed if f.image_type == "object"),

@@ -13,15 +13,18 @@ from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.archives import TaskArchive as TaskStore
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.ports import TaskArchive
-from nightcrew.robotic.tasks import Task, estimate_duration
+from nightcrew.robotic.tasks import ConfigurationType, Task, estimate_duration
 from nightcrew.robotic.tasks.blocks import block_of
 
-__all__ = ["CALIBRATION_WEIGHT", "NightBlockSource", "calibration_block"]
+__all__ = ["CALIBRATION_WEIGHT", "SKY_FLAT_SECONDS", "NightBlockSource", "calibration_block"]
 
 #: Where a task without a target is put for the scheduler: always high up in the north.
 _POLE = Target(ra=0.0, dec=89.0)
 #: Calibrations are short but the night's data need them: their priority counts this much more.
 CALIBRATION_WEIGHT = 10.0
+#: Sky flats wait for the sky to reach the right brightness: they take this long of twilight, not
+#: the sum of their exposure times (a slot that short would end while the roof is still opening).
+SKY_FLAT_SECONDS = 1800.0
 
 
 def calibration_block(task: Task) -> SchedulableBlock:
@@ -29,10 +32,13 @@ def calibration_block(task: Task) -> SchedulableBlock:
     with its priority weighted by :data:`CALIBRATION_WEIGHT`."""
     estimate = estimate_duration(task.request)
     configurations = task.request.configurations
+    duration = sum(estimate.configurations_s)
+    if any(c.type is ConfigurationType.SKY_FLAT for c in configurations):
+        duration = max(duration, SKY_FLAT_SECONDS)
     return SchedulableBlock(
         id=task.id,
         priority=task.effective_priority * CALIBRATION_WEIGHT,
-        duration_s=sum(estimate.configurations_s),
+        duration_s=duration,
         target=_POLE,
         constraints=Constraints(
             max_airmass=3.0, max_sun_altitude=min(c.constraints.max_sun_altitude for c in configurations)

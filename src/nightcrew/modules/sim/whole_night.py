@@ -31,7 +31,7 @@ from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.modules.sim.night import build_observatory, park_and_close
 from nightcrew.modules.sim.night_blocks import NightBlockSource
 from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
-from nightcrew.modules.sim.whole_night_plan import shifted_group, survey_groups
+from nightcrew.modules.sim.whole_night_plan import one_window_each, shifted_group, survey_groups
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
@@ -136,7 +136,8 @@ async def _fresh_archive(path: Path, clock: Clock, night: date) -> SqliteTaskArc
     """A new archive at ``path`` holding the sample tasks for ``night``."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    for group in [*(shifted_group(g, night) for g in load_samples().values()), *survey_groups(night)]:
+    samples = [part for g in load_samples().values() for part in one_window_each(shifted_group(g, night))]
+    for group in [*samples, *survey_groups(night)]:
         await archive.add_request_group(group)
     return archive
 

@@ -112,26 +112,42 @@ def weather_scenario(name: str, duration: float) -> list[dict[str, Any]] | None:
     raise ValueError(f"unknown weather scenario {name!r} (known: {', '.join(WEATHER_SCENARIOS)})")
 
 
+def one_window_each(group: RequestGroup) -> list[RequestGroup]:
+    """``group`` once per window of its single request (twilight flats at dusk *and* at dawn).
+
+    A task runs once, in one of its windows; a group whose request has several windows (the
+    sample flats: evening and morning twilight) becomes one group per window, so both twilights
+    get their flats. Other groups are returned as they are.
+    """
+    if len(group.requests) != 1 or len(group.requests[0].windows) < 2:
+        return [group]
+    request = group.requests[0]
+    return [
+        group.model_copy(update={"requests": (request.model_copy(update={"windows": (window,)}),)})
+        for window in request.windows
+    ]
+
+
 def shifted_group(group: RequestGroup, night: date) -> RequestGroup:
     """``group`` (written for :data:`SAMPLE_NIGHT`) with its windows moved to ``night``."""
     shift = timedelta(days=(night - SAMPLE_NIGHT).days)
     if not shift:
         return group
-    requests = [
+    requests = tuple(
         request.model_copy(
             update={
-                "windows": [
+                "windows": tuple(
                     w.model_copy(update={"start": w.start + shift, "end": w.end + shift})
                     for w in request.windows
-                ]
+                )
             }
         )
         for request in group.requests
-    ]
+    )
     return group.model_copy(update={"requests": requests})
 
 
-def survey_groups(night: date, *, exposure_time: float = 240.0, count: int = 5) -> list[RequestGroup]:
+def survey_groups(night: date, *, exposure_time: float = 300.0, count: int = 6) -> list[RequestGroup]:
     """A low-priority survey of the well-known fields that fills the night between the samples.
 
     One request per field, any time of ``night``: ``count`` exposures in V and in R, long enough
