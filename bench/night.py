@@ -58,7 +58,8 @@ def main() -> int:
             ", ".join(f"{n} {k}" for k, n in Counter(f.image_type for f in night.frames).items()),
         ),
         ("good-weather dark time", f"{numbers.good_dark_s / 3600:.2f} h", "Sun < -12 deg, weather not bad"),
-        ("shutter open in it", f"{100 * numbers.shutter_open_fraction:.1f} %", "target >= 90 %"),
+        ("roof open in it", f"{100 * numbers.roof_open_fraction:.1f} %", "target >= 90 %"),
+        ("camera shutter open in it", f"{100 * numbers.shutter_open_fraction:.1f} %", "exposing"),
         ("science exposures, roof closed", str(numbers.science_frames_while_closed), "target 0"),
         ("light exposures, roof closed", str(numbers.light_frames_while_closed), ""),
         (

@@ -38,6 +38,8 @@ def test_the_interruption_rains_for_an_hour_mid_night() -> None:
     raining = [t for t in range(0, 36000, 60) if scenario.state_at(t).rain]
     assert raining[0] == 18000 and raining[-1] - raining[0] == pytest.approx(3600, abs=60)
     assert not any(scenario.state_at(t).rain for t in range(0, 36000, 600)) or raining
+    for short in (600.0, 4680.0):  # a short night still gets a valid scenario
+        WeatherScenario.from_config(weather_scenario("interruption", short) or [])
     assert weather_scenario("random", 100.0) is None
     assert not any(
         WeatherScenario.from_config(weather_scenario("clear", 3600.0) or []).state_at(t).rain

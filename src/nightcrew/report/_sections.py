@@ -53,9 +53,10 @@ def summary_section(numbers: NightNumbers, night: Night) -> str:
     )
     rows = [
         ("Good-weather dark time (Sun < -12°)", f"{numbers.good_dark_s / 3600:.2f} h"),
+        ("Roof open in it", _part(numbers.roof_open_s, numbers.roof_open_fraction)),
         (
-            "Shutter open in it",
-            f"{numbers.shutter_open_s / 3600:.2f} h ({100 * numbers.shutter_open_fraction:.1f} %)",
+            "Camera shutter open in it (exposing)",
+            _part(numbers.shutter_open_s, numbers.shutter_open_fraction),
         ),
         ("Frames", f"{len(night.frames)}"),
         ("Science frames while the roof was closed", f"{numbers.science_frames_while_closed}"),
@@ -65,6 +66,10 @@ def summary_section(numbers: NightNumbers, night: Night) -> str:
         ("Task runs without a done/failed-with-reason end", f"{len(numbers.tasks_without_reason)}"),
     ]
     return _table(("", ""), rows, header=False)
+
+
+def _part(seconds: float, fraction: float) -> str:
+    return f"{seconds / 3600:.2f} h ({100 * fraction:.1f} %)"
 
 
 def timeline_section(night: Night, numbers: NightNumbers, latitude: float, longitude: float) -> str:

@@ -5,36 +5,58 @@ tasks without a target (BIAS, DARK, SKY_FLAT). On the simulated night they must 
 windows: :class:`NightBlockSource` gives each such task a stand-in target near the celestial pole,
 which is up all night at the site (the flat-field pointing chooses the real position), so the
 scheduler fits them in by window and Sun limit like any other block.
+
+Sky flats wait for the sky to reach the right brightness, so their block is not the sum of their
+exposure times but most of the twilight in their window (:data:`TWILIGHT_SHARE`): at dusk they
+must then start early, while the sky is still bright enough.
 """
 
 from __future__ import annotations
 
+from datetime import datetime
+from typing import Any
+
+from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.archives import TaskArchive as TaskStore
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.ports import TaskArchive
 from nightcrew.robotic.tasks import ConfigurationType, Task, estimate_duration
 from nightcrew.robotic.tasks.blocks import block_of
+from nightcrew.site import Site
 
-__all__ = ["CALIBRATION_WEIGHT", "SKY_FLAT_SECONDS", "NightBlockSource", "calibration_block"]
+__all__ = [
+    "CALIBRATION_WEIGHT",
+    "SKY_FLAT_SECONDS",
+    "TWILIGHT_SHARE",
+    "NightBlockSource",
+    "calibration_block",
+]
 
 #: Where a task without a target is put for the scheduler: always high up in the north.
 _POLE = Target(ra=0.0, dec=89.0)
 #: Calibrations are short but the night's data need them: their priority counts this much more.
 CALIBRATION_WEIGHT = 10.0
-#: Sky flats wait for the sky to reach the right brightness: they take this long of twilight, not
-#: the sum of their exposure times (a slot that short would end while the roof is still opening).
+#: Sky flats take this part of the twilight in their window (between their Sun limits).
+TWILIGHT_SHARE = 0.75
+#: Sky flats take at least this long (also without a site to compute the twilight).
 SKY_FLAT_SECONDS = 1800.0
 
 
-def calibration_block(task: Task) -> SchedulableBlock:
+def calibration_block(task: Task, site: Site | None = None) -> SchedulableBlock:
     """A block for a task without a target: its windows, Sun limit and duration, near the pole,
-    with its priority weighted by :data:`CALIBRATION_WEIGHT`."""
+    with its priority weighted by :data:`CALIBRATION_WEIGHT`; sky flats last most of the twilight."""
     estimate = estimate_duration(task.request)
     configurations = task.request.configurations
     duration = sum(estimate.configurations_s)
-    if any(c.type is ConfigurationType.SKY_FLAT for c in configurations):
+    flats = [c for c in configurations if c.type is ConfigurationType.SKY_FLAT]
+    if flats:
         duration = max(duration, SKY_FLAT_SECONDS)
+        low = flats[0].constraints.min_sun_altitude
+        if site is not None and low is not None:
+            high = flats[0].constraints.max_sun_altitude
+            longest = max(_twilight_seconds(site, w.start, w.end, low, high) for w in task.request.windows)
+            duration = max(duration, TWILIGHT_SHARE * longest)
     return SchedulableBlock(
         id=task.id,
         priority=task.effective_priority * CALIBRATION_WEIGHT,
@@ -48,19 +70,30 @@ def calibration_block(task: Task) -> SchedulableBlock:
     )
 
 
+def _twilight_seconds(site: Site, start: datetime, end: datetime, low: float, high: float) -> float:
+    """Seconds (to a minute) between ``start`` and ``end`` with the Sun between ``low`` and ``high``."""
+    t, stop, inside = start.timestamp(), end.timestamp(), 0
+    while t < stop:
+        inside += low <= sun_altitude(site.latitude, site.longitude, t) <= high
+        t += 60.0
+    return 60.0 * inside
+
+
 class NightBlockSource(TaskArchive):
     """Blocks of every schedulable task of ``archive``, those without a target near the pole.
 
     Args:
         archive: The task archive (an object, or the path of a SQLite archive).
+        site: Where the observatory is, for the twilight of sky flats (None: they take 30 min).
     """
 
-    def __init__(self, *, archive: TaskStore | str) -> None:
+    def __init__(self, *, archive: TaskStore | str, site: Site | dict[str, Any] | None = None) -> None:
         self.archive = archive if isinstance(archive, TaskStore) else SqliteTaskArchive(archive)
+        self.site = Site(**site) if isinstance(site, dict) else site
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
         blocks = []
         for task in await self.archive.get_schedulable_tasks():
             block = block_of(task)
-            blocks.append(block if block is not None else calibration_block(task))
+            blocks.append(block if block is not None else calibration_block(task, self.site))
         return blocks

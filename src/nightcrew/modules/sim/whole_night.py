@@ -91,7 +91,10 @@ async def run_whole_night(
     archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night)
     network = LocalNetwork()
     robotic: dict[str, dict[str, Any]] = {
-        "scheduler": {"archive": NightBlockSource(archive=archive), "store": as_schedule_store(archive)},
+        "scheduler": {
+            "archive": NightBlockSource(archive=archive, site=site),
+            "store": as_schedule_store(archive),
+        },
         "mastermind": {"archive": archive},
         "recorder": {"path": str(out_dir / EVENTS_FILE)},
     }

@@ -98,15 +98,17 @@ def weather_scenario(name: str, duration: float) -> list[dict[str, Any]] | None:
         return [{"at": 0, **_CLEAR}, {"at": duration, "temperature": 4.0}]
     if name == "interruption":
         rain, wet = round(duration / 2.0), round(min(3600.0, duration / 4.0))
-        return [
-            {"at": 0, **_CLEAR},
-            {"at": rain - 900, "temperature": 6.0, "humidity": 75.0, "clouds": 0.3},
-            {"at": rain - 300, "humidity": 92.0, "clouds": 0.9},
-            {"at": rain, "rain": True, "humidity": 97.0},
-            {"at": rain + wet, "rain": False, "humidity": 85.0, "clouds": 0.5},
-            {"at": rain + wet + 1200, "humidity": 70.0, "clouds": 0.05},
-            {"at": duration, "temperature": 4.0},
-        ]
+        return _increasing(
+            [
+                {"at": 0, **_CLEAR},
+                {"at": rain - 900, "temperature": 6.0, "humidity": 75.0, "clouds": 0.3},
+                {"at": rain - 300, "humidity": 92.0, "clouds": 0.9},
+                {"at": rain, "rain": True, "humidity": 97.0},
+                {"at": rain + wet, "rain": False, "humidity": 85.0, "clouds": 0.5},
+                {"at": rain + wet + 1200, "humidity": 70.0, "clouds": 0.05},
+                {"at": max(duration, rain + wet + 1260), "temperature": 4.0},
+            ]
+        )
     if name == "random":
         return None
     raise ValueError(f"unknown weather scenario {name!r} (known: {', '.join(WEATHER_SCENARIOS)})")
@@ -126,6 +128,15 @@ def one_window_each(group: RequestGroup) -> list[RequestGroup]:
         group.model_copy(update={"requests": (request.model_copy(update={"windows": (window,)}),)})
         for window in request.windows
     ]
+
+
+def _increasing(entries: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``entries`` without those not after the one before (a night too short for all of them)."""
+    kept = [entries[0]]
+    for entry in entries[1:]:
+        if entry["at"] > kept[-1]["at"]:
+            kept.append(entry)
+    return kept
 
 
 def shifted_group(group: RequestGroup, night: date) -> RequestGroup:
