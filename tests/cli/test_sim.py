@@ -136,6 +136,7 @@ def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]
         (["--targets", "0"], "must be >= 1"),
         (["--weather", "hail"], "invalid choice: 'hail'"),
         (["--hours", "-1"], "must be > 0"),
+        (["--start", "25:00"], "not a time (HH:MM)"),
     ],
 )
 def test_bad_arguments_are_one_clear_error(

@@ -17,6 +17,8 @@ from nightcrew.errors import ConfigError
 from nightcrew.modules.sim.night import bundled_observatory
 from nightcrew.modules.sim.whole_night import NightProgress, ProgressCallback, WholeNight, run_whole_night
 from nightcrew.modules.sim.whole_night_plan import night_span, weather_scenario
+from nightcrew.report import write_report
+from nightcrew.site import Site
 
 __all__ = ["NIGHT_CAMERA", "run_whole_night_command"]
 
@@ -44,6 +46,7 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
     speed = args.speed or NIGHT_SPEED
     duration = (end - start).total_seconds()
     overrides = _device_overrides(directory, args.weather, duration, args.seed)
+    robotic = _robotic_overrides(directory, args.seed)
 
     quiet = not (args.verbose or args.debug)
     logger = logging.getLogger("nightcrew")
@@ -52,19 +55,19 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
         logger.setLevel(logging.WARNING)
     wall_start = time.monotonic()
     try:
-        result = asyncio.run(_run(directory, args, start, end, speed, overrides, _printer(sys.stderr)))
+        night = _run(directory, args, site, start, end, speed, (overrides, robotic), _printer(sys.stderr))
+        result = asyncio.run(night)
     finally:
         logger.setLevel(old_level)
     wall = time.monotonic() - wall_start
-    report = _write_report(args.out)
+    report = write_report(args.out)
     state = "night complete" if result.completed else "night stopped early"
     print(
         f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {args.weather} "
         f"(night of {args.date}, {start:%H:%M}-{end:%H:%M} UTC at {speed:g}x; {wall:.1f} s wall time)"
     )
     print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
-    if report is not None:
-        print(f"  night report: {report}")
+    print(f"  night report: {report}")
     return 0 if result.completed else 130
 
 
@@ -82,13 +85,28 @@ def _device_overrides(
     return {"weather": station, "camera": {"detector": detector}, "focuser": {"focus": 25.0}}
 
 
+def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
+    """With ``seed``, the acquisition's catalog follows the camera's new synthetic stars."""
+    from nightcrew.config import load_config, to_plain
+
+    path = directory / "robotic" / "acquisition.yaml"
+    if seed is None or not path.is_file():
+        return {}
+    pipeline = to_plain(load_config(path).get("pipeline") or {})
+    for step in pipeline.get("steps", []):
+        if isinstance(step, dict) and "catalog_seed" in step:
+            step["catalog_seed"] = seed
+    return {"acquisition": {"pipeline": pipeline}}
+
+
 async def _run(
     directory: Path,
     args: argparse.Namespace,
+    site: Site,
     start: datetime,
     end: datetime,
     speed: float,
-    overrides: dict[str, dict[str, Any]],
+    overrides: tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]],
     progress: ProgressCallback,
 ) -> WholeNight:
     clock = AcceleratedClock(start, speed=speed)
@@ -100,11 +118,12 @@ async def _run(
         return await run_whole_night(
             directory,
             night=args.date,
-            site=_site(directory),
+            site=site,
             clock=clock,
             end=end,
             out_dir=args.out,
-            device_overrides=overrides,
+            device_overrides=overrides[0],
+            robotic_overrides=overrides[1],
             seed=args.seed,
             progress=progress,
             stop=stop,
@@ -112,20 +131,6 @@ async def _run(
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
-
-
-def _site(directory: Path) -> Any:
-    from nightcrew.cli.sim import site_of
-
-    return site_of(directory)
-
-
-def _write_report(out: Path) -> Path | None:
-    try:
-        from nightcrew.report import write_report
-    except ImportError:  # the report is being built
-        return None
-    return write_report(out)
 
 
 def _printer(stream: TextIO) -> ProgressCallback:

@@ -19,10 +19,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import date, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from nightcrew.clock import Clock
 from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
@@ -71,6 +72,7 @@ class WholeNight:
 
 
 ProgressCallback = Callable[[NightProgress], None]
+M = TypeVar("M", bound=Module)
 
 
 async def run_whole_night(
@@ -82,40 +84,43 @@ async def run_whole_night(
     end: datetime,
     out_dir: Path,
     device_overrides: dict[str, dict[str, Any]],
+    robotic_overrides: dict[str, dict[str, Any]] | None = None,
     seed: int | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc)."""
     await asyncio.to_thread(_blocking_clear_records, out_dir)
-    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night)
     network = LocalNetwork()
-    robotic: dict[str, dict[str, Any]] = {
-        "scheduler": {
-            "archive": NightBlockSource(archive=archive, site=site),
-            "store": as_schedule_store(archive),
-        },
-        "mastermind": {"archive": archive},
-        "recorder": {"path": str(out_dir / EVENTS_FILE)},
-    }
-    frames = out_dir / FRAMES
-    modules = [
-        *build_observatory(
-            directory, clock=clock, out_dir=frames, seed=seed, network=network, overrides=device_overrides
-        ),
-        *build_observatory(
-            directory / ROBOTIC, clock=clock, out_dir=frames, seed=seed, network=network, overrides=robotic
-        ),
-    ]
+    # The watcher opens first, so that whatever fails later, it can still park and close.
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
+    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night)
     opened: list[Module] = []
     result = WholeNight()
     try:
-        for module in [*modules, watcher]:
+        robotic: dict[str, dict[str, Any]] = {
+            "scheduler": {
+                "archive": NightBlockSource(archive=archive, site=site),
+                "store": as_schedule_store(archive),
+            },
+            "mastermind": {"archive": archive},
+            "recorder": {"path": str(out_dir / EVENTS_FILE)},
+            **(robotic_overrides or {}),
+        }
+        common: dict[str, Any] = {
+            "clock": clock,
+            "out_dir": out_dir / FRAMES,
+            "seed": seed,
+            "network": network,
+        }
+        modules = [
+            *build_observatory(directory, overrides=device_overrides, **common),
+            *build_observatory(directory / ROBOTIC, overrides=robotic, **common),
+        ]
+        recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
+        for module in [watcher, *modules]:
             await module.open()
             opened.append(module)
-        recorder = next(m for m in modules if isinstance(m, EventRecorder))
-        scheduler = next(m for m in modules if isinstance(m, SchedulerModule))
         where = {"latitude": site.latitude, "longitude": site.longitude, "elevation": site.elevation}
         recorder.record(
             NIGHT_RECORD, {"site": where, "start": clock.now().isoformat(), "end": end.isoformat()}
@@ -126,6 +131,16 @@ async def run_whole_night(
         result.frames, result.tasks_started = watcher.frames, watcher.tasks_started
         await archive.close()
     return result
+
+
+def _the(modules: list[Module], kind: type[M]) -> M:
+    """The one module of ``kind`` the night needs."""
+    found = [m for m in modules if isinstance(m, kind)]
+    if len(found) != 1:
+        raise ConfigError(
+            f"the robotic night needs exactly one {kind.__name__} in {ROBOTIC}/, found {len(found)}"
+        )
+    return found[0]
 
 
 def _blocking_clear_records(out_dir: Path) -> None:
@@ -152,7 +167,10 @@ async def _stop_safely(watcher: Module, opened: list[Module]) -> None:
             await (await watcher.proxy("mastermind", IStartStop)).stop()
         except Exception as exc:  # the safe shutdown below matters more
             log.error("could not stop the mastermind: %s", exc)
-        await park_and_close(watcher)
+        try:
+            await park_and_close(watcher)
+        except Exception:
+            log.exception("parking the telescope and closing the roof failed")
     for module in reversed(opened):
         try:
             await module.close()
