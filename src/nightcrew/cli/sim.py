@@ -51,7 +51,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser: argparse.ArgumentParser = subparsers.add_parser(
         "sim", help="run the simulated observatory through a night", description=__doc__.split("\n\n", 1)[1]
     )
-    parser.add_argument("--out", type=Path, default=Path("sim-output"), help="directory for the FITS files")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("sim-output"),
+        help="output directory: frames, events.jsonl, tasks.sqlite, report.html",
+    )
     parser.add_argument("--date", type=_night, default=_night(DEFAULT_NIGHT), help="night (YYYY-MM-DD)")
     parser.add_argument(
         "--speed",
