@@ -3,7 +3,8 @@
 Placeholders name header keywords and may carry a format spec (``{FOCUS:.2f}``). Each value is
 sanitised to one safe path component (letters, digits and ``._+-``; anything else becomes ``-``),
 so a header value can never add directories or climb out of the root. A keyword missing from the
-header becomes ``none``. The pattern itself is checked when the object using it (camera, image writer, CreateFilename) is built.
+header becomes ``none``. The pattern itself is checked when the object using it (camera, image
+writer, CreateFilename) is built.
 """
 
 from __future__ import annotations
