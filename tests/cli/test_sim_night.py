@@ -62,7 +62,7 @@ def test_the_roof_is_open_most_of_the_good_dark_time(night: tuple[int, Path, Nig
     assert numbers.good_dark_s > 2400.0
     assert numbers.roof_open_fraction >= 0.9, f"{100 * numbers.roof_open_fraction:.1f} %"
     # The camera's shutter: exposures cover a good part of it; the rest is overheads (slews,
-    # read-outs, and a focus series at the start, whose image analysis at 300x costs clock time).
+    # read-outs, and a focus series at the start, whose image analysis at 320x costs clock time).
     assert numbers.shutter_open_fraction >= 0.5, f"{100 * numbers.shutter_open_fraction:.1f} %"
 
 

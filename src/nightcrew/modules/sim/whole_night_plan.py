@@ -1,7 +1,7 @@
 """What a whole simulated night is, as pure functions: its span, its weather, its tasks' dates.
 
-:func:`night_span` runs from the evening to the morning twilight (Sun at ``sun_altitude``, so the
-sky flats fit in), :func:`weather_scenario` gives the weather station's script for a named scenario
+:func:`night_span` runs from the evening to the morning twilight (Sun at -3°, where the sky
+flats may start), :func:`weather_scenario` gives the weather station's script for a named scenario
 and :func:`shifted_group` moves the sample tasks (written for 2026-11-10) to another night.
 """
 
@@ -70,7 +70,7 @@ def _bisect(beyond: Callable[[float], bool], low: float, high: float) -> float:
     return high
 
 
-def night_span(night: date, site: Site, sun_altitude_deg: float = -2.0) -> tuple[datetime, datetime]:
+def night_span(night: date, site: Site, sun_altitude_deg: float = -3.0) -> tuple[datetime, datetime]:
     """From the Sun sinking below ``sun_altitude_deg`` on the evening of ``night`` to it rising again.
 
     Raises:
