@@ -75,3 +75,13 @@ def test_the_report_has_every_section(night: tuple[int, Path, NightNumbers]) -> 
     thumbnails = list((out / "thumbnails").glob("*.png"))
     assert len(thumbnails) == len(read_night(out).frames)
     assert write_report(out) == out / "report.html"  # again, from the files alone
+
+
+def test_nightcrew_report_rewrites_the_report_and_refuses_a_directory_without_a_night(
+    night: tuple[int, Path, NightNumbers], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _, out, _ = night
+    assert main(["report", str(out)]) == 0
+    assert capsys.readouterr().out.strip() == str(out / "report.html")
+    assert main(["report", str(tmp_path)]) == 2
+    assert "holds no night (no events.jsonl)" in capsys.readouterr().err
