@@ -59,6 +59,8 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
         result = asyncio.run(night)
     finally:
         logger.setLevel(old_level)
+        if sys.stderr.isatty():
+            sys.stderr.write("\n")  # end the rewritten progress line
     wall = time.monotonic() - wall_start
     report = write_report(args.out)
     state = "night complete" if result.completed else "night stopped early"
