@@ -167,3 +167,54 @@ async def test_science_frames_guide_and_bad_frames_are_skipped(observatory_at: O
         assert await mount.get_offsets_radec() == pytest.approx((dra, ddec + 20.0 / 3600.0))
         await guiding.stop()
         assert observatory_module(obs, "guiding", ScienceFrameAutoGuiding) is guiding
+
+
+class Gate(ImageProcessor):
+    """Test probe: lets frames through, or holds them while ``closed`` until ``release()``."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.closed = False
+        self.holding = asyncio.Event()
+        self._open = asyncio.Event()
+
+    async def __call__(self, image: Image) -> Image:
+        if self.closed:
+            self.holding.set()
+            await self._open.wait()
+        return image
+
+    def release(self) -> None:
+        self._open.set()
+
+
+async def test_a_frame_analysed_across_a_stop_does_not_move_the_telescope(
+    observatory_at: ObservatoryFactory,
+) -> None:
+    # The science-frame guider may still analyse a task's last frame when the script stops guiding
+    # and slews on; that stale correction must be dropped, not sent to a telescope on its way.
+    async with observatory_at(SPEED) as obs:
+        camera, mount = await start_pointing_observatory(obs, mount={"seed": 4})
+        await camera.set_window(256, 256, 512, 512)
+        gate = Gate()
+        guiding = await obs.start(
+            ScienceFrameAutoGuiding,
+            "guiding",
+            camera="camera",
+            telescope="mount",
+            pipeline=Pipeline([gate, NStarOffsets()]),
+            max_error=10.0,
+        )
+        await guiding.start()
+        await camera.set_exposure_time(5.0)
+        await camera.grab_data()  # the reference
+        await wait_for_state(guiding, LoopState.CLOSED)
+        dra, ddec = await mount.get_offsets_radec()
+        await mount.set_offsets_radec(dra, ddec + 3.0 / 3600.0)  # an error the guider would correct
+        gate.closed = True
+        await camera.grab_data()
+        await asyncio.wait_for(gate.holding.wait(), 30)
+        await guiding.stop()
+        gate.release()
+        await asyncio.sleep(0.5)  # the analysis finishes
+        assert await mount.get_offsets_radec() == pytest.approx((dra, ddec + 3.0 / 3600.0))

@@ -108,6 +108,9 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         self._bad_frames = 0
         self._target: tuple[str | None, float, float] | None = None  # OBJECT, RA, Dec of the reference
         self._expected: tuple[float, float] | None = None  # the new target after a MoveRaDecEvent
+        # Bumped by stop() and every new reference: a frame whose analysis began before must not
+        # correct the telescope afterwards (it may already be slewing to the next target).
+        self._generation = 0
 
     async def open(self) -> None:
         await super().open()
@@ -121,6 +124,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
 
     async def stop(self) -> None:
         self._loop_state = LoopState.STOPPED
+        self._generation += 1
         log.info("%s: guiding stopped", self.name)
 
     async def is_running(self) -> bool:
@@ -174,6 +178,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         return True
 
     async def _new_reference(self, reason: str) -> None:
+        self._generation += 1
         await self._pipeline.reset()
         self._errors.clear()
         self._bad_frames, self._target = 0, None
@@ -193,6 +198,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
             self._expected = None
         if self._target is not None and _moved(self._target, target, self._retarget_distance):
             await self._new_reference(f"target changed to {target}")
+        generation = self._generation
         try:
             image = await self._pipeline(image)
             offsets = image.metadata.get(OFFSETS_KEY)
@@ -201,6 +207,9 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
             error = sky_error(offsets, image, position_angle=self._position_angle, flip=self._flip)
         except NightcrewError as exc:
             await self._bad_frame(f"frame not usable: {exc}")
+            return None
+        if generation != self._generation:
+            log.debug("%s: guiding stopped or re-referenced while a frame was analysed; dropped", self.name)
             return None
         if offsets.is_reference:
             self._loop_state, self._target, self._bad_frames = LoopState.CLOSED, target, 0
