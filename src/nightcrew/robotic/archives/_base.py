@@ -8,6 +8,8 @@ implements both, the LCO portal client too. Listeners hear of every change as a
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import inspect
 import logging
 from abc import ABC, abstractmethod
@@ -63,15 +65,43 @@ class TaskArchive(ABC):
         clock: Gives "now" (window expiry, timestamps) and paces polling.
     """
 
+    #: Clock seconds between checks for changes made elsewhere (0: none); set by subclasses.
+    poll_interval: float = 0.0
+
     def __init__(self, *, clock: Clock | None = None) -> None:
         self.clock: Clock = clock or RealClock()
         self._listeners: list[TaskListener] = []
+        self._poll_task: asyncio.Task[None] | None = None
 
     async def open(self) -> None:  # noqa: B027 - optional hook, empty by default
         """Acquire resources (connections, polling tasks)."""
 
     async def close(self) -> None:  # noqa: B027 - optional hook, empty by default
         """Release them; safe to call twice."""
+
+    async def check_for_changes(self) -> bool:
+        """Whether tasks changed elsewhere since the last check (listeners hear); none by default."""
+        return False
+
+    def _start_polling(self, source: str) -> None:
+        """Call :meth:`check_for_changes` every ``poll_interval`` clock seconds until closed."""
+        if self.poll_interval > 0 and self._poll_task is None:
+            self._poll_task = asyncio.create_task(self._poll_loop(source), name=f"poll {source}")
+
+    async def _stop_polling(self) -> None:
+        task, self._poll_task = self._poll_task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    async def _poll_loop(self, source: str) -> None:
+        while True:
+            await self.clock.sleep(self.poll_interval)
+            try:
+                await self.check_for_changes()
+            except Exception as exc:  # a failed look (file, database, portal) is retried next time
+                log.warning("cannot check %s for changes: %s", source, exc)
 
     async def __aenter__(self) -> Self:
         await self.open()

@@ -13,8 +13,6 @@
 
 from __future__ import annotations
 
-import asyncio
-import contextlib
 import logging
 from collections.abc import Sequence
 from datetime import datetime, timedelta
@@ -77,19 +75,13 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
         self._tasks: dict[str, Task] = {}
         self._configuration_ids: dict[str, list[int]] = {}
         self._last_change = ""
-        self._poll_task: asyncio.Task[None] | None = None
 
     async def open(self) -> None:
         await self.client.open()
-        if self.poll_interval > 0 and self._poll_task is None:
-            self._poll_task = asyncio.create_task(self._poll_loop(), name=f"poll {self.client.url}")
+        self._start_polling(self.client.url)
 
     async def close(self) -> None:
-        if self._poll_task is not None:
-            self._poll_task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await self._poll_task
-            self._poll_task = None
+        await self._stop_polling()
         await self.client.close()
 
     async def check_for_changes(self) -> bool:
@@ -100,14 +92,6 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
         self._last_change = changed
         await self._notify()
         return True
-
-    async def _poll_loop(self) -> None:
-        while True:
-            await self.clock.sleep(self.poll_interval)
-            try:
-                await self.check_for_changes()
-            except PortalError as exc:
-                log.warning("cannot ask the portal for changes: %s", exc)
 
     async def get_schedulable_tasks(self) -> list[Task]:
         now = self.clock.now()

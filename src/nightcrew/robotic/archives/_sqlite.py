@@ -11,7 +11,6 @@ SQLite's ``data_version`` on the clock and reported to the listeners.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 import os
 import sqlite3
@@ -51,7 +50,6 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
         self.poll_interval = poll_interval
         self._executor: ThreadPoolExecutor | None = None
         self._conn: sqlite3.Connection | None = None
-        self._poll_task: asyncio.Task[None] | None = None
         self._data_version = 0
 
     async def open(self) -> None:
@@ -63,15 +61,10 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
         except BaseException:
             await self.close()
             raise
-        if self.poll_interval > 0:
-            self._poll_task = asyncio.create_task(self._poll_loop(), name=f"poll {self.path}")
+        self._start_polling(str(self.path))
 
     async def close(self) -> None:
-        if self._poll_task is not None:
-            self._poll_task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await self._poll_task
-            self._poll_task = None
+        await self._stop_polling()
         executor, self._executor = self._executor, None
         if executor is None:
             return
@@ -130,14 +123,6 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
         self._data_version = version
         await self._notify()
         return True
-
-    async def _poll_loop(self) -> None:
-        while True:
-            await self.clock.sleep(self.poll_interval)
-            try:
-                await self.check_for_changes()
-            except (sqlite3.Error, ModuleError) as exc:
-                log.warning("cannot poll the task database %s: %s", self.path, exc)
 
     # --- blocking work, in the worker thread -------------------------------------------------------
 

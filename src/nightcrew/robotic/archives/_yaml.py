@@ -11,7 +11,6 @@ reported and the last valid content stays in use, never half of the new one.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import hashlib
 import logging
 import os
@@ -62,22 +61,16 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
         self._stamp: tuple[int, int] | None = None
         self._digest = ""
         self._lock = asyncio.Lock()
-        self._poll_task: asyncio.Task[None] | None = None
 
     async def open(self) -> None:
         """Read the file (raises InvalidTaskError if it is invalid) and start polling."""
         await self.check_for_changes()
         if self.last_error is not None:
             raise self.last_error
-        if self.poll_interval > 0 and self._poll_task is None:
-            self._poll_task = asyncio.create_task(self._poll_loop(), name=f"poll {self.path}")
+        self._start_polling(str(self.path))
 
     async def close(self) -> None:
-        if self._poll_task is not None:
-            self._poll_task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await self._poll_task
-            self._poll_task = None
+        await self._stop_polling()
 
     async def check_for_changes(self) -> bool:
         """Reload the file if it changed; whether the tasks changed (listeners hear which)."""
@@ -113,14 +106,6 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
                 changed.add(task_id)
         self._tasks = merged
         return changed
-
-    async def _poll_loop(self) -> None:
-        while True:
-            await self.clock.sleep(self.poll_interval)
-            try:
-                await self.check_for_changes()
-            except OSError as exc:
-                log.warning("cannot read %s: %s", self.path, exc)
 
     async def get_task(self, task_id: str) -> Task:
         try:
