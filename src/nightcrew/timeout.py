@@ -1,9 +1,9 @@
 """The ``@timeout`` decorator: how long a remotely callable method may take.
 
-The callee announces this timeout to the caller as soon as a call arrives; the caller then waits at
-most that long (plus the transport's grace) and raises
-:class:`~nightcrew.errors.RemoteTimeoutError` afterwards. Undecorated methods get
-:data:`DEFAULT_TIMEOUT`. Timeouts are in clock seconds (see :mod:`nightcrew.clock`).
+Undecorated methods get :data:`DEFAULT_TIMEOUT`, which callers assume. Any other timeout the callee
+announces to the caller as soon as a call arrives; the caller then waits at most that long (plus
+the transport's grace) and raises :class:`~nightcrew.errors.RemoteTimeoutError` afterwards.
+Timeouts are in clock seconds (see :mod:`nightcrew.clock`).
 
 Examples::
 

@@ -108,12 +108,24 @@ async def test_a_plain_client_calls_a_module_with_the_documented_stanzas(
     reply = await iq.send(timeout=5)
     value = reply.xml.find(f"{{{RPC}}}query/{{{RPC}}}methodResponse/{{{RPC}}}params/{{{RPC}}}param")
     assert value is not None and ET.tostring(value[0][0]).endswith(b">2.5</ns0:double>")
+
+    # wait(seconds) declares a timeout of 100 x seconds: announced at once, before the result.
+    slow: Any = plain_client.xmpp.make_iq_set(ito=calc_jid)
+    slow.xml.append(
+        ET.fromstring(
+            "<query xmlns='jabber:iq:rpc'><methodCall><methodName>wait</methodName><params>"
+            "<param><value><double>0.2</double></value></param></params></methodCall></query>"
+        )
+    )
+    pending = asyncio.ensure_future(slow.send(timeout=5))
     announcement = None
     while announcement is None:  # skip the room subject and log events
         message = await asyncio.wait_for(plain_client.messages.get(), 5)
         announcement = message.find("{urn:nightcrew:rpc:timeout}timeout")
-    assert announcement is not None
-    assert announcement.get("id") == iq["id"] and float(announcement.get("seconds", "")) == 10.0
+    assert not pending.done(), "the announcement comes before the result"
+    await pending
+    # add() has the default timeout, so it announced nothing: the first announcement is wait()'s.
+    assert announcement.get("id") == slow["id"] and float(announcement.get("seconds", "")) == 20.0
 
 
 async def test_a_plain_client_sends_an_event_a_module_receives(

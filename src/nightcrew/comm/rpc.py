@@ -21,7 +21,7 @@ from nightcrew.errors import (
     error_class,
 )
 from nightcrew.interfaces.base import Interface, interface_methods, interfaces_of
-from nightcrew.timeout import has_timeout, method_timeout
+from nightcrew.timeout import DEFAULT_TIMEOUT, has_timeout, method_timeout
 
 __all__ = ["Fault", "RpcServer", "exception_from_fault", "fault_from_exception"]
 
@@ -89,6 +89,9 @@ class RpcServer:
     async def handle(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
         """Run ``method`` with wire ``args``; call ``announce(timeout)`` as soon as it is known.
 
+        Only a timeout other than :data:`~nightcrew.timeout.DEFAULT_TIMEOUT` is announced: callers
+        wait the default for a call that announces nothing.
+
         Returns the wire-encoded result; raises the method's exception (see fault_from_exception).
         """
         try:
@@ -116,7 +119,10 @@ class RpcServer:
         implementation = getattr(self._obj, method)
         # A timeout on the implementation overrides the interface's default.
         impl_func = getattr(implementation, "__func__", implementation)
-        announce(method_timeout(impl_func if has_timeout(impl_func) else declaration, arguments))
+        seconds = method_timeout(impl_func if has_timeout(impl_func) else declaration, arguments)
+        if seconds != DEFAULT_TIMEOUT:
+            # Without an announcement callers wait the default: saying so would cost a stanza per call.
+            announce(seconds)
         result = await implementation(**arguments)
         try:
             return encode(result, f"result of {method}()")

@@ -1,8 +1,8 @@
 """Remote calls over XEP-0009 IQs, with nightcrew's timeout announcement.
 
 Caller → callee: ``<iq type='set' id=ID>`` with ``<query xmlns='jabber:iq:rpc'><methodCall>``.
-Callee → caller, at once: ``<message type='headline'>`` with
-``<timeout xmlns='urn:nightcrew:rpc:timeout' id=ID seconds=S/>``. Callee → caller, when done:
+Callee → caller, at once, when the method's timeout is not the default: ``<message type='headline'>``
+with ``<timeout xmlns='urn:nightcrew:rpc:timeout' id=ID seconds=S/>``. Callee → caller, when done:
 ``<iq type='result' id=ID>`` with a methodResponse (result or fault). An ``<iq type='error'>``
 (e.g. the callee's session is gone) fails the call with RemoteError.
 """
