@@ -232,3 +232,13 @@ def test_bad_scheduler_input_is_one_clear_error() -> None:
         Scheduler().schedule([block("a"), block("a")], NIGHT)
     with pytest.raises(InvalidArgumentError, match=r"night start .* is not before its end"):
         Night(NIGHT.end, NIGHT.start, SITE)
+
+
+def test_astroplan_places_blocks_back_to_back() -> None:
+    # Two 1-h blocks exactly fill a 2-h window. astroplan's own bookkeeping loses the grid point at
+    # the end of every block (float JD grid ~0.1 ms early), which would leave room for only one.
+    window = ((hours(2.0), hours(4.0)),)
+    blocks = [block(name, duration_s=3600.0, windows=window) for name in ("a", "b")]
+    greedy = Scheduler(solver="priority", slew_overhead_s=0.0).schedule(blocks, NIGHT)
+    assert [(s.start, s.end) for s in greedy.slots] == [(hours(2.0), hours(3.0)), (hours(3.0), hours(4.0))]
+    assert greedy.objective == pytest.approx(2.0)
