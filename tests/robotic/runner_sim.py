@@ -18,7 +18,7 @@ from nightcrew.robotic.tasks import Task, TaskProgress, parse_request_group, tas
 from nightcrew.vfs import MemoryFile
 from tests.modules.conftest import Observatory
 
-__all__ = ["PLEIADES", "ProgressLog", "SimSetup", "make_task", "sim", "start_sim"]
+__all__ = ["PLEIADES", "ProgressLog", "SimSetup", "make_task", "request_group", "sim", "start_sim"]
 
 PLEIADES = {"name": "Pleiades", "ra": 56.75, "dec": 24.12}  # high in the sky at the conftest epoch
 #: A 256² chip: frames render in milliseconds; binned 2x2 they are 128².
@@ -108,19 +108,22 @@ async def sim() -> AsyncIterator[SimSetup]:
         MemoryFile.clear_shared()
 
 
+def request_group(*configurations: dict[str, Any]) -> dict[str, Any]:
+    """Plain data of a group of one request with ``configurations``, the night of the tests."""
+    return {
+        "name": "runner test",
+        "proposal": "tests",
+        "requests": [
+            {
+                "location": {"telescope_class": "0m4"},
+                "windows": [{"start": "2024-01-15T18:00:00Z", "end": "2024-01-16T06:00:00Z"}],
+                "configurations": list(configurations),
+            }
+        ],
+    }
+
+
 def make_task(*configurations: dict[str, Any], task_id: str = "t1") -> Task:
     """A task of one request with ``configurations`` (plain data as in a request group file)."""
-    group = parse_request_group(
-        {
-            "name": "runner test",
-            "proposal": "tests",
-            "requests": [
-                {
-                    "location": {"telescope_class": "0m4"},
-                    "windows": [{"start": "2024-01-15T18:00:00Z", "end": "2024-01-16T06:00:00Z"}],
-                    "configurations": list(configurations),
-                }
-            ],
-        }
-    )
+    group = parse_request_group(request_group(*configurations))
     return tasks_of_group(group, "g1", [task_id])[0]

@@ -322,6 +322,37 @@ async def test_schedule_upload_read_back_and_status_updates(portal: tuple[Replay
         assert await archive.read_schedule() == [entry]
 
 
+async def test_a_retry_keeps_the_progress_and_reports_only_its_own_time(
+    portal: tuple[ReplayPortal, str],
+) -> None:
+    replay, url = portal
+    clock = ManualClock(NIGHT)
+    async with _archive(url, clock) as archive:
+        task = (await archive.get_schedulable_tasks())[0]
+        first = ScheduleEntry(task.id, NIGHT, NIGHT + timedelta(minutes=20))
+        await archive.write_schedule([first], replace_from=NIGHT)
+        await archive.mark_started(task.id)
+        clock.advance(300)
+        half = TaskProgress(exposures_done=((2,), (0,)))
+        await archive.mark_failed(task.id, "interrupted by bad weather", half)
+
+        # Planned again later: the task still knows what was done, so the runner resumes from it.
+        retry = ScheduleEntry(task.id, NIGHT + timedelta(hours=2), NIGHT + timedelta(hours=2, minutes=20))
+        await archive.write_schedule([retry], replace_from=NIGHT + timedelta(hours=1))
+        clock.advance(7200)
+        again = await archive.mark_started((await archive.get_schedulable_tasks())[0].id)
+        assert again.status.progress.exposures_done == ((2,), (0,))
+        clock.advance(300)
+        await archive.mark_finished(task.id, TaskProgress(exposures_done=((3,), (2,))))
+
+        # The second observation completed both configurations, having exposed one 120-s frame.
+        retry_statuses = [s["id"] for s in replay.observations[-1]["configuration_statuses"]]
+        patches = dict(replay.patches[-2:])
+        assert list(patches) == retry_statuses
+        assert [p["state"] for p in patches.values()] == ["COMPLETED", "COMPLETED"]
+        assert [p["summary"]["time_completed"] for p in patches.values()] == [120, 0]
+
+
 async def test_changes_are_polled_and_errors_named(portal: tuple[ReplayPortal, str]) -> None:
     replay, url = portal
     async with _archive(url, ManualClock(NIGHT)) as archive:

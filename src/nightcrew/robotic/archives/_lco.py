@@ -8,7 +8,8 @@
   ``GET /api/observations/`` (paginated);
 - fate: ``PATCH /api/configurationstatus/<id>/`` per configuration (ATTEMPTED when started;
   COMPLETED / FAILED / NOT_ATTEMPTED with a summary at the end). Progress recorded while running
-  stays here until then.
+  stays here until then, and is kept (in memory) for a retry of a FAILED task, which takes only
+  what is missing; each observation's summary counts only the exposure time it took itself.
 """
 
 from __future__ import annotations
@@ -74,6 +75,7 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
         self.poll_interval = poll_interval
         self._tasks: dict[str, Task] = {}
         self._configuration_ids: dict[str, list[int]] = {}
+        self._progress_at_start: dict[str, TaskProgress] = {}
         self._last_change = ""
 
     async def open(self) -> None:
@@ -121,6 +123,7 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
     async def mark_started(self, task_id: str) -> Task:
         task = await self.get_task(task_id)
         status = task.status.transition(TaskState.RUNNING, at=self.clock.now())
+        self._progress_at_start[task_id] = task.status.progress  # a retry goes on from here
         status_ids = await self._configuration_status_ids(task_id)
         if status_ids:
             await self.client.update_configuration_status(status_ids[0], {"state": "ATTEMPTED"})
@@ -144,7 +147,10 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
         state = TaskState.FAILED if reason else TaskState.COMPLETED
         status = task.status.transition(state, at=now, reason=reason, progress=progress)
         start = task.status.started_at or now
-        updates = configuration_status_updates(task, progress, reason=reason, start=start, end=now)
+        before = self._progress_at_start.pop(task_id, None)
+        updates = configuration_status_updates(
+            task, progress, reason=reason, start=start, end=now, before=before
+        )
         for status_id, update in zip(await self._configuration_status_ids(task_id), updates, strict=False):
             await self.client.update_configuration_status(status_id, update)
         return await self._store(task.with_status(status))

@@ -149,12 +149,26 @@ def observation_document(
 
 
 def configuration_status_updates(
-    task: Task, progress: TaskProgress, *, reason: str, start: datetime, end: datetime
+    task: Task,
+    progress: TaskProgress,
+    *,
+    reason: str,
+    start: datetime,
+    end: datetime,
+    before: TaskProgress | None = None,
 ) -> list[dict[str, Any]]:
-    """One ``PATCH`` body per configuration: COMPLETED, FAILED (partly done) or NOT_ATTEMPTED."""
+    """One ``PATCH`` body per configuration: COMPLETED, FAILED (partly done) or NOT_ATTEMPTED.
+
+    ``progress`` is the request's whole progress, ``before`` what it was when this observation
+    started (a retry after an interruption): the state says whether the configuration is complete
+    now, ``time_completed`` and FAILED vs NOT_ATTEMPTED count only what this observation took.
+    """
     updates = []
     for index, configuration in enumerate(task.request.configurations):
-        done = [progress.count(index, i) for i in range(len(configuration.instrument_configs))]
+        done = [
+            progress.count(index, i) - (before.count(index, i) if before else 0)
+            for i in range(len(configuration.instrument_configs))
+        ]
         if progress.configuration_complete(task.request, index) and (
             configuration.instrument_configs or not reason
         ):

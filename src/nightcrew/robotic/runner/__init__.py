@@ -10,6 +10,10 @@ A task with several configurations (AUTO_FOCUS then EXPOSE) runs each by its scr
 Scripts are keyed by configuration type name, or ``SCRIPT:<name>`` for SCRIPT configurations whose
 ``extra_params.script`` is ``<name>``. A script sees a task holding only the configuration it runs
 and reports that configuration's progress; the runner reports the whole task's.
+
+A task is resumed from the progress its status records (a FAILED attempt keeps it): configurations
+already done are skipped and scripts take only the missing exposures, so a retry after bad weather
+does not repeat frames that are already there.
 """
 
 from nightcrew.robotic.runner._narrow import configuration_task, merged_progress

@@ -110,14 +110,22 @@ class TaskRunner(Object):
     async def run_task(self, task: Task, progress: ProgressCallback) -> None:
         """Run the task's configurations in order, each by its script; report the whole task's progress.
 
+        Progress recorded in ``task`` (an interrupted earlier attempt) counts: only what is missing
+        is taken, and the reports start from it.
+
         Raises:
             NotSupportedError: A configuration has no script (checked before anything moves).
             NightcrewError: A script failed; later configurations do not run.
             asyncio.CancelledError: Aborted (the running script has cleaned up).
         """
         scripts = [self.script_for_configuration(c) for c in task.request.configurations]
-        done = TaskProgress.nothing_done(task.request)
+        # A retried task goes on from its recorded progress: finished configurations are skipped
+        # and the scripts take only the exposures still missing.
+        done = task.status.progress.or_nothing(task.request)
         for index, script in enumerate(scripts):
+            if done.nothing_left(task.request, index):
+                log.info("task %s: configuration %d was done in an earlier attempt", task.id, index + 1)
+                continue
 
             async def report(part: TaskProgress, index: int = index) -> None:
                 nonlocal done

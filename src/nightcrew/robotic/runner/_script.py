@@ -87,14 +87,22 @@ def the_configuration(task: Task) -> Configuration:
 
 
 class ProgressReporter:
-    """Counts the exposures of one script run and reports the task's progress after each."""
+    """Counts the exposures of one script run and reports the task's progress after each.
+
+    Counting starts from what the task has recorded (an earlier, interrupted attempt), so a script
+    takes only :meth:`remaining` exposures and the reports never go back.
+    """
 
     def __init__(self, task: Task, callback: ProgressCallback) -> None:
-        self._request = task.request
+        self.request = task.request
         self._callback = callback
-        self.progress = TaskProgress.nothing_done(task.request)
+        self.progress = task.status.progress.or_nothing(task.request)
+
+    def remaining(self, instrument_config: int) -> int:
+        """Exposures of instrument config ``instrument_config`` still to take."""
+        return self.progress.remaining(self.request, 0, instrument_config)
 
     async def add(self, instrument_config: int, count: int = 1) -> None:
         """``count`` more exposures of instrument config ``instrument_config`` are done."""
-        self.progress = self.progress.with_exposures(self._request, 0, instrument_config, count)
+        self.progress = self.progress.with_exposures(self.request, 0, instrument_config, count)
         await self._callback(self.progress)

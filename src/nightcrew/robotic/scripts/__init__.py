@@ -11,8 +11,10 @@ PointingSeriesScript   SCRIPT:<name>          pointing
 =====================  =====================  ===========================================================
 
 Every script reaches the devices through proxies only, reports progress after every exposure (or
-series a module takes), names the failing step in its :class:`~nightcrew.robotic.runner.ScriptError`
-and, when cancelled, aborts what runs (exposure, slew, series) and stops guiding before re-raising.
+series a module takes), takes only what the task's recorded progress still lacks (a retry after an
+interruption does not repeat frames already taken), names the failing step in its
+:class:`~nightcrew.robotic.runner.ScriptError` and, when cancelled, aborts what runs (exposure,
+slew, series) and stops guiding before re-raising.
 """
 
 from nightcrew.robotic.scripts.autofocus import AutoFocusScript, focus_step

@@ -105,6 +105,8 @@ class AutoFocusScript(Script):
         for index, (instrument_config, focus_step_mm) in enumerate(
             zip(config.instrument_configs, steps, strict=True)
         ):
+            if reporter.remaining(index) == 0:
+                continue  # this series ran in an earlier attempt
             filter_name = instrument_config.optical_elements.get(FILTER_ELEMENT)
             if filter_name is not None:
                 wheel = await self.optional_proxy(self._filters, IFilters)

@@ -44,7 +44,10 @@ class CalibrationScript(Script):
         instrument = await Instrument.connect(self, self._camera, None)
         reporter = ProgressReporter(task, progress)
         for index, instrument_config in enumerate(config.instrument_configs):
+            missing = reporter.remaining(index)
+            if missing == 0:
+                continue
             await instrument.set_up(instrument_config, timed=image_type is ImageType.DARK, use_filter=False)
-            for _ in range(instrument_config.exposure_count):
+            for _ in range(missing):
                 await instrument.expose(image_type)
                 await reporter.add(index)

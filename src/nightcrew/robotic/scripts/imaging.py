@@ -39,6 +39,9 @@ class ImagingScript(Script):
     otherwise). Optional guiding that fails to start only gives a warning; required guiding fails
     the configuration. Aborted or failed, the script aborts the exposure and stops guiding.
 
+    A task carrying progress from an interrupted attempt is resumed: only the missing frames of
+    each instrument config are taken, a REPEAT_EXPOSE only repeats for the time it has left.
+
     Args:
         telescope: Module offering ITelescope.
         camera: Module offering ICamera (IExposureTime, IBinning if binning is asked for).
@@ -143,8 +146,11 @@ class ImagingScript(Script):
         self, config: Configuration, instrument: Instrument, reporter: ProgressReporter
     ) -> None:
         for index, instrument_config in enumerate(config.instrument_configs):
+            missing = reporter.remaining(index)
+            if missing == 0:
+                continue  # taken in an earlier attempt
             await instrument.set_up(instrument_config)
-            for _ in range(instrument_config.exposure_count):
+            for _ in range(missing):
                 await instrument.expose(ImageType.OBJECT)
                 await reporter.add(index)
 
@@ -152,8 +158,11 @@ class ImagingScript(Script):
         self, config: Configuration, instrument: Instrument, reporter: ProgressReporter
     ) -> None:
         assert config.repeat_duration is not None  # the task model requires it for REPEAT_EXPOSE
-        timing = RepeatTiming(self.clock.time(), config.repeat_duration)
-        cycles = 0
+        # Resumed after an interruption: only the time left, and a first cycle already taken is
+        # not forced again.
+        recorded = reporter.progress
+        timing = RepeatTiming(self.clock.time(), recorded.repeat_time_left(reporter.request, 0))
+        cycles = 1 if recorded.configuration_complete(reporter.request, 0) else 0
         while True:
             for index, instrument_config in enumerate(config.instrument_configs):
                 exposure_time = instrument_config.exposure_time

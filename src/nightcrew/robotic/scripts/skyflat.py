@@ -43,8 +43,11 @@ class SkyFlatScript(Script):
         flatfield = await self.proxy(self._flatfield, IFlatField)
         reporter = ProgressReporter(task, progress)
         for index, instrument_config in enumerate(config.instrument_configs):
+            count = reporter.remaining(index)
+            if count == 0:
+                continue  # taken in an earlier attempt
             filter_name = instrument_config.optical_elements.get(FILTER_ELEMENT)
-            count, binning = instrument_config.exposure_count, instrument_config.binning
+            binning = instrument_config.binning
             taken, exposure = await step(
                 f"{count} sky flats in {filter_name or 'the current filter'}",
                 flatfield.flat_field(count, Binning(binning, binning), filter_name),

@@ -100,6 +100,39 @@ class TaskProgress(TaskModel):
         done[configuration][instrument_config] += count
         return TaskProgress(exposures_done=tuple(tuple(row) for row in done))
 
+    def or_nothing(self, request: Request) -> TaskProgress:
+        """This progress, or :meth:`nothing_done` for ``request`` if nothing was recorded."""
+        return self if self.exposures_done else TaskProgress.nothing_done(request)
+
+    def remaining(self, request: Request, configuration: int, instrument_config: int) -> int:
+        """Exposures of one instrument config still to take (a retry takes only these)."""
+        wanted = request.configurations[configuration].instrument_configs[instrument_config].exposure_count
+        return max(0, wanted - self.count(configuration, instrument_config))
+
+    def repeat_time_left(self, request: Request, configuration: int) -> float:
+        """Seconds of a REPEAT_EXPOSE's ``repeat_duration`` not yet spent exposing.
+
+        Exposure time is a lower bound of the time an interrupted run used (read-outs are not
+        recorded), so a resumed repeat never stops short of its duration.
+        """
+        config = request.configurations[configuration]
+        exposed = sum(
+            self.count(configuration, i) * instrument_config.exposure_time
+            for i, instrument_config in enumerate(config.instrument_configs)
+        )
+        return max(0.0, (config.repeat_duration or 0.0) - exposed)
+
+    def nothing_left(self, request: Request, configuration: int) -> bool:
+        """Whether a retry can skip the configuration: every exposure taken (a REPEAT_EXPOSE: at
+        least one cycle and its duration used up). A configuration without instrument configs
+        (e.g. a SCRIPT) records no exposures, so it always runs again."""
+        config = request.configurations[configuration]
+        if not config.instrument_configs or not self.configuration_complete(request, configuration):
+            return False
+        if config.type is ConfigurationType.REPEAT_EXPOSE:
+            return self.repeat_time_left(request, configuration) <= 0.0
+        return True
+
     @property
     def total_exposures(self) -> int:
         """All exposures done."""
