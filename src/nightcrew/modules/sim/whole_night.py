@@ -32,7 +32,7 @@ from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.modules.sim.night import build_observatory, park_and_close
 from nightcrew.modules.sim.night_blocks import NightBlockSource
 from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
-from nightcrew.modules.sim.whole_night_plan import one_window_each, shifted_group, survey_groups
+from nightcrew.modules.sim.whole_night_plan import one_window_each, samples_for_night, survey_groups
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
@@ -94,7 +94,7 @@ async def run_whole_night(
     network = LocalNetwork()
     # The watcher opens first, so that whatever fails later, it can still park and close.
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
-    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night)
+    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night, site)
     opened: list[Module] = []
     result = WholeNight()
     try:
@@ -150,11 +150,11 @@ def _blocking_clear_records(out_dir: Path) -> None:
         old.unlink(missing_ok=True)
 
 
-async def _fresh_archive(path: Path, clock: Clock, night: date) -> SqliteTaskArchive:
-    """A new archive at ``path`` holding the sample tasks for ``night``."""
+async def _fresh_archive(path: Path, clock: Clock, night: date, site: Site) -> SqliteTaskArchive:
+    """A new archive at ``path`` holding the sample tasks observable on ``night``."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    samples = [part for g in load_samples().values() for part in one_window_each(shifted_group(g, night))]
+    samples = [part for g in samples_for_night(load_samples(), night, site) for part in one_window_each(g)]
     for group in [*samples, *survey_groups(night)]:
         await archive.add_request_group(group)
     return archive

@@ -7,18 +7,23 @@ and :func:`shifted_group` moves the sample tasks (written for 2026-11-10) to ano
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import logging
+from collections.abc import Callable, Mapping
 from datetime import UTC, date, datetime, timedelta
 from typing import Any
 
 from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.robotic.tasks import RequestGroup, parse_request_group
+from nightcrew.robotic.tasks.visibility import fit_to_night
 from nightcrew.site import Site
+
+log = logging.getLogger(__name__)
 
 __all__ = [
     "SAMPLE_NIGHT",
     "WEATHER_SCENARIOS",
     "night_span",
+    "samples_for_night",
     "shifted_group",
     "sun_crossing",
     "weather_scenario",
@@ -156,6 +161,28 @@ def shifted_group(group: RequestGroup, night: date) -> RequestGroup:
         for request in group.requests
     )
     return group.model_copy(update={"requests": requests})
+
+
+def samples_for_night(samples: Mapping[str, RequestGroup], night: date, site: Site) -> list[RequestGroup]:
+    """``samples`` moved to ``night``, their windows refitted where their targets are not observable
+    there (:func:`~nightcrew.robotic.tasks.visibility.fit_to_night`); what cannot be observed at all
+    that night is left out with a warning."""
+    start, end = night_span(night, site)
+    groups: list[RequestGroup] = []
+    for name, group in samples.items():
+        fit = fit_to_night(shifted_group(group, night), site, start, end)
+        if fit.dropped:
+            which = "" if fit.group is None else f"requests {list(fit.dropped)} of "
+            log.warning(
+                "left out %ssample %s: not observable for long enough within its airmass and Sun "
+                "limits on the night of %s",
+                which, name, night,
+            )  # fmt: skip
+        if fit.refitted:
+            log.info("sample %s: windows moved to where it is observable on %s", name, night)
+        if fit.group is not None:
+            groups.append(fit.group)
+    return groups
 
 
 def survey_groups(night: date, *, exposure_time: float = 300.0, count: int = 6) -> list[RequestGroup]:
