@@ -26,10 +26,15 @@ SPEED = 200.0
 TARGET, BIAS = 30000.0, 1000.0
 BINNING = Binning(2, 2)
 DETECTOR = {"chip_width": 256, "chip_height": 256, "cosmic_rays_per_s": 0.0}
-THROUGHPUTS = {"V": 0.8, "R": 0.85}
+#: B lets through a quarter of V: it needs 4x the exposure, so at dusk its flats must come first.
+THROUGHPUTS = {"V": 0.8, "R": 0.85, "B": 0.2}
 #: Deliberately not the simulator's truth (about exp(-0.92*(h + 5.5)) for V, 2x2): the test
-#: exposure and the sky factor must make up for it.
-FUNCTIONS = {"V": {"2x2": "exp(-0.8*(h + 5.2))"}, "R": {"2x2": "exp(-0.8*(h + 5.3))"}}
+#: exposure and the sky factor must make up for it. B: V's shifted by ln(4) / 0.8.
+FUNCTIONS = {
+    "V": {"2x2": "exp(-0.8*(h + 5.2))"},
+    "R": {"2x2": "exp(-0.8*(h + 5.3))"},
+    "B": {"2x2": "exp(-0.8*(h + 3.47))"},
+}
 
 
 class TwilightObservatory(Observatory):
@@ -56,7 +61,7 @@ async def start_flat_observatory(obs: TwilightObservatory, **flat_options: Any) 
     await telescope.init()
     roof = await obs.start(SimRoof, "roof", open_time=1.0)
     await roof.open_roof()
-    await obs.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V", change_time=1.0)
+    await obs.start(SimFilterWheel, "filters", filters=["V", "R", "B"], filter_name="V", change_time=1.0)
     await obs.start(SimWeatherStation, "weather", scenario=[{"at": 0, "clouds": 0.0}])
     await obs.start(
         SimCamera, "camera", detector=DETECTOR, filter_throughputs=THROUGHPUTS, catalog_depth=12.0,

@@ -15,7 +15,7 @@ from nightcrew.modules.flatfield import FlatFieldScheduler
 from nightcrew.modules.flatfield.sun import sun_altaz
 from tests.modules.conftest import SITE
 
-from .sim import BINNING, DAWN, DUSK, TARGET, TwilightObservatory, start_flat_observatory
+from .sim import BINNING, DAWN, DUSK, FUNCTIONS, TARGET, TwilightObservatory, start_flat_observatory
 
 
 @pytest.fixture
@@ -125,3 +125,23 @@ async def test_scheduler_takes_combinations_by_priority_and_remembers(dusk: Twil
     assert saved["R 2x2"].startswith("2024-01-15T16:")
     again = await dusk.start(FlatFieldScheduler, "flatscheduler2", **options)
     assert again.last_taken == scheduler.last_taken
+
+
+async def test_scheduler_with_the_functions_plans_for_the_twilight(dusk: TwilightObservatory) -> None:
+    await start_flat_observatory(dusk)
+    options = {
+        "flatfield": "flatfield",
+        "flats": [
+            {"filter": "V", "binning": "2x2", "count": 3},  # never taken, listed first
+            {"filter": "B", "binning": "2x2", "count": 3},
+        ],
+        "functions": FUNCTIONS,
+        "max_exposure": 30.0,
+        "overhead": 5.0,
+    }
+    scheduler = await dusk.start(FlatFieldScheduler, "flatscheduler", **options)
+    await scheduler.run()
+    filters = [header["FILTER"] for header, _ in frames(dusk.directory)]
+    # B needs 4x V's exposure, so its opening closes first: planned before V.
+    assert filters[0] == "B" and filters.index("V") > filters.index("B")
+    assert filters.count("B") >= 3 and filters.count("V") >= 3

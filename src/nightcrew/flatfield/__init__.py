@@ -11,6 +11,7 @@ from nightcrew.flatfield.control import (
 from nightcrew.flatfield.exptime import NO_FILTER, ExposureTimeFunctions, binning_key, parse_binning
 from nightcrew.flatfield.pointing import antisolar_position, dither_offset
 from nightcrew.flatfield.schedule import FlatTask, last_taken_from_plain, prioritised, tasks_from_config
+from nightcrew.flatfield.twilight_plan import PlannedFlats, TwilightPlanner, plan_twilight
 
 __all__ = [
     "NO_FILTER",
@@ -19,12 +20,15 @@ __all__ = [
     "FlatExposureControl",
     "FlatLimits",
     "FlatTask",
+    "PlannedFlats",
     "Twilight",
+    "TwilightPlanner",
     "antisolar_position",
     "binning_key",
     "dither_offset",
     "last_taken_from_plain",
     "parse_binning",
+    "plan_twilight",
     "prioritised",
     "tasks_from_config",
     "twilight_from_altitudes",

@@ -1,4 +1,5 @@
-"""Several filter/binning combinations of flats per twilight, the longest-waiting first."""
+"""Several filter/binning combinations of flats per twilight: the longest-waiting first, in the order
+the twilight allows."""
 
 from __future__ import annotations
 
@@ -7,9 +8,16 @@ import logging
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from nightcrew.errors import AbortedError, DeviceBusyError, NightcrewError
-from nightcrew.flatfield import FlatTask, last_taken_from_plain, prioritised, tasks_from_config
+from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, NightcrewError
+from nightcrew.flatfield import (
+    FlatTask,
+    TwilightPlanner,
+    last_taken_from_plain,
+    prioritised,
+    tasks_from_config,
+)
 from nightcrew.interfaces import Binning, IFlatField, IRunnable
+from nightcrew.modules.flatfield.sun import sun_altitude_at
 from nightcrew.modules.module import Module
 
 __all__ = ["FlatFieldScheduler"]
@@ -22,12 +30,19 @@ class FlatFieldScheduler(Module, IRunnable):
 
     A combination's priority grows with the time since it was last taken (see
     :mod:`nightcrew.flatfield.schedule`); those times are kept in ``state_file`` across restarts.
-    A combination for which the twilight is over gives no flats and is simply tried again next time.
+    With the exposure-time ``functions`` (the FlatField module's) and a ``site``, the run is
+    planned for the twilight (:mod:`nightcrew.flatfield.twilight_plan`): the combinations that fit,
+    by falling priority, in the order their openings close (at dusk those needing long exposures
+    first), then the rest. A combination for which the twilight is over gives no flats and is
+    simply tried again next time.
 
     Args:
         flatfield: Module offering IFlatField.
         flats: Combinations, e.g. ``[{filter: V, binning: 2x2, count: 10, weight: 1}, ...]``.
         state_file: VFS path (YAML) of when each combination was last taken; None: memory only.
+        functions: Filter -> binning -> exposure time as a function of ``h``; None: priority only.
+        min_exposure, max_exposure: T_min and T_max, as configured for the flat-field module.
+        overhead: Seconds per flat besides the exposure (read-out, pointing), for the plan.
         **kwargs: Module options.
     """
 
@@ -37,10 +52,21 @@ class FlatFieldScheduler(Module, IRunnable):
         flatfield: str | IFlatField,
         flats: list[dict[str, Any]],
         state_file: str | None = None,
+        functions: dict[str, dict[str, str]] | None = None,
+        min_exposure: float = 1.0,
+        max_exposure: float = 30.0,
+        overhead: float = 10.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
         self._combinations: Sequence[FlatTask] = tasks_from_config(flats, "flats")
+        self._planner: TwilightPlanner | None = None
+        if functions is not None:
+            if self.site is None:
+                raise ConfigError("planning for the twilight needs the observatory site", key="site")
+            self._planner = TwilightPlanner(
+                functions, min_exposure=min_exposure, max_exposure=max_exposure, overhead=overhead
+            )
         self._flatfield, self._state_file = flatfield, state_file
         self._running: asyncio.Task[None] | None = None
 
@@ -77,7 +103,7 @@ class FlatFieldScheduler(Module, IRunnable):
 
     async def _run_all(self) -> None:
         flatfield = await self.proxy(self._flatfield, IFlatField)
-        for task in prioritised(self._combinations, self._last_taken, self.clock.now()):
+        for task in self._order():
             log.info("%s: %d flats in %s", self.name, task.count, task.key)
             try:
                 done, seconds = await flatfield.flat_field(
@@ -92,6 +118,19 @@ class FlatFieldScheduler(Module, IRunnable):
             if done > 0:
                 self._last_taken[task.key] = self.clock.now()
                 await self._save_state()
+
+    def _order(self) -> list[FlatTask]:
+        """The combinations by priority, planned for the twilight if there is a planner."""
+        by_priority = prioritised(self._combinations, self._last_taken, self.clock.now())
+        if self._planner is None or self.site is None:
+            return by_priority
+        plan = self._planner.plan(by_priority, sun_altitude_at(self.site), self.clock.time())
+        for planned in plan:
+            if not planned.fits:
+                log.info(
+                    "%s: %s does not fit this twilight as modelled; tried last", self.name, planned.task.key
+                )
+        return [planned.task for planned in plan]
 
     async def _load_state(self) -> dict[str, Any]:
         path = self._state_file
