@@ -21,12 +21,16 @@ from nightcrew.comm.xmpp._xmlrpc import (
 from nightcrew.errors import CodecError
 
 
+def encoded(*values: Any) -> ET.Element:
+    """``<param>`` holding the ``<value>`` of each of ``values``, parsed from the text written."""
+    out: list[str] = []
+    for value in values:
+        encode_value(value, out)
+    return ET.fromstring("<param>" + "".join(out) + "</param>")
+
+
 def round_trip(value: Any) -> Any:
-    parent = ET.Element("param")
-    encode_value(value, parent)
-    # through text, as on the wire
-    parsed = ET.fromstring(ET.tostring(parent))
-    return decode_value(next(iter(parsed)))
+    return decode_value(next(iter(encoded(value))))
 
 
 @pytest.mark.parametrize(
@@ -46,12 +50,13 @@ def round_trip(value: Any) -> Any:
         1e300,
         "",
         "ä <&> ünïcode 🔭",
+        "line\r\nbreaks\tand ]]> \"quotes'",
         b"\x00\xff",
         b"",
         datetime(2026, 11, 22, 21, 30, tzinfo=UTC),
         datetime(2026, 11, 22, 21, 30, 5, 123456, tzinfo=UTC),
         [1, [2, [None]], {"a": []}],
-        {"n": [1, 2.5, None, True], "s": "x", "nested": {"deep": {}}},
+        {"n": [1, 2.5, None, True], "s": "x", "nested": {"deep": {}}, "<&>": "key escaped"},
     ],
 )
 def test_wire_values_round_trip(value: Any) -> None:
@@ -60,9 +65,7 @@ def test_wire_values_round_trip(value: Any) -> None:
 
 
 def test_integer_width_picks_int_or_i8() -> None:
-    parent = ET.Element("p")
-    encode_value(2**31 - 1, parent)
-    encode_value(2**31, parent)
+    parent = encoded(2**31 - 1, 2**31)
     assert [v[0].tag.rsplit("}")[-1] for v in parent] == ["int", "i8"]
 
 
@@ -82,9 +85,11 @@ def test_values_of_other_peers_are_read() -> None:
 
 def test_unwritable_and_unreadable_values_are_codec_errors() -> None:
     with pytest.raises(CodecError, match="characters XML cannot carry"):
-        encode_value("bell\x07", ET.Element("p"))
+        encode_value("bell\x07", [])
     with pytest.raises(CodecError, match="set is not a wire value"):
-        encode_value({1, 2}, ET.Element("p"))
+        encode_value({1, 2}, [])
+    with pytest.raises(CodecError, match=r"value\.a: struct key 1 is not a string"):
+        encode_value({"a": {1: 2}}, [])
     with pytest.raises(CodecError, match="malformed XML-RPC <int>"):
         decode_value(ET.fromstring("<value><int>x</int></value>"))
     with pytest.raises(CodecError, match="unknown XML-RPC value type <float>"):
@@ -92,12 +97,12 @@ def test_unwritable_and_unreadable_values_are_codec_errors() -> None:
 
 
 def test_call_response_and_fault_payloads() -> None:
-    method, args = parse_call(ET.fromstring(ET.tostring(build_call("move", [1.5, None]))))
+    method, args = parse_call(ET.fromstring(build_call("move", [1.5, None])))
     assert (method, args) == ("move", [1.5, None])
-    assert parse_response(build_response({"ok": True})) == {"ok": True}
-    fault = parse_response(build_fault(Fault("MoveError", "limit reached")))
+    assert parse_response(ET.fromstring(build_response({"ok": True}))) == {"ok": True}
+    fault = parse_response(ET.fromstring(build_fault(Fault("MoveError", "limit <reached> & more"))))
     assert isinstance(fault, Fault)
-    assert (fault.error_class, fault.message) == ("MoveError", "limit reached")
+    assert (fault.error_class, fault.message) == ("MoveError", "limit <reached> & more")
 
 
 def test_a_plain_xml_rpc_fault_becomes_remote_error() -> None:

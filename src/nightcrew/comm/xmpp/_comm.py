@@ -73,7 +73,7 @@ class XmppComm(Comm):
             password=password,
             host=host,
             port=port,
-            room_jid=room if "@" in room else f"{room}@conference.{domain}",
+            room_jid=(room if "@" in room else f"{room}@conference.{domain}").lower(),
             require_tls=not is_loopback(host) if require_tls is None else require_tls,
             verify_tls=verify_tls,
             ca_file=ca_file,

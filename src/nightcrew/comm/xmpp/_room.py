@@ -19,9 +19,7 @@ from collections.abc import Callable
 from datetime import datetime
 from typing import Any
 
-from slixmpp.xmlstream.stanzabase import StanzaBase
-
-from nightcrew.comm.xmpp._connection import XmppConnection
+from nightcrew.comm.xmpp._connection import XmppConnection, error_condition, split_jid
 from nightcrew.comm.xmpp._rpc import NS_HINTS
 from nightcrew.errors import ConfigError, NightcrewError, RemoteError
 
@@ -113,16 +111,19 @@ class Room:
 
     # --- incoming ------------------------------------------------------------------------------
 
-    def _on_presence(self, stanza: StanzaBase) -> None:
-        sender = stanza["from"]
-        nick = sender.resource
-        if sender.bare != self._room_jid or not nick:
-            return  # not from the room, or from the room itself
-        kind = stanza["type"]
+    def _on_presence(self, stanza: ET.Element) -> bool:
+        bare, nick = split_jid(stanza.get("from", ""))
+        if bare != self._room_jid or not nick:
+            return False  # not from the room, or from the room itself
+        self._on_room_presence(stanza, nick)
+        return True
+
+    def _on_room_presence(self, stanza: ET.Element, nick: str) -> None:
+        kind = stanza.get("type")
         if kind == "error":
             self._on_join_error(stanza)
             return
-        user = stanza.xml.find(f"{{{NS_MUC_USER}}}x")
+        user = stanza.find(f"{{{NS_MUC_USER}}}x")
         statuses = user.findall(f"{{{NS_MUC_USER}}}status") if user is not None else []
         codes = {status.get("code") for status in statuses}
         if "110" in codes:  # our own presence: the occupant list is complete
@@ -155,8 +156,8 @@ class Room:
         if self._joined is not None and not self._joined.done():
             self._joined.set_result(None)
 
-    def _on_join_error(self, stanza: StanzaBase) -> None:
-        condition = stanza["error"]["condition"]
+    def _on_join_error(self, stanza: ET.Element) -> None:
+        condition = error_condition(stanza)
         if condition == "conflict":
             error: NightcrewError = ConfigError(
                 f"another module named '{self._nick}' is already in room {self._room_jid}"
@@ -179,21 +180,22 @@ class Room:
         )
         self._connection.send(stanza)
 
-    def _on_message(self, stanza: StanzaBase) -> None:
-        sender = stanza["from"]
-        if stanza["type"] != "groupchat" or sender.bare != self._room_jid or sender.resource == self._nick:
-            return
-        element = stanza.xml.find(f"{{{NS_EVENT}}}event")
-        if element is None:
-            return
+    def _on_message(self, stanza: ET.Element) -> bool:
+        bare, nick = split_jid(stanza.get("from", ""))
+        if stanza.get("type") != "groupchat" or bare != self._room_jid:
+            return False
+        element = stanza.find(f"{{{NS_EVENT}}}event")
+        if element is None or nick == self._nick:
+            return True  # our own event, echoed by the room
         name = element.get("name", "")
         try:
             payload = json.loads(element.text or "{}")
         except ValueError:
-            log.warning("dropped %s from %s: payload is not JSON", name, sender.resource)
-            return
+            log.warning("dropped %s from %s: payload is not JSON", name, nick)
+            return True
         if isinstance(payload, dict) and name:
-            self._on_event(name, payload, sender.resource)
+            self._on_event(name, payload, nick)
+        return True
 
 
 def _json_value(value: Any) -> Any:

@@ -9,17 +9,16 @@ with ``<timeout xmlns='urn:nightcrew:rpc:timeout' id=ID seconds=S/>``. Callee â†
 
 from __future__ import annotations
 
+import itertools
 import logging
-import uuid
+import secrets
 import xml.etree.ElementTree as ET
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any
 
-from slixmpp.xmlstream.stanzabase import StanzaBase
-
 from nightcrew.comm.base import PendingCall
 from nightcrew.comm.rpc import Fault, fault_from_exception
-from nightcrew.comm.xmpp._connection import XmppConnection
+from nightcrew.comm.xmpp._connection import XmppConnection, error_condition
 from nightcrew.comm.xmpp._xmlrpc import (
     NS_RPC,
     build_call,
@@ -59,6 +58,9 @@ class RpcChannel:
         self._serve = serve
         self._spawn = spawn
         self._pending: dict[str, _Outgoing] = {}
+        # Call ids: unique per session and unguessable across sessions, without a uuid per call.
+        self._id_prefix = f"nc-{secrets.token_hex(4)}-"
+        self._ids = itertools.count(1)
         connection.add_handler("nightcrew rpc", f"{_C}iq/{{{NS_RPC}}}query", self._on_rpc_iq)
         connection.add_handler("nightcrew rpc error", f"{_C}iq/{_C}error", self._on_error_iq)
         timeouts = f"{_C}message/{{{NS_TIMEOUT}}}timeout"
@@ -68,13 +70,13 @@ class RpcChannel:
 
     def call(self, jid: str, module: str, method: str, args: list[Any], call: PendingCall) -> None:
         """Send ``method(*args)`` to ``jid`` (module ``module``); ``call`` hears what comes back."""
-        iq_id = f"nc-{uuid.uuid4().hex[:16]}"
-        stanza = self._connection.stanza("iq", jid, build_call(method, args), id=iq_id, type="set")
+        iq_id = f"{self._id_prefix}{next(self._ids):x}"
+        payload = build_call(method, args)
         self._pending[iq_id] = _Outgoing(jid, module, call)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
         try:
-            self._connection.send(stanza)
+            self._connection.send_text("iq", jid, payload, id=iq_id, type="set")
         except NightcrewError:
             self._pending.pop(iq_id, None)
             raise
@@ -92,17 +94,17 @@ class RpcChannel:
                 del self._pending[iq_id]
                 outgoing.call.set_error(RemoteError("went offline during the call", module=module))
 
-    def _take(self, stanza: StanzaBase) -> _Outgoing | None:
-        outgoing = self._pending.get(stanza["id"])
-        if outgoing is None or str(stanza["from"]) != outgoing.jid:
-            return None  # not ours, or a forged reply from someone else
-        return outgoing
+    def _take(self, iq_id: str, stanza: ET.Element) -> _Outgoing | None:
+        """The call ``iq_id`` if ``stanza`` comes from its callee (else it is not ours, or forged)."""
+        outgoing = self._pending.get(iq_id)
+        return outgoing if outgoing is not None and stanza.get("from") == outgoing.jid else None
 
-    def _on_reply(self, stanza: StanzaBase, query: ET.Element) -> None:
-        outgoing = self._take(stanza)
+    def _on_reply(self, stanza: ET.Element, query: ET.Element) -> None:
+        iq_id = stanza.get("id", "")
+        outgoing = self._take(iq_id, stanza)
         if outgoing is None:
             return
-        del self._pending[stanza["id"]]
+        del self._pending[iq_id]
         try:
             response = parse_response(query)
         except CodecError as exc:
@@ -113,46 +115,44 @@ class RpcChannel:
         else:
             outgoing.call.set_result(response)
 
-    def _on_error_iq(self, stanza: StanzaBase) -> None:
-        if stanza["type"] != "error":
-            return
-        outgoing = self._take(stanza)
+    def _on_error_iq(self, stanza: ET.Element) -> bool:
+        iq_id = stanza.get("id", "")
+        outgoing = self._take(iq_id, stanza) if stanza.get("type") == "error" else None
         if outgoing is None:
-            return
-        del self._pending[stanza["id"]]
-        condition = stanza["error"]["condition"] or "unknown error"
+            return False  # maybe an IQ slixmpp waits for (disco)
+        del self._pending[iq_id]
+        condition = error_condition(stanza) or "unknown error"
         outgoing.call.set_error(RemoteError(f"call not delivered ({condition})", module=outgoing.module))
+        return True
 
-    def _on_timeout(self, stanza: StanzaBase) -> None:
-        element = stanza.xml.find(f"{{{NS_TIMEOUT}}}timeout")
-        outgoing = self._take_by_id(element.get("id", "") if element is not None else "", stanza)
+    def _on_timeout(self, stanza: ET.Element) -> bool:
+        element = stanza.find(f"{{{NS_TIMEOUT}}}timeout")
+        outgoing = self._take(element.get("id", ""), stanza) if element is not None else None
         if outgoing is None or element is None:
-            return
+            return True
         try:
             seconds = float(element.get("seconds", ""))
         except ValueError:
-            log.debug("ignored malformed timeout announcement from %s", stanza["from"])
-            return
+            log.debug("ignored malformed timeout announcement from %s", stanza.get("from"))
+            return True
         outgoing.call.announce(seconds)
-
-    def _take_by_id(self, iq_id: str, stanza: StanzaBase) -> _Outgoing | None:
-        outgoing = self._pending.get(iq_id)
-        return outgoing if outgoing is not None and str(stanza["from"]) == outgoing.jid else None
+        return True
 
     # --- serving -------------------------------------------------------------------------------
 
-    def _on_rpc_iq(self, stanza: StanzaBase) -> None:
-        query = stanza.xml.find(f"{{{NS_RPC}}}query")
-        if query is None:
-            return
-        kind = stanza["type"]
-        if kind in ("result",):
+    def _on_rpc_iq(self, stanza: ET.Element) -> bool:
+        query = stanza.find(f"{{{NS_RPC}}}query")
+        kind = stanza.get("type")
+        if query is None or kind not in ("result", "set"):
+            return False  # an error reply: _on_error_iq's
+        if kind == "result":
             self._on_reply(stanza, query)
-        elif kind == "set":
+        else:
             self._on_call(stanza, query)
+        return True
 
-    def _on_call(self, stanza: StanzaBase, query: ET.Element) -> None:
-        caller, iq_id = str(stanza["from"]), stanza["id"]
+    def _on_call(self, stanza: ET.Element, query: ET.Element) -> None:
+        caller, iq_id = stanza.get("from", ""), stanza.get("id", "")
         try:
             method, args = parse_call(query)
         except CodecError as exc:
@@ -178,9 +178,9 @@ class RpcChannel:
             payload = build_fault(fault_from_exception(exc))
         self._reply(caller, iq_id, payload)
 
-    def _reply(self, caller: str, iq_id: str, payload: ET.Element) -> None:
+    def _reply(self, caller: str, iq_id: str, payload: str) -> None:
         try:
-            self._connection.send(self._connection.stanza("iq", caller, payload, id=iq_id, type="result"))
+            self._connection.send_text("iq", caller, payload, id=iq_id, type="result")
         except NightcrewError:
             log.debug("result of call %s to %s lost: not connected", iq_id, caller)
 

@@ -1,8 +1,10 @@
 """XML-RPC values on stanza XML: the payload of ``jabber:iq:rpc`` (XEP-0009).
 
 Written here rather than borrowed from :mod:`xmlrpc.client` because nightcrew needs ``<nil/>``,
-``<i8>`` for 64-bit integers, aware UTC datetimes with microseconds and elements (not text) to
-put into stanzas. The mapping (see docs/protocol.md):
+``<i8>`` for 64-bit integers and aware UTC datetimes with microseconds. Values are written as text
+(the payload goes into a stanza's text as is: building elements first and serializing them was
+the largest part of a call's CPU time) and read from the elements the stream parser produced.
+The mapping (see docs/protocol.md):
 
 ============  ==========================================================
 wire value    element
@@ -29,6 +31,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from nightcrew.comm.rpc import Fault
+from nightcrew.comm.xmpp._xmltext import escape_text
 from nightcrew.errors import CodecError
 
 __all__ = [
@@ -51,44 +54,46 @@ _NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 FAULT_CODE = 1
 
 
-def _sub(parent: ET.Element, tag: str, text: str | None = None) -> ET.Element:
-    child = ET.SubElement(parent, _Q + tag)
-    child.text = text
-    return child
-
-
-def encode_value(value: Any, parent: ET.Element, path: str = "value") -> None:
-    """Append ``<value>`` for wire ``value`` to ``parent``; CodecError if it cannot travel."""
-    holder = _sub(parent, "value")
+def encode_value(value: Any, out: list[str], path: str = "value") -> None:
+    """Append the ``<value>`` text for wire ``value`` to ``out``; CodecError if it cannot travel."""
     kind = type(value)
     if value is None:
-        _sub(holder, "nil")
+        out.append("<value><nil/></value>")
     elif kind is bool:
-        _sub(holder, "boolean", "1" if value else "0")
+        out.append("<value><boolean>1</boolean></value>" if value else "<value><boolean>0</boolean></value>")
     elif kind is int:
-        _sub(holder, "int" if -_INT32 <= value < _INT32 else "i8", str(value))
+        tag = "int" if -_INT32 <= value < _INT32 else "i8"
+        out.append(f"<value><{tag}>{value}</{tag}></value>")
     elif kind is float:
-        _sub(holder, "double", repr(value) if math.isfinite(value) else str(value))
+        out.append(f"<value><double>{repr(value) if math.isfinite(value) else str(value)}</double></value>")
     elif kind is str:
-        if _NOT_XML.search(value):
-            raise CodecError(f"{path}: string holds characters XML cannot carry (send bytes instead)")
-        _sub(holder, "string", value)
+        out.append(f"<value><string>{_xml_string(value, path)}</string></value>")
     elif kind is bytes:
-        _sub(holder, "base64", base64.b64encode(value).decode("ascii"))
+        out.append(f"<value><base64>{base64.b64encode(value).decode('ascii')}</base64></value>")
     elif isinstance(value, datetime):
-        _sub(holder, "dateTime.iso8601", _format_datetime(value))
+        out.append(f"<value><dateTime.iso8601>{_format_datetime(value)}</dateTime.iso8601></value>")
     elif kind is list:
-        data = _sub(_sub(holder, "array"), "data")
+        out.append("<value><array><data>")
         for i, item in enumerate(value):
-            encode_value(item, data, f"{path}[{i}]")
+            encode_value(item, out, f"{path}[{i}]")
+        out.append("</data></array></value>")
     elif kind is dict:
-        struct = _sub(holder, "struct")
+        out.append("<value><struct>")
         for key, item in value.items():
-            member = _sub(struct, "member")
-            _sub(member, "name", key)
-            encode_value(item, member, f"{path}.{key}")
+            if type(key) is not str:
+                raise CodecError(f"{path}: struct key {key!r} is not a string")
+            out.append(f"<member><name>{_xml_string(key, path)}</name>")
+            encode_value(item, out, f"{path}.{key}")
+            out.append("</member>")
+        out.append("</struct></value>")
     else:
         raise CodecError(f"{path}: {kind.__name__} is not a wire value")
+
+
+def _xml_string(value: str, path: str) -> str:
+    if _NOT_XML.search(value):
+        raise CodecError(f"{path}: string holds characters XML cannot carry (send bytes instead)")
+    return escape_text(value)
 
 
 def _format_datetime(value: datetime) -> str:
@@ -160,15 +165,16 @@ def _member_name(member: ET.Element) -> str:
 # --- whole payloads ----------------------------------------------------------------------------
 
 
-def build_call(method: str, args: list[Any]) -> ET.Element:
-    """``<query xmlns='jabber:iq:rpc'><methodCall>…</methodCall></query>``."""
-    query = ET.Element(_Q + "query")
-    call = _sub(query, "methodCall")
-    _sub(call, "methodName", method)
-    params = _sub(call, "params")
+def build_call(method: str, args: list[Any]) -> str:
+    """``<query xmlns='jabber:iq:rpc'><methodCall>…</methodCall></query>`` as text."""
+    name = _xml_string(method, "method name")
+    out = [f'<query xmlns="{NS_RPC}"><methodCall><methodName>{name}</methodName><params>']
     for i, arg in enumerate(args):
-        encode_value(arg, _sub(params, "param"), f"argument {i + 1}")
-    return query
+        out.append("<param>")
+        encode_value(arg, out, f"argument {i + 1}")
+        out.append("</param>")
+    out.append("</params></methodCall></query>")
+    return "".join(out)
 
 
 def parse_call(query: ET.Element) -> tuple[str, list[Any]]:
@@ -183,21 +189,21 @@ def parse_call(query: ET.Element) -> tuple[str, list[Any]]:
     return method, [decode_value(h) for h in holders]
 
 
-def build_response(result: Any) -> ET.Element:
-    """A methodResponse with one param, the wire ``result``."""
-    query = ET.Element(_Q + "query")
-    params = _sub(_sub(query, "methodResponse"), "params")
-    encode_value(result, _sub(params, "param"), "result")
-    return query
+def build_response(result: Any) -> str:
+    """A methodResponse with one param, the wire ``result``, as text."""
+    out = [f'<query xmlns="{NS_RPC}"><methodResponse><params><param>']
+    encode_value(result, out, "result")
+    out.append("</param></params></methodResponse></query>")
+    return "".join(out)
 
 
-def build_fault(fault: Fault) -> ET.Element:
-    """A methodResponse fault: faultCode, faultString (the message) and errorClass."""
-    query = ET.Element(_Q + "query")
-    body = _sub(_sub(query, "methodResponse"), "fault")
+def build_fault(fault: Fault) -> str:
+    """A methodResponse fault as text: faultCode, faultString (the message) and errorClass."""
+    out = [f'<query xmlns="{NS_RPC}"><methodResponse><fault>']
     value = {"faultCode": FAULT_CODE, "faultString": fault.message, "errorClass": fault.error_class}
-    encode_value(value, body)
-    return query
+    encode_value(value, out)
+    out.append("</fault></methodResponse></query>")
+    return "".join(out)
 
 
 def parse_response(query: ET.Element) -> Any | Fault:

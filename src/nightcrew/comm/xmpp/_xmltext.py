@@ -11,19 +11,21 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-__all__ = ["stanza_text"]
+__all__ = ["escape_attribute", "escape_text", "stanza_text"]
 
 #: The one prefixed attribute namespace XML predeclares (``xml:lang``).
 _XML_NS = "{http://www.w3.org/XML/1998/namespace}"
 
 
-def _text(value: str) -> str:
+def escape_text(value: str) -> str:
+    """``value`` as XML character data."""
     # \r as a reference: a parser would read a raw one as \n (XML line-end normalization).
     return value.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace("\r", "&#13;")
 
 
-def _attribute(value: str) -> str:
-    return _text(value).replace('"', "&quot;").replace("\n", "&#10;").replace("\t", "&#9;")
+def escape_attribute(value: str) -> str:
+    """``value`` inside a double-quoted XML attribute."""
+    return escape_text(value).replace('"', "&quot;").replace("\n", "&#10;").replace("\t", "&#9;")
 
 
 def _write(element: ET.Element, parent_ns: str, out: list[str]) -> None:
@@ -33,23 +35,23 @@ def _write(element: ET.Element, parent_ns: str, out: list[str]) -> None:
     ns, _, local = tag[1:].partition("}")
     out.append("<" + local)
     if ns != parent_ns:
-        out.append(f' xmlns="{_attribute(ns)}"')
+        out.append(f' xmlns="{escape_attribute(ns)}"')
     for name, value in element.attrib.items():
         if name.startswith("{"):
             if not name.startswith(_XML_NS):
                 raise ValueError(f"namespaced attribute {name!r} is not supported")
             name = "xml:" + name[len(_XML_NS) :]
-        out.append(f' {name}="{_attribute(value)}"')
+        out.append(f' {name}="{escape_attribute(value)}"')
     if element.text is None and len(element) == 0:
         out.append("/>")
     else:
         out.append(">")
         if element.text:
-            out.append(_text(element.text))
+            out.append(escape_text(element.text))
         for child in element:
             _write(child, ns, out)
             if child.tail:
-                out.append(_text(child.tail))
+                out.append(escape_text(child.tail))
         out.append(f"</{local}>")
 
 
