@@ -4,9 +4,10 @@ Runs ``nightcrew sim`` in a child process (default: 10 clock hours from dusk wit
 ``interruption`` weather at the default speed, every frame rendered and written), then prints one
 table: wall seconds, peak RSS of the child, frames, and the night's numbers as the report computes
 them (shutter open in the good-weather dark time, exposures while the roof was closed, roof-close
-delay after bad weather, task outcomes).
+delay after bad weather, task outcomes), then where the good-weather dark time went
+(:mod:`night_breakdown`: exposing, read-out, slews, focus runs, idle in and between tasks).
 
-    .venv/bin/python bench/night.py [--hours 10] [--weather interruption] [--speed S] [--out DIR]
+    .venv/bin/python bench/night.py [--hours 10] [--weather interruption] [--seed N] [--speed S] [--out DIR]
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
+from night_breakdown import breakdown, print_breakdown
 from nightcrew.report import night_numbers, night_site, read_night
 
 #: Targets of the issue: a 10-hour night within this wall time and peak memory.
@@ -30,6 +32,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--hours", type=float, default=10.0, help="clock hours from dusk (default 10)")
     parser.add_argument("--weather", default="interruption")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the night (default: the configs')")
     parser.add_argument("--speed", type=float, default=None, help="clock speed (default: nightcrew sim's)")
     parser.add_argument("--out", type=Path, default=None, help="output directory (default: a temporary one)")
     args = parser.parse_args()
@@ -37,6 +40,7 @@ def main() -> int:
         out = args.out or Path(scratch)
         command = [sys.executable, "-m", "nightcrew", "sim", "--out", str(out), "--hours", str(args.hours)]
         command += ["--weather", args.weather] + (["--speed", str(args.speed)] if args.speed else [])
+        command += ["--seed", str(args.seed)] if args.seed is not None else []
         start = time.monotonic()
         result = subprocess.run(command, capture_output=True, text=True, check=False)
         wall = time.monotonic() - start
@@ -47,6 +51,7 @@ def main() -> int:
         night = read_night(out)
         latitude, longitude = night_site(night)
         numbers = night_numbers(night, latitude=latitude, longitude=longitude)
+        spent = breakdown(night, latitude=latitude, longitude=longitude)
     outcomes = Counter(t.outcome for t in numbers.tasks)
     rows = [
         ("clock hours", f"{args.hours:g}", ""),
@@ -77,6 +82,8 @@ def main() -> int:
     print(f"{'':{width}}  {'value':>12}  note")
     for name, value, note in rows:
         print(f"{name:{width}}  {value:>12}  {note}")
+    print()
+    print_breakdown(spent)
     return 0
 
 
