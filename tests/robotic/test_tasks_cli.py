@@ -46,7 +46,7 @@ def test_add_list_show_cancel(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     shown = capsys.readouterr().out
     assert "task 2: request 1 of group 1 'Double cluster h and chi Persei'" in shown
     assert "state: CANCELED (clouds all night)" in shown
-    assert "done: configuration 0 series 1: 0/2 exposures" in shown
+    assert "done: configuration 0 series 1: 0/3 exposures" in shown
     assert "name: NGC 884 (chi Per)" in shown
 
     assert main(["tasks", "--db", db, "list", "--state", "canceled"]) == 0
