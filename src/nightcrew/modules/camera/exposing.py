@@ -34,7 +34,7 @@ from nightcrew.errors import (
 )
 from nightcrew.events import ExposureStatusChangedEvent
 from nightcrew.interfaces import ExposureStatus, FitsCard, FitsValue, IAbortable, IExposure, ModuleState
-from nightcrew.modules.camera.fitsfile import build_hdu_list
+from nightcrew.modules.camera.fitsfile import blocking_fits_bytes
 from nightcrew.modules.camera.headers import clean_cards, collect_headers
 from nightcrew.modules.module import Module
 from nightcrew.vfs.filenames import check_filename_pattern, format_filename
@@ -207,9 +207,12 @@ class ExposingModule(Module, IAbortable, IExposure):
         return await collect_headers(self.comm, when, self._header_timeout)
 
     async def _write(self, filename: str, data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> None:
+        # Serialising takes tens of milliseconds: in a thread, so the event loop (guiding, the
+        # mastermind, on a fast clock the clock itself) does not stall on every frame.
         try:
-            await self.vfs.write_fits(filename, build_hdu_list(data, cards))
-        except NightcrewError as exc:
+            payload = await asyncio.to_thread(blocking_fits_bytes, data, cards)
+            await self.vfs.write_bytes(filename, payload)
+        except (NightcrewError, ValueError) as exc:
             raise GrabImageError(f"cannot write {filename}: {exc}") from exc
 
 

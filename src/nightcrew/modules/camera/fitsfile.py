@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from collections.abc import Mapping
 from typing import Any
 
@@ -10,7 +11,7 @@ import numpy.typing as npt
 
 from nightcrew.interfaces import FitsCard
 
-__all__ = ["build_hdu_list"]
+__all__ = ["blocking_fits_bytes", "build_hdu_list"]
 
 _CARD_LENGTH = 80
 
@@ -36,3 +37,19 @@ def build_hdu_list(data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> Any
             continue  # structural keywords belong to astropy
         hdu.header[keyword] = _fitted(keyword, value, comment)
     return fits.HDUList([hdu])
+
+
+def blocking_fits_bytes(data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> bytes:
+    """The FITS file of ``data`` with ``cards`` (astropy serialises in Python: run it in a thread).
+
+    Raises:
+        ValueError: A card astropy cannot write (its verification failed).
+    """
+    from astropy.io import fits
+
+    buffer = io.BytesIO()
+    try:
+        build_hdu_list(data, cards).writeto(buffer, output_verify="exception")
+    except (OSError, TypeError, fits.VerifyError) as exc:
+        raise ValueError(f"cannot write FITS: {exc}") from exc
+    return buffer.getvalue()
