@@ -12,6 +12,7 @@ from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind import (
     CloseAndPark,
     Conditions,
+    Focus,
     OpenUp,
     RoofState,
     RunTask,
@@ -23,8 +24,10 @@ from nightcrew.robotic.mastermind import (
     focus_due,
     interruption_reason,
     kept_progress,
+    needs_focus,
     needs_sky,
     slot_for,
+    startable_now,
     sun_limits,
     task_cards,
 )
@@ -36,6 +39,7 @@ from nightcrew.robotic.tasks import (
     parse_request_group,
     tasks_of_group,
 )
+from nightcrew.site import Site
 
 NOW = datetime(2024, 1, 15, 22, tzinfo=UTC)
 KEEP_OPEN = timedelta(minutes=15)
@@ -163,6 +167,67 @@ def test_dawn_closes_and_parks_but_dusk_keeps_open_for_the_night() -> None:
     assert decide(dawn, [science, morning_flats], keep_open=KEEP_OPEN) == RunTask(morning_flats)
 
 
+def test_a_due_focus_comes_before_a_task_that_images_stars_but_not_before_flats() -> None:
+    science = _slot("m31", -5, 30, needs_focus=True)
+    assert decide(NIGHT, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == Focus(science)
+    assert decide(NIGHT, [science], keep_open=KEEP_OPEN) == RunTask(science)  # not due
+    closed = decide(SAFE, [science], keep_open=KEEP_OPEN, focus_below=-10.0)
+    assert closed == OpenUp(science)  # open first, focus then
+    flats = _slot("flats", -5, 30, sun=SunLimits(high=-3.0, low=-9.0))
+    dusk = _at(NIGHT, sun_altitude=-5.0)
+    assert decide(dusk, [flats], keep_open=KEEP_OPEN, focus_below=-10.0) == RunTask(flats)
+    # A science task allowed in a bright sky runs unfocused rather than waiting for stars.
+    bright = _slot("bright", -5, 30, needs_focus=True, sun=SunLimits(high=0.0))
+    assert decide(dusk, [bright], keep_open=KEEP_OPEN, focus_below=-10.0) == RunTask(bright)
+
+
+def test_the_focus_uses_the_wait_for_the_next_task_once_the_sun_is_low_enough() -> None:
+    science = _slot("m31", 10, 40, needs_focus=True)
+    after_darks = _at(NIGHT, sun_altitude=-10.5)
+    assert decide(after_darks, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == Focus(science)
+    waiting = Wait("next: m31 at 22:10:00", until=science.start)
+    assert decide(_at(NIGHT, sun_altitude=-9.0), [science], keep_open=KEEP_OPEN, focus_below=-10.0) == waiting
+    assert decide(after_darks, [science], keep_open=KEEP_OPEN) == waiting  # focus not due
+    # With the roof closed it opens up for the focus; not for a task beyond keep_open.
+    assert decide(SAFE, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == OpenUp(science)
+    assert decide(_at(SAFE, weather_good=False), [science], keep_open=KEEP_OPEN, focus_below=-10.0) == (
+        Wait("next: m31 at 22:10:00", until=science.start)
+    )
+    later = _slot("m33", 20, 40, needs_focus=True)
+    assert decide(NIGHT, [later], keep_open=KEEP_OPEN, focus_below=-10.0) == CloseAndPark(
+        "no sky task within 15 min"
+    )
+    darks = _slot("darks", 10, 40, sky=False)
+    assert decide(NIGHT, [darks, science], keep_open=KEEP_OPEN, focus_below=-10.0) == Focus(science)
+
+
+def test_the_next_task_starts_early_when_it_can_be_observed_now() -> None:
+    early = timedelta(minutes=10)
+    ready = _slot("m33", 5, 40, startable_now=True)
+    assert decide(NIGHT, [ready], keep_open=KEEP_OPEN, early_start=early) == RunTask(ready)
+    assert decide(SAFE, [ready], keep_open=KEEP_OPEN, early_start=early) == OpenUp(ready)
+    assert decide(NIGHT, [ready], keep_open=KEEP_OPEN) == Wait("next: m33 at 22:05:00", until=ready.start)
+    # not too early, not when its target is not up yet, not before a due task, not against the Sun
+    later = _slot("later", 15, 40, startable_now=True)
+    assert decide(NIGHT, [later], keep_open=KEEP_OPEN, early_start=early) == Wait(
+        "next: later at 22:15:00", until=later.start
+    )
+    not_up = _slot("m33", 5, 40)
+    assert decide(NIGHT, [not_up], keep_open=KEEP_OPEN, early_start=early) == Wait(
+        "next: m33 at 22:05:00", until=not_up.start
+    )
+    due = _slot("m31", -5, 30)
+    assert decide(NIGHT, [due, ready], keep_open=KEEP_OPEN, early_start=early) == RunTask(due)
+    dusk = _at(NIGHT, sun_altitude=-11.0)
+    assert decide(dusk, [ready], keep_open=KEEP_OPEN, early_start=early) == Wait(
+        "next: m33 at 22:05:00", until=ready.start
+    )
+    darks = _slot("darks", 5, 40, sky=False, startable_now=True)
+    assert decide(_at(SAFE, weather_good=False), [darks], keep_open=KEEP_OPEN, early_start=early) == RunTask(
+        darks
+    )
+
+
 # --- abort_cause -------------------------------------------------------------------------------
 
 
@@ -221,6 +286,8 @@ FLAT = {
 def test_sky_and_sun_limits_come_from_the_configurations_capped_by_the_observatory() -> None:
     caps = {"max_sun_altitude": -12.0, "twilight_max_sun_altitude": -3.0}
     assert not needs_sky(_task([DARK])) and needs_sky(_task([DARK, EXPOSE]))
+    assert needs_sky(_task([FLAT])) and not needs_focus(_task([FLAT])) and not needs_focus(_task([DARK]))
+    assert needs_focus(_task([FLAT, EXPOSE]))
     assert sun_limits(_task([EXPOSE]), **caps) == SunLimits(high=-12.0)
     assert sun_limits(_task([FLAT]), **caps) == SunLimits(high=-3.0, low=-12.0)
     darker = {**EXPOSE, "constraints": {"max_sun_altitude": -18}}
@@ -238,18 +305,40 @@ def test_a_slot_may_run_only_for_a_schedulable_task_not_failed_in_it() -> None:
         )
 
     slot = slot_of(_task([EXPOSE]))
-    assert (slot.task_id, slot.name, slot.start, slot.end, slot.needs_sky, slot.may_run) == (
+    assert (
+        slot.task_id,
+        slot.name,
+        slot.start,
+        slot.end,
+        slot.needs_sky,
+        slot.may_run,
+        slot.needs_focus,
+    ) == (
         "7",
         "Test group",
         entry.start,
         entry.end,
         True,
         True,
+        True,
     )
+    assert not slot_of(_task([FLAT])).needs_focus
     assert slot_of(_task([EXPOSE], TaskState.FAILED)).may_run
     assert not slot_of(_task([EXPOSE]), failed_here=True).may_run
     for state in (TaskState.RUNNING, TaskState.COMPLETED, TaskState.CANCELED, TaskState.WINDOW_EXPIRED):
         assert not slot_of(_task([EXPOSE], state)).may_run
+
+
+def test_a_task_may_start_early_only_inside_its_window_with_its_target_observable() -> None:
+    site = Site(latitude=51.56, longitude=9.94, elevation=201.0)
+    high = {**EXPOSE, "target": {"name": "Capella", "ra": 79.17, "dec": 46.0}}
+    low = {**EXPOSE, "target": {"name": "south", "ra": 79.17, "dec": -30.0}}  # never above airmass 2
+    soon = NOW + timedelta(minutes=10)
+    assert startable_now(_task([high]), site, NOW, soon)
+    assert not startable_now(_task([low]), site, NOW, soon)
+    window_start = datetime(2024, 1, 15, 18, tzinfo=UTC)  # the tasks' window opens then
+    before = window_start - timedelta(minutes=5)
+    assert not startable_now(_task([high]), site, before, window_start + timedelta(minutes=5))
 
 
 def test_the_interruption_reason_says_what_was_done() -> None:

@@ -19,8 +19,14 @@ Decisions:
   and its progress - FAILED tasks are schedulable, so it is back in the pool, never lost. It may run
   again in the same slot once the cause has passed (good weather), or where the scheduler puts it.
   A task that failed by its own error is not retried in the same slot.
-* **Focus**: with an ``autofocus`` module, before the first sky task and whenever the temperature
-  moved by more than ``refocus_temperature_change`` since the last focus.
+* **Focus**: with an ``autofocus`` module, before the first task that images stars (not before
+  twilight flats) and whenever the temperature moved by more than ``refocus_temperature_change``
+  since the last focus - once the Sun is below ``focus_max_sun_altitude``, and already while
+  waiting for that task with the roof open (at dusk: after the flats, before full darkness).
+* **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
+  before its slot if it can be observed from now on (a task that ended early leaves no gap).
+* **Progress** of a task is recorded in the archive in the background: the exposure loop does not
+  wait for the database; the end of a task is recorded after its last progress.
 * **Start/stop** (IStartStop): stopping aborts the running task, then closes and parks.
 * **Errors**: an error in the loop closes the roof and parks; the loop restarts with backoff. A task
   left RUNNING by a mastermind that was killed is marked FAILED (with its progress) at start-up.
@@ -31,6 +37,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+from dataclasses import replace
 from datetime import datetime, timedelta
 from typing import Any
 
@@ -60,10 +67,12 @@ from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
     CloseAndPark,
+    Focus,
     ObservatoryControl,
     OpenUp,
     RunTask,
     Slot,
+    SunLimits,
     abort_cause,
     decide,
     focus_due,
@@ -71,6 +80,7 @@ from nightcrew.robotic.mastermind import (
     kept_progress,
     run_watched,
     slot_for,
+    startable_now,
     task_cards,
 )
 from nightcrew.robotic.runner import TaskRunner
@@ -97,9 +107,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         max_sun_altitude: Highest Sun altitude for science tasks, degrees.
         twilight_max_sun_altitude: Highest Sun altitude for twilight (SKY_FLAT) tasks, degrees.
         keep_open: Clock seconds the roof stays open waiting for the next sky task.
+        early_start: Clock seconds a task may start before its slot when it can be observed.
         poll_interval: Clock seconds between two looks at the world.
         abort_timeout: Clock seconds an aborted task may take to clean up.
         refocus_temperature_change: Refocus after this temperature change, °C.
+        focus_max_sun_altitude: Highest Sun altitude for focusing, degrees (stars must show).
         focus_count, focus_step, focus_exposure_time: Arguments of ``auto_focus``.
         autostart: Start robotic mode when the module opens.
         **kwargs: Module options (``site`` is required: the Sun decides a lot).
@@ -120,9 +132,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         max_sun_altitude: float = -12.0,
         twilight_max_sun_altitude: float = 0.0,
         keep_open: float = 900.0,
+        early_start: float = 0.0,
         poll_interval: float = 10.0,
         abort_timeout: float = 60.0,
         refocus_temperature_change: float = 2.0,
+        focus_max_sun_altitude: float = -10.0,
         focus_count: int = 7,
         focus_step: float = 0.05,
         focus_exposure_time: float = 5.0,
@@ -155,15 +169,20 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             "max_sun_altitude": max_sun_altitude,
             "twilight_max_sun_altitude": twilight_max_sun_altitude,
         }
+        if not early_start >= 0:
+            raise ConfigError(f"must be >= 0 seconds, got {early_start}", key="early_start")
         self._keep_open = timedelta(seconds=keep_open)
+        self._early_start = timedelta(seconds=early_start)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
         self._refocus_change = refocus_temperature_change
+        self._focus_sun = float(focus_max_sun_altitude)
         self._focus_args = (focus_count, focus_step, focus_exposure_time)
         self._running = autostart
         self._stop_cause: str | None = None  # why a running task must stop (operator)
         self._wake = asyncio.Event()
         self._current: Task | None = None
         self._progress = TaskProgress()
+        self._progress_writer: asyncio.Task[None] | None = None
         self._failed_slots: set[tuple[str, datetime]] = set()  # (task, slot start): failed by itself
         self._focused = False
         self._focus_temperature: float | None = None
@@ -244,12 +263,22 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         """Decide and act once; returns the clock seconds to wait before the next step."""
         conditions = await self._observatory.observe()
         slots, tasks = await self._read_slots(conditions.now)
-        action = decide(conditions, slots, keep_open=self._keep_open)
+        focus_below = await self._focus_below()
+        action = decide(
+            conditions,
+            self._with_early_start(slots, tasks, conditions.now),
+            keep_open=self._keep_open,
+            focus_below=focus_below,
+            early_start=self._early_start,
+        )
         if action != self._last_action:
             log.info("%s: %s", self.name, action.describe())
             self._last_action = action
         if isinstance(action, RunTask):
             await self._run(action.slot, tasks[action.slot.task_id])
+            return 0.0
+        if isinstance(action, Focus):
+            await self._focus(action.slot)
             return 0.0
         if isinstance(action, OpenUp):
             return 1.0 if await self._observatory.open_up(conditions) else self._poll
@@ -300,6 +329,18 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             slots.append(slot_for(entry, task, failed_here=failed_here, **self._sun_caps))
         return slots, tasks
 
+    def _with_early_start(self, slots: list[Slot], tasks: dict[str, Task], now: datetime) -> list[Slot]:
+        """``slots`` with the next one marked startable now if its task may start early."""
+        if not self._early_start or any(s.is_due(now) and s.may_run for s in slots):
+            return slots
+        upcoming = [s for s in slots if s.may_run and now < s.start <= now + self._early_start]
+        if not upcoming or self.site is None:
+            return slots
+        first = min(upcoming, key=lambda s: s.start)
+        if not startable_now(tasks[first.task_id], self.site, now, first.start):
+            return slots
+        return [replace(s, startable_now=True) if s is first else s for s in slots]
+
     # --- running a task ------------------------------------------------------------------------
 
     async def _run(self, slot: Slot, task: Task) -> None:
@@ -309,8 +350,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                 "%s: the runner cannot run task %s (%s); skipping its slot", self.name, task.id, task.name
             )
             self._failed_slots.add((task.id, slot.start))
-            return
-        if slot.needs_sky and not await self._focus_if_due(slot):
             return
         task = await self._archive.mark_started(task.id)
         self._current, self._progress = task, task.status.progress
@@ -357,16 +396,28 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         if task is None:
             return
         self._progress = kept_progress(self._progress, progress)
-        try:
-            await self._archive.record_progress(task.id, self._progress)
-        except Exception as exc:  # kept in memory and recorded at the end
-            log.warning("%s: could not record the progress of task %s: %s", self.name, task.id, exc)
+        # A database transaction must not hold up the next exposure: one writer records the latest.
+        if self._progress_writer is None or self._progress_writer.done():
+            self._progress_writer = asyncio.create_task(self._write_progress(task))
+
+    async def _write_progress(self, task: Task) -> None:
+        written: TaskProgress | None = None
+        while written != self._progress:
+            written = self._progress
+            try:
+                await self._archive.record_progress(task.id, written)
+            except Exception as exc:  # kept in memory and recorded at the end
+                log.warning("%s: could not record the progress of task %s: %s", self.name, task.id, exc)
+                return
 
     async def _record_end(self, task: Task, reason: str | None, *, retryable: bool = False) -> None:
         """Mark the task finished (``reason`` None) or failed in the archive, and tell everybody.
 
         ``retryable``: it was interrupted from outside and may be planned again (see TaskFailedEvent).
         """
+        writer, self._progress_writer = self._progress_writer, None
+        if writer is not None:
+            await asyncio.wait({writer})  # the end is recorded after the last progress
         progress = self._progress
         try:
             if reason is None:
@@ -386,26 +437,32 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         except NightcrewError as exc:
             log.error("%s: could not announce the end of task %s: %s", self.name, task.id, exc)
 
-    async def _focus_if_due(self, slot: Slot) -> bool:
-        """Focus if configured and due; False if the focus run was aborted (the slot waits)."""
+    async def _focus_below(self) -> float | None:
+        """The highest Sun altitude to focus at if the focus is due; None if not (or no autofocus)."""
         if self._autofocus is None:
-            return True
-        temperature = await self._observatory.temperature()
-        if not focus_due(
+            return None
+        temperature = await self._observatory.temperature() if self._focused else None
+        due = focus_due(
             focused=self._focused,
             last_temperature=self._focus_temperature,
             temperature=temperature,
             threshold=self._refocus_change,
-        ):
-            return True
+        )
+        return self._focus_sun if due else None
+
+    async def _focus(self, slot: Slot) -> None:
+        """Run the auto-focus (for the task of ``slot``); stopped by weather, roof or a rising Sun."""
+        assert self._autofocus is not None  # decide() focuses only when focus_below is given
+        temperature = await self._observatory.temperature()
         log.info(
             "%s: focusing (temperature %s, last focus at %s)", self.name, temperature, self._focus_temperature
         )
+        watched = replace(slot, sun=SunLimits(high=self._focus_sun))
         autofocus = await self.proxy(self._autofocus, IAutoFocus)
         try:
             cause = await run_watched(
                 autofocus.auto_focus(*self._focus_args),
-                lambda: self._abort_cause(slot),
+                lambda: self._abort_cause(watched),
                 wake=self._wake,
                 clock=self.clock,
                 poll_interval=self._poll,
@@ -417,9 +474,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             cause = None
         if cause is not None:
             log.warning("%s: focusing aborted: %s", self.name, cause)
-            return False
+            return
         self._focused, self._focus_temperature = True, temperature
-        return True
 
 
 def _built(value: Any, expected: type[Any], key: str, owner: Module) -> tuple[Any, bool]:

@@ -1,8 +1,8 @@
 """The mastermind's decisions as pure functions: what to do next, when to stop a task, what to record.
 
 :func:`decide` takes the world (:class:`Conditions`) and the slots of the schedule around now and
-returns one :data:`Action` (:class:`RunTask`, :class:`OpenUp`, :class:`CloseAndPark`,
-:class:`Wait`); :func:`abort_cause` says why a running task must stop. The helpers in
+returns one :data:`Action` (:class:`RunTask`, :class:`OpenUp`, :class:`Focus`,
+:class:`CloseAndPark`, :class:`Wait`); :func:`abort_cause` says why a running task must stop. The helpers in
 :mod:`._tasks` read what deciding needs from a task; :func:`run_watched` runs a task (or a focus
 run) and cancels it as soon as a check finds a cause; :class:`ObservatoryControl` senses the
 weather, roof, telescope and Sun through proxies and opens up or closes down. The module
@@ -15,6 +15,7 @@ from nightcrew.robotic.mastermind._decide import (
     Action,
     CloseAndPark,
     Conditions,
+    Focus,
     OpenUp,
     RoofState,
     RunTask,
@@ -30,9 +31,11 @@ from nightcrew.robotic.mastermind._tasks import (
     focus_due,
     interruption_reason,
     kept_progress,
+    needs_focus,
     needs_sky,
     planned_exposures,
     slot_for,
+    startable_now,
     sun_limits,
     task_cards,
 )
@@ -41,6 +44,7 @@ __all__ = [
     "Action",
     "CloseAndPark",
     "Conditions",
+    "Focus",
     "ObservatoryControl",
     "OpenUp",
     "RoofState",
@@ -54,10 +58,12 @@ __all__ = [
     "focus_due",
     "interruption_reason",
     "kept_progress",
+    "needs_focus",
     "needs_sky",
     "planned_exposures",
     "run_watched",
     "slot_for",
+    "startable_now",
     "sun_limits",
     "task_cards",
 ]

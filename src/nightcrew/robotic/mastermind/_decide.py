@@ -8,12 +8,19 @@ whether the task must stop. The rules, in order:
 2. A slot is **due** (``start <= now < end``, its task may run; of overlapping ones the earliest
    that can run now): a task that needs no sky (BIAS,
    DARK) runs at once; a sky task needs good weather and the Sun within its limits, then the roof
-   open and the telescope ready (:class:`OpenUp` first), then :class:`RunTask`. A roof moving by
-   someone else's hand is waited for.
-3. Otherwise, with the roof open or the telescope unparked: it **stays open** only if a sky task is
+   open and the telescope ready (:class:`OpenUp` first), then :class:`RunTask` - or first
+   :class:`Focus` when the focus is due (``focus_below``), the task needs a sharp image and the
+   Sun is low enough. A roof moving by someone else's hand is waited for.
+3. Nothing due, and the next slot starts within ``early_start`` and its task can be observed from
+   now on (``startable_now``): it is taken as due (rule 2), so a task that ended early leaves no
+   idle gap.
+4. Otherwise, with the roof open or the telescope unparked: it **stays open** only if a sky task is
    due or starts within ``keep_open`` and the Sun allows it now (or is setting towards its limit);
    else :class:`CloseAndPark` (dawn, end of the schedule, a long gap).
-4. Otherwise :class:`Wait`.
+5. Nothing due, the focus due, the Sun low enough and a task that needs it within ``keep_open``:
+   :class:`Focus` now (opening up first), so the wait before it (at dusk: between the twilight
+   tasks and full darkness) is not lost to focusing later.
+6. Otherwise :class:`Wait`.
 
 A running sky task is aborted on bad weather, a roof that is not open, or the Sun leaving its
 limits (dawn); a task that needs no sky is never aborted by these.
@@ -32,6 +39,7 @@ __all__ = [
     "Action",
     "CloseAndPark",
     "Conditions",
+    "Focus",
     "OpenUp",
     "RoofState",
     "RunTask",
@@ -122,6 +130,9 @@ class Slot:
         sun: Where the Sun must be (the observatory's cap applied).
         may_run: False when the task is no longer to do (done, cancelled) or already failed by its
             own fault in this very slot (so a broken task is not retried in a loop).
+        needs_focus: It images the sky and wants sharp stars (sky tasks but twilight flats).
+        startable_now: Its task can be observed from now until ``start`` (window begun, target
+            within its limits), so it may start early.
     """
 
     task_id: str
@@ -131,6 +142,8 @@ class Slot:
     needs_sky: bool
     sun: SunLimits
     may_run: bool = True
+    needs_focus: bool = False
+    startable_now: bool = False
 
     def is_due(self, now: datetime) -> bool:
         """Its slot has begun and not ended."""
@@ -158,6 +171,16 @@ class OpenUp:
 
 
 @dataclass(frozen=True)
+class Focus:
+    """Focus the telescope now, for the task of ``slot`` (due or next)."""
+
+    slot: Slot
+
+    def describe(self) -> str:
+        return f"focusing for task {self.slot.task_id} ({self.slot.name})"
+
+
+@dataclass(frozen=True)
 class CloseAndPark:
     """Close the roof and park the telescope, because of ``reason``."""
 
@@ -178,30 +201,51 @@ class Wait:
         return f"waiting: {self.reason}"
 
 
-Action = RunTask | OpenUp | CloseAndPark | Wait
+Action = RunTask | OpenUp | Focus | CloseAndPark | Wait
 
 
-def decide(conditions: Conditions, slots: Sequence[Slot], *, keep_open: timedelta) -> Action:
-    """The next action; see the module docstring for the rules."""
+def decide(
+    conditions: Conditions,
+    slots: Sequence[Slot],
+    *,
+    keep_open: timedelta,
+    focus_below: float | None = None,
+    early_start: timedelta = timedelta(0),
+) -> Action:
+    """The next action; see the module docstring for the rules.
+
+    ``focus_below``: the focus is due, at a Sun altitude up to this (degrees); None: not due.
+    ``early_start``: how long before its slot a task that can be observed already may start.
+    """
     if not conditions.weather_good and not conditions.closed_and_parked:
         return CloseAndPark("the weather is bad")
     now = conditions.now
     runnable = sorted((slot for slot in slots if slot.may_run and slot.end > now), key=lambda s: s.start)
     blocked: list[tuple[Slot, str]] = []
-    for due in (slot for slot in runnable if slot.is_due(now)):  # overlapping slots: earliest first
+    due_now = [slot for slot in runnable if slot.is_due(now)]
+    for due in due_now:  # overlapping slots: earliest first
         if not due.needs_sky:
             return RunTask(due)
         blocker = _sky_blocker(due, conditions)
         if not blocker:
-            return _prepared_or_run(due, conditions)
+            return _prepared_or_run(due, conditions, focus_below)
         blocked.append((due, blocker))
+    upcoming = next((slot for slot in runnable if slot.start > now), None)
+    if not due_now and upcoming and upcoming.startable_now and upcoming.start <= now + early_start:
+        if not upcoming.needs_sky:
+            return RunTask(upcoming)
+        if not _sky_blocker(upcoming, conditions):
+            return _prepared_or_run(upcoming, conditions, focus_below)
     if not conditions.closed_and_parked and not _keep_open(runnable, conditions, keep_open):
         return CloseAndPark(_closing_reason(runnable, conditions, keep_open))
     if blocked:
         return Wait(f"{blocked[0][0].name}: {blocked[0][1]}")
-    upcoming = next((slot for slot in runnable if slot.start > now), None)
     if upcoming is None:
         return Wait("nothing scheduled")
+    sharp = next((slot for slot in runnable if slot.start > now and slot.needs_focus), None)
+    soon = sharp is not None and sharp.start <= now + keep_open
+    if sharp and soon and conditions.weather_good and _focus_now(sharp, conditions, focus_below):
+        return _prepared_or_run(sharp, conditions, focus_below)  # opens up, then focuses
     return Wait(f"next: {upcoming.name} at {upcoming.start:%H:%M:%S}", until=upcoming.start)
 
 
@@ -227,13 +271,23 @@ def _sky_blocker(slot: Slot, conditions: Conditions) -> str:
     return ""
 
 
-def _prepared_or_run(slot: Slot, conditions: Conditions) -> Action:
-    if conditions.roof is RoofState.OPEN and conditions.telescope_ready:
-        return RunTask(slot)
+def _prepared_or_run(slot: Slot, conditions: Conditions, focus_below: float | None) -> Action:
+    if _ready(conditions):
+        return Focus(slot) if _focus_now(slot, conditions, focus_below) else RunTask(slot)
     if conditions.roof in (RoofState.OPENING, RoofState.CLOSING):
         # Someone else moves it (a closing roof refuses to open): look again when it stopped.
         return Wait(f"the roof is {conditions.roof}")
     return OpenUp(slot)
+
+
+def _ready(conditions: Conditions) -> bool:
+    """Weather good, roof open and telescope ready: the sky can be imaged."""
+    return conditions.weather_good and conditions.roof is RoofState.OPEN and conditions.telescope_ready
+
+
+def _focus_now(slot: Slot, conditions: Conditions, focus_below: float | None) -> bool:
+    # Focus stars need a dark enough sky; a task run without a due focus beats not running it.
+    return slot.needs_focus and focus_below is not None and conditions.sun_altitude <= focus_below
 
 
 def _keep_open(runnable: Sequence[Slot], conditions: Conditions, keep_open: timedelta) -> bool:

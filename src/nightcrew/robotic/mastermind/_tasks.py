@@ -2,29 +2,42 @@
 
 from __future__ import annotations
 
+from datetime import datetime, timedelta
+
 from nightcrew.interfaces import FitsCard
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind._decide import Slot, SunLimits
 from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress
+from nightcrew.robotic.tasks.visibility import observable_stretches
+from nightcrew.site import Site
 
 __all__ = [
     "focus_due",
     "interruption_reason",
     "kept_progress",
+    "needs_focus",
     "needs_sky",
     "planned_exposures",
     "slot_for",
+    "startable_now",
     "sun_limits",
     "task_cards",
 ]
 
 #: Configuration types that work with the roof closed.
 _CLOSED_ROOF_TYPES = frozenset({ConfigurationType.BIAS, ConfigurationType.DARK})
+#: Configuration types that do not need sharp stars.
+_UNFOCUSED_TYPES = _CLOSED_ROOF_TYPES | {ConfigurationType.SKY_FLAT}
 
 
 def needs_sky(task: Task) -> bool:
     """Whether the task needs the roof open: any configuration but BIAS and DARK (SCRIPT too)."""
     return any(c.type not in _CLOSED_ROOF_TYPES for c in task.request.configurations)
+
+
+def needs_focus(task: Task) -> bool:
+    """Whether the task images stars (anything but BIAS, DARK and SKY_FLAT): focus before it."""
+    return any(c.type not in _UNFOCUSED_TYPES for c in task.request.configurations)
 
 
 def sun_limits(task: Task, *, max_sun_altitude: float, twilight_max_sun_altitude: float) -> SunLimits:
@@ -62,7 +75,23 @@ def slot_for(
             task, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude
         ),
         may_run=task.schedulable and not failed_here,
+        needs_focus=needs_focus(task),
     )
+
+
+def startable_now(task: Task, site: Site, now: datetime, start: datetime) -> bool:
+    """Whether ``task``, planned to start at ``start``, may start at ``now`` already.
+
+    Its window must have begun and its request be observable (Sun, airmass, Moon, checked each
+    minute as the scheduler checks them) from ``now`` until ``start``: from there on the scheduler
+    found it observable.
+    """
+    request = task.request
+    if not any(w.start <= now and start <= w.end for w in request.windows):
+        return False
+    minute = timedelta(minutes=1)
+    stretches = observable_stretches(request, site, now, start + minute, step=minute.total_seconds())
+    return any(a <= now and start <= b for a, b in stretches)
 
 
 def planned_exposures(request: Request) -> int:
