@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import asyncio
 import time
+from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
@@ -11,10 +13,11 @@ from nightcrew.comm.xmpp import XmppAuthError, XmppComm
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.events import TestEvent
 from nightcrew.modules import Module
+from nightcrew.server import Account, init_server, start_server, stop_server
 
 from .conftest import Network
 from .sample import Calculator, ICalculator, ISlow, Listener
-from .xmpp_servers import DOMAIN
+from .xmpp_servers import DOMAIN, PASSWORD, free_port, require_command
 
 pytestmark = pytest.mark.xmpp
 
@@ -92,3 +95,30 @@ async def test_modules_reconnect_after_a_server_restart(prosody_network: Network
     await calc.comm.send_event(TestEvent(message="after restart"))
     await asyncio.wait_for(listener.arrived.wait(), 5)
     assert listener.received[-1] == (TestEvent(message="after restart"), "calc")
+
+
+@pytest.fixture
+def prosody_without_tls(tmp_path: Path) -> Iterator[str]:
+    """A private Prosody on loopback that offers no TLS at all; yields its address."""
+    require_command("prosody", "prosody")
+    port = free_port()
+    init_server(tmp_path, [Account("calc", DOMAIN, PASSWORD)], host="127.0.0.1", port=port, domains=[DOMAIN])
+    config = tmp_path / "prosody.cfg.lua"
+    text = config.read_text().replace('"tls"; ', "")
+    config.write_text(text.replace('{ "s2s"; "offline" }', '{ "s2s"; "offline"; "tls" }'))
+    start_server(tmp_path)
+    try:
+        yield f"127.0.0.1:{port}"
+    finally:
+        stop_server(tmp_path)
+
+
+async def test_a_server_without_tls_is_refused_when_tls_is_required(prosody_without_tls: str) -> None:
+    # Off loopback TLS is required by default (see the config test above); loopback can ask for it.
+    strict = XmppComm(f"calc@{DOMAIN}", PASSWORD, server=prosody_without_tls, require_tls=True)
+    with pytest.raises(XmppAuthError, match=r"login refused \(the server at 127\.0\.0\.1:\d+ offers no TLS"):
+        await Module(comm=strict).open()
+    # The same account logs in when TLS is not required: the refusal above was about TLS alone.
+    relaxed = Module(comm=XmppComm(f"calc@{DOMAIN}", PASSWORD, server=prosody_without_tls, require_tls=False))
+    await relaxed.open()
+    await relaxed.close()
