@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["IntervalVariables", "lagrangian_schedule"]
+__all__ = ["IntervalVariables", "LagrangianResult", "bounds_through", "lagrangian_schedule"]
 
 IntArray = npt.NDArray[np.int64]
 FloatArray = npt.NDArray[np.float64]
@@ -35,8 +35,9 @@ class IntervalVariables:
     n_slices: int
 
 
-def _best_intervals(variables: IntervalVariables, values: FloatArray) -> IntArray:
-    """Variables of a max-value set of non-overlapping intervals (blocks may repeat): DP over slices."""
+def _backward(variables: IntervalVariables, values: FloatArray) -> tuple[FloatArray, IntArray]:
+    """Best value of intervals from each slice edge to the end (blocks may repeat), and the variable
+    starting each best tail (-1: the slice stays empty): DP over slices."""
     n = variables.n_slices
     best = np.zeros(n + 1)
     pick = np.full(n, -1, dtype=np.int64)
@@ -51,15 +52,51 @@ def _best_intervals(variables: IntervalVariables, values: FloatArray) -> IntArra
             top = int(np.argmax(totals))
             if totals[top] > best[s]:
                 best[s], pick[s] = totals[top], here[top]
+    return best, pick
+
+
+def _forward(variables: IntervalVariables, values: FloatArray) -> FloatArray:
+    """Best value of intervals from the start to each slice edge (the mirror of :func:`_backward`)."""
+    n = variables.n_slices
+    best = np.zeros(n + 1)
+    ends = variables.start_of + variables.length_of
+    order = np.argsort(ends, kind="stable")
+    bounds = np.searchsorted(ends[order], np.arange(n + 2))
+    for e in range(1, n + 1):
+        best[e] = best[e - 1]
+        here = order[bounds[e] : bounds[e + 1]]
+        if len(here):
+            best[e] = max(best[e], float(np.max(values[here] + best[variables.start_of[here]])))
+    return best
+
+
+def _best_intervals(variables: IntervalVariables, values: FloatArray) -> IntArray:
+    """Variables of a max-value set of non-overlapping intervals (blocks may repeat)."""
+    _, pick = _backward(variables, values)
+    ends = variables.start_of + variables.length_of
     chosen = []
     s = 0
-    while s < n:
+    while s < variables.n_slices:
         if pick[s] < 0:
             s += 1
         else:
             chosen.append(int(pick[s]))
             s = int(ends[pick[s]])
     return np.array(chosen, dtype=np.int64)
+
+
+def bounds_through(variables: IntervalVariables, prices: FloatArray) -> FloatArray:
+    """For every variable, an upper bound on the value of any schedule that uses it.
+
+    A schedule uses each block at most once, so its value is at most ``sum(prices)`` plus its value
+    at the prices ``value - prices[block]``; with the variable forced in, the best of the latter is
+    the best path through it: forward DP to its start + its own + backward DP from its end.
+    """
+    values = variables.value_of - prices[variables.block_of]
+    forward = _forward(variables, values)
+    backward, _ = _backward(variables, values)
+    ends = variables.start_of + variables.length_of
+    return np.asarray(float(prices.sum()) + forward[variables.start_of] + values + backward[ends])
 
 
 def _repair_and_fill(variables: IntervalVariables, chosen: IntArray, block_order: IntArray) -> IntArray:
@@ -93,10 +130,21 @@ def _repair_and_fill(variables: IntervalVariables, chosen: IntArray, block_order
     return np.array(sorted(kept), dtype=np.int64)
 
 
+@dataclass(frozen=True)
+class LagrangianResult:
+    """The best feasible variables found (``chosen``, worth ``value``), the best upper bound and
+    the prices that gave it."""
+
+    chosen: IntArray
+    value: float
+    bound: float
+    prices: FloatArray
+
+
 def lagrangian_schedule(
     variables: IntervalVariables, prices: FloatArray, *, iterations: int = 150
-) -> tuple[IntArray, float, float]:
-    """Best feasible variables found, their value, and the best Lagrangian upper bound.
+) -> LagrangianResult:
+    """Subgradient search from ``prices``: good feasible schedules and an upper bound.
 
     Args:
         variables: The interval variables.
@@ -115,12 +163,13 @@ def lagrangian_schedule(
     mu = np.maximum(0.0, prices.astype(np.float64).copy())
     best_vars = np.zeros(0, dtype=np.int64)
     best_value, upper = 0.0, np.inf
+    best_mu = mu.copy()
     step_scale, stalled = 1.0, 0
     for _ in range(iterations):
         chosen = _best_intervals(variables, value - mu[variables.block_of])
         bound = float((value - mu[variables.block_of])[chosen].sum() + mu.sum())
         if bound < upper - 1e-9:
-            upper, stalled = bound, 0
+            upper, stalled, best_mu = bound, 0, mu.copy()
         else:
             stalled += 1
             if stalled >= 10:
@@ -136,4 +185,4 @@ def lagrangian_schedule(
             break
         step = step_scale * (bound - best_value) / norm
         mu = np.maximum(0.0, mu - step * gradient)
-    return best_vars, best_value, upper
+    return LagrangianResult(best_vars, best_value, upper, best_mu)

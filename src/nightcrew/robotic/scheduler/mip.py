@@ -14,14 +14,18 @@ Solving it plainly, HiGHS often spends its whole time limit in root cuts on a fe
 variables without a good schedule (scipy cannot hand it a starting solution). So the search runs in
 three steps, each keeping a proven upper bound:
 
-1. the LP relaxation (a fraction of a second) gives prices ``y`` on the rows and the LP bound;
+1. the LP relaxation gives prices on the "each block once" rows and the LP bound. On fine grids
+   (more than ``lp_max_entries`` matrix entries: 5 M at 60-s slices and 500 blocks) the LP takes
+   longer than the whole time limit; then the prices start at zero, which costs the next step a
+   few more iterations but gives the same bound to 0.1 %;
 2. :func:`~nightcrew.robotic.scheduler.lagrangian.lagrangian_schedule` turns the prices into a good
-   schedule (``incumbent``, typically > 99 % of the bound) and a Lagrangian bound; if the gap is
-   already below ``mip_rel_gap``, that is the answer;
-3. reduced costs ``r = A^T y - c`` prove variables useless: by weak duality every schedule using
-   variable ``k`` scores at most ``lp_bound - r[k]``. The MIP runs on the variables with
-   ``r <= lp_bound - incumbent`` (at most ``kernel_size``, smallest ``r`` first); when none was
-   left out, HiGHS's dual bound (``OptimizeResult.mip_dual_bound``) holds for the whole problem.
+   schedule (``incumbent``, typically > 99 % of the bound), a Lagrangian bound and its prices
+   ``mu``; if the gap is already below ``mip_rel_gap``, that is the answer;
+3. at prices ``mu`` every schedule using variable ``k`` scores at most ``sum(mu)`` plus the best
+   path through ``k`` (:func:`~nightcrew.robotic.scheduler.lagrangian.bounds_through`), so
+   variables whose bound is below the incumbent are useless. The MIP runs on the others (at most
+   ``kernel_size``, best bound first); when none was left out, HiGHS's dual bound
+   (``OptimizeResult.mip_dual_bound``) holds for the whole problem.
 
 Pure: arrays in, arrays out; no clock, no I/O (wall time only to honour the time limit).
 """
@@ -35,7 +39,7 @@ import numpy.typing as npt
 from scipy.optimize import LinearConstraint, linprog, milp  # type: ignore[import-untyped]
 from scipy.sparse import csr_array  # type: ignore[import-untyped]
 
-from nightcrew.robotic.scheduler.lagrangian import IntervalVariables, lagrangian_schedule
+from nightcrew.robotic.scheduler.lagrangian import IntervalVariables, bounds_through, lagrangian_schedule
 from nightcrew.robotic.scheduler.problem import Placement
 
 __all__ = ["solve_time_indexed"]
@@ -55,6 +59,7 @@ def solve_time_indexed(
     time_limit: float = 10.0,
     mip_rel_gap: float = 5e-3,
     kernel_size: int = 4000,
+    lp_max_entries: int = 1_000_000,
 ) -> Placement:
     """Choose start slices maximising the weight of the placed blocks without overlaps.
 
@@ -65,6 +70,8 @@ def solve_time_indexed(
         time_limit: Seconds to spend in all; the best schedule found so far is returned then.
         mip_rel_gap: Stop when (bound - objective) / bound is below this.
         kernel_size: Most variables handed to the MIP (step 3 above).
+        lp_max_entries: Largest no-overlap matrix (non-zero entries) whose LP gives the first
+            prices (step 1 above).
     """
     deadline = time.perf_counter() + time_limit
     n_blocks, n_slices = can_start.shape
@@ -72,37 +79,43 @@ def solve_time_indexed(
     starts = np.full(n_blocks, -1, dtype=np.int64)
     if len(block_of) == 0:
         return Placement(starts, 0.0, 0.0, "optimal")
-    matrix = _constraint_matrix(block_of, start_of, lengths, n_blocks, n_slices)
     variables = IntervalVariables(
         block_of, start_of, lengths[block_of], weights[block_of], n_blocks, n_slices
     )
-    chosen, objective, bound, status = _solve(variables, matrix, kernel_size, deadline, mip_rel_gap)
+    chosen, objective, bound, status = _solve(variables, kernel_size, deadline, mip_rel_gap, lp_max_entries)
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)
 
 
 def _solve(
-    variables: IntervalVariables, matrix: csr_array, kernel_size: int, deadline: float, mip_rel_gap: float
+    variables: IntervalVariables, kernel_size: int, deadline: float, mip_rel_gap: float, lp_max_entries: int
 ) -> tuple[IntArray, float, float, str]:
     """Chosen variables, their value, a proven upper bound and a status (steps 1-3 of the module)."""
     costs = variables.value_of
-    relaxation = linprog(-costs, A_ub=matrix, b_ub=np.ones(matrix.shape[0]), bounds=(0, 1), method="highs")
-    if relaxation.status != 0:  # never seen; the plain MIP is still right
-        return _solve_mip(matrix, costs, deadline - time.perf_counter(), mip_rel_gap)
-    prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
-    reduced = matrix.T @ prices - costs
-    lp_bound = float(prices.sum() + np.maximum(0.0, -reduced).sum())  # weak duality: valid for any prices
-    best, incumbent, lagrangian_bound = lagrangian_schedule(variables, prices[: variables.n_blocks])
-    upper = min(lp_bound, lagrangian_bound)
+    prices, lp_bound = np.zeros(variables.n_blocks), np.inf
+    if int(variables.length_of.sum()) <= lp_max_entries:
+        matrix = _constraint_matrix(variables, np.arange(len(costs)))
+        ones = np.ones(matrix.shape[0])
+        relaxation = linprog(-costs, A_ub=matrix, b_ub=ones, bounds=(0, 1), method="highs")
+        if relaxation.status == 0:  # else (never seen) the prices stay at zero
+            row_prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
+            reduced = matrix.T @ row_prices - costs
+            # Weak duality: valid for any prices >= 0, whatever the LP's tolerances.
+            lp_bound = float(row_prices.sum() + np.maximum(0.0, -reduced).sum())
+            prices = row_prices[: variables.n_blocks]
+    lagrangian = lagrangian_schedule(variables, prices)
+    best, incumbent = lagrangian.chosen, lagrangian.value
+    upper = min(lp_bound, lagrangian.bound)
     if upper - incumbent <= mip_rel_gap * upper:
         return best, incumbent, upper, "optimal"
 
-    useful = np.flatnonzero(reduced <= lp_bound - incumbent + 1e-9)
-    kernel = useful[np.argsort(reduced[useful], kind="stable")[:kernel_size]]
+    through = bounds_through(variables, lagrangian.prices)
+    useful = np.flatnonzero(through >= incumbent - 1e-9)
+    kernel = useful[np.argsort(-through[useful], kind="stable")[:kernel_size]]
     if deadline - time.perf_counter() < 0.2:
         return best, incumbent, upper, "limit reached"
     chosen, objective, kernel_bound, status = _solve_mip(
-        matrix[:, kernel], costs[kernel], deadline - time.perf_counter(), mip_rel_gap
+        _constraint_matrix(variables, kernel), costs[kernel], deadline - time.perf_counter(), mip_rel_gap
     )
     if objective > incumbent:
         best, incumbent = kernel[chosen], objective
@@ -130,12 +143,12 @@ def _solve_mip(
     return chosen, float(costs[chosen].sum()), bound, status
 
 
-def _constraint_matrix(
-    block_of: IntArray, start_of: IntArray, lengths: IntArray, n_blocks: int, n_slices: int
-) -> csr_array:
-    """Rows 0..n_blocks-1: each block once; then one no-overlap row per slice where a block starts."""
-    n_vars = len(block_of)
-    var_lengths = lengths[block_of]
+def _constraint_matrix(variables: IntervalVariables, columns: IntArray) -> csr_array:
+    """The rows of the variables ``columns``: 0..n_blocks-1 each block once; then one no-overlap row
+    per slice where one of them starts."""
+    block_of, start_of = variables.block_of[columns], variables.start_of[columns]
+    var_lengths = variables.length_of[columns]
+    n_vars, n_blocks = len(columns), variables.n_blocks
     # One entry per (variable, occupied slice): slice = start + 0, 1, ..., length - 1.
     var_of_entry = np.repeat(np.arange(n_vars), var_lengths)
     first_entry = np.cumsum(var_lengths) - var_lengths
@@ -143,7 +156,7 @@ def _constraint_matrix(
     slice_of_entry = start_of[var_of_entry] + offset
 
     start_slices = np.unique(start_of)
-    row_of_slice = np.full(n_slices, -1, dtype=np.int64)
+    row_of_slice = np.full(variables.n_slices, -1, dtype=np.int64)
     row_of_slice[start_slices] = n_blocks + np.arange(len(start_slices))
     overlap_rows = row_of_slice[slice_of_entry]
     keep = overlap_rows >= 0

@@ -25,7 +25,7 @@ from nightcrew.robotic.scheduler.constraints import DEFAULT_CONSTRAINTS, Constra
 from nightcrew.robotic.scheduler.sky import SkyGrid, TimeGrid
 from nightcrew.site import Site
 
-__all__ = ["Placement", "SchedulingProblem", "build_problem", "check_placement"]
+__all__ = ["Placement", "SchedulingProblem", "build_problem", "check_placement", "density_bound"]
 
 IntArray = npt.NDArray[np.int64]
 FloatArray = npt.NDArray[np.float64]
@@ -120,3 +120,23 @@ def check_placement(problem: SchedulingProblem, starts: IntArray) -> None:
         occupied[start : start + int(problem.lengths[row])] += 1
     if np.any(occupied > 1):
         raise RuntimeError(f"solver placed overlapping blocks at slices {np.flatnonzero(occupied > 1)}")
+
+
+def density_bound(problem: SchedulingProblem) -> float:
+    """An upper bound on the objective of any schedule of the blocks, on any time grid or none.
+
+    A placed block is worth ``priority x duration`` and holds the telescope for at least
+    ``setup + duration`` (slews take >= 0 s), all of it while the block is visible. So no second of
+    the night is worth more than the best ``priority x duration / (setup + duration)`` among the
+    blocks visible then. It ignores that a block is observed once and every slew and rounding: a
+    relaxation of the continuous problem, not of one grid. Visibility is the problem's, widened by
+    one slice each way so that sampling it at slice edges cannot hide a visible moment.
+    """
+    if not problem.blocks or problem.grid.n_slices == 0:
+        return 0.0
+    visible = problem.visible.copy()
+    visible[:, 1:] |= problem.visible[:, :-1]
+    visible[:, :-1] |= problem.visible[:, 1:]
+    per_second = problem.weights / np.array([b.setup_s + b.duration_s for b in problem.blocks])
+    best = np.where(visible, per_second[:, np.newaxis], 0.0).max(axis=0)
+    return float(best.sum() * problem.grid.step)
