@@ -68,14 +68,13 @@ from nightcrew.robotic.mastermind import (
     Action,
     CloseAndPark,
     Focus,
+    FocusKeeper,
     ObservatoryControl,
     OpenUp,
     RunTask,
     Slot,
-    SunLimits,
     abort_cause,
     decide,
-    focus_due,
     interruption_reason,
     kept_progress,
     run_watched,
@@ -164,7 +163,18 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             temperatures=temperatures,
             temperature_sensor=temperature_sensor,
         )
-        self._autofocus = autofocus
+        self._focus_keeper = (
+            None
+            if autofocus is None
+            else FocusKeeper(
+                self,
+                self._observatory,
+                autofocus,
+                max_sun_altitude=focus_max_sun_altitude,
+                refocus_change=refocus_temperature_change,
+                arguments=(focus_count, focus_step, focus_exposure_time),
+            )
+        )
         self._sun_caps = {
             "max_sun_altitude": max_sun_altitude,
             "twilight_max_sun_altitude": twilight_max_sun_altitude,
@@ -174,9 +184,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         self._keep_open = timedelta(seconds=keep_open)
         self._early_start = timedelta(seconds=early_start)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
-        self._refocus_change = refocus_temperature_change
-        self._focus_sun = float(focus_max_sun_altitude)
-        self._focus_args = (focus_count, focus_step, focus_exposure_time)
         self._running = autostart
         self._stop_cause: str | None = None  # why a running task must stop (operator)
         self._wake = asyncio.Event()
@@ -184,8 +191,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         self._progress = TaskProgress()
         self._progress_writer: asyncio.Task[None] | None = None
         self._failed_slots: set[tuple[str, datetime]] = set()  # (task, slot start): failed by itself
-        self._focused = False
-        self._focus_temperature: float | None = None
         self._safe_since_stop = False
         self._last_action: Action | None = None
         self.add_background_task(self._robotic_loop, name="robotic loop")
@@ -263,7 +268,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         """Decide and act once; returns the clock seconds to wait before the next step."""
         conditions = await self._observatory.observe()
         slots, tasks = await self._read_slots(conditions.now)
-        focus_below = await self._focus_below()
+        keeper = self._focus_keeper
+        focus_below = await keeper.focus_below() if keeper is not None else None
         action = decide(
             conditions,
             self._with_early_start(slots, tasks, conditions.now),
@@ -437,45 +443,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         except NightcrewError as exc:
             log.error("%s: could not announce the end of task %s: %s", self.name, task.id, exc)
 
-    async def _focus_below(self) -> float | None:
-        """The highest Sun altitude to focus at if the focus is due; None if not (or no autofocus)."""
-        if self._autofocus is None:
-            return None
-        temperature = await self._observatory.temperature() if self._focused else None
-        due = focus_due(
-            focused=self._focused,
-            last_temperature=self._focus_temperature,
-            temperature=temperature,
-            threshold=self._refocus_change,
-        )
-        return self._focus_sun if due else None
-
     async def _focus(self, slot: Slot) -> None:
-        """Run the auto-focus (for the task of ``slot``); stopped by weather, roof or a rising Sun."""
-        assert self._autofocus is not None  # decide() focuses only when focus_below is given
-        temperature = await self._observatory.temperature()
-        log.info(
-            "%s: focusing (temperature %s, last focus at %s)", self.name, temperature, self._focus_temperature
+        """Focus (for the task of ``slot``); stopped by weather, roof or the Sun above the limit."""
+        assert self._focus_keeper is not None  # decide() focuses only when focus_below is given
+        watched = replace(slot, sun=self._focus_keeper.limits)
+        await self._focus_keeper.focus(
+            lambda: self._abort_cause(watched),
+            wake=self._wake,
+            poll_interval=self._poll,
+            abort_timeout=self._abort_timeout,
         )
-        watched = replace(slot, sun=SunLimits(high=self._focus_sun))
-        autofocus = await self.proxy(self._autofocus, IAutoFocus)
-        try:
-            cause = await run_watched(
-                autofocus.auto_focus(*self._focus_args),
-                lambda: self._abort_cause(watched),
-                wake=self._wake,
-                clock=self.clock,
-                poll_interval=self._poll,
-                abort_timeout=self._abort_timeout,
-                on_abort=autofocus.abort,
-            )
-        except NightcrewError as exc:  # observing slightly out of focus beats not observing
-            log.warning("%s: focusing failed (%s); going on with the focus as it is", self.name, exc)
-            cause = None
-        if cause is not None:
-            log.warning("%s: focusing aborted: %s", self.name, cause)
-            return
-        self._focused, self._focus_temperature = True, temperature
 
 
 def _built(value: Any, expected: type[Any], key: str, owner: Module) -> tuple[Any, bool]:

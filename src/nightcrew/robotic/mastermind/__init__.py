@@ -5,7 +5,8 @@ returns one :data:`Action` (:class:`RunTask`, :class:`OpenUp`, :class:`Focus`,
 :class:`CloseAndPark`, :class:`Wait`); :func:`abort_cause` says why a running task must stop. The helpers in
 :mod:`._tasks` read what deciding needs from a task; :func:`run_watched` runs a task (or a focus
 run) and cancels it as soon as a check finds a cause; :class:`ObservatoryControl` senses the
-weather, roof, telescope and Sun through proxies and opens up or closes down. The module
+weather, roof, telescope and Sun through proxies and opens up or closes down; :class:`FocusKeeper`
+knows when a focus is due and runs it. The module
 :class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
 """
 
@@ -25,6 +26,7 @@ from nightcrew.robotic.mastermind._decide import (
     abort_cause,
     decide,
 )
+from nightcrew.robotic.mastermind._focusing import FocusKeeper
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._supervision import all_done, run_watched
 from nightcrew.robotic.mastermind._tasks import (
@@ -45,6 +47,7 @@ __all__ = [
     "CloseAndPark",
     "Conditions",
     "Focus",
+    "FocusKeeper",
     "ObservatoryControl",
     "OpenUp",
     "RoofState",
