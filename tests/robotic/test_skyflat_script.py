@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import pytest
+
 from nightcrew.modules import Module
-from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.runner import ScriptError, TaskRunner
 from nightcrew.robotic.scripts import SkyFlatScript
 from nightcrew.robotic.tasks import TaskProgress, TaskStatus
 from tests.flatfield.sim import FUNCTIONS, TwilightObservatory, start_flat_observatory
@@ -56,3 +58,19 @@ async def test_a_retry_takes_only_the_missing_flats(dusk: TwilightObservatory) -
     flats = [header["FILTER"] for header, _ in frames(dusk.directory)]
     assert set(flats) == {"R"}  # no V flat again
     assert progress.last.exposures_done == ((3, 3),)
+
+
+async def test_a_twilight_too_short_for_all_flats_fails_the_task_with_what_is_missing(
+    dusk: TwilightObservatory,
+) -> None:
+    # A T_max of 2 s ends the flats about 7 minutes after they start: far fewer than 100.
+    await start_flat_observatory(dusk, max_exposure=2.0)
+    runner = await runner_on(dusk, SkyFlatScript())
+    progress = ProgressLog()
+    with pytest.raises(
+        ScriptError, match=r"sky flats incomplete: \d+ of 100 missing \(twilight over\?\)"
+    ) as failed:
+        await runner.run_task(make_task(sky_flats("V", count=100)), progress)
+    (done,) = progress.last.exposures_done[0]  # kept for a retry
+    assert 0 < done < 100 and failed.value.message.startswith(f"sky flats incomplete: {100 - done} of 100")
+    assert len(frames(dusk.directory)) >= done  # (plus the flat-fielder's test exposures)

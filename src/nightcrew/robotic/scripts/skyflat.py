@@ -9,7 +9,13 @@ from nightcrew.errors import NotSupportedError
 from nightcrew.flatfield import FlatTask, TwilightPlanner
 from nightcrew.interfaces import Binning, IFlatField
 from nightcrew.modules.flatfield.sun import sun_altitude_at
-from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.runner import (
+    ProgressCallback,
+    ProgressReporter,
+    Script,
+    ScriptError,
+    the_configuration,
+)
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
 from nightcrew.robotic.tasks import Configuration, ConfigurationType, Task
@@ -24,7 +30,8 @@ class SkyFlatScript(Script):
 
     The flat-field module points the telescope, chooses the exposure times from the sky (the
     task's are only a first guess) and waits for or stops at the right twilight; it may take fewer
-    frames than asked when the twilight ends, which the progress then shows.
+    frames than asked when the twilight ends: the progress then shows them and the task fails with
+    :class:`ScriptError` saying how many are missing (a retry takes only those).
 
     With the exposure-time ``functions`` (the FlatField module's, e.g. from a shared include
     file) the instrument configs are taken in the order the twilight planner gives
@@ -84,6 +91,11 @@ class SkyFlatScript(Script):
             if taken > 0:
                 await reporter.add(index, taken)
             log.info("%d flats, %.1f s exposed in total", taken, exposure)
+        missing = sum(reporter.remaining(i) for i in range(len(config.instrument_configs)))
+        if missing > 0:
+            # Not done: a task reported complete without its flats would hide that they are lacking.
+            wanted = sum(c.exposure_count for c in config.instrument_configs)
+            raise ScriptError(f"sky flats incomplete: {missing} of {wanted} missing (twilight over?)")
 
     def _order(self, config: Configuration, reporter: ProgressReporter) -> list[int]:
         """Indexes of the instrument configs with flats missing, in the order to take them."""
