@@ -113,6 +113,14 @@ async def test_fwhm_within_5_percent_of_the_psf(seeing: float) -> None:
     assert result.header["FWHM"] == pytest.approx(seeing, rel=0.05)  # no optics blur: FWHM = seeing
 
 
+async def test_fwhm_in_a_central_window_measures_the_same_psf_on_the_window_stars_only() -> None:
+    frame = render(FIELD, SIZE, seed=4, conditions=replace(CONDITIONS, seeing_arcsec=3.0))
+    whole = (await MeasureFwhm(max_stars=200)(as_image(frame))).metadata["fwhm"]
+    central = (await MeasureFwhm(max_stars=200, window=SIZE // 2)(as_image(frame))).metadata["fwhm"]
+    assert central.fwhm_px == pytest.approx(frame.fwhm_px, rel=0.05)
+    assert 5 <= central.stars < whole.stars / 2  # a quarter of the area
+
+
 async def test_exposure_time_brings_the_brightest_star_to_the_target_peak() -> None:
     estimator = StarExposureTime(target_peak=20000.0)
     estimate = (await estimator(as_image(render(FIELD, SIZE, seed=5, exposure_time=1.0), 1.0))).metadata[
