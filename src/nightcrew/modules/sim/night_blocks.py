@@ -13,6 +13,7 @@ must then start early, while the sky is still bright enough.
 
 from __future__ import annotations
 
+import functools
 from datetime import datetime
 from typing import Any
 
@@ -70,8 +71,13 @@ def calibration_block(task: Task, site: Site | None = None) -> SchedulableBlock:
     )
 
 
+@functools.lru_cache(maxsize=256)
 def _twilight_seconds(site: Site, start: datetime, end: datetime, low: float, high: float) -> float:
-    """Seconds (to a minute) between ``start`` and ``end`` with the Sun between ``low`` and ``high``."""
+    """Seconds (to a minute) between ``start`` and ``end`` with the Sun between ``low`` and ``high``.
+
+    Cached: the scheduler asks for the blocks every poll (a few times a wall second on a fast
+    clock), and a minute-by-minute Sun over a night window took tens of ms each time.
+    """
     t, stop, inside = start.timestamp(), end.timestamp(), 0
     while t < stop:
         inside += low <= sun_altitude(site.latitude, site.longitude, t) <= high
