@@ -122,8 +122,9 @@ def task_cards(task: Task) -> dict[str, FitsCard]:
 def kept_progress(recorded: TaskProgress, this_run: TaskProgress) -> TaskProgress:
     """What to record: per instrument config the larger of the archived count and this run's.
 
-    The runner counts a retry from zero (scripts take every exposure again), so the record of an
-    interrupted task must not shrink when it runs again and is interrupted earlier.
+    A retry starts from the recorded progress (scripts take only the missing exposures), so this
+    run's counts include the earlier ones; the maximum keeps the record from ever shrinking, also
+    when a run reports before it has caught up with the archive (e.g. a fresh runner's zero).
     """
     if not recorded.exposures_done:
         return this_run
