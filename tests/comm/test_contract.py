@@ -10,8 +10,10 @@ from datetime import UTC, datetime
 import pytest
 
 from nightcrew.clock import AcceleratedClock
+from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.errors import (
     CodecError,
+    ConfigError,
     InterfaceError,
     InvalidArgumentError,
     ModuleError,
@@ -203,3 +205,24 @@ async def test_caller_counts_errors_of_a_named_remote_module(network: Network) -
     with pytest.raises(RemoteError):
         await proxy.crash()
     assert len(escalated) == 1 and escalated[0].module == "calc"  # type: ignore[attr-defined]
+
+
+async def test_a_local_network_grace_gives_calls_wall_time_beyond_their_timeout() -> None:
+    # too_slow() declares 0.3 s and sleeps 5 s: with 0.5 s of grace it fails after ~0.8 s, not 0.3.
+    for grace, least, most in ((0.0, 0.25, 0.6), (0.5, 0.75, 1.2)):
+        network = LocalNetwork(rpc_grace=grace)
+        calc = Calculator(comm=LocalComm("calc", network=network))
+        caller = Module(comm=LocalComm("caller", network=network))
+        await calc.open()
+        await caller.open()
+        try:
+            slow = await caller.comm.proxy("calc", ISlow)
+            started = time.monotonic()
+            with pytest.raises(RemoteTimeoutError):
+                await slow.too_slow()
+            assert least < time.monotonic() - started < most
+        finally:
+            await caller.close()
+            await calc.close()
+    with pytest.raises(ConfigError, match="rpc_grace"):
+        LocalNetwork(rpc_grace=-1)

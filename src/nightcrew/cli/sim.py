@@ -29,6 +29,7 @@ from nightcrew.comm.local import LocalNetwork
 from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
 from nightcrew.modules.sim.night import (
+    SIM_RPC_GRACE,
     NightReport,
     ProgressCallback,
     build_observatory,
@@ -138,7 +139,7 @@ async def _run(
     directory: Path, args: argparse.Namespace, start: datetime, steps: list[Step], progress: ProgressCallback
 ) -> NightReport:
     clock = AcceleratedClock(start, speed=args.speed)
-    network = LocalNetwork()
+    network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()

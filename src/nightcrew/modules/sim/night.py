@@ -38,6 +38,7 @@ from nightcrew.vfs import LocalFile, VirtualFileSystem
 
 __all__ = [
     "IMAGES_ROOT",
+    "SIM_RPC_GRACE",
     "NightReport",
     "build_observatory",
     "bundled_observatory",
@@ -49,6 +50,9 @@ log = logging.getLogger(__name__)
 
 #: The VFS root the camera writes to (``filename_pattern: /images/...`` in camera.yaml).
 IMAGES_ROOT = "images"
+#: Wall seconds a call on the simulated observatory's network may take beyond its timeout: on a
+#: fast clock a 10-s timeout is a few wall ms, less than rendering or analysing a frame under load.
+SIM_RPC_GRACE = 1.0
 #: Module names the night needs (the file names of the bundled observatory).
 TELESCOPE, ROOF, CAMERA, FOCUSER, FILTERS = "telescope", "roof", "camera", "focuser", "filters"
 

@@ -29,7 +29,7 @@ from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.modules.sim.ephemeris import sun_altitude
-from nightcrew.modules.sim.night import build_observatory, park_and_close
+from nightcrew.modules.sim.night import SIM_RPC_GRACE, build_observatory, park_and_close
 from nightcrew.modules.sim.night_blocks import NightBlockSource
 from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.modules.sim.whole_night_plan import one_window_each, samples_for_night, survey_groups
@@ -91,7 +91,7 @@ async def run_whole_night(
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc)."""
     await asyncio.to_thread(_blocking_clear_records, out_dir)
-    network = LocalNetwork()
+    network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     # The watcher opens first, so that whatever fails later, it can still park and close.
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
     archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night, site)
