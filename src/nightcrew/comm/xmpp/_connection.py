@@ -176,7 +176,7 @@ class XmppConnection:
     def _make_client(self) -> slixmpp.ClientXMPP:
         s = self._settings
         client = _Client(
-            [(name, matcher, handler) for name, matcher, handler in self._handlers],
+            self._handlers,  # all registered before open()
             s.full_jid,
             s.password,
             plugin_config={
