@@ -5,7 +5,7 @@ from __future__ import annotations
 from nightcrew.modules.sim.night_blocks import CALIBRATION_WEIGHT, SKY_FLAT_SECONDS, calibration_block
 from nightcrew.modules.sim.whole_night_plan import one_window_each
 from nightcrew.robotic.samples import load_samples
-from nightcrew.robotic.tasks import RequestGroup, Task
+from nightcrew.robotic.tasks import RequestGroup, Task, TaskProgress, TaskState, TaskStatus
 from nightcrew.site import Site
 
 SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0)
@@ -39,3 +39,13 @@ def test_dusk_flats_take_most_of_the_twilight() -> None:
     )
     longer = dusk.model_copy(update={"requests": (request.model_copy(update={"configurations": (deeper,)}),)})
     assert 2400.0 < calibration_block(task_of(longer), SITE).duration_s < 2900.0
+
+
+def test_retried_darks_are_planned_for_the_frames_they_lack() -> None:
+    darks = task_of(load_samples()["bias-and-darks"], 1)  # 5 x 60 s and 3 x 120 s
+    # Default overheads: 15 s to set up, 2 s read-out + 1 s per frame; no filters to change.
+    assert calibration_block(darks).duration_s == 15 + 5 * 63 + 3 * 123
+    status = TaskStatus(
+        state=TaskState.FAILED, reason="interrupted", progress=TaskProgress(exposures_done=((5, 1),))
+    )
+    assert calibration_block(darks.with_status(status)).duration_s == 15 + 2 * 123

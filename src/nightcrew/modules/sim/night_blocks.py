@@ -23,7 +23,7 @@ from nightcrew.robotic.archives import TaskArchive as TaskStore
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.ports import TaskArchive
 from nightcrew.robotic.tasks import ConfigurationType, Task, estimate_duration
-from nightcrew.robotic.tasks.blocks import block_of
+from nightcrew.robotic.tasks.blocks import NOTHING_LEFT_S, block_of
 from nightcrew.site import Site
 
 __all__ = [
@@ -46,10 +46,11 @@ SKY_FLAT_SECONDS = 1800.0
 
 def calibration_block(task: Task, site: Site | None = None) -> SchedulableBlock:
     """A block for a task without a target: its windows, Sun limit and duration, near the pole,
-    with its priority weighted by :data:`CALIBRATION_WEIGHT`; sky flats last most of the twilight."""
-    estimate = estimate_duration(task.request)
+    with its priority weighted by :data:`CALIBRATION_WEIGHT`; sky flats last most of the twilight.
+    A retried task's duration is what it has left, as for blocks with a target."""
+    estimate = estimate_duration(task.request, progress=task.status.progress)
     configurations = task.request.configurations
-    duration = sum(estimate.configurations_s)
+    duration = max(sum(estimate.configurations_s), NOTHING_LEFT_S)
     flats = [c for c in configurations if c.type is ConfigurationType.SKY_FLAT]
     if flats:
         duration = max(duration, SKY_FLAT_SECONDS)

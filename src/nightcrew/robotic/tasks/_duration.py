@@ -12,12 +12,18 @@ The :class:`OverheadModel` says what each step costs; :func:`estimate_duration` 
                    + exposure_count * (exposure_time + readout(binning) + per_exposure_s)
                  REPEAT_EXPOSE: repeat_duration; SCRIPT: extra_params.duration (+ any series)
 
+A retried task takes only what an interrupted attempt left (:class:`TaskProgress`): given the
+progress, :func:`estimate_duration` counts only the exposures still missing, leaves out
+configurations with nothing left, and for a REPEAT_EXPOSE the repeat time left (plus the first
+cycle if it was not completed) - the same rules the runner and the scripts resume by.
+
 The defaults suit a small robotic telescope (the simulated 0.4 m); give a site its own model in
 its configuration.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from pydantic import Field
@@ -31,6 +37,7 @@ from nightcrew.robotic.tasks._configuration import (
     InstrumentConfig,
 )
 from nightcrew.robotic.tasks._request import Request
+from nightcrew.robotic.tasks._state import TaskProgress
 
 __all__ = [
     "DEFAULT_OVERHEADS",
@@ -87,11 +94,21 @@ class DurationEstimate:
         return self.setup_s + sum(self.configurations_s)
 
 
-def estimate_duration(request: Request, overheads: OverheadModel = DEFAULT_OVERHEADS) -> DurationEstimate:
-    """The time ``request`` takes with ``overheads``."""
+def estimate_duration(
+    request: Request, overheads: OverheadModel = DEFAULT_OVERHEADS, *, progress: TaskProgress | None = None
+) -> DurationEstimate:
+    """The time ``request`` takes with ``overheads``.
+
+    With ``progress`` recorded by an earlier, interrupted attempt, the time a retry takes: what is
+    left of each configuration (0 for one the runner skips). The request's set-up stays: a retry
+    slews and sets up again.
+    """
+    done = TaskProgress() if progress is None else progress
     return DurationEstimate(
         setup_s=overheads.request_setup_s,
-        configurations_s=tuple(configuration_duration(c, overheads) for c in request.configurations),
+        configurations_s=tuple(
+            _time_left(request, index, done, overheads) for index in range(len(request.configurations))
+        ),
     )
 
 
@@ -99,24 +116,54 @@ def configuration_duration(
     configuration: Configuration, overheads: OverheadModel = DEFAULT_OVERHEADS
 ) -> float:
     """Seconds ``configuration`` takes, its own set-up included."""
+    counts = [instrument_config.exposure_count for instrument_config in configuration.instrument_configs]
+    return _configuration_seconds(configuration, overheads, counts, configuration.repeat_duration)
+
+
+def _time_left(request: Request, index: int, done: TaskProgress, overheads: OverheadModel) -> float:
+    """Seconds configuration ``index`` takes after ``done``, as the runner and scripts resume it."""
+    configuration = request.configurations[index]
+    if not done.exposures_done:
+        return configuration_duration(configuration, overheads)
+    if done.nothing_left(request, index):
+        return 0.0  # the runner skips it
+    if configuration.type is ConfigurationType.REPEAT_EXPOSE:
+        # A completed first cycle is not forced again; otherwise the script starts a whole cycle.
+        first_cycle_done = done.configuration_complete(request, index)
+        counts = [0 if first_cycle_done else c.exposure_count for c in configuration.instrument_configs]
+        return _configuration_seconds(configuration, overheads, counts, done.repeat_time_left(request, index))
+    counts = [done.remaining(request, index, i) for i in range(len(configuration.instrument_configs))]
+    return _configuration_seconds(configuration, overheads, counts, None)
+
+
+def _configuration_seconds(
+    configuration: Configuration, overheads: OverheadModel, counts: Sequence[int], repeat_s: float | None
+) -> float:
+    """Seconds of ``configuration`` taking ``counts`` exposures of its instrument configs (a
+    REPEAT_EXPOSE: cycling for at least ``repeat_s``), its own set-up included."""
     seconds = overheads.configuration_setup_s
     if configuration.acquisition_config.mode is not AcquisitionMode.OFF:
         seconds += overheads.acquisition_s
     if configuration.guiding_config.mode is GuidingMode.ON:
         seconds += overheads.guiding_setup_s
-    series = _series_duration(configuration.instrument_configs, overheads)
-    if configuration.type is ConfigurationType.REPEAT_EXPOSE and configuration.repeat_duration is not None:
-        # The cycle repeats until repeat_duration is used up, but at least once.
-        return seconds + max(configuration.repeat_duration, series)
+    series = _series_duration(configuration.instrument_configs, counts, overheads)
+    if configuration.type is ConfigurationType.REPEAT_EXPOSE and repeat_s is not None:
+        # The cycle repeats until its time (repeat_duration, or what a retry has left) is used up,
+        # but at least once.
+        return seconds + max(repeat_s, series)
     if configuration.type is ConfigurationType.SCRIPT:
         return seconds + configuration.script_duration + series
     return seconds + series
 
 
-def _series_duration(instrument_configs: tuple[InstrumentConfig, ...], overheads: OverheadModel) -> float:
+def _series_duration(
+    instrument_configs: tuple[InstrumentConfig, ...], counts: Sequence[int], overheads: OverheadModel
+) -> float:
     seconds = 0.0
     previous: dict[str, str] | None = None
-    for instrument_config in instrument_configs:
+    for instrument_config, count in zip(instrument_configs, counts, strict=True):
+        if count == 0:
+            continue  # a retry does not set up an instrument config it has all frames of
         if instrument_config.optical_elements and instrument_config.optical_elements != previous:
             seconds += overheads.filter_change_s
         previous = instrument_config.optical_elements
@@ -125,5 +172,5 @@ def _series_duration(instrument_configs: tuple[InstrumentConfig, ...], overheads
             + overheads.readout(instrument_config.binning)
             + overheads.per_exposure_s
         )
-        seconds += instrument_config.exposure_count * per_exposure
+        seconds += count * per_exposure
     return seconds

@@ -4,7 +4,9 @@ The scheduler knows nothing of the task model; this adapter gives it what it nee
 
 - ``id``: the task id; ``priority``: priority x IPP; ``windows``: the request's windows;
 - ``duration_s``: the configurations' estimated time, ``setup_s``: the request's own set-up
-  (both from an :class:`OverheadModel`; the scheduler adds its slew overhead on top);
+  (both from an :class:`OverheadModel`; the scheduler adds its slew overhead on top). A task
+  retried after an interruption is planned for what it has left (its recorded progress), so it
+  reserves no night time for exposures it has, and is weighted by the time it still observes;
 - ``target``: the first configuration's target (proper motion and epoch kept);
 - ``constraints``: the strictest limits over all configurations.
 
@@ -23,7 +25,11 @@ from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
 from nightcrew.robotic.tasks._duration import DEFAULT_OVERHEADS, OverheadModel, estimate_duration
 from nightcrew.robotic.tasks._task import Task
 
-__all__ = ["ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of"]
+__all__ = ["NOTHING_LEFT_S", "ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of"]
+
+#: Duration of a task with every exposure taken that failed before it was marked done: it still
+#: has to run once (the runner then just completes it), and a block needs some duration.
+NOTHING_LEFT_S = 1.0
 
 
 def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
@@ -33,11 +39,11 @@ def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> Schedu
     if target is None:
         return None
     limits = [c.constraints for c in configurations]
-    estimate = estimate_duration(task.request, overheads)
+    estimate = estimate_duration(task.request, overheads, progress=task.status.progress)
     return SchedulableBlock(
         id=task.id,
         priority=task.effective_priority,
-        duration_s=sum(estimate.configurations_s),
+        duration_s=max(sum(estimate.configurations_s), NOTHING_LEFT_S),
         target=Target(
             ra=target.ra,
             dec=target.dec,
