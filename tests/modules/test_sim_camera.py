@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from datetime import datetime
 from typing import Any
 
 import numpy as np
@@ -12,6 +13,7 @@ import sep  # type: ignore[import-not-found]
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.errors import ConfigError
+from nightcrew.modules.camera import ExposureSettings, Frame
 from nightcrew.modules.sim import (
     SimCamera,
     SimFilterWheel,
@@ -20,6 +22,7 @@ from nightcrew.modules.sim import (
     SimTelescope,
     SimWeatherStation,
 )
+from nightcrew.modules.sim.scene import Scene
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.projection import FrameGeometry, Pointing, sky_to_pixel
 
@@ -30,15 +33,23 @@ PLEIADES = (56.75, 24.12)  # high in the sky at the conftest epoch
 DETECTOR = {"chip_width": 1024, "chip_height": 1024, "cosmic_rays_per_s": 0.0}
 CATALOG_DEPTH = 15.0
 SEED = 3
+#: Clock seconds the slow weather station below takes to answer.
+SLOW_ANSWER_S = 5.0
 
 
-async def start_observatory(observatory: Observatory, **camera: Any) -> SimCamera:
+async def start_observatory(
+    observatory: Observatory,
+    *,
+    weather: type[SimWeatherStation] = SimWeatherStation,
+    camera_class: type[SimCamera] = SimCamera,
+    **camera: Any,
+) -> SimCamera:
     """Telescope tracking the Pleiades, focuser at best focus, V filter, roof open, clear sky."""
     telescope = await observatory.start(SimTelescope, "telescope", init_time=0.0, seed=1)
     await observatory.start(SimFocuser, "focuser", focus=25.0, best_focus=25.0)
     await observatory.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V")
     roof = await observatory.start(SimRoof, "roof", open_time=1.0)
-    await observatory.start(SimWeatherStation, "weather", scenario=[{"at": 0, "clouds": 0.0}])
+    await observatory.start(weather, "weather", scenario=[{"at": 0, "clouds": 0.0}])
     await telescope.init()
     await telescope.move_radec(*PLEIADES)
     await roof.open_roof()
@@ -50,7 +61,7 @@ async def start_observatory(observatory: Observatory, **camera: Any) -> SimCamer
         "readout_time": 0.5,
         **camera,
     }
-    return await observatory.start(SimCamera, "camera", **options)
+    return await observatory.start(camera_class, "camera", **options)
 
 
 async def expose(observatory: Observatory, camera: SimCamera, seconds: float = 1.0) -> fits.PrimaryHDU:
@@ -165,6 +176,44 @@ async def test_exposure_takes_clock_time_and_a_bias_takes_none(observatory: Obse
     bias = await camera.grab_data(image_type="bias")  # type: ignore[arg-type]
     header = (await observatory.vfs.read_fits(bias))[0].header
     assert header["EXPTIME"] == 0.0
+
+
+class SlowWeatherStation(SimWeatherStation):
+    """The simulated weather station behind a slow link: each answer takes clock seconds."""
+
+    async def get_cloud_cover(self) -> float:
+        await self.clock.sleep(SLOW_ANSWER_S)
+        return await super().get_cloud_cover()
+
+
+class RenderLoggingCamera(SimCamera):
+    """The simulated camera, noting the clock time each frame is rendered from (its shutter opening)."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.render_starts: list[float] = []
+
+    def _blocking_render(
+        self, scene: Scene, settings: ExposureSettings, start: float, rng: np.random.Generator
+    ) -> Frame:
+        self.render_starts.append(start)
+        return super()._blocking_render(scene, settings, start, rng)
+
+
+async def test_date_obs_is_when_the_shutter_opens_not_when_the_devices_were_asked(
+    observatory: Observatory,
+) -> None:
+    camera = await start_observatory(
+        observatory, weather=SlowWeatherStation, camera_class=RenderLoggingCamera
+    )
+    assert isinstance(camera, RenderLoggingCamera)
+    called = observatory.clock.time()
+    header = (await expose(observatory, camera, 10.0)).header
+    (opened,) = camera.render_starts
+    assert opened >= called + SLOW_ANSWER_S  # the camera waited for the weather before opening
+    date_obs = datetime.fromisoformat(header["DATE-OBS"] + "+00:00").timestamp()
+    assert opened - 0.001 < date_obs <= opened + 1e-6  # written to the millisecond, cut off
+    assert (header["MJD-OBS"] - 40587.0) * 86400.0 == pytest.approx(opened, abs=0.001)
 
 
 @pytest.mark.parametrize(

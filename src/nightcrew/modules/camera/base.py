@@ -99,7 +99,8 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         """Expose, read out and return the frame (uint16, shape ``settings.shape``).
 
         Cancelled when the exposure is aborted: stop the hardware in ``except CancelledError``.
-        Call ``await self._set_exposure_status(ExposureStatus.READOUT)`` when reading out.
+        Call ``self._start_integration()`` when the shutter opens if anything comes first (DATE-OBS
+        is then), and ``await self._set_exposure_status(ExposureStatus.READOUT)`` when reading out.
         """
 
     async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:

@@ -5,7 +5,9 @@
 1. refuse at once with DeviceBusyError if an exposure runs (before any await, so two calls in the
    same instant cannot both start);
 2. ask every IFitsHeaderBefore peer for cards *concurrently* with the exposure;
-3. expose through the driver's hook (abortable: the caller gets AbortedError);
+3. expose through the driver's hook (abortable: the caller gets AbortedError); a driver that has
+   work to do before the shutter opens calls :meth:`ExposingModule._start_integration` when it
+   opens, so DATE-OBS and the progress count from then, not from the call;
 4. ask IFitsHeaderAfter peers, await both header rounds (each peer bounded by ``header_timeout``);
 5. merge cards (static config < peers < driver < the camera's own), write the FITS file through the
    VFS in one atomic write and announce it.
@@ -18,7 +20,7 @@ import logging
 import math
 from collections.abc import Awaitable, Callable, Mapping
 from dataclasses import dataclass, field
-from datetime import datetime
+from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
@@ -156,8 +158,7 @@ class ExposingModule(Module, IAbortable, IExposure):
         before = asyncio.create_task(self._headers("before"))
         after: asyncio.Task[dict[str, FitsCard]] | None = None
         try:
-            start = self.clock.now()
-            self._exposure_start, self._exposure_length = start.timestamp(), exposure_time
+            self._exposure_start, self._exposure_length = self.clock.time(), exposure_time
             await self._set_exposure_status(ExposureStatus.EXPOSING)
             frame = await self._run_hook(expose)
             after = asyncio.create_task(self._headers("after"))
@@ -166,7 +167,7 @@ class ExposingModule(Module, IAbortable, IExposure):
                 **self._static_cards,
                 **peers,
                 **clean_cards(frame.header, "driver"),
-                **_time_cards(start),
+                **_time_cards(self._exposure_start),
             }
             cards.update(own_cards(frame))
             filename = format_filename(self._filename_pattern, {k: v for k, (v, _) in cards.items()})
@@ -182,6 +183,13 @@ class ExposingModule(Module, IAbortable, IExposure):
         if announce is not None:
             await announce(filename)
         return filename
+
+    def _start_integration(self) -> float:
+        """Drivers call this when the shutter opens (a dark: when integration begins); returns the
+        clock time, which becomes DATE-OBS. Without the call the exposure starts when the hook is
+        called, before whatever the driver asks or sets up first."""
+        self._exposure_start = self.clock.time()
+        return self._exposure_start
 
     async def _run_hook(self, expose: Callable[[], Awaitable[Frame]]) -> Frame:
         async def run() -> Frame:
@@ -216,8 +224,9 @@ class ExposingModule(Module, IAbortable, IExposure):
             raise GrabImageError(f"cannot write {filename}: {exc}") from exc
 
 
-def _time_cards(start: datetime) -> dict[str, FitsCard]:
-    mjd = start.timestamp() / 86400.0 + 40587.0
+def _time_cards(unix_time: float) -> dict[str, FitsCard]:
+    start = datetime.fromtimestamp(unix_time, UTC)
+    mjd = unix_time / 86400.0 + 40587.0
     return {
         "DATE-OBS": (start.strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3], "UTC start of exposure"),
         "MJD-OBS": (round(mjd, 8), "Modified Julian date of start of exposure"),

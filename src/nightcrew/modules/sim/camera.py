@@ -143,7 +143,8 @@ class SimCamera(BaseCamera):
 
     async def _hw_expose(self, settings: ExposureSettings) -> Frame:
         scene = await self._look_around() if settings.shutter_open else Scene(None, roof_open=False)
-        start = self.clock.time()
+        # The shutter opens once the devices have answered: DATE-OBS and the render start from here.
+        start = self._start_integration()
         rng = self._rng.spawn(1)[0]
         # The scene is fixed at the start, so render while the clock runs down the exposure: on a
         # fast clock the render time would otherwise show up as a long readout.
