@@ -4,8 +4,9 @@ Runs ``nightcrew sim`` in a child process (default: 10 clock hours from dusk wit
 ``interruption`` weather at the default speed, every frame rendered and written), then prints one
 table: wall seconds, peak RSS of the child, frames, and the night's numbers as the report computes
 them (shutter open in the good-weather dark time, exposures while the roof was closed, roof-close
-delay after bad weather, task outcomes), then where the good-weather dark time went
-(:mod:`night_breakdown`: exposing, read-out, slews, focus runs, idle in and between tasks).
+delay after bad weather, task outcomes, time from task start to first science frame), then where
+the good-weather dark time went (:func:`nightcrew.report.time_budget`, as in the report: exposing,
+read-out, slews, focus runs, idle in and between tasks).
 
     .venv/bin/python bench/night.py [--hours 10] [--weather interruption] [--seed N] [--speed S] [--out DIR]
 """
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -21,8 +23,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from night_breakdown import breakdown, print_breakdown
-from nightcrew.report import night_numbers, night_site, read_night
+from nightcrew.report import acquisitions, night_numbers, night_site, read_night, time_budget
 
 #: Targets of the issue: a 10-hour night within this wall time and peak memory.
 WALL_TARGET_S, RSS_TARGET_MB = 180.0, 1536.0
@@ -51,7 +52,8 @@ def main() -> int:
         night = read_night(out)
         latitude, longitude = night_site(night)
         numbers = night_numbers(night, latitude=latitude, longitude=longitude)
-        spent = breakdown(night, latitude=latitude, longitude=longitude)
+        spent = time_budget(night, latitude=latitude, longitude=longitude)
+        to_science = sorted(s for a in acquisitions(night) if (s := a.seconds) is not None)
     outcomes = Counter(t.outcome for t in numbers.tasks)
     rows = [
         ("clock hours", f"{args.hours:g}", ""),
@@ -77,13 +79,21 @@ def main() -> int:
             ", ".join(f"{n} {k}" for k, n in sorted(outcomes.items())),
             f"{len(numbers.tasks_without_reason)} without done/reason",
         ),
+        (
+            "task start to 1st science",
+            f"{statistics.median(to_science):.0f} s" if to_science else "-",
+            f"median of {len(to_science)}, {to_science[0]:.0f}-{to_science[-1]:.0f} s" if to_science else "",
+        ),
     ]
     width = max(len(r[0]) for r in rows)
     print(f"{'':{width}}  {'value':>12}  note")
     for name, value, note in rows:
         print(f"{name:{width}}  {value:>12}  {note}")
     print()
-    print_breakdown(spent)
+    whole = sum(spent.values()) or 1.0
+    print(f"{'good-weather dark time':28}  {whole / 60:7.1f} min")
+    for label, seconds in spent.items():
+        print(f"  {label:26}  {seconds / 60:7.1f} min  {100 * seconds / whole:5.1f} %")
     return 0
 
 

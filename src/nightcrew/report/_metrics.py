@@ -29,11 +29,13 @@ __all__ = [
     "NightNumbers",
     "dark_intervals",
     "exposures_while_closed",
+    "good_dark_intervals",
     "intersect",
     "night_numbers",
     "roof_close_delays",
     "subtract",
     "total",
+    "union",
 ]
 
 Interval = tuple[float, float]
@@ -70,22 +72,29 @@ class NightNumbers:
 def night_numbers(
     night: Night, *, latitude: float, longitude: float, sun_limit: float = -12.0
 ) -> NightNumbers:
-    start, end = night.span
+    end = night.span[1]
     roof = roof_open_intervals(night.records, end)
-    good_dark = subtract(
-        dark_intervals(latitude, longitude, start, end, sun_limit), bad_weather_intervals(night.records, end)
-    )
+    good_dark = good_dark_intervals(night, latitude=latitude, longitude=longitude, sun_limit=sun_limit)
     light = [(f.start, f.end) for f in night.frames if f.light and f.exposure_time > 0]
     closed = exposures_while_closed(night.frames, roof)
     return NightNumbers(
         good_dark_s=total(good_dark),
         roof_open_s=total(intersect(roof, good_dark)),
-        shutter_open_s=total(intersect(_union(light), good_dark)),
+        shutter_open_s=total(intersect(union(light), good_dark)),
         light_frames_while_closed=len(closed),
         science_frames_while_closed=sum(1 for f in closed if f.image_type == "object"),
         roof_close_delays_s=tuple(roof_close_delays(night.records)),
         tasks=tuple(task_runs(night.records)),
     )
+
+
+def good_dark_intervals(
+    night: Night, *, latitude: float, longitude: float, sun_limit: float = -12.0
+) -> list[Interval]:
+    """The good-weather dark time: the Sun below ``sun_limit`` and the weather not bad."""
+    start, end = night.span
+    dark = dark_intervals(latitude, longitude, start, end, sun_limit)
+    return subtract(dark, bad_weather_intervals(night.records, end))
 
 
 def dark_intervals(
@@ -137,7 +146,8 @@ def total(intervals: Sequence[Interval]) -> float:
     return sum(b - a for a, b in intervals if b > a)
 
 
-def _union(intervals: Sequence[Interval]) -> list[Interval]:
+def union(intervals: Sequence[Interval]) -> list[Interval]:
+    """Sorted, with overlapping and touching intervals merged."""
     merged: list[Interval] = []
     for a, b in sorted(intervals):
         if merged and a <= merged[-1][1]:
@@ -155,7 +165,7 @@ def intersect(first: Sequence[Interval], second: Sequence[Interval]) -> list[Int
             low, high = max(a, c), min(b, d)
             if high > low:
                 result.append((low, high))
-    return _union(result)
+    return union(result)
 
 
 def subtract(intervals: Sequence[Interval], removed: Sequence[Interval]) -> list[Interval]:

@@ -13,6 +13,7 @@ from nightcrew.modules.sim.night_recorder import FOCUS_SERIES, SCHEDULE_RECORD
 from nightcrew.report._data import Frame, Night, bad_weather_intervals, roof_open_intervals
 from nightcrew.report._metrics import NightNumbers
 from nightcrew.report._svg import Band, Series, bands, xy_chart
+from nightcrew.report._time_budget import Acquisition
 
 __all__ = [
     "focus_section",
@@ -21,6 +22,7 @@ __all__ = [
     "scheduler_section",
     "summary_section",
     "tasks_section",
+    "time_budget_section",
     "timeline_section",
 ]
 
@@ -31,6 +33,15 @@ FRAME_COLOURS = {
     "focus": "#9467bd",
     "bias": "#7f7f7f",
     "dark": "#444",
+}
+#: Idle and lost time in warm colours, so that they stand out in the bar.
+BUDGET_COLOURS = {
+    "readout": "#17becf",
+    "slew": "#8c564b",
+    "roof not open": "#7f7f7f",
+    "focus run, between frames": "#c5b0d5",
+    "in a task, camera idle": "#ff7f0e",
+    "no task running": "#d62728",
 }
 
 
@@ -162,6 +173,52 @@ def tasks_section(numbers: NightNumbers) -> str:
         for r in numbers.tasks
     ]
     return _table(("id", "task", "start", "end", "outcome", "reason"), rows)
+
+
+def time_budget_section(spent: dict[str, float], runs: Sequence[Acquisition]) -> str:
+    """The dark time per label as a bar and a table, then each run's time to its first science frame."""
+    whole = sum(spent.values())
+    if whole <= 0:
+        return "<p><em>no good-weather dark time</em></p>"
+    colours = {k: FRAME_COLOURS.get(k.removeprefix("exposing "), "#1f77b4") for k in spent}
+    colours |= BUDGET_COLOURS
+    shown = [k for k, v in spent.items() if v > 0]
+    intervals, at = [], 0.0
+    for label in shown:
+        tip = f"{label}: {spent[label] / 60:.1f} min ({100 * spent[label] / whole:.1f} %)"
+        intervals.append((at, at + spent[label], tip, colours[label]))
+        at += spent[label]
+    bar = bands(
+        [Band("dark time", intervals)],
+        start=0.0,
+        end=whole,
+        x_format=lambda v: f"{100 * v / whole:.0f} %",
+        x_ticks=[whole * i / 4 for i in range(5)],
+    )
+    legend = " ".join(f'<span class="key" style="background:{colours[k]}"></span>{escape(k)}' for k in shown)
+    rows = [(k, f"{spent[k] / 60:.1f}", f"{100 * spent[k] / whole:.1f}") for k in shown]
+    budget = _table(("good-weather dark time", "min", "%"), [*rows, ("all", f"{whole / 60:.1f}", "100")])
+    return f"{bar}<p class='legend'>{legend}</p>{budget}{_acquisition_table(runs)}"
+
+
+def _acquisition_table(runs: Sequence[Acquisition]) -> str:
+    if not runs:
+        return "<p><em>no task took a science frame</em></p>"
+    rows = []
+    for run in runs:
+        slew, busy = f"{run.slewing_s:.0f}", f"{run.camera_busy_s:.0f}"
+        if run.seconds is None:
+            rows.append((run.task_id, run.name, clock(run.start), "no science frame", slew, busy, ""))
+        else:
+            other = f"{run.seconds - run.slewing_s - run.camera_busy_s:.0f}"
+            rows.append((run.task_id, run.name, clock(run.start), f"{run.seconds:.0f}", slew, busy, other))
+    head = ("id", "task", "start", "to first science frame [s]", "slewing [s]", "camera busy [s]", "rest [s]")
+    note = (
+        "<p>From each task's start to the start of its first science exposure (clock seconds): "
+        "slewing, the camera busy (acquisition frames), and the rest (solving, filter changes, "
+        "waiting). A task that failed before its first science frame counts to its end.</p>"
+    )
+    return note + _table(head, rows)
 
 
 def scheduler_section(night: Night, numbers: NightNumbers) -> str:

@@ -16,8 +16,10 @@ from nightcrew.report._sections import (
     scheduler_section,
     summary_section,
     tasks_section,
+    time_budget_section,
     timeline_section,
 )
+from nightcrew.report._time_budget import acquisitions, time_budget
 
 __all__ = ["NIGHT_RECORD", "REPORT_FILE", "THUMBNAILS", "night_site", "write_report"]
 
@@ -49,10 +51,12 @@ def write_report(out_dir: Path, *, thumbnails: bool = True) -> Path:
     night = read_night(out_dir)
     latitude, longitude = night_site(night)
     numbers = night_numbers(night, latitude=latitude, longitude=longitude)
+    spent = time_budget(night, latitude=latitude, longitude=longitude)
     thumbs = _write_thumbnails(out_dir, night) if thumbnails else {}
     sections = [
         ("Summary", summary_section(numbers, night)),
         ("Timeline: tasks, weather, roof and Sun", timeline_section(night, numbers, latitude, longitude)),
+        ("Where the good-weather dark time went", time_budget_section(spent, acquisitions(night))),
         ("Tasks", tasks_section(numbers)),
         ("Scheduler", scheduler_section(night, numbers)),
         ("Focus", focus_section(night)),
