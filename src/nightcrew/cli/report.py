@@ -2,7 +2,8 @@
 
 Reads the night's records (``events.jsonl``) and frames (``frames/*.fits``) and writes
 ``report.html`` beside them, with thumbnails in ``thumbnails/``: summary numbers, a timeline of
-tasks against weather, roof and Sun, the tasks, the scheduler's plans, focus curves, the sky flats'
+tasks against weather, roof and Sun, where the good-weather dark time went (and each task's time to
+its first science frame), the tasks, the scheduler's plans, focus curves, the sky flats'
 exposure-time fit, guiding RMS and every frame. ``nightcrew sim`` does this at the end of a night.
 """
 
