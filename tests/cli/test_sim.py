@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 from astropy.io import fits  # type: ignore[import-untyped]
 
+from nightcrew.astro import moon_illumination, sun_altitude
 from nightcrew.cli.main import main
-from nightcrew.modules.sim.ephemeris import moon_illumination, sun_altitude
 from nightcrew.modules.sim.night_plan import FAMOUS_FIELDS, choose_targets, night_start, plan_night
 from nightcrew.site import Site
 

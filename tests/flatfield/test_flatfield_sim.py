@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from astropy.io import fits  # type: ignore[import-untyped]
 
+from nightcrew.astro import sun_altaz
 from nightcrew.errors import AbortedError
 from nightcrew.modules.flatfield import FlatFieldScheduler
-from nightcrew.modules.flatfield.sun import sun_altaz
 from tests.modules.conftest import SITE
 
 from .sim import BINNING, DAWN, DUSK, FUNCTIONS, TARGET, TwilightObservatory, start_flat_observatory

@@ -6,11 +6,11 @@ import asyncio
 
 import pytest
 
+from nightcrew.astro import angular_separation
 from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, InvalidArgumentError, MoveError
 from nightcrew.events import MotionStatusChangedEvent, MoveRaDecEvent
 from nightcrew.interfaces import ITelescope, MotionStatus
 from nightcrew.modules.sim import ISimTelescopeTruth, SimTelescope
-from nightcrew.modules.telescope.coords import angular_separation
 
 from .conftest import Observatory
 from .devices import EventRecorder

@@ -8,6 +8,7 @@ from datetime import UTC, datetime, timedelta
 
 import pytest
 
+from nightcrew.astro import sun_altitude
 from nightcrew.clock import AcceleratedClock
 from nightcrew.events import (
     GoodWeatherEvent,
@@ -18,7 +19,6 @@ from nightcrew.events import (
     TaskStartedEvent,
 )
 from nightcrew.interfaces import IWeather, MotionStatus, SensorValue, WeatherReport, WeatherSensor
-from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.robotic.archives import ScheduleEntry, ScheduleStore
 from nightcrew.robotic.tasks import TaskState
 from tests.modules.conftest import SITE

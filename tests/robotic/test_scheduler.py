@@ -8,9 +8,8 @@ from datetime import UTC, datetime, timedelta
 import numpy as np
 import pytest
 
+from nightcrew.astro import radec_to_altaz, sun_altitude
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.modules.sim.ephemeris import sun_altitude
-from nightcrew.modules.telescope.coords import radec_to_altaz
 from nightcrew.robotic.scheduler import (
     Constraints,
     Night,

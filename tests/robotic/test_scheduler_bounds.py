@@ -8,7 +8,7 @@ from datetime import UTC, datetime, timedelta
 import numpy as np
 import pytest
 
-from nightcrew.modules.telescope.coords import airmass, radec_to_altaz
+from nightcrew.astro import airmass, radec_to_altaz
 from nightcrew.robotic.scheduler import Constraints, Night, SchedulableBlock, Scheduler, Target
 from nightcrew.robotic.scheduler.lagrangian import IntervalVariables, bounds_through, lagrangian_schedule
 from nightcrew.robotic.scheduler.mip import solve_time_indexed

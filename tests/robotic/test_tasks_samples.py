@@ -8,8 +8,7 @@ from pathlib import Path
 
 import yaml
 
-from nightcrew.modules.sim.ephemeris import sun_altitude
-from nightcrew.modules.telescope.coords import local_sidereal_time
+from nightcrew.astro import local_sidereal_time, sun_altitude
 from nightcrew.robotic.samples import load_samples, sample_paths
 from nightcrew.robotic.tasks import ConfigurationType, Request, estimate_duration
 from nightcrew.site import Site

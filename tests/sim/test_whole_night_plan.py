@@ -6,7 +6,7 @@ from datetime import UTC, date, datetime
 
 import pytest
 
-from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.astro import sun_altitude
 from nightcrew.modules.sim.whole_night_plan import (
     night_span,
     one_window_each,

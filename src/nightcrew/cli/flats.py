@@ -135,7 +135,7 @@ def _sun_altitude(header: Any) -> float:
     """SUNALT, else the Sun's altitude at DATE-OBS seen from SITELAT/SITELONG."""
     if "SUNALT" in header:
         return float(header["SUNALT"])
-    from nightcrew.modules.sim.ephemeris import sun_altitude
+    from nightcrew.astro import sun_altitude
 
     if not {"DATE-OBS", "SITELAT", "SITELONG"} <= set(header):
         raise ValueError("no SUNALT card and no DATE-OBS/SITELAT/SITELONG to compute it")

@@ -1,4 +1,4 @@
-"""Photometry of the simulated sky: star fluxes, airmass, twilight, moon and dark-sky background.
+"""Photometry of the simulated sky: star fluxes, twilight, moon and dark-sky background.
 
 Units: magnitudes on the catalog's (Gaia G ~ V-like) scale; fluxes in photo-electrons per second
 detected by the camera; sky brightness in mag/arcsec^2.
@@ -15,7 +15,6 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
-    "airmass_from_altitude",
     "moon_sky_brightness_mag",
     "sky_brightness_mag",
     "sky_electrons_per_pixel_per_second",
@@ -27,13 +26,6 @@ FloatArray = npt.NDArray[np.float64]
 
 DAYLIGHT_SUN_ALTITUDE_DEG = 0.0
 """Above this sun altitude the sky is held at its sunset brightness (frames saturate anyway)."""
-
-
-def airmass_from_altitude(altitude_deg: float) -> float:
-    """Airmass at an altitude (degrees) by Kasten & Young (1989); finite down to the horizon."""
-    if not 0.0 <= altitude_deg <= 90.0:
-        raise ValueError(f"altitude_deg must be within [0, 90], got {altitude_deg}")
-    return 1.0 / float(math.sin(math.radians(altitude_deg)) + 0.50572 * (altitude_deg + 6.07995) ** -1.6364)
 
 
 def star_electrons_per_second(

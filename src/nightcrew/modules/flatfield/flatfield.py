@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from nightcrew.astro import sun_altaz
 from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, InvalidArgumentError, NightcrewError
 from nightcrew.flatfield import (
     Decision,
@@ -45,7 +46,6 @@ from nightcrew.interfaces import (
     ImageType,
     IRunnable,
 )
-from nightcrew.modules.flatfield.sun import sun_altaz
 from nightcrew.modules.module import Module
 from nightcrew.site import Site
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import logging
 from typing import Any
 
+from nightcrew.astro import sun_altaz
 from nightcrew.errors import ConfigError
 from nightcrew.flatfield import antisolar_position
 from nightcrew.interfaces import IPointingAltAz, IRunnable
-from nightcrew.modules.flatfield.sun import sun_altaz
 from nightcrew.modules.module import Module
 
 __all__ = ["FlatFieldPointing"]

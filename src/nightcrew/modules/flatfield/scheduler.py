@@ -8,6 +8,7 @@ import logging
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from nightcrew.astro import sun_altitude_at
 from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, NightcrewError
 from nightcrew.flatfield import (
     FlatTask,
@@ -17,7 +18,6 @@ from nightcrew.flatfield import (
     tasks_from_config,
 )
 from nightcrew.interfaces import Binning, IFlatField, IRunnable
-from nightcrew.modules.flatfield.sun import sun_altitude_at
 from nightcrew.modules.module import Module
 
 __all__ = ["FlatFieldScheduler"]

@@ -47,6 +47,7 @@ from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from typing import Any, Literal
 
+from nightcrew.astro import altaz_to_radec, radec_to_altaz
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.images import Image, ImageProcessor, Pipeline
 from nightcrew.images.astrometry import AstrometryResult, CatalogAstrometry
@@ -54,7 +55,6 @@ from nightcrew.images.processors.detection import SepSourceDetection
 from nightcrew.interfaces import IBinning, ICamera, IExposureTime, ImageType, IPointingSeries, ITelescope
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
-from nightcrew.modules.telescope.coords import altaz_to_radec, radec_to_altaz
 
 __all__ = ["CSV_COLUMNS", "PointingRow", "PointingSeries", "pointing_grid", "pointing_row"]
 

@@ -17,7 +17,7 @@ import functools
 from datetime import datetime
 from typing import Any
 
-from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.astro import sun_altitude
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.archives import TaskArchive as TaskStore
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target

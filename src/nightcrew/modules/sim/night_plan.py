@@ -11,9 +11,8 @@ from dataclasses import dataclass
 from datetime import UTC, date, datetime, timedelta
 from typing import Literal
 
+from nightcrew.astro import astronomical_dusk, local_noon, radec_to_altaz
 from nightcrew.interfaces import ImageType
-from nightcrew.modules.sim.ephemeris import astronomical_dusk
-from nightcrew.modules.telescope.coords import radec_to_altaz
 from nightcrew.site import Site
 
 __all__ = ["FAMOUS_FIELDS", "Step", "Target", "choose_targets", "night_start", "plan_night"]
@@ -86,11 +85,10 @@ def night_start(night: date, site: Site, after_dusk: timedelta = timedelta(minut
     midnight, the darkest it gets.
     """
     try:
-        dusk = astronomical_dusk(night, site.latitude, site.longitude)
+        dusk = astronomical_dusk(night, site)
         start = datetime.fromtimestamp(dusk, tz=UTC) + after_dusk
     except ValueError:
-        noon_utc = datetime(night.year, night.month, night.day, 12, tzinfo=UTC)
-        start = noon_utc + timedelta(hours=12 - site.longitude / 15.0)
+        start = datetime.fromtimestamp(local_noon(night, site.longitude), tz=UTC) + timedelta(hours=12)
     return start.replace(second=0, microsecond=0) + timedelta(minutes=1)
 
 

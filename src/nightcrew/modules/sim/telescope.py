@@ -8,10 +8,10 @@ from typing import Any
 
 import numpy as np
 
+from nightcrew.astro import angular_separation
 from nightcrew.errors import ConfigError
 from nightcrew.modules.sim.interfaces import ISimTelescopeTruth
 from nightcrew.modules.telescope import BaseTelescope
-from nightcrew.modules.telescope.coords import angular_separation
 from nightcrew.sim.mount import MountErrorModel, SlewError, apply_sky_offset, slew_time
 
 __all__ = ["SimTelescope"]

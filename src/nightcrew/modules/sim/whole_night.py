@@ -21,6 +21,7 @@ from datetime import date, datetime
 from pathlib import Path
 from typing import Any, TypeVar
 
+from nightcrew.astro import sun_altitude
 from nightcrew.clock import Clock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.errors import ConfigError
@@ -28,7 +29,6 @@ from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, 
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.modules.sim.night import SIM_RPC_GRACE, build_observatory, park_and_close
 from nightcrew.modules.sim.night_blocks import NightBlockSource
 from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder

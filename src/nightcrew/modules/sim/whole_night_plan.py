@@ -8,11 +8,11 @@ and :func:`shifted_group` moves the sample tasks (written for 2026-11-10) to ano
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from datetime import UTC, date, datetime, timedelta
 from typing import Any
 
-from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.astro import local_noon, sun_crossing
 from nightcrew.robotic.tasks import RequestGroup, parse_request_group
 from nightcrew.robotic.tasks.visibility import fit_to_night
 from nightcrew.site import Site
@@ -25,7 +25,6 @@ __all__ = [
     "night_span",
     "samples_for_night",
     "shifted_group",
-    "sun_crossing",
     "weather_scenario",
 ]
 
@@ -43,49 +42,13 @@ _CLEAR: dict[str, Any] = {
 }
 
 
-def sun_crossing(
-    site: Site, after: float, altitude: float, *, rising: bool, within: float = 86400.0
-) -> float:
-    """Unix time of the first crossing of ``altitude`` by the Sun after ``after`` (to a second).
-
-    Raises:
-        ValueError: no such crossing ``within`` seconds (polar day or night).
-    """
-
-    def beyond(t: float) -> bool:  # on the far side of the crossing
-        above = sun_altitude(site.latitude, site.longitude, t) > altitude
-        return above if rising else not above
-
-    step, t = 600.0, after
-    while beyond(t):  # start on the near side
-        t += step
-        if t > after + within:
-            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
-    while not beyond(t + step):
-        t += step
-        if t > after + within:
-            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
-    return _bisect(beyond, t, t + step)
-
-
-def _bisect(beyond: Callable[[float], bool], low: float, high: float) -> float:
-    while high - low > 1.0:
-        middle = (low + high) / 2.0
-        low, high = (middle, high) if not beyond(middle) else (low, middle)
-    return high
-
-
 def night_span(night: date, site: Site, sun_altitude_deg: float = -3.0) -> tuple[datetime, datetime]:
     """From the Sun sinking below ``sun_altitude_deg`` on the evening of ``night`` to it rising again.
 
     Raises:
         ValueError: the Sun does not set or rise through that altitude (polar day or night).
     """
-    noon = (
-        datetime(night.year, night.month, night.day, 12, tzinfo=UTC).timestamp()
-        - site.longitude / 15.0 * 3600
-    )
-    dusk = sun_crossing(site, noon, sun_altitude_deg, rising=False)
+    dusk = sun_crossing(site, local_noon(night, site.longitude), sun_altitude_deg, rising=False)
     dawn = sun_crossing(site, dusk, sun_altitude_deg, rising=True)
     return datetime.fromtimestamp(round(dusk), tz=UTC), datetime.fromtimestamp(round(dawn), tz=UTC)
 

@@ -19,6 +19,7 @@ from abc import abstractmethod
 from collections.abc import Awaitable, Callable
 from typing import Any
 
+from nightcrew.astro import altaz_to_radec, radec_to_altaz
 from nightcrew.errors import (
     ConfigError,
     InitError,
@@ -44,7 +45,6 @@ from nightcrew.interfaces import (
     MotionStatus,
 )
 from nightcrew.modules.motion import BaseMotion
-from nightcrew.modules.telescope.coords import altaz_to_radec, radec_to_altaz
 from nightcrew.modules.telescope.headers import pointing_cards
 from nightcrew.site import Site
 

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from nightcrew.interfaces import FitsCard
-from nightcrew.modules.telescope.coords import (
+from nightcrew.astro import (
     airmass,
     angular_separation,
     format_dec,
@@ -11,6 +10,7 @@ from nightcrew.modules.telescope.coords import (
     moon_radec,
     radec_to_altaz,
 )
+from nightcrew.interfaces import FitsCard
 from nightcrew.site import Site
 
 __all__ = ["pointing_cards"]

@@ -14,9 +14,9 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from nightcrew.astro import sun_altitude
 from nightcrew.errors import ConfigError, InvalidArgumentError
 from nightcrew.interfaces import IWeather
-from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.object import Object
 from nightcrew.weather import (
     DEFAULT_MAX_AGE,

@@ -17,7 +17,7 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
-from nightcrew.modules.telescope.coords import airmass
+from nightcrew.astro import airmass
 from nightcrew.robotic.scheduler.sky import SkyGrid
 
 __all__ = [

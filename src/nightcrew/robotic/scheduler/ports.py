@@ -11,8 +11,8 @@ from collections.abc import Sequence
 from datetime import UTC, datetime, timedelta
 from typing import Protocol, runtime_checkable
 
+from nightcrew.astro import sun_altitude, sun_crossing
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
 from nightcrew.site import Site
 
@@ -57,25 +57,20 @@ def night_around(
     The start is ``now`` when the Sun is already down; edges are found to a second by bisection.
     """
 
-    def dark(unix_time: float) -> bool:
-        return sun_altitude(site.latitude, site.longitude, unix_time) <= max_sun_altitude
-
     def next_change(unix_time: float, to_dark: bool) -> float:
-        t = unix_time
-        for _ in range(int(2 * 86400 / step_s)):  # the Sun crosses any altitude it reaches daily
-            if dark(t + step_s) == to_dark:
-                low, high = t, t + step_s
-                while high - low > 1.0:
-                    middle = (low + high) / 2
-                    low, high = (low, middle) if dark(middle) == to_dark else (middle, high)
-                return high
-            t += step_s
-        raise InvalidArgumentError(
-            f"the Sun does not cross {max_sun_altitude}° near {now} at latitude {site.latitude}"
-        )
+        # The Sun crosses any altitude it reaches within a day; two days leave room for the search.
+        try:
+            return sun_crossing(
+                site, unix_time, max_sun_altitude, rising=not to_dark, within=2 * 86400.0, step=step_s
+            )
+        except ValueError:
+            raise InvalidArgumentError(
+                f"the Sun does not cross {max_sun_altitude}° near {now} at latitude {site.latitude}"
+            ) from None
 
     now_unix = now.timestamp()
-    start = now_unix if dark(now_unix) else next_change(now_unix, to_dark=True)
+    dark_now = sun_altitude(site.latitude, site.longitude, now_unix) <= max_sun_altitude
+    start = now_unix if dark_now else next_change(now_unix, to_dark=True)
     end = next_change(start, to_dark=False)
     epoch = datetime(1970, 1, 1, tzinfo=UTC)
     return Night(epoch + timedelta(seconds=start), epoch + timedelta(seconds=end), site)

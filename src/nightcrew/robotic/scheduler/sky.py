@@ -5,10 +5,8 @@ The night is cut into equal *slices* of ``step`` seconds; slice ``i`` covers
 and a constraint holds on a slice when it holds at both its edges (within 5 minutes altitude and
 separation change monotonically, so this is exact up to turning points).
 
-Sun and Moon come from the simulator's ephemeris (:mod:`nightcrew.modules.sim.ephemeris`, Moon to
-~0.3°, geocentric). Target altitudes use the IAU 1976 precession at mid-night (erfa) and the
-sidereal time of :mod:`nightcrew.modules.telescope.coords`, vectorised over targets and edges;
-nutation and refraction are left out, as in ``coords`` (about an arcminute).
+Sun, Moon and target altitudes come from :mod:`nightcrew.astro` (Moon to ~0.3°, geocentric; targets
+to about an arcminute, vectorised over targets and edges with one precession at mid-night).
 """
 
 from __future__ import annotations
@@ -17,21 +15,17 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import erfa  # type: ignore[import-untyped]
 import numpy as np
 import numpy.typing as npt
 
+from nightcrew.astro import altitudes, moon_illumination, moon_radec, separation, sun_altitude
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.modules.sim.ephemeris import moon_illumination, sun_altitude
-from nightcrew.modules.telescope.coords import julian_date, local_sidereal_time, moon_radec
 from nightcrew.robotic.scheduler.blocks import SchedulableBlock
 from nightcrew.site import Site
 
-__all__ = ["SkyGrid", "TimeGrid", "separation"]
+__all__ = ["SkyGrid", "TimeGrid"]
 
 FloatArray = npt.NDArray[np.float64]
-#: TT - UTC in seconds (32.184 + 37 leap seconds since 2017); precession barely notices an error.
-_TT_MINUS_UTC = 69.184
 
 
 @dataclass(frozen=True)
@@ -59,13 +53,6 @@ class TimeGrid:
         return max(1, math.ceil(seconds / self.step - 1e-9))
 
 
-def separation(ra1: FloatArray, dec1: FloatArray, ra2: FloatArray, dec2: FloatArray) -> FloatArray:
-    """Great-circle distance in degrees, broadcasting (haversine: well conditioned at small angles)."""
-    r1, d1, r2, d2 = (np.radians(a) for a in (ra1, dec1, ra2, dec2))
-    h = np.sin((d2 - d1) / 2) ** 2 + np.cos(d1) * np.cos(d2) * np.sin((r2 - r1) / 2) ** 2
-    return np.asarray(np.degrees(2 * np.arcsin(np.sqrt(np.clip(h, 0.0, 1.0)))), dtype=np.float64)
-
-
 class SkyGrid:
     """Everything the constraints need about one night and one list of blocks, computed once.
 
@@ -89,24 +76,8 @@ class SkyGrid:
         middle = grid.start + grid.step * grid.n_slices / 2
         positions = np.array([b.target.position_at(middle) for b in self.blocks]).reshape(-1, 2)
         self.target_ra, self.target_dec = positions[:, 0], positions[:, 1]
-        self.altitude = self._altitudes(middle)
-
-    def _altitudes(self, middle: float) -> FloatArray:
+        self.altitude = altitudes(self.target_ra, self.target_dec, lat, lon, edges)
         """Altitude of every target at every edge, shape (n_blocks, n_slices + 1)."""
-        ra, dec = np.radians(self.target_ra), np.radians(self.target_dec)
-        vectors = np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)])
-        # Precession over one night changes positions by < 0.1": one matrix at mid-night will do.
-        precession = erfa.pmat76(julian_date(middle + _TT_MINUS_UTC), 0.0)
-        of_date = precession @ vectors
-        ra_date = np.arctan2(of_date[1], of_date[0])
-        dec_date = np.arcsin(np.clip(of_date[2], -1.0, 1.0))
-        lst = np.radians([local_sidereal_time(float(t), self.site.longitude) for t in self.edges])
-        hour_angle = lst[np.newaxis, :] - ra_date[:, np.newaxis]
-        phi = math.radians(self.site.latitude)
-        sin_alt = math.sin(phi) * np.sin(dec_date)[:, np.newaxis] + math.cos(phi) * np.cos(dec_date)[
-            :, np.newaxis
-        ] * np.cos(hour_angle)
-        return np.asarray(np.degrees(np.arcsin(np.clip(sin_alt, -1.0, 1.0))), dtype=np.float64)
 
     def moon_distance(self) -> FloatArray:
         """Separation of every target from the Moon at every edge, shape (n_blocks, n_slices + 1)."""

@@ -13,7 +13,7 @@ from datetime import datetime, timedelta
 
 import numpy as np
 
-from nightcrew.modules.telescope.coords import local_sidereal_time
+from nightcrew.astro import local_sidereal_time
 from nightcrew.robotic.scheduler.blocks import Constraints, Night, SchedulableBlock, Target
 
 __all__ = ["synthetic_blocks"]

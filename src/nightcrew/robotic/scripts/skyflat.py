@@ -5,10 +5,10 @@ from __future__ import annotations
 import logging
 from typing import Any
 
+from nightcrew.astro import sun_altitude_at
 from nightcrew.errors import NotSupportedError
 from nightcrew.flatfield import FlatTask, TwilightPlanner
 from nightcrew.interfaces import Binning, IFlatField
-from nightcrew.modules.flatfield.sun import sun_altitude_at
 from nightcrew.robotic.runner import (
     ProgressCallback,
     ProgressReporter,

@@ -1,0 +1,59 @@
+"""Pure astronomical formulas: time scales, coordinates, the Sun and the Moon.
+
+Fast low-precision functions (no astropy at run time, no clock, no I/O), shared by the devices,
+the simulator, the scheduler, the mastermind and the reports, so each formula exists once:
+
+- :mod:`.time`: Julian date and local sidereal time.
+- :mod:`.coords`: precession, (ra, dec) ↔ (alt, az), separations, airmass, sexagesimal text.
+- :mod:`.sun`: the Sun's position and altitude, its crossings of an altitude, astronomical dusk.
+- :mod:`.moon`: the Moon's position, altitude and illuminated fraction.
+
+All angles in degrees, azimuth east of north, times as Unix seconds (UTC).
+"""
+
+from nightcrew.astro.coords import (
+    airmass,
+    altaz_to_radec,
+    altitudes,
+    angular_separation,
+    format_dec,
+    format_ra,
+    radec_to_altaz,
+    separation,
+)
+from nightcrew.astro.moon import moon_altitude, moon_illumination, moon_radec
+from nightcrew.astro.sun import (
+    ASTRONOMICAL_TWILIGHT,
+    astronomical_dusk,
+    local_noon,
+    sun_altaz,
+    sun_altitude,
+    sun_altitude_at,
+    sun_crossing,
+    sun_radec,
+)
+from nightcrew.astro.time import julian_date, local_sidereal_time
+
+__all__ = [
+    "ASTRONOMICAL_TWILIGHT",
+    "airmass",
+    "altaz_to_radec",
+    "altitudes",
+    "angular_separation",
+    "astronomical_dusk",
+    "format_dec",
+    "format_ra",
+    "julian_date",
+    "local_noon",
+    "local_sidereal_time",
+    "moon_altitude",
+    "moon_illumination",
+    "moon_radec",
+    "radec_to_altaz",
+    "separation",
+    "sun_altaz",
+    "sun_altitude",
+    "sun_altitude_at",
+    "sun_crossing",
+    "sun_radec",
+]

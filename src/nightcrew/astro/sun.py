@@ -1,0 +1,118 @@
+"""The Sun seen from a site: position, altitude and the times it crosses an altitude.
+
+The position comes from the low-precision formulae of the Astronomical Almanac (about 0.01° over
+1950-2050, in the mean equator of date; we skip precession to J2000, ~0.4° in 2026, far below what
+twilight limits and sky brightness need). All angles in degrees, times as Unix seconds (UTC).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from datetime import UTC, date, datetime
+
+from nightcrew.astro.coords import ecliptic_to_equatorial, from_unit_vector, radec_to_altaz
+from nightcrew.astro.time import J2000, julian_date
+from nightcrew.site import Site
+
+__all__ = [
+    "ASTRONOMICAL_TWILIGHT",
+    "astronomical_dusk",
+    "local_noon",
+    "sun_altaz",
+    "sun_altitude",
+    "sun_altitude_at",
+    "sun_crossing",
+    "sun_radec",
+]
+
+#: The Sun's altitude at the end of astronomical twilight.
+ASTRONOMICAL_TWILIGHT = -18.0
+
+
+def sun_radec(unix_time: float) -> tuple[float, float]:
+    """Apparent (ra, dec) of the Sun to ~0.01° (mean equator of date)."""
+    n = julian_date(unix_time) - J2000
+    mean_longitude = 280.460 + 0.9856474 * n
+    mean_anomaly = math.radians(357.528 + 0.9856003 * n)
+    ecliptic_longitude = (
+        mean_longitude + 1.915 * math.sin(mean_anomaly) + 0.020 * math.sin(2.0 * mean_anomaly)
+    )
+    ra, dec = from_unit_vector(ecliptic_to_equatorial(ecliptic_longitude, 0.0, 23.439 - 0.0000004 * n))
+    return float(ra), float(dec)
+
+
+def sun_altitude(latitude: float, longitude: float, unix_time: float) -> float:
+    """Altitude of the Sun's centre seen from the site (no refraction)."""
+    alt, _ = radec_to_altaz(*sun_radec(unix_time), latitude, longitude, unix_time)
+    return alt
+
+
+def sun_altaz(site: Site, unix_time: float) -> tuple[float, float]:
+    """(altitude, azimuth) of the Sun in degrees at ``unix_time``, azimuth east of north."""
+    return radec_to_altaz(*sun_radec(unix_time), site.latitude, site.longitude, unix_time)
+
+
+def sun_altitude_at(site: Site) -> Callable[[float], float]:
+    """The Sun's altitude at ``site`` as a function of Unix time (what the twilight planner takes)."""
+    return lambda unix_time: sun_altitude(site.latitude, site.longitude, unix_time)
+
+
+def local_noon(night: date, longitude: float) -> float:
+    """Unix time of mean local solar noon on ``night`` at east ``longitude`` (no equation of time)."""
+    return datetime(night.year, night.month, night.day, 12, tzinfo=UTC).timestamp() - longitude / 15.0 * 3600
+
+
+def sun_crossing(
+    site: Site,
+    after: float,
+    altitude: float,
+    *,
+    rising: bool,
+    within: float = 86400.0,
+    step: float = 600.0,
+) -> float:
+    """Unix time of the first crossing of ``altitude`` by the Sun after ``after`` (to a second).
+
+    The Sun is sampled every ``step`` seconds and the crossing bisected; the result is the first
+    second found on the far side (above when ``rising``, at or below when setting).
+
+    Raises:
+        ValueError: no such crossing ``within`` seconds (polar day or night).
+    """
+
+    def beyond(t: float) -> bool:  # on the far side of the crossing
+        above = sun_altitude(site.latitude, site.longitude, t) > altitude
+        return above if rising else not above
+
+    t = after
+    while beyond(t):  # start on the near side
+        t += step
+        if t > after + within:
+            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
+    while not beyond(t + step):
+        t += step
+        if t > after + within:
+            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
+    low, high = t, t + step
+    while high - low > 1.0:
+        middle = (low + high) / 2.0
+        low, high = (low, middle) if beyond(middle) else (middle, high)
+    return high
+
+
+def astronomical_dusk(night: date, site: Site) -> float:
+    """Unix time when the Sun sinks below -18° in the evening of ``night`` (local solar time).
+
+    Raises:
+        ValueError: the Sun does not reach -18° that night (polar summer) or never rises above it.
+    """
+    noon = local_noon(night, site.longitude)
+    if sun_altitude(site.latitude, site.longitude, noon) <= ASTRONOMICAL_TWILIGHT:
+        raise ValueError(
+            f"the Sun stays below {ASTRONOMICAL_TWILIGHT}° on {night} at latitude {site.latitude}"
+        )
+    try:
+        return sun_crossing(site, noon, ASTRONOMICAL_TWILIGHT, rising=False, within=18 * 3600.0)
+    except ValueError:
+        raise ValueError(f"no astronomical night on {night} at latitude {site.latitude}") from None
