@@ -14,11 +14,11 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from nightcrew.astro import altaz_to_radec, radec_to_altaz
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.images import Image
 from nightcrew.images.processors.offsets import Offsets
 from nightcrew.interfaces import IOffsetsAltAz, IOffsetsRaDec, IPointingAltAz, IPointingRaDec
-from nightcrew.modules.telescope.coords import altaz_to_radec, radec_to_altaz
 from nightcrew.object import Object
 
 __all__ = [
