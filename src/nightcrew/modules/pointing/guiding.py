@@ -27,6 +27,7 @@ import math
 from collections import deque
 from typing import Any
 
+from nightcrew.astro import angular_separation
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import MoveRaDecEvent, NewImageEvent
 from nightcrew.images import Image, ImageProcessor
@@ -42,7 +43,6 @@ from nightcrew.interfaces import (
 )
 from nightcrew.modules.module import Module
 from nightcrew.modules.pointing.apply import ApplyOffsets, ApplyRaDecOffsets, SkyError, sky_error
-from nightcrew.modules.telescope.coords import angular_separation
 
 __all__ = ["AutoGuiding", "BaseGuiding", "ScienceFrameAutoGuiding"]
 
