@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.astro import sun_altitude
 from nightcrew.report._data import (
     Frame,
     Night,
