@@ -8,7 +8,7 @@ from datetime import UTC, datetime
 from html import escape
 from typing import Any
 
-from nightcrew.modules.sim.ephemeris import sun_altitude
+from nightcrew.astro import sun_altitude
 from nightcrew.modules.sim.night_recorder import FOCUS_SERIES, SCHEDULE_RECORD
 from nightcrew.report._data import Frame, Night, bad_weather_intervals, roof_open_intervals
 from nightcrew.report._metrics import NightNumbers
