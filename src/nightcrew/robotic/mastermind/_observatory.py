@@ -12,9 +12,9 @@ import asyncio
 import logging
 from datetime import datetime
 
+from nightcrew.astro import sun_altitude
 from nightcrew.errors import NightcrewError
 from nightcrew.interfaces import IRoof, ITelescope, ITemperatures, IWeather, MotionStatus
-from nightcrew.modules.sim.ephemeris import sun_altitude
 from nightcrew.object import Object
 from nightcrew.robotic.mastermind._decide import Conditions, RoofState
 from nightcrew.robotic.mastermind._supervision import all_done
