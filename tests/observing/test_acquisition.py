@@ -7,6 +7,7 @@ from typing import Any
 
 import pytest
 
+from nightcrew.astro import angular_separation
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.images import Pipeline
 from nightcrew.images.astrometry import CatalogAstrometry
@@ -14,7 +15,6 @@ from nightcrew.images.processors.detection import SepSourceDetection
 from nightcrew.images.processors.offsets import AstrometryOffsets
 from nightcrew.modules.pointing import Acquisition
 from nightcrew.modules.pointing.apply import SkyError, pixel_error_to_sky
-from nightcrew.modules.telescope.coords import angular_separation
 from tests.modules.test_sim_camera import CATALOG_DEPTH, PLEIADES, SEED, observatory_module
 
 from .conftest import ObservatoryFactory
