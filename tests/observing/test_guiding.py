@@ -7,12 +7,12 @@ import math
 
 import pytest
 
+from nightcrew.astro import angular_separation
 from nightcrew.images import Image, ImageProcessor, Pipeline
 from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import LoopState, MotionStatus
 from nightcrew.modules.pointing import AutoGuiding, ScienceFrameAutoGuiding
 from nightcrew.modules.sim import SimCamera, SimTelescope
-from nightcrew.modules.telescope.coords import angular_separation
 from tests.modules.conftest import Observatory
 from tests.modules.test_sim_camera import CATALOG_DEPTH, SEED, observatory_module
 
