@@ -15,8 +15,14 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from nightcrew.modules.sim.ephemeris import moon_altitude, moon_illumination, sun_altitude
-from nightcrew.modules.telescope.coords import airmass, angular_separation, radec_to_altaz
+from nightcrew.astro import (
+    airmass,
+    angular_separation,
+    moon_altitude,
+    moon_illumination,
+    radec_to_altaz,
+    sun_altitude,
+)
 from nightcrew.sim.catalog import STAR_DTYPE, StarCatalog
 from nightcrew.sim.render import Conditions
 from nightcrew.site import Site
