@@ -20,8 +20,8 @@ from nightcrew.errors import ConfigError
 from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.modules.module import Module
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
-from nightcrew.robotic.scheduler.adapters import as_schedule_store, as_task_archive
-from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, ScheduleStore, TaskArchive, night_around
+from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_store
+from nightcrew.robotic.scheduler.ports import BlockSource, MemoryScheduleStore, ScheduleStore, night_around
 from nightcrew.robotic.scheduler.scheduler import SolverName
 
 __all__ = ["SchedulerModule"]
@@ -50,7 +50,7 @@ class SchedulerModule(Module):
     def __init__(
         self,
         *,
-        archive: TaskArchive | dict[str, Any],
+        archive: BlockSource | dict[str, Any],
         store: ScheduleStore | dict[str, Any] | None = None,
         solver: SolverName = "mip",
         step_s: float = 300.0,
@@ -64,7 +64,7 @@ class SchedulerModule(Module):
         # Archives of nightcrew.robotic.archives are wrapped by the adapters; open them with us.
         archive_object = self.add_child(_built(archive, "archive"))
         store_object = self.add_child(_built(store or MemoryScheduleStore(), "store"))
-        self._archive: TaskArchive = _adapted(as_task_archive, archive_object, "archive")
+        self._archive: BlockSource = _adapted(as_block_source, archive_object, "archive")
         self._store: ScheduleStore = _adapted(as_schedule_store, store_object, "store")
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s

@@ -18,10 +18,9 @@ from datetime import datetime
 from typing import Any
 
 from nightcrew.astro import sun_altitude
-from nightcrew.robotic.archives import SqliteTaskArchive
-from nightcrew.robotic.archives import TaskArchive as TaskStore
+from nightcrew.robotic.archives import SqliteTaskArchive, TaskArchive
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
-from nightcrew.robotic.scheduler.ports import TaskArchive
+from nightcrew.robotic.scheduler.ports import BlockSource
 from nightcrew.robotic.tasks import ConfigurationType, Task, estimate_duration
 from nightcrew.robotic.tasks.blocks import NOTHING_LEFT_S, block_of
 from nightcrew.site import Site
@@ -86,7 +85,7 @@ def _twilight_seconds(site: Site, start: datetime, end: datetime, low: float, hi
     return 60.0 * inside
 
 
-class NightBlockSource(TaskArchive):
+class NightBlockSource(BlockSource):
     """Blocks of every schedulable task of ``archive``, those without a target near the pole.
 
     Args:
@@ -94,8 +93,8 @@ class NightBlockSource(TaskArchive):
         site: Where the observatory is, for the twilight of sky flats (None: they take 30 min).
     """
 
-    def __init__(self, *, archive: TaskStore | str, site: Site | dict[str, Any] | None = None) -> None:
-        self.archive = archive if isinstance(archive, TaskStore) else SqliteTaskArchive(archive)
+    def __init__(self, *, archive: TaskArchive | str, site: Site | dict[str, Any] | None = None) -> None:
+        self.archive = archive if isinstance(archive, TaskArchive) else SqliteTaskArchive(archive)
         self.site = Site(**site) if isinstance(site, dict) else site
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:

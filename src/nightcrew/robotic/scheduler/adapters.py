@@ -11,10 +11,10 @@ from datetime import datetime
 
 from nightcrew.robotic import archives
 from nightcrew.robotic.scheduler.blocks import ScheduledSlot
-from nightcrew.robotic.scheduler.ports import ScheduleStore, TaskArchive
+from nightcrew.robotic.scheduler.ports import BlockSource, ScheduleStore
 from nightcrew.robotic.tasks.blocks import ArchiveBlockSource
 
-__all__ = ["ArchiveScheduleStore", "as_schedule_store", "as_task_archive"]
+__all__ = ["ArchiveScheduleStore", "as_block_source", "as_schedule_store"]
 
 
 class ArchiveScheduleStore:
@@ -29,11 +29,11 @@ class ArchiveScheduleStore:
         await self.store.write_schedule(entries, replace_from=planned_at)
 
 
-def as_task_archive(value: object) -> TaskArchive:
+def as_block_source(value: object) -> BlockSource:
     """``value`` as a block source: an archive of tasks is wrapped, a block source kept."""
     if isinstance(value, archives.TaskArchive):
         return ArchiveBlockSource(value)
-    if isinstance(value, TaskArchive):
+    if isinstance(value, BlockSource):
         return value
     raise TypeError(f"expected a task archive or a block source, got {type(value).__name__}")
 

@@ -1,8 +1,9 @@
 """What the scheduler module needs from the outside world, as minimal protocols, and the night.
 
-A task archive (YAML, SQLite, LCO portal ...) offers the blocks still to observe; a schedule store
-keeps the plan the mastermind reads. Both are implemented elsewhere; :class:`MemoryScheduleStore`
-is the in-process store for the simulator and the tests.
+A block source offers the blocks still to observe (over a task archive: YAML, SQLite, LCO portal
+...; see :mod:`.adapters`); a schedule store keeps the plan the mastermind reads. Both are
+implemented elsewhere; :class:`MemoryScheduleStore` is the in-process store for the simulator and
+the tests.
 """
 
 from __future__ import annotations
@@ -16,12 +17,16 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
 from nightcrew.site import Site
 
-__all__ = ["MemoryScheduleStore", "ScheduleStore", "TaskArchive", "night_around"]
+__all__ = ["BlockSource", "MemoryScheduleStore", "ScheduleStore", "night_around"]
 
 
 @runtime_checkable
-class TaskArchive(Protocol):
-    """Source of the blocks to schedule (those neither done nor expired)."""
+class BlockSource(Protocol):
+    """Source of the blocks to schedule (those neither done nor expired).
+
+    Not a task archive (:class:`nightcrew.robotic.archives.TaskArchive`): the scheduler only reads
+    blocks, and :func:`~nightcrew.robotic.scheduler.adapters.as_block_source` wraps an archive.
+    """
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
         """The blocks that may still be observed."""
