@@ -38,19 +38,12 @@ import asyncio
 import contextlib
 import logging
 from dataclasses import replace
-from datetime import datetime, timedelta
+from datetime import timedelta
 from typing import Any
 
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError, NightcrewError
-from nightcrew.events import (
-    BadWeatherEvent,
-    GoodWeatherEvent,
-    RoofClosingEvent,
-    TaskFailedEvent,
-    TaskFinishedEvent,
-    TaskStartedEvent,
-)
+from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent
 from nightcrew.interfaces import (
     FitsCard,
     IAutoFocus,
@@ -67,23 +60,23 @@ from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
     CloseAndPark,
+    EarlyStarts,
     Focus,
     FocusKeeper,
     ObservatoryControl,
     OpenUp,
     RunTask,
+    ScheduleReader,
     Slot,
+    TaskRecorder,
     abort_cause,
     decide,
     interruption_reason,
-    kept_progress,
     run_watched,
-    slot_for,
-    startable_now,
     task_cards,
 )
 from nightcrew.robotic.runner import TaskRunner
-from nightcrew.robotic.tasks import Task, TaskNotFoundError, TaskProgress, TaskState
+from nightcrew.robotic.tasks import Task
 
 __all__ = ["Mastermind"]
 
@@ -143,7 +136,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
-        if self.site is None:
+        site = self.site
+        if site is None:
             raise ConfigError("the mastermind needs the observatory's site (for the Sun)", key="site")
         for key, value in (("poll_interval", poll_interval), ("abort_timeout", abort_timeout)):
             if not value > 0:
@@ -152,11 +146,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         store = self._archive if schedule is None else _built(schedule, ScheduleStore, "schedule", self)[0]
         if not isinstance(store, ScheduleStore):
             raise ConfigError("the archive keeps no schedule: configure a ScheduleStore", key="schedule")
-        self._store: ScheduleStore = store
         self._runner: TaskRunner = self.add_child(_built(runner, TaskRunner, "runner", self)[0])
         self._observatory = ObservatoryControl(
             self,
-            self.site,
+            site,
             roof=roof,
             telescope=telescope,
             weather=weather,
@@ -175,22 +168,23 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                 arguments=(focus_count, focus_step, focus_exposure_time),
             )
         )
-        self._sun_caps = {
-            "max_sun_altitude": max_sun_altitude,
-            "twilight_max_sun_altitude": twilight_max_sun_altitude,
-        }
         if not early_start >= 0:
             raise ConfigError(f"must be >= 0 seconds, got {early_start}", key="early_start")
         self._keep_open = timedelta(seconds=keep_open)
-        self._early_start = timedelta(seconds=early_start)
+        self._early = EarlyStarts(site, timedelta(seconds=early_start))
+        self._schedule = ScheduleReader(
+            self,
+            store,
+            self._archive,
+            horizon=self._keep_open + timedelta(hours=1),
+            max_sun_altitude=max_sun_altitude,
+            twilight_max_sun_altitude=twilight_max_sun_altitude,
+        )
+        self._recorder = TaskRecorder(self, self._archive)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
         self._running = autostart
         self._stop_cause: str | None = None  # why a running task must stop (operator)
         self._wake = asyncio.Event()
-        self._current: Task | None = None
-        self._progress = TaskProgress()
-        self._progress_writer: asyncio.Task[None] | None = None
-        self._failed_slots: set[tuple[str, datetime]] = set()  # (task, slot start): failed by itself
         self._safe_since_stop = False
         self._last_action: Action | None = None
         self.add_background_task(self._robotic_loop, name="robotic loop")
@@ -243,7 +237,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         return self._running
 
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
-        return task_cards(self._current) if self._current is not None else {}
+        task = self._recorder.current
+        return task_cards(task) if task is not None else {}
 
     # --- the loop ------------------------------------------------------------------------------
 
@@ -253,7 +248,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             pause = self._poll
             try:
                 if not recovered:
-                    recovered = await self._recover_orphans()
+                    await self._schedule.recover_orphans(self.clock.now())
+                    recovered = True
                 if self._running:
                     pause = await self._step()
                 elif not self._safe_since_stop:
@@ -267,15 +263,15 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
     async def _step(self) -> float:
         """Decide and act once; returns the clock seconds to wait before the next step."""
         conditions = await self._observatory.observe()
-        slots, tasks = await self._read_slots(conditions.now)
+        slots, tasks = await self._schedule.read(conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
         action = decide(
             conditions,
-            self._with_early_start(slots, tasks, conditions.now),
+            self._early.mark(slots, tasks, conditions.now),
             keep_open=self._keep_open,
             focus_below=focus_below,
-            early_start=self._early_start,
+            early_start=self._early.early_start,
         )
         if action != self._last_action:
             log.info("%s: %s", self.name, action.describe())
@@ -303,50 +299,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                     await self._wake.wait()
         self._wake.clear()
 
-    # --- reading the schedule ------------------------------------------------------------------
-
-    async def _recover_orphans(self) -> bool:
-        """Tasks left RUNNING in the schedule of the last day (we were killed mid-task) become FAILED.
-
-        Assumes one mastermind per archive; the progress recorded so far is kept.
-        """
-        now = self.clock.now()
-        for entry in await self._store.read_schedule(start=now - timedelta(days=1), end=now):
-            task = await self._archive.get_task(entry.task_id)
-            if task.state is TaskState.RUNNING:
-                cause = "a restart of the mastermind"
-                reason = interruption_reason(cause, task, task.status.progress)
-                log.warning("%s: task %s was left running: %s", self.name, task.id, reason)
-                await self._archive.mark_failed(task.id, reason, task.status.progress)
-        return True
-
-    async def _read_slots(self, now: datetime) -> tuple[list[Slot], dict[str, Task]]:
-        entries = await self._store.read_schedule(start=now, end=now + self._keep_open + timedelta(hours=1))
-        slots: list[Slot] = []
-        tasks: dict[str, Task] = {}
-        for entry in entries:
-            try:
-                task = tasks.get(entry.task_id) or await self._archive.get_task(entry.task_id)
-            except TaskNotFoundError:
-                log.warning("%s: scheduled task %s is not in the archive", self.name, entry.task_id)
-                continue
-            tasks[task.id] = task
-            failed_here = (task.id, entry.start) in self._failed_slots
-            slots.append(slot_for(entry, task, failed_here=failed_here, **self._sun_caps))
-        return slots, tasks
-
-    def _with_early_start(self, slots: list[Slot], tasks: dict[str, Task], now: datetime) -> list[Slot]:
-        """``slots`` with the next one marked startable now if its task may start early."""
-        if not self._early_start or any(s.is_due(now) and s.may_run for s in slots):
-            return slots
-        upcoming = [s for s in slots if s.may_run and now < s.start <= now + self._early_start]
-        if not upcoming or self.site is None:
-            return slots
-        first = min(upcoming, key=lambda s: s.start)
-        if not startable_now(tasks[first.task_id], self.site, now, first.start):
-            return slots
-        return [replace(s, startable_now=True) if s is first else s for s in slots]
-
     # --- running a task ------------------------------------------------------------------------
 
     async def _run(self, slot: Slot, task: Task) -> None:
@@ -355,17 +307,15 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             log.warning(
                 "%s: the runner cannot run task %s (%s); skipping its slot", self.name, task.id, task.name
             )
-            self._failed_slots.add((task.id, slot.start))
+            self._schedule.failed_in(task.id, slot.start)
             return
-        task = await self._archive.mark_started(task.id)
-        self._current, self._progress = task, task.status.progress
-        log.info("%s: task %s (%s) started", self.name, task.id, task.name)
-        await self.comm.send_event(TaskStartedEvent(name=task.name, id=task.id, eta=slot.end))
+        recorder = self._recorder
+        task = await recorder.started(task, eta=slot.end)
         reason: str | None = None
         interrupted = True  # from outside (weather, roof, Sun, shutdown): it may run again later
         try:
             cause = await run_watched(
-                self._runner.run_task(task, self._on_progress),
+                self._runner.run_task(task, recorder.on_progress),
                 lambda: self._abort_cause(slot),
                 wake=self._wake,
                 clock=self.clock,
@@ -373,19 +323,18 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                 abort_timeout=self._abort_timeout,
             )
             if cause is not None:
-                reason = interruption_reason(cause, task, self._progress)
+                reason = interruption_reason(cause, task, recorder.progress)
         except asyncio.CancelledError:
-            reason = interruption_reason("the mastermind shutting down", task, self._progress)
+            reason = interruption_reason("the mastermind shutting down", task, recorder.progress)
             raise
         except Exception as exc:  # the task's own failure: not again in this slot
-            self._failed_slots.add((task.id, slot.start))
+            self._schedule.failed_in(task.id, slot.start)
             interrupted = False
             reason = str(exc) or type(exc).__name__
             if not isinstance(exc, NightcrewError):
                 raise  # a bug: the loop's fail-safe closes and parks
         finally:
-            self._current = None
-            await self._record_end(task, reason, retryable=interrupted)
+            await recorder.ended(task, reason, retryable=interrupted)
 
     async def _can_run(self, task: Task) -> bool:
         try:
@@ -396,52 +345,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
 
     async def _abort_cause(self, slot: Slot) -> str | None:
         return self._stop_cause or abort_cause(await self._observatory.observe(), slot)
-
-    async def _on_progress(self, progress: TaskProgress) -> None:
-        task = self._current
-        if task is None:
-            return
-        self._progress = kept_progress(self._progress, progress)
-        # A database transaction must not hold up the next exposure: one writer records the latest.
-        if self._progress_writer is None or self._progress_writer.done():
-            self._progress_writer = asyncio.create_task(self._write_progress(task))
-
-    async def _write_progress(self, task: Task) -> None:
-        written: TaskProgress | None = None
-        while written != self._progress:
-            written = self._progress
-            try:
-                await self._archive.record_progress(task.id, written)
-            except Exception as exc:  # kept in memory and recorded at the end
-                log.warning("%s: could not record the progress of task %s: %s", self.name, task.id, exc)
-                return
-
-    async def _record_end(self, task: Task, reason: str | None, *, retryable: bool = False) -> None:
-        """Mark the task finished (``reason`` None) or failed in the archive, and tell everybody.
-
-        ``retryable``: it was interrupted from outside and may be planned again (see TaskFailedEvent).
-        """
-        writer, self._progress_writer = self._progress_writer, None
-        if writer is not None:
-            await asyncio.wait({writer})  # the end is recorded after the last progress
-        progress = self._progress
-        try:
-            if reason is None:
-                await self._archive.mark_finished(task.id, progress)
-            else:
-                await self._archive.mark_failed(task.id, reason, progress)
-        except Exception:
-            log.exception("%s: could not record the end of task %s in the archive", self.name, task.id)
-        if reason is None:
-            log.info("%s: task %s (%s) finished", self.name, task.id, task.name)
-            event: TaskFinishedEvent | TaskFailedEvent = TaskFinishedEvent(name=task.name, id=task.id)
-        else:
-            log.warning("%s: task %s (%s) failed: %s", self.name, task.id, task.name, reason)
-            event = TaskFailedEvent(name=task.name, id=task.id, reason=reason, retryable=retryable)
-        try:
-            await self.comm.send_event(event)
-        except NightcrewError as exc:
-            log.error("%s: could not announce the end of task %s: %s", self.name, task.id, exc)
 
     async def _focus(self, slot: Slot) -> None:
         """Focus (for the task of ``slot``); stopped by weather, roof or the Sun above the limit."""

@@ -6,7 +6,9 @@ returns one :data:`Action` (:class:`RunTask`, :class:`OpenUp`, :class:`Focus`,
 :mod:`._tasks` read what deciding needs from a task; :func:`run_watched` runs a task (or a focus
 run) and cancels it as soon as a check finds a cause; :class:`ObservatoryControl` senses the
 weather, roof, telescope and Sun through proxies and opens up or closes down; :class:`FocusKeeper`
-knows when a focus is due and runs it. The module
+knows when a focus is due and runs it; :class:`ScheduleReader` reads the slots around now,
+:class:`EarlyStarts` marks the next one that may start early, and :class:`TaskRecorder` records a
+task's start, progress and end in the archive and on the bus. The module
 :class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
 """
 
@@ -26,8 +28,11 @@ from nightcrew.robotic.mastermind._decide import (
     abort_cause,
     decide,
 )
+from nightcrew.robotic.mastermind._early_start import EarlyStarts
 from nightcrew.robotic.mastermind._focusing import FocusKeeper
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
+from nightcrew.robotic.mastermind._recording import TaskRecorder
+from nightcrew.robotic.mastermind._schedule import ScheduleReader
 from nightcrew.robotic.mastermind._supervision import all_done, run_watched
 from nightcrew.robotic.mastermind._tasks import (
     focus_due,
@@ -46,14 +51,17 @@ __all__ = [
     "Action",
     "CloseAndPark",
     "Conditions",
+    "EarlyStarts",
     "Focus",
     "FocusKeeper",
     "ObservatoryControl",
     "OpenUp",
     "RoofState",
     "RunTask",
+    "ScheduleReader",
     "Slot",
     "SunLimits",
+    "TaskRecorder",
     "Wait",
     "abort_cause",
     "all_done",
