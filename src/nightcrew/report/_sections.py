@@ -33,10 +33,13 @@ FRAME_COLOURS = {
     "focus": "#9467bd",
     "bias": "#7f7f7f",
     "dark": "#444",
+    "acquisition": "#e377c2",
 }
+#: Frames of any other IMAGETYP.
+OTHER_FRAME_COLOUR = "#17becf"
 #: Idle and lost time in warm colours, so that they stand out in the bar.
 BUDGET_COLOURS = {
-    "readout": "#17becf",
+    "readout": "#aec7e8",
     "slew": "#8c564b",
     "roof not open": "#7f7f7f",
     "focus run, between frames": "#c5b0d5",
@@ -141,7 +144,7 @@ def timeline_section(night: Night, numbers: NightNumbers, latitude: float, longi
                     f.start,
                     f.end,
                     f"{f.name} ({f.image_type} {f.exposure_time:g} s)",
-                    FRAME_COLOURS.get(f.image_type, "#17becf"),
+                    FRAME_COLOURS.get(f.image_type, OTHER_FRAME_COLOUR),
                 )
                 for f in night.frames
             ],
@@ -180,7 +183,7 @@ def time_budget_section(spent: dict[str, float], runs: Sequence[Acquisition]) ->
     whole = sum(spent.values())
     if whole <= 0:
         return "<p><em>no good-weather dark time</em></p>"
-    colours = {k: FRAME_COLOURS.get(k.removeprefix("exposing "), "#1f77b4") for k in spent}
+    colours = {k: FRAME_COLOURS.get(k.removeprefix("exposing "), OTHER_FRAME_COLOUR) for k in spent}
     colours |= BUDGET_COLOURS
     shown = [k for k, v in spent.items() if v > 0]
     intervals, at = [], 0.0
@@ -215,8 +218,9 @@ def _acquisition_table(runs: Sequence[Acquisition]) -> str:
     head = ("id", "task", "start", "to first science frame [s]", "slewing [s]", "camera busy [s]", "rest [s]")
     note = (
         "<p>From each task's start to the start of its first science exposure (clock seconds): "
-        "slewing, the camera busy (acquisition frames), and the rest (solving, filter changes, "
-        "waiting). A task that failed before its first science frame counts to its end.</p>"
+        "slewing, the camera busy (acquisition or focus frames), and the rest (solving acquisition "
+        "frames, analysing focus frames, filter changes, waiting). A task that failed before its "
+        "first science frame counts to its end.</p>"
     )
     return note + _table(head, rows)
 
