@@ -110,7 +110,12 @@ def test_acquisition_is_the_time_to_the_first_science_exposure_of_each_run() -> 
             _telescope(1320, "tracking"),
             _record(1700, "TaskFailedEvent", "mastermind", id="9", name="M39", reason="not acquired"),
         ],
-        frames=[_frame(300, 300, "object"), _frame(610, 300, "object"), _frame(1100, 5, "skyflat")],
+        frames=[
+            _frame(300, 300, "object"),
+            _frame(610, 300, "object"),
+            _frame(1100, 5, "skyflat"),
+            _frame(1330, 10, "acquisition"),  # M39's: an acquisition, not a calibration
+        ],
     )
     m13, m39 = acquisitions(night)
     assert (m13.task_id, m13.name) == ("7", "M13") and m13.seconds == pytest.approx(300.0)
