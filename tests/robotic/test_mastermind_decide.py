@@ -27,7 +27,6 @@ from nightcrew.robotic.mastermind import (
     needs_focus,
     needs_sky,
     slot_for,
-    startable_now,
     sun_limits,
     task_cards,
 )
@@ -39,7 +38,6 @@ from nightcrew.robotic.tasks import (
     parse_request_group,
     tasks_of_group,
 )
-from nightcrew.site import Site
 
 NOW = datetime(2024, 1, 15, 22, tzinfo=UTC)
 KEEP_OPEN = timedelta(minutes=15)
@@ -327,18 +325,6 @@ def test_a_slot_may_run_only_for_a_schedulable_task_not_failed_in_it() -> None:
     assert not slot_of(_task([EXPOSE]), failed_here=True).may_run
     for state in (TaskState.RUNNING, TaskState.COMPLETED, TaskState.CANCELED, TaskState.WINDOW_EXPIRED):
         assert not slot_of(_task([EXPOSE], state)).may_run
-
-
-def test_a_task_may_start_early_only_inside_its_window_with_its_target_observable() -> None:
-    site = Site(latitude=51.56, longitude=9.94, elevation=201.0)
-    high = {**EXPOSE, "target": {"name": "Capella", "ra": 79.17, "dec": 46.0}}
-    low = {**EXPOSE, "target": {"name": "south", "ra": 79.17, "dec": -30.0}}  # never above airmass 2
-    soon = NOW + timedelta(minutes=10)
-    assert startable_now(_task([high]), site, NOW, soon)
-    assert not startable_now(_task([low]), site, NOW, soon)
-    window_start = datetime(2024, 1, 15, 18, tzinfo=UTC)  # the tasks' window opens then
-    before = window_start - timedelta(minutes=5)
-    assert not startable_now(_task([high]), site, before, window_start + timedelta(minutes=5))
 
 
 def test_the_interruption_reason_says_what_was_done() -> None:

@@ -40,11 +40,13 @@ from nightcrew.robotic.mastermind._tasks import (
     kept_progress,
     needs_focus,
     needs_sky,
+    observable_since,
     planned_exposures,
     slot_for,
     startable_now,
     sun_limits,
     task_cards,
+    window_begun,
 )
 
 __all__ = [
@@ -71,10 +73,12 @@ __all__ = [
     "kept_progress",
     "needs_focus",
     "needs_sky",
+    "observable_since",
     "planned_exposures",
     "run_watched",
     "slot_for",
     "startable_now",
     "sun_limits",
     "task_cards",
+    "window_begun",
 ]

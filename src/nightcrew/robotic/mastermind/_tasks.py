@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from datetime import datetime, timedelta
 
 from nightcrew.interfaces import FitsCard
@@ -17,11 +18,13 @@ __all__ = [
     "kept_progress",
     "needs_focus",
     "needs_sky",
+    "observable_since",
     "planned_exposures",
     "slot_for",
     "startable_now",
     "sun_limits",
     "task_cards",
+    "window_begun",
 ]
 
 #: Configuration types that work with the roof closed.
@@ -82,16 +85,33 @@ def slot_for(
 def startable_now(task: Task, site: Site, now: datetime, start: datetime) -> bool:
     """Whether ``task``, planned to start at ``start``, may start at ``now`` already.
 
-    Its window must have begun and its request be observable (Sun, airmass, Moon, checked each
-    minute as the scheduler checks them) from ``now`` until ``start``: from there on the scheduler
-    found it observable.
+    Its window must have begun (:func:`window_begun`) and its request be observable from ``now``
+    until ``start`` (:func:`observable_since`): from there on the scheduler found it observable.
     """
-    request = task.request
-    if not any(w.start <= now and start <= w.end for w in request.windows):
+    if not window_begun(task.request, now, start):
         return False
+    since = observable_since(task.request, site, start, lookback=start - now)
+    return since is not None and since <= now
+
+
+def window_begun(request: Request, now: datetime, start: datetime) -> bool:
+    """Whether one of the request's windows holds both ``now`` and ``start``."""
+    return any(w.start <= now and start <= w.end for w in request.windows)
+
+
+def observable_since(
+    request: Request, site: Site, start: datetime, *, lookback: timedelta
+) -> datetime | None:
+    """Since when, at most ``lookback`` before ``start``, ``request`` is observable until ``start``.
+
+    Sun, airmass and Moon are checked each minute as the scheduler checks them, on minutes counted
+    back from ``start``; None when it is not observable right before ``start``. Its windows are not
+    looked at (:func:`window_begun`).
+    """
     minute = timedelta(minutes=1)
-    stretches = observable_stretches(request, site, now, start + minute, step=minute.total_seconds())
-    return any(a <= now and start <= b for a, b in stretches)
+    begin = start - minute * math.ceil(lookback / minute - 1e-9)
+    stretches = observable_stretches(request, site, begin, start + minute, step=minute.total_seconds())
+    return next((a for a, b in stretches if a <= start <= b), None)
 
 
 def planned_exposures(request: Request) -> int:
