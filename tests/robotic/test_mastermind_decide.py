@@ -192,11 +192,37 @@ def test_the_focus_uses_the_wait_for_the_next_task_once_the_sun_is_low_enough() 
         Wait("next: m31 at 22:10:00", until=science.start)
     )
     later = _slot("m33", 20, 40, needs_focus=True)
-    assert decide(NIGHT, [later], keep_open=KEEP_OPEN, focus_below=-10.0) == CloseAndPark(
-        "no sky task within 15 min"
+    assert decide(SAFE, [later], keep_open=KEEP_OPEN, focus_below=-10.0) == Wait(
+        "next: m33 at 22:20:00", until=later.start
     )
     darks = _slot("darks", 10, 40, sky=False)
     assert decide(NIGHT, [darks, science], keep_open=KEEP_OPEN, focus_below=-10.0) == Focus(science)
+
+
+def test_the_roof_stays_open_when_the_focus_would_open_it_again_within_keep_open() -> None:
+    # At dusk the flats are over (Sun -9.5 deg) and the next task, which needs the focus, starts in
+    # 26 min: the focus would open up again for it 15 min before, i.e. 11 min after closing.
+    after_flats = _at(NIGHT, sun_altitude=-9.5)
+    science = _slot("m13", 26, 60, needs_focus=True)
+    waiting = Wait("next: m13 at 22:26:00", until=science.start)
+    assert decide(after_flats, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == waiting
+    darker = _at(after_flats, sun_altitude=-10.5)  # the focus waits for keep_open before the task
+    assert decide(darker, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == waiting
+    # It closes when the roof would stay unused longer than keep_open ...
+    gap = CloseAndPark("no sky task within 15 min")
+    assert decide(after_flats, [science], keep_open=KEEP_OPEN) == gap  # focus not due
+    far = _slot("m13", 31, 60, needs_focus=True)
+    assert decide(after_flats, [far], keep_open=KEEP_OPEN, focus_below=-10.0) == gap
+    flats = _slot("flats", 26, 60, sun=SunLimits(high=-3.0, low=-12.0))  # no focus for flats
+    assert decide(_at(NIGHT, sun_altitude=-5.0), [flats], keep_open=KEEP_OPEN, focus_below=-10.0) == gap
+    # ... and at once, whatever is planned, for bad weather and at dawn.
+    bad = _at(after_flats, weather_good=False)
+    bad_weather = CloseAndPark("the weather is bad")
+    assert decide(bad, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == bad_weather
+    dawn = _at(NIGHT, sun_altitude=-9.5, sun_rising=True)
+    assert decide(dawn, [science], keep_open=KEEP_OPEN, focus_below=-10.0) == CloseAndPark(
+        "dawn: the Sun is at -9.5° and rising"
+    )
 
 
 def test_the_next_task_starts_early_when_it_can_be_observed_now() -> None:

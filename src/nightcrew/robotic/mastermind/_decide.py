@@ -14,9 +14,13 @@ whether the task must stop. The rules, in order:
 3. Nothing due, and the next slot starts within ``early_start`` and its task can be observed from
    now on (``startable_now``): it is taken as due (rule 2), so a task that ended early leaves no
    idle gap.
-4. Otherwise, with the roof open or the telescope unparked: it **stays open** only if a sky task is
-   due or starts within ``keep_open`` and the Sun allows it now (or is setting towards its limit);
-   else :class:`CloseAndPark` (dawn, end of the schedule, a long gap).
+4. Otherwise, with the roof open or the telescope unparked: it **stays open** only if it will be
+   used again within ``keep_open``: a sky task is due or starts within ``keep_open`` and the Sun
+   allows it now (or is setting towards its limit), or - the focus due and the Sun low enough for
+   it or setting - a task that needs the focus starts within twice ``keep_open`` (rule 5 opens up
+   for that focus ``keep_open`` before the task: closing now would mean opening again within
+   ``keep_open``). Else :class:`CloseAndPark` (dawn, end of the schedule, a long gap). Bad weather
+   never waits (rule 1).
 5. Nothing due, the focus due, the Sun low enough and a task that needs it within ``keep_open``:
    :class:`Focus` now (opening up first), so the wait before it (at dusk: between the twilight
    tasks and full darkness) is not lost to focusing later.
@@ -236,7 +240,7 @@ def decide(
             return RunTask(upcoming)
         if not _sky_blocker(upcoming, conditions):
             return _prepared_or_run(upcoming, conditions, focus_below)
-    if not conditions.closed_and_parked and not _keep_open(runnable, conditions, keep_open):
+    if not conditions.closed_and_parked and not _keep_open(runnable, conditions, keep_open, focus_below):
         return CloseAndPark(_closing_reason(runnable, conditions, keep_open))
     if blocked:
         return Wait(f"{blocked[0][0].name}: {blocked[0][1]}")
@@ -290,12 +294,22 @@ def _focus_now(slot: Slot, conditions: Conditions, focus_below: float | None) ->
     return slot.needs_focus and focus_below is not None and conditions.sun_altitude <= focus_below
 
 
-def _keep_open(runnable: Sequence[Slot], conditions: Conditions, keep_open: timedelta) -> bool:
-    """Whether a sky task will (soon) use the open roof."""
+def _keep_open(
+    runnable: Sequence[Slot], conditions: Conditions, keep_open: timedelta, focus_below: float | None
+) -> bool:
+    """Whether the open roof will be used within ``keep_open``: by a sky task or the focus before one."""
     horizon = conditions.now + keep_open
-    return any(
-        slot.needs_sky and slot.start <= horizon and _sun_fits_soon(slot.sun, conditions) for slot in runnable
+    focus_soon = focus_below is not None and (
+        conditions.sun_altitude <= focus_below or not conditions.sun_rising
     )
+    for slot in runnable:
+        if not slot.needs_sky or not _sun_fits_soon(slot.sun, conditions):
+            continue
+        # The focus for a task is run (opening up) keep_open before it (rule 5).
+        opens_at = slot.start - keep_open if focus_soon and slot.needs_focus else slot.start
+        if opens_at <= horizon:
+            return True
+    return False
 
 
 def _sun_fits_soon(limits: SunLimits, conditions: Conditions) -> bool:
