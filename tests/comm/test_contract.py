@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
+from abc import abstractmethod
 from datetime import UTC, datetime
 
 import pytest
@@ -22,7 +23,9 @@ from nightcrew.errors import (
 )
 from nightcrew.events import LogEvent, ModuleClosedEvent, ModuleOpenedEvent, TestEvent
 from nightcrew.interfaces import IModule, ModuleState
+from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
+from nightcrew.timeout import timeout
 
 from .conftest import Network
 from .sample import Calculator, Colour, ICalculator, ISlow, Listener, Measurement
@@ -226,3 +229,37 @@ async def test_a_local_network_grace_gives_calls_wall_time_beyond_their_timeout(
             await calc.close()
     with pytest.raises(ConfigError, match="rpc_grace"):
         LocalNetwork(rpc_grace=-1)
+
+
+class IComputing(Interface):
+    """A method whose callee computes (at real time) for a while."""
+
+    @abstractmethod
+    @timeout(lambda wall_seconds, limit, **_: limit)
+    async def solve(self, wall_seconds: float, limit: float) -> float: ...
+
+
+class Computing(Module, IComputing):
+    async def solve(self, wall_seconds: float, limit: float) -> float:
+        with self.clock.computing():
+            await asyncio.sleep(wall_seconds)
+        return wall_seconds
+
+
+async def test_a_call_waits_in_clock_seconds_while_the_callee_computes() -> None:
+    # At speed 100 a 10-s limit is 0.1 s of wall time, but 0.4 s of computing moves the clock
+    # by only 0.4 s: the call is in time. A 0.2-s limit is still exceeded by 0.5 s of computing.
+    clock = AcceleratedClock("2026-11-22T18:00:00", speed=100)
+    network = LocalNetwork()
+    callee = Computing(clock=clock, comm=LocalComm("callee", network=network))
+    caller = Module(clock=clock, comm=LocalComm("caller", network=network))
+    await callee.open()
+    await caller.open()
+    try:
+        proxy = await caller.comm.proxy("callee", IComputing)
+        assert await proxy.solve(0.4, 10.0) == 0.4
+        with pytest.raises(RemoteTimeoutError):
+            await proxy.solve(0.5, 0.2)
+    finally:
+        await caller.close()
+        await callee.close()

@@ -51,3 +51,80 @@ async def test_clocks_sharing_a_wall_start_agree_however_late_they_were_made() -
     # 5 s of wall time since wall_start = 300 clock seconds after the start epoch
     expected = datetime(2026, 11, 10, 17, 55, tzinfo=UTC).timestamp()
     assert second.time() == pytest.approx(expected, abs=60 * 0.5)
+
+
+def test_a_computing_section_runs_the_clock_at_real_time() -> None:
+    clock = AcceleratedClock("2026-11-22T18:00:00", speed=100)
+    before = clock.time()
+    with clock.computing():
+        time.sleep(0.2)  # blocking work: 0.2 s of wall time
+        inside = clock.time() - before
+    assert inside == pytest.approx(0.2, abs=0.05)  # not 20 s
+    assert clock.lag() == pytest.approx(0.2 * 0.99, abs=0.05)
+    resumed = clock.time()
+    time.sleep(0.1)
+    assert clock.time() - resumed == pytest.approx(10, rel=0.3)  # full speed again
+
+
+async def test_nested_and_overlapping_sections_slow_the_clock_once() -> None:
+    clock = AcceleratedClock("2026-11-22T18:00:00", speed=100)
+    before = clock.time()
+
+    async def compute(wall: float) -> None:
+        with clock.computing():
+            await asyncio.sleep(wall)
+
+    with clock.computing():
+        await asyncio.gather(compute(0.1), compute(0.2))
+    assert clock.time() - before == pytest.approx(0.2, abs=0.05)
+
+
+async def test_a_sleep_lasts_its_clock_seconds_when_the_clock_is_slowed_meanwhile() -> None:
+    clock = AcceleratedClock("2026-11-22T18:00:00", speed=100)
+
+    async def slow_down() -> None:
+        await asyncio.sleep(0.05)
+        with clock.computing():
+            await asyncio.sleep(0.3)
+
+    before, started = clock.time(), time.monotonic()
+    await asyncio.gather(clock.sleep(20), slow_down())  # 20 s: 0.2 s of wall time at full speed
+    assert clock.time() - before >= 20
+    assert time.monotonic() - started > 0.4  # the 0.3 s section added ~0.3 s of wall time
+
+
+async def test_a_timeout_counts_clock_seconds_across_a_computing_section() -> None:
+    clock = AcceleratedClock("2026-11-22T18:00:00", speed=100)
+    before = clock.time()
+    async with clock.timeout(10):  # 0.1 s of wall time at full speed
+        with clock.computing():
+            await asyncio.sleep(0.3)  # 0.3 clock seconds
+        await clock.sleep(5)
+    assert clock.time() - before < 10
+    with pytest.raises(TimeoutError):
+        async with clock.timeout(10) as deadline:
+            with clock.computing():
+                await asyncio.sleep(0.2)
+            await clock.sleep(1000)
+    assert deadline.expired()
+    assert clock.time() - before == pytest.approx(0.5 + 5 + 10, abs=2)
+
+
+async def test_a_timeout_can_be_moved_and_has_a_wall_grace() -> None:
+    clock = AcceleratedClock("2026-11-22T18:00:00", speed=100)
+    started = time.monotonic()
+    with pytest.raises(TimeoutError):
+        async with clock.timeout(1000, grace=0.2) as deadline:
+            deadline.reschedule(10)  # 0.1 s of wall time, then the 0.2 s of grace
+            await clock.sleep(10_000)
+    assert 0.25 < time.monotonic() - started < 0.6
+
+
+async def test_a_shared_clock_ignores_computing_sections() -> None:
+    wall_start = datetime.fromtimestamp(time.time(), tz=UTC).isoformat()
+    clock = AcceleratedClock("2026-11-10T17:50:00", speed=100, wall_start=wall_start)
+    before = clock.time()
+    with clock.computing():  # other processes share this time: it must not fall behind theirs
+        await asyncio.sleep(0.1)
+    assert clock.time() - before == pytest.approx(10, rel=0.3)
+    assert clock.lag() == 0

@@ -20,7 +20,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any, TypeVar, overload
 
-from nightcrew.clock import Clock, RealClock
+from nightcrew.clock import Clock, ClockTimeout, RealClock
 from nightcrew.comm.proxy import Proxy, proxy_class
 from nightcrew.comm.rpc import CallGuard, ErrorHook, Fault, RpcServer, exception_from_fault
 from nightcrew.errors import InterfaceError, ModuleError, NightcrewError, RemoteError, RemoteTimeoutError
@@ -145,13 +145,11 @@ class Comm(ABC):
     def advertise_state(self, state: str) -> None:  # noqa: B027 - optional hook, empty by default
         """Let the others see this module's lifecycle state; transports with presence override it."""
 
-    def wall_timeout(self, seconds: float) -> float:
-        """Wall seconds to wait for something that takes ``seconds`` of clock time over this comm.
-
-        The clock time, converted at the clock's speed, plus the transport's allowance for the
-        network (``rpc_grace``), which does not speed up with a simulated clock.
-        """
-        return self._clock.to_wall(seconds) + self._rpc_grace
+    def timeout(self, seconds: float | None) -> ClockTimeout:
+        """``async with comm.timeout(s):`` for something that takes ``s`` clock seconds over this comm:
+        the clock's timeout plus the transport's allowance for the network (``rpc_grace`` wall
+        seconds, which do not speed up with a simulated clock)."""
+        return self._clock.timeout(seconds, grace=self._rpc_grace)
 
     @property
     def is_open(self) -> bool:
@@ -239,15 +237,10 @@ class Comm(ABC):
 
         Raises the remote exception's class (or RemoteError), or RemoteTimeoutError.
         """
-        loop = asyncio.get_running_loop()
         call = PendingCall(client)
         try:
-            async with asyncio.timeout(self.wall_timeout(DEFAULT_TIMEOUT)) as deadline:
-
-                def extend(timeout: float) -> None:
-                    deadline.reschedule(loop.time() + self.wall_timeout(timeout))
-
-                call._on_announce = extend
+            async with self.timeout(DEFAULT_TIMEOUT) as deadline:
+                call._on_announce = deadline.reschedule
                 await self._send_call(client, method, args, call)
                 return await call.future
         except TimeoutError:

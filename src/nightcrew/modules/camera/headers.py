@@ -43,7 +43,7 @@ async def _ask(
 ) -> dict[str, FitsCard]:
     try:
         # Across processes the network adds wall time that a fast simulated clock does not shrink.
-        async with asyncio.timeout(comm.wall_timeout(wait_limit)):
+        async with comm.timeout(wait_limit):
             if when == "before":
                 cards = await (await comm.proxy(name, IFitsHeaderBefore)).get_fits_header_before(namespaces)
             else:
