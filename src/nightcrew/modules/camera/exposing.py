@@ -217,9 +217,11 @@ class ExposingModule(Module, IAbortable, IExposure):
     async def _write(self, filename: str, data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> None:
         # Serialising takes tens of milliseconds: in a thread, so the event loop (guiding, the
         # mastermind, on a fast clock the clock itself) does not stall on every frame.
+        # Writing takes wall time at the telescope, not clock-speed times as much: see Clock.computing.
         try:
-            payload = await asyncio.to_thread(blocking_fits_bytes, data, cards)
-            await self.vfs.write_bytes(filename, payload)
+            with self.clock.computing():
+                payload = await asyncio.to_thread(blocking_fits_bytes, data, cards)
+                await self.vfs.write_bytes(filename, payload)
         except (NightcrewError, ValueError) as exc:
             raise GrabImageError(f"cannot write {filename}: {exc}") from exc
 

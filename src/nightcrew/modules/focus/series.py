@@ -4,8 +4,11 @@
 focus the focuser has when called, measures each frame's star width with a :class:`FocusMeasure`
 and fits :func:`nightcrew.focus.series.fit_focus_hyperbola`. On success the focuser goes to the
 fitted focus and a FocusFoundEvent is sent; on any failure (a minimum outside the series, too few
-stars, an abort) the focuser goes back to where it was, so a failed series never leaves the
-telescope worse focused than before.
+stars, widths that form no clear V, an abort) the focuser goes back to where it was, so a failed
+series never leaves the telescope worse focused than before; a series that gave no best focus
+(not an abort) is announced by a FocusFailedEvent with the reason. The default measure detects
+stars on a median-filtered frame, so hot pixels and cosmic rays of the raw focus frames do not
+count as (sharp) stars.
 
 Example (YAML)::
 
@@ -24,16 +27,17 @@ import math
 from typing import Any
 
 from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
-from nightcrew.events import FocusFoundEvent
+from nightcrew.events import FocusFailedEvent, FocusFoundEvent
 from nightcrew.focus.series import (
     MIN_FRAMES,
     FocusSeriesError,
     fit_focus_hyperbola,
     photometry_width,
     projection_width,
+    without_pixel_defects,
 )
 from nightcrew.images import Image
-from nightcrew.images.processors._shared import estimate_background, float_data, saturation_level
+from nightcrew.images.processors._shared import estimate_background, saturation_level
 from nightcrew.images.processors.detection import detect_sources_sep
 from nightcrew.interfaces import IAutoFocus, ICamera, IExposureTime, IFocuser, IImageType, ImageType
 from nightcrew.modules.module import Module
@@ -64,7 +68,10 @@ class ProjectionFocusMeasure(FocusMeasure):
 
 
 class PhotometryFocusMeasure(FocusMeasure):
-    """Median FWHM of the detected stars (SEP detection, as the image processors use it).
+    """Median FWHM of the stars detected (with SEP) on the frame after a 3x3 median filter.
+
+    Focus frames are raw: the filter removes hot pixels and cosmic rays, which would otherwise be
+    measured as the sharpest "stars" of every frame (see :func:`without_pixel_defects`).
 
     Args:
         threshold: Detection threshold in sigma.
@@ -85,7 +92,7 @@ class PhotometryFocusMeasure(FocusMeasure):
         self.threshold, self.min_peak_snr, self.min_stars = threshold, min_peak_snr, min_stars
 
     def _blocking_width(self, image: Image) -> float:
-        data = float_data(image)
+        data = without_pixel_defects(image.data)
         noise = estimate_background(data, image.mask).global_rms
         catalog = detect_sources_sep(
             data, image.mask, threshold=self.threshold, saturation=saturation_level(image, None)
@@ -164,13 +171,15 @@ class AutoFocusSeries(Module, IAutoFocus):
             filter_name: str | None = None
             for position in positions:
                 await self._move(focuser, position)
-                image = await Image.from_vfs(self.vfs, await camera.grab_data(broadcast=False))
-                filter_name = _filter_of(image)
-                try:
-                    width = await self._measure(image)
-                except NightcrewError as exc:  # a frame without stars does not end the series
-                    log.warning("%s: focus %.4f: no width (%s)", self.name, position, exc)
-                    width = math.nan
+                filename = await camera.grab_data(broadcast=False)
+                with self.clock.computing():  # measuring takes wall time, not clock-speed x it
+                    image = await Image.from_vfs(self.vfs, filename)
+                    filter_name = _filter_of(image)
+                    try:
+                        width = await self._measure(image)
+                    except NightcrewError as exc:  # a frame without stars does not end the series
+                        log.warning("%s: focus %.4f: no width (%s)", self.name, position, exc)
+                        width = math.nan
                 widths.append(width)
                 log.info("%s: focus %.4f mm: width %.2f px", self.name, position, width)
                 self._status["done"] = len(widths)
@@ -180,6 +189,8 @@ class AutoFocusSeries(Module, IAutoFocus):
             found = True
         except FocusSeriesError as exc:
             log.warning("%s: focus series failed: %s", self.name, exc)
+            self._status["failed"] = str(exc)
+            await self.comm.send_event(FocusFailedEvent(reason=str(exc), filter_name=filter_name))
             raise
         finally:
             self._status["running"] = False

@@ -113,9 +113,9 @@ class Acquisition(Module, IAcquisition):
         history: list[float] = []
         for attempt in range(1, self._max_attempts + 1):
             applied = await self._apply.current()
-            image = await self._pipeline(
-                await Image.from_vfs(self.vfs, await camera.grab_data(broadcast=False))
-            )
+            filename = await camera.grab_data(broadcast=False)
+            with self.clock.computing():  # the solve takes wall time at the telescope, not 320x it
+                image = await self._pipeline(await Image.from_vfs(self.vfs, filename))
             offsets = image.metadata.get(OFFSETS_KEY)
             if not isinstance(offsets, Offsets):
                 raise ConfigError("the acquisition pipeline gave no offsets (end it with an offsets step)")

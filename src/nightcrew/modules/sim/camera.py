@@ -152,7 +152,9 @@ class SimCamera(BaseCamera):
         try:
             await self.clock.sleep(settings.exposure_time)
             await self._set_exposure_status(ExposureStatus.READOUT)
-            frame, _ = await asyncio.gather(render, self.clock.sleep(self._readout_time))
+            await self.clock.sleep(self._readout_time)
+            with self.clock.computing():  # the rest of the render is the simulator's work, not the sky's
+                frame = await render
         finally:
             render.cancel()  # aborted: drop the frame (the thread finishes on its own)
         return frame
