@@ -42,16 +42,17 @@ async def start_observatory(
     *,
     weather: type[SimWeatherStation] = SimWeatherStation,
     camera_class: type[SimCamera] = SimCamera,
+    target: tuple[float, float] = PLEIADES,
     **camera: Any,
 ) -> SimCamera:
-    """Telescope tracking the Pleiades, focuser at best focus, V filter, roof open, clear sky."""
+    """Telescope tracking ``target`` (the Pleiades), focuser at best focus, V filter, roof open, clear sky."""
     telescope = await observatory.start(SimTelescope, "telescope", init_time=0.0, seed=1)
     await observatory.start(SimFocuser, "focuser", focus=25.0, best_focus=25.0)
     await observatory.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V")
     roof = await observatory.start(SimRoof, "roof", open_time=1.0)
     await observatory.start(weather, "weather", scenario=[{"at": 0, "clouds": 0.0}])
     await telescope.init()
-    await telescope.move_radec(*PLEIADES)
+    await telescope.move_radec(*target)
     await roof.open_roof()
     options: dict[str, Any] = {
         "detector": DETECTOR,

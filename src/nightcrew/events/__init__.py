@@ -4,7 +4,7 @@ Importing this package registers every event class, so :func:`event_by_name` kno
 """
 
 from nightcrew.events.base import Event, event_by_name
-from nightcrew.events.focus import FocusFoundEvent
+from nightcrew.events.focus import FocusFailedEvent, FocusFoundEvent
 from nightcrew.events.image import ExposureStatusChangedEvent, NewImageEvent, NewSpectrumEvent
 from nightcrew.events.log import LogEvent
 from nightcrew.events.module import ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent
@@ -20,6 +20,7 @@ __all__ = [
     "Event",
     "ExposureStatusChangedEvent",
     "FilterChangedEvent",
+    "FocusFailedEvent",
     "FocusFoundEvent",
     "GoodWeatherEvent",
     "LogEvent",

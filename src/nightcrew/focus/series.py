@@ -8,13 +8,20 @@ Two per-frame measures, both "smaller is sharper", both in pixels:
   (times sqrt 2 for Gaussian-like stars, corrected here), whatever the stars' positions. Cheap, no
   detection needed, works on defocused donuts; crowded fields widen it a little (cross terms).
 * :func:`photometry_width` is the median FWHM of the unflagged, well-exposed stars of a source
-  catalog (from :func:`nightcrew.images.processors.detection.detect_sources_sep`).
+  catalog (from :func:`nightcrew.images.processors.detection.detect_sources_sep`), leaving out
+  the :func:`point_defects`: focus frames are raw, and their hot pixels and cosmic rays are sharp
+  "stars" that do not blur with defocus - out of focus, where few real stars stand out of a
+  bright (twilight) sky, they would outnumber them and pull the median down to their own width.
 
 The series is fitted with the hyperbola ``w(f) = sqrt(a² + (b (f - f0))²)`` — seeing and optics
 set the minimum ``a``, defocus blur grows linearly with ``|f - f0|`` — by least squares
 (:func:`fit_focus_hyperbola`). The uncertainty of ``f0`` is from the fit's covariance scaled by the
 residual variance. A minimum outside the focus range of the series is not a measurement but an
 extrapolation, so :func:`fit_focus_hyperbola` refuses it with :class:`FocusOutsideSeriesError`.
+It also refuses a fit that does not describe the widths - a best focus less certain than a
+fraction of the step (:data:`MAX_ERROR_PER_STEP`), or widths scattered about the fitted V by more
+than a fraction of its depth (:data:`MAX_SCATTER`) - with :class:`FocusSeriesError`: moving the
+focuser to a garbage "best focus" is worse than keeping the focus it had.
 """
 
 from __future__ import annotations
@@ -35,6 +42,7 @@ __all__ = [
     "FocusSeriesError",
     "fit_focus_hyperbola",
     "photometry_width",
+    "point_defects",
     "projection_width",
 ]
 
@@ -44,6 +52,16 @@ FloatArray = npt.NDArray[np.float64]
 _ACF_TO_STAR = 1.0 / math.sqrt(2.0)
 #: Fewest frames a hyperbola (3 parameters) needs to leave a residual to judge it by.
 MIN_FRAMES = 4
+#: A source whose 3x3 median keeps less than this fraction of its peak is a hot pixel or cosmic ray
+#: (a star 1.5 px wide keeps a third of it, 2 px half).
+DEFECT_PEAK_KEPT = 0.2
+#: Row and column offsets of a 3x3 box.
+_BOX_ROWS, _BOX_COLS = (a.ravel() for a in np.mgrid[-1:2, -1:2])
+#: A best focus less certain than this fraction of the series' step is refused (good V: 0.05-0.2).
+MAX_ERROR_PER_STEP = 0.5
+#: Widths scattered (RMS) about the fitted V by more than this fraction of its depth - the rise
+#: from the minimum to the series' farthest frame - do not form a V (good series: ~0.03).
+MAX_SCATTER = 0.15
 
 
 class FocusSeriesError(InvalidArgumentError):
@@ -118,6 +136,24 @@ def _acf_width(profile: FloatArray) -> float:
     return 2.0 * float(half)
 
 
+def point_defects(
+    residual: npt.ArrayLike, x: npt.ArrayLike, y: npt.ArrayLike, peak: npt.ArrayLike
+) -> npt.NDArray[np.bool_]:
+    """True for the sources at (``x``, ``y``) that are a pixel or a thin track: hot pixels, cosmic rays.
+
+    A 3x3 median outvotes such a defect but keeps much of a star's peak, so a source whose median
+    around its position in ``residual`` (the frame minus its background) keeps less than
+    :data:`DEFECT_PEAK_KEPT` of its ``peak`` is no star.
+    """
+    data = np.asarray(residual, dtype=np.float64)
+    rows = np.clip(np.rint(np.asarray(y, dtype=np.float64)).astype(np.int64), 0, data.shape[0] - 1)
+    cols = np.clip(np.rint(np.asarray(x, dtype=np.float64)).astype(np.int64), 0, data.shape[1] - 1)
+    box_rows = np.clip(rows[:, None] + _BOX_ROWS[None, :], 0, data.shape[0] - 1)
+    box_cols = np.clip(cols[:, None] + _BOX_COLS[None, :], 0, data.shape[1] - 1)
+    kept = np.median(data[box_rows, box_cols], axis=1)
+    return np.asarray(~(kept >= DEFECT_PEAK_KEPT * np.asarray(peak, dtype=np.float64)), dtype=np.bool_)
+
+
 def photometry_width(
     fwhm: npt.ArrayLike,
     flags: npt.ArrayLike,
@@ -126,14 +162,19 @@ def photometry_width(
     noise: float,
     min_peak_snr: float = 10.0,
     min_stars: int = 3,
+    defects: npt.ArrayLike | None = None,
 ) -> float:
     """Median FWHM (pixels) of the catalog's unflagged stars with ``peak >= min_peak_snr * noise``.
+
+    ``defects`` (e.g. from :func:`point_defects`) is True for the sources that are no stars.
 
     Raises:
         FocusSeriesError: Fewer than ``min_stars`` stars qualify.
     """
     widths = np.asarray(fwhm, dtype=np.float64)
     good = (np.asarray(flags) == 0) & (np.asarray(peak, dtype=np.float64) >= min_peak_snr * noise)
+    if defects is not None:
+        good &= ~np.asarray(defects, dtype=bool)
     good &= np.isfinite(widths) & (widths > 0)
     if int(good.sum()) < min_stars:
         raise FocusSeriesError(
@@ -145,16 +186,25 @@ def photometry_width(
 # --- the series --------------------------------------------------------------------------------
 
 
-def fit_focus_hyperbola(focus: Sequence[float], width: Sequence[float]) -> FocusFit:
-    """Best focus of a series from a least-squares hyperbola fit.
+def fit_focus_hyperbola(
+    focus: Sequence[float],
+    width: Sequence[float],
+    *,
+    max_error: float | None = None,
+    max_scatter: float = MAX_SCATTER,
+) -> FocusFit:
+    """Best focus of a series from a least-squares hyperbola fit, refused unless the widths form a V.
 
     Args:
         focus: Focus position of each frame.
         width: Width (e.g. FWHM) measured on each frame, same length; NaN for a failed frame.
+        max_error: Largest accepted uncertainty of the best focus; None: :data:`MAX_ERROR_PER_STEP`
+            times the median step between the series' positions.
+        max_scatter: Largest accepted RMS residual as a fraction of the fitted V's depth.
 
     Raises:
-        FocusSeriesError: Fewer than :data:`MIN_FRAMES` good frames, a series at one position, or a
-            fit that does not converge.
+        FocusSeriesError: Fewer than :data:`MIN_FRAMES` good frames, a series at one position, a
+            fit that does not converge, or one that does not describe the widths (see above).
         FocusOutsideSeriesError: The minimum lies outside the series' focus range.
     """
     f = np.asarray(focus, dtype=np.float64)
@@ -200,4 +250,23 @@ def fit_focus_hyperbola(focus: Sequence[float], width: Sequence[float]) -> Focus
         error = math.inf
     if not math.isfinite(error):
         raise FocusSeriesError("the hyperbola fit is degenerate (no curvature): the series is too flat")
-    return FocusFit(focus=f0, error=error, min_width=abs(a), slope=abs(b), rms=rms)
+    result = FocusFit(focus=f0, error=error, min_width=abs(a), slope=abs(b), rms=rms)
+    _check_plausible(result, f, max_error, max_scatter)
+    return result
+
+
+def _check_plausible(fit: FocusFit, focus: FloatArray, max_error: float | None, max_scatter: float) -> None:
+    """Raise FocusSeriesError unless ``fit`` pins the focus down and describes the widths."""
+    if max_error is None:
+        max_error = MAX_ERROR_PER_STEP * float(np.median(np.diff(np.unique(focus))))
+    if not fit.error <= max_error:
+        raise FocusSeriesError(
+            f"best focus {fit.focus:.4f} ± {fit.error:.4f} is too uncertain (accepted: ± {max_error:.4f}): "
+            "the widths do not form a clear V"
+        )
+    depth = fit.width_at(float(focus[np.argmax(np.abs(focus - fit.focus))])) - fit.min_width
+    if not fit.rms <= max_scatter * depth:
+        raise FocusSeriesError(
+            f"the widths scatter by {fit.rms:.2f} about a fitted V only {depth:.2f} deep "
+            f"(accepted: {max_scatter:g} of the depth): no consistent V"
+        )

@@ -6,9 +6,8 @@ and fits :func:`nightcrew.focus.series.fit_focus_hyperbola`. On success the focu
 fitted focus and a FocusFoundEvent is sent; on any failure (a minimum outside the series, too few
 stars, widths that form no clear V, an abort) the focuser goes back to where it was, so a failed
 series never leaves the telescope worse focused than before; a series that gave no best focus
-(not an abort) is announced by a FocusFailedEvent with the reason. The default measure detects
-stars on a median-filtered frame, so hot pixels and cosmic rays of the raw focus frames do not
-count as (sharp) stars.
+(not an abort) is announced by a FocusFailedEvent with the reason. The default measure leaves out
+the hot pixels and cosmic rays of the raw focus frames, which would count as (sharp) stars.
 
 Example (YAML)::
 
@@ -33,11 +32,11 @@ from nightcrew.focus.series import (
     FocusSeriesError,
     fit_focus_hyperbola,
     photometry_width,
+    point_defects,
     projection_width,
-    without_pixel_defects,
 )
 from nightcrew.images import Image
-from nightcrew.images.processors._shared import estimate_background, saturation_level
+from nightcrew.images.processors._shared import estimate_background, float_data, saturation_level
 from nightcrew.images.processors.detection import detect_sources_sep
 from nightcrew.interfaces import IAutoFocus, ICamera, IExposureTime, IFocuser, IImageType, ImageType
 from nightcrew.modules.module import Module
@@ -68,10 +67,10 @@ class ProjectionFocusMeasure(FocusMeasure):
 
 
 class PhotometryFocusMeasure(FocusMeasure):
-    """Median FWHM of the stars detected (with SEP) on the frame after a 3x3 median filter.
+    """Median FWHM of the detected stars (SEP detection, as the image processors use it).
 
-    Focus frames are raw: the filter removes hot pixels and cosmic rays, which would otherwise be
-    measured as the sharpest "stars" of every frame (see :func:`without_pixel_defects`).
+    Focus frames are raw: hot pixels and cosmic rays are left out (:func:`point_defects`), else
+    they would be the sharpest "stars" of every frame.
 
     Args:
         threshold: Detection threshold in sigma.
@@ -92,8 +91,9 @@ class PhotometryFocusMeasure(FocusMeasure):
         self.threshold, self.min_peak_snr, self.min_stars = threshold, min_peak_snr, min_stars
 
     def _blocking_width(self, image: Image) -> float:
-        data = without_pixel_defects(image.data)
-        noise = estimate_background(data, image.mask).global_rms
+        data = float_data(image)
+        background = estimate_background(data, image.mask)
+        residual = data - background.level
         catalog = detect_sources_sep(
             data, image.mask, threshold=self.threshold, saturation=saturation_level(image, None)
         )
@@ -101,9 +101,10 @@ class PhotometryFocusMeasure(FocusMeasure):
             catalog["fwhm"],
             catalog["flags"],
             catalog["peak"],
-            noise=noise,
+            noise=background.global_rms,
             min_peak_snr=self.min_peak_snr,
             min_stars=self.min_stars,
+            defects=point_defects(residual, catalog["x"], catalog["y"], catalog["peak"]),
         )
 
 

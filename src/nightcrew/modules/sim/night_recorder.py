@@ -1,8 +1,9 @@
 """The night's recorder: every event on the bus, one JSON line each, for the night report.
 
 Each line is ``{"t": clock unix time, "kind": event name, "sender": module, "data": fields}``.
-Some events are worth more than they carry: after a FocusFoundEvent the recorder asks the focus
-module for its series (``FocusSeries`` line: positions and widths), which the event leaves out.
+Some events are worth more than they carry: after a FocusFoundEvent or FocusFailedEvent the
+recorder asks the focus module for its series (``FocusSeries`` line: positions and widths, and
+``failed`` with the reason), which the event leaves out.
 Other parts of the night may add their own lines with :meth:`EventRecorder.record` (the driver
 records the scheduler's plans that way). Lines are flushed at once: a crashed night still leaves
 its record.
@@ -16,7 +17,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from nightcrew.errors import NightcrewError
-from nightcrew.events import Event, FocusFoundEvent, event_by_name
+from nightcrew.events import Event, FocusFailedEvent, FocusFoundEvent, event_by_name
 from nightcrew.events.base import event_names
 from nightcrew.interfaces import IAutoFocus, ModuleState
 from nightcrew.modules.module import Module
@@ -65,7 +66,7 @@ class EventRecorder(Module):
 
     async def on_event(self, event: Event, sender: str) -> None:
         self.record(event.event_name(), event.to_dict(), sender=sender)
-        if isinstance(event, FocusFoundEvent):
+        if isinstance(event, FocusFoundEvent | FocusFailedEvent):
             await self._record_focus_series(sender)
 
     def record(self, kind: str, data: dict[str, Any], *, sender: str | None = None) -> None:
