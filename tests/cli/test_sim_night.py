@@ -61,9 +61,10 @@ def test_the_roof_is_open_most_of_the_good_dark_time(night: tuple[int, Path, Nig
     _, _, numbers = night
     assert numbers.good_dark_s > 2400.0
     assert numbers.roof_open_fraction >= 0.9, f"{100 * numbers.roof_open_fraction:.1f} %"
-    # The camera's shutter: exposures cover a good part of it; the rest is overheads (slews,
-    # read-outs, and a focus series at the start, whose image analysis at 320x costs clock time).
-    assert numbers.shutter_open_fraction >= 0.5, f"{100 * numbers.shutter_open_fraction:.1f} %"
+    # The camera's shutter: exposures cover most of it (81-87 % on a quiet machine); the rest is
+    # slews, read-outs, the focus series at the start and the task starts. Image analysis runs in
+    # Clock.computing(), so a slow machine costs wall time, not much clock time.
+    assert numbers.shutter_open_fraction >= 0.7, f"{100 * numbers.shutter_open_fraction:.1f} %"
 
 
 def test_the_report_has_every_section(night: tuple[int, Path, NightNumbers]) -> None:
