@@ -31,3 +31,20 @@ def test_a_mastermind_without_site_or_schedule_is_refused(tmp_path: Path) -> Non
         build_object({**without_site, "name": "mastermind"}, Module)
     with pytest.raises(ConfigError, match="key 'poll_interval': must be > 0 seconds"):
         build_object({**config, "name": "mastermind", "poll_interval": 0}, Module)
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        ("focus_altitude", 0, r"must be within \(0, 90\] degrees, got 0"),
+        ("focus_altitude", 91, r"must be within \(0, 90\] degrees, got 91"),
+        ("focus_azimuth", 360, r"must be within \[0, 360\) degrees, got 360"),
+        ("focus_retry_interval", 0, "must be > 0 seconds, got 0"),
+    ],
+)
+def test_bad_focus_options_are_refused_naming_the_key(
+    tmp_path: Path, key: str, value: float, message: str
+) -> None:
+    config = load_config(EXAMPLE, environ={"NIGHTCREW_TASKS_DB": str(tmp_path / "tasks.sqlite")})
+    with pytest.raises(ConfigError, match=rf"key '{key}': {message}"):
+        build_object({**config, "name": "mastermind", key: value}, Module)

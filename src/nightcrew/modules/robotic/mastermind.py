@@ -25,7 +25,11 @@ Decisions:
 * **Focus**: with an ``autofocus`` module, before the first task that images stars (not before
   twilight flats) and whenever the temperature moved by more than ``refocus_temperature_change``
   since the last focus - once the Sun is below ``focus_max_sun_altitude``, and already while
-  waiting for that task with the roof open (at dusk: after the flats, before full darkness).
+  waiting for that task with the roof open (at dusk: after the flats, before full darkness). The
+  telescope first slews to the sky at ``focus_altitude`` and ``focus_azimuth`` (default: 75° on the
+  meridian, on the equator's side), as the (ra, dec) there at that moment, and tracks it - left
+  where the flats pointed (alt/az, not tracking), the stars would trail. A failed series keeps the
+  focus as it was and is tried again ``focus_retry_interval`` clock seconds later.
 * **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
   before its slot if it can be observed from now on (a task that ended early leaves no gap).
 * **Progress** of a task is recorded in the archive in the background: the exposure loop does not
@@ -74,6 +78,7 @@ from nightcrew.robotic.mastermind import (
     TaskRecorder,
     abort_cause,
     decide,
+    focus_field,
     interruption_reason,
     run_watched,
     task_cards,
@@ -109,6 +114,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         refocus_temperature_change: Refocus after this temperature change, °C.
         focus_max_sun_altitude: Highest Sun altitude for focusing, degrees (stars must show).
         focus_count, focus_step, focus_exposure_time: Arguments of ``auto_focus``.
+        focus_altitude: Altitude of the focus field, degrees (0, 90]; the telescope tracks the
+            (ra, dec) there when a focus starts. None: focus wherever the telescope points.
+        focus_azimuth: Azimuth of the focus field, degrees east of north; None: the meridian on
+            the equator's side (180 at a northern site).
+        focus_retry_interval: Clock seconds after a failed focus before it is tried again.
         autostart: Start robotic mode when the module opens.
         **kwargs: Module options (``site`` is required: the Sun decides a lot).
     """
@@ -136,6 +146,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         focus_count: int = 7,
         focus_step: float = 0.05,
         focus_exposure_time: float = 5.0,
+        focus_altitude: float | None = 75.0,
+        focus_azimuth: float | None = None,
+        focus_retry_interval: float = 1800.0,
         autostart: bool = True,
         **kwargs: Any,
     ) -> None:
@@ -143,7 +156,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         site = self.site
         if site is None:
             raise ConfigError("the mastermind needs the observatory's site (for the Sun)", key="site")
-        for key, value in (("poll_interval", poll_interval), ("abort_timeout", abort_timeout)):
+        for key, value in (
+            ("poll_interval", poll_interval),
+            ("abort_timeout", abort_timeout),
+            ("focus_retry_interval", focus_retry_interval),
+        ):
             if not value > 0:
                 raise ConfigError(f"must be > 0 seconds, got {value}", key=key)
         self._archive, self._owns_archive = _built(archive, TaskArchive, "archive", self)
@@ -160,6 +177,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             temperatures=temperatures,
             temperature_sensor=temperature_sensor,
         )
+        field = focus_field(focus_altitude, focus_azimuth, site)  # checked even without autofocus
         self._focus_keeper = (
             None
             if autofocus is None
@@ -170,6 +188,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
                 max_sun_altitude=focus_max_sun_altitude,
                 refocus_change=refocus_temperature_change,
                 arguments=(focus_count, focus_step, focus_exposure_time),
+                retry_interval=focus_retry_interval,
+                field=field,
             )
         )
         if not early_start >= 0:

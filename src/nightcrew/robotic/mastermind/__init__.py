@@ -6,10 +6,10 @@ returns one :data:`Action` (:class:`RunTask`, :class:`OpenUp`, :class:`Focus`,
 :mod:`._tasks` read what deciding needs from a task; :func:`run_watched` runs a task (or a focus
 run) and cancels it as soon as a check finds a cause; :class:`ObservatoryControl` senses the
 weather, roof, telescope and Sun through proxies and opens up or closes down; :class:`FocusKeeper`
-knows when a focus is due and runs it; :class:`ScheduleReader` reads the slots around now,
-:class:`EarlyStarts` marks the next one that may start early, and :class:`TaskRecorder` records a
-task's start, progress and end in the archive and on the bus. The module
-:class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
+knows when a focus is due and runs it on a tracked :class:`FocusField`; :class:`ScheduleReader`
+reads the slots around now, :class:`EarlyStarts` marks the next one that may start early, and
+:class:`TaskRecorder` records a task's start, progress and end in the archive and on the bus. The
+module :class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from nightcrew.robotic.mastermind._decide import (
     decide,
 )
 from nightcrew.robotic.mastermind._early_start import EarlyStarts
-from nightcrew.robotic.mastermind._focusing import FocusKeeper
+from nightcrew.robotic.mastermind._focusing import FocusField, FocusKeeper, focus_field
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
@@ -55,6 +55,7 @@ __all__ = [
     "Conditions",
     "EarlyStarts",
     "Focus",
+    "FocusField",
     "FocusKeeper",
     "ObservatoryControl",
     "OpenUp",
@@ -69,6 +70,7 @@ __all__ = [
     "all_done",
     "decide",
     "focus_due",
+    "focus_field",
     "interruption_reason",
     "kept_progress",
     "needs_focus",

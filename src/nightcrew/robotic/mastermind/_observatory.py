@@ -59,6 +59,10 @@ class ObservatoryControl:
         self._good_from: datetime | None = None  # a GoodWeatherEvent's eta
 
     @property
+    def site(self) -> Site:
+        return self._site
+
+    @property
     def _name(self) -> str:
         return self._host.context_name
 
@@ -139,6 +143,23 @@ class ObservatoryControl:
         return await all_done(
             {"open the roof": open_roof(), "initialise the telescope": init_telescope()}, who=self._name
         )
+
+    async def track(self, ra: float, dec: float) -> None:
+        """Slew to ICRS (ra, dec) and track it; a slew cancelled on the way is stopped.
+
+        Raises:
+            NightcrewError: The telescope refused or failed the move.
+        """
+        telescope = await self._host.proxy(self._telescope, ITelescope)
+        try:
+            await telescope.move_radec(ra, dec)
+        except asyncio.CancelledError:
+            # A slew left running would refuse the next task's move (the telescope is busy).
+            try:
+                await telescope.stop_motion()
+            except NightcrewError as exc:
+                log.warning("%s: could not stop the slew: %s", self._name, exc)
+            raise
 
     async def close_and_park(self, reason: str) -> bool:
         """Close the roof and park the telescope at the same time; False (logged) if either failed."""

@@ -1,0 +1,114 @@
+"""Focus series run on a tracked field: the mastermind's own (at dusk, after the flats) and AUTO_FOCUS tasks.
+
+A probe stands in for the focus module and asks the simulated telescope, at the start and the end of
+its series, whether it tracks and where it really points (ISimTelescopeTruth). A telescope left at
+an alt/az position (as by the flat-field pointing) lets the sky drift by 15"/s, 0.1° in a 30 s series.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from datetime import timedelta
+from typing import Any
+
+import pytest
+
+from nightcrew.astro import angular_separation, radec_to_altaz
+from nightcrew.interfaces import IAutoFocus, ITelescope, MotionStatus
+from nightcrew.modules import Module
+from nightcrew.modules.sim.interfaces import ISimTelescopeTruth
+from nightcrew.robotic.archives import ScheduleEntry
+from nightcrew.robotic.scripts import AutoFocusScript
+from nightcrew.robotic.tasks import TaskState
+from tests.modules.conftest import SITE
+
+from .runner_sim import PLEIADES, ProgressLog, SimSetup, make_task, sim
+from .test_mastermind_sim import Parts, group, parts, start_mastermind, start_night
+
+__all__ = ["parts", "sim"]
+
+SERIES_S = 30.0
+#: Where the true pointing may move while tracking: drift 1"/min and 5" periodic error, with margin.
+TRACKED_ARCSEC = 20.0
+
+
+@dataclass(frozen=True)
+class Look:
+    """What the probe saw at one moment of its series."""
+
+    t: float
+    status: MotionStatus
+    true_radec: tuple[float, float]
+
+
+class FocusProbe(Module, IAutoFocus):
+    """A stand-in focus module: each series looks at the telescope at its start and end."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.series: list[tuple[Look, Look]] = []
+
+    async def auto_focus(self, count: int, step: float, exposure_time: float) -> tuple[float, float]:
+        first = await self._look()
+        await self.clock.sleep(SERIES_S)
+        self.series.append((first, await self._look()))
+        return 25.0, 0.01
+
+    async def _look(self) -> Look:
+        telescope = await self.proxy("telescope", ITelescope)
+        truth = await self.proxy("telescope", ISimTelescopeTruth)
+        return Look(self.clock.time(), await telescope.get_motion_status(), await truth.get_true_radec())
+
+    async def auto_focus_status(self) -> dict[str, Any]:
+        return {}
+
+    async def abort(self) -> None:
+        pass
+
+
+def assert_tracked(first: Look, last: Look) -> None:
+    moved = angular_separation(*first.true_radec, *last.true_radec) * 3600.0
+    print(f'\nseries of {last.t - first.t:.0f} s: {first.status} .. {last.status}, field moved {moved:.1f}"')
+    assert first.status is MotionStatus.TRACKING and last.status is MotionStatus.TRACKING
+    assert moved < TRACKED_ARCSEC
+
+
+async def test_the_mastermind_focuses_on_a_tracked_field_not_where_the_flats_left_the_telescope(
+    parts: Parts,
+) -> None:
+    site = await start_night(parts, [group(PLEIADES)], [{"at": 0, "temperature": 8.0}])
+    clock = site.obs.clock
+    probe = await site.obs.start(FocusProbe, "probe")
+    await site.telescope.init()
+    await site.telescope.move_altaz(80.0, 90.0)  # as the flat-field pointing leaves it: not tracking
+    (task,) = site.tasks
+    now = clock.now()
+    await site.archive.write_schedule(
+        [ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now
+    )
+    await start_mastermind(site, autofocus="probe", focus_altitude=60.0)
+
+    start = clock.time()
+    while (await site.archive.get_task(task.id)).state is not TaskState.COMPLETED:
+        assert clock.time() - start < 1800, "the task did not complete"
+        await clock.sleep(10.0)
+    ((first, last),) = probe.series  # focused before the task
+    assert_tracked(first, last)
+    # The default field: on the meridian towards the equator, at focus_altitude when the series began.
+    alt, az = radec_to_altaz(*first.true_radec, SITE.latitude, SITE.longitude, first.t)
+    assert alt == pytest.approx(60.0, abs=0.2) and az == pytest.approx(180.0, abs=0.5)
+
+
+async def test_an_auto_focus_task_tracks_its_target(sim: SimSetup) -> None:
+    probe = await sim.obs.start(FocusProbe, "probe")
+    await sim.telescope.move_altaz(80.0, 90.0)
+    runner = await sim.runner({"AUTO_FOCUS": AutoFocusScript(focus="probe")})
+    focus_frames = {"exposure_time": 2.0, "exposure_count": 7}
+    task = make_task({"type": "AUTO_FOCUS", "target": PLEIADES, "instrument_configs": [focus_frames]})
+    await runner.run_task(task, ProgressLog())
+
+    ((first, last),) = probe.series
+    assert_tracked(first, last)
+    ra, dec = PLEIADES["ra"], PLEIADES["dec"]
+    assert isinstance(ra, float) and isinstance(dec, float)
+    assert angular_separation(*first.true_radec, ra, dec) < 0.1  # within the pointing error of 1'
