@@ -271,27 +271,37 @@ def _seconds(text: str) -> float:
 
 
 def focus_section(night: Night) -> str:
-    from nightcrew.focus import FocusSeriesError, fit_focus_hyperbola
-
     parts = []
     for record in night.of(FOCUS_SERIES):
         measurements = [(float(p), float(w)) for p, w in record.data.get("measurements", [])]
         series = [Series("measured FWHM", measurements)]
-        best, error = record.data.get("focus", math.nan), record.data.get("error", math.nan)
-        caption = f"{clock(record.t)}: best focus {best:.3f} ± {error:.3f} mm"
-        try:
-            fit = fit_focus_hyperbola([p for p, _ in measurements], [w for _, w in measurements])
-        except FocusSeriesError as exc:
-            caption += f" (no fit here: {exc})"
+        failed = record.data.get("failed")
+        if failed is not None:  # no best focus, the focus stayed as it was: no refused fit drawn
+            caption = f"{clock(record.t)}: focus series failed: {failed}"
         else:
-            positions = [p for p, _ in measurements]
-            grid = _steps(min(positions), max(positions), (max(positions) - min(positions)) / 60 or 1.0)
-            curve = [(f, math.hypot(fit.min_width, fit.slope * (f - fit.focus))) for f in grid]
-            series.append(Series("hyperbola fit", curve, colour="#d62728", dots=False, line=True))
+            best, error = record.data.get("focus", math.nan), record.data.get("error", math.nan)
+            fit, note = _hyperbola(measurements)
+            caption = f"{clock(record.t)}: best focus {best:.3f} ± {error:.3f} mm{note}"
+            if fit is not None:
+                series.append(fit)
         parts.append(
             f"<p>{escape(caption)}</p>" + xy_chart(series, x_label="focus [mm]", y_label="FWHM [px]")
         )
     return "".join(parts) or "<p><em>no focus series succeeded</em></p>"
+
+
+def _hyperbola(measurements: list[tuple[float, float]]) -> tuple[Series | None, str]:
+    """The fitted curve through a series' (position, width) points, or None and why not."""
+    from nightcrew.focus import FocusSeriesError, fit_focus_hyperbola
+
+    positions = [p for p, _ in measurements]
+    try:
+        fit = fit_focus_hyperbola(positions, [w for _, w in measurements])
+    except FocusSeriesError as exc:
+        return None, f" (no fit here: {exc})"
+    grid = _steps(min(positions), max(positions), (max(positions) - min(positions)) / 60 or 1.0)
+    curve = [(f, math.hypot(fit.min_width, fit.slope * (f - fit.focus))) for f in grid]
+    return Series("hyperbola fit", curve, colour="#d62728", dots=False, line=True), ""
 
 
 def flats_section(fits: dict[tuple[str, str], Any]) -> str:
