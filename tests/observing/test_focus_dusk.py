@@ -9,6 +9,7 @@ where stars are 41 % wider). A dusk focus must land within 0.05 mm of the simula
 from __future__ import annotations
 
 from collections.abc import AsyncIterator
+from datetime import datetime
 from itertools import pairwise
 
 import pytest
@@ -17,13 +18,14 @@ from nightcrew.clock import AcceleratedClock
 from nightcrew.events import FocusFoundEvent
 from nightcrew.modules.focus.series import AutoFocusSeries
 from nightcrew.modules.sim import SimFilterWheel, SimFocuser
-from tests.modules.conftest import Observatory
+from nightcrew.robotic.mastermind import FocusField
+from tests.modules.conftest import SITE, Observatory
 from tests.modules.test_sim_camera import observatory_module, start_observatory
 
 #: The Sun at -10°: right after the sky flats, when the mastermind focuses.
 DUSK = "2026-11-10T16:42:00+00:00"
-#: Where the flat-field pointing leaves the telescope then (80° high in the east, Cepheus/Cygnus).
-FIELD = (326.6, 53.5)
+#: Where the mastermind focuses then, tracked: its default field, 75° high on the meridian (Cygnus).
+FIELD = FocusField(75.0, 180.0).radec(SITE, datetime.fromisoformat(DUSK).timestamp())
 TOLERANCE_MM = 0.05
 
 
