@@ -3,12 +3,14 @@
 Fast low-precision functions (no astropy at run time, no clock, no I/O), shared by the devices,
 the simulator, the scheduler, the mastermind and the reports, so each formula exists once:
 
-- :mod:`.time`: Julian date and local sidereal time.
+- :mod:`.time`: Julian date, modified Julian date, Julian year and local sidereal time.
 - :mod:`.coords`: precession, (ra, dec) ↔ (alt, az), separations, airmass, sexagesimal text.
 - :mod:`.sun`: the Sun's position and altitude, its crossings of an altitude, astronomical dusk.
 - :mod:`.moon`: the Moon's position, altitude and illuminated fraction.
 
-All angles in degrees, azimuth east of north, times as Unix seconds (UTC).
+All angles in degrees, azimuth east of north, times as Unix seconds (UTC). Every function of time
+takes one time (a float: computed with ``math``, a few microseconds) or a numpy array of times (one
+vectorised call instead of a loop); both run the same formula (:mod:`._math`).
 """
 
 from nightcrew.astro.coords import (
@@ -32,7 +34,7 @@ from nightcrew.astro.sun import (
     sun_crossing,
     sun_radec,
 )
-from nightcrew.astro.time import julian_date, local_sidereal_time
+from nightcrew.astro.time import julian_date, julian_year, local_sidereal_time, modified_julian_date
 
 __all__ = [
     "ASTRONOMICAL_TWILIGHT",
@@ -44,8 +46,10 @@ __all__ = [
     "format_dec",
     "format_ra",
     "julian_date",
+    "julian_year",
     "local_noon",
     "local_sidereal_time",
+    "modified_julian_date",
     "moon_altitude",
     "moon_illumination",
     "moon_radec",

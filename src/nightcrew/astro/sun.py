@@ -2,7 +2,8 @@
 
 The position comes from the low-precision formulae of the Astronomical Almanac (about 0.01° over
 1950-2050, in the mean equator of date; we skip precession to J2000, ~0.4° in 2026, far below what
-twilight limits and sky brightness need). All angles in degrees, times as Unix seconds (UTC).
+twilight limits and sky brightness need). All angles in degrees, times as Unix seconds (UTC), one
+or a numpy array of them.
 """
 
 from __future__ import annotations
@@ -11,6 +12,9 @@ import math
 from collections.abc import Callable
 from datetime import UTC, date, datetime
 
+import numpy as np
+
+from nightcrew.astro._math import DEG, Real, elementary
 from nightcrew.astro.coords import ecliptic_to_equatorial, from_unit_vector, radec_to_altaz
 from nightcrew.astro.time import J2000, julian_date
 from nightcrew.site import Site
@@ -30,25 +34,23 @@ __all__ = [
 ASTRONOMICAL_TWILIGHT = -18.0
 
 
-def sun_radec(unix_time: float) -> tuple[float, float]:
-    """Apparent (ra, dec) of the Sun to ~0.01° (mean equator of date)."""
+def sun_radec(unix_time: Real) -> tuple[Real, Real]:
+    """Apparent (ra, dec) of the Sun to ~0.01° (mean equator of date), at one time or an array."""
+    xp = elementary(unix_time)
     n = julian_date(unix_time) - J2000
     mean_longitude = 280.460 + 0.9856474 * n
-    mean_anomaly = math.radians(357.528 + 0.9856003 * n)
-    ecliptic_longitude = (
-        mean_longitude + 1.915 * math.sin(mean_anomaly) + 0.020 * math.sin(2.0 * mean_anomaly)
-    )
-    ra, dec = from_unit_vector(ecliptic_to_equatorial(ecliptic_longitude, 0.0, 23.439 - 0.0000004 * n))
-    return float(ra), float(dec)
+    mean_anomaly = (357.528 + 0.9856003 * n) * DEG
+    ecliptic_longitude = mean_longitude + 1.915 * xp.sin(mean_anomaly) + 0.020 * xp.sin(2.0 * mean_anomaly)
+    return from_unit_vector(ecliptic_to_equatorial(ecliptic_longitude, 0.0, 23.439 - 0.0000004 * n, xp), xp)
 
 
-def sun_altitude(latitude: float, longitude: float, unix_time: float) -> float:
-    """Altitude of the Sun's centre seen from the site (no refraction)."""
+def sun_altitude(latitude: float, longitude: float, unix_time: Real) -> Real:
+    """Altitude of the Sun's centre seen from the site (no refraction), at one time or an array."""
     alt, _ = radec_to_altaz(*sun_radec(unix_time), latitude, longitude, unix_time)
     return alt
 
 
-def sun_altaz(site: Site, unix_time: float) -> tuple[float, float]:
+def sun_altaz(site: Site, unix_time: Real) -> tuple[Real, Real]:
     """(altitude, azimuth) of the Sun in degrees at ``unix_time``, azimuth east of north."""
     return radec_to_altaz(*sun_radec(unix_time), site.latitude, site.longitude, unix_time)
 
@@ -74,30 +76,28 @@ def sun_crossing(
 ) -> float:
     """Unix time of the first crossing of ``altitude`` by the Sun after ``after`` (to a second).
 
-    The Sun is sampled every ``step`` seconds and the crossing bisected; the result is the first
-    second found on the far side (above when ``rising``, at or below when setting).
+    The Sun is sampled every ``step`` seconds (in one array call) and the crossing bisected; the
+    result is the first second found on the far side (above when ``rising``, at or below when
+    setting).
 
     Raises:
         ValueError: no such crossing ``within`` seconds (polar day or night).
     """
-
-    def beyond(t: float) -> bool:  # on the far side of the crossing
-        above = sun_altitude(site.latitude, site.longitude, t) > altitude
-        return above if rising else not above
-
-    t = after
-    while beyond(t):  # start on the near side
-        t += step
-        if t > after + within:
-            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
-    while not beyond(t + step):
-        t += step
-        if t > after + within:
-            raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
-    low, high = t, t + step
+    # The samples in one array call: the first on the near side (the search starts by getting past
+    # a crossing it is beyond already), then the first beyond it, each no further than ``within``
+    # from ``after`` (the far one may be a step more).
+    times = after + step * np.arange(math.floor(within / step) + 3, dtype=np.float64)
+    far = (sun_altitude(site.latitude, site.longitude, times) > altitude) == rising
+    in_window = times <= after + within
+    near = np.flatnonzero(~far & in_window)
+    crossed = np.flatnonzero(far[near[0] + 1 :] & in_window[near[0] : -1]) if near.size else near
+    if not crossed.size:
+        raise ValueError(f"the Sun does not cross {altitude}° within {within / 3600:g} h")
+    low, high = float(times[near[0] + crossed[0]]), float(times[near[0] + crossed[0] + 1])
     while high - low > 1.0:
         middle = (low + high) / 2.0
-        low, high = (low, middle) if beyond(middle) else (middle, high)
+        beyond = (sun_altitude(site.latitude, site.longitude, middle) > altitude) == rising
+        low, high = (low, middle) if beyond else (middle, high)
     return high
 
 
