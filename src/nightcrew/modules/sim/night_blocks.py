@@ -14,8 +14,11 @@ must then start early, while the sky is still bright enough.
 from __future__ import annotations
 
 import functools
+import math
 from datetime import datetime
 from typing import Any
+
+import numpy as np
 
 from nightcrew.astro import sun_altitude
 from nightcrew.robotic.archives import SqliteTaskArchive, TaskArchive
@@ -76,13 +79,12 @@ def _twilight_seconds(site: Site, start: datetime, end: datetime, low: float, hi
     """Seconds (to a minute) between ``start`` and ``end`` with the Sun between ``low`` and ``high``.
 
     Cached: the scheduler asks for the blocks every poll (a few times a wall second on a fast
-    clock), and a minute-by-minute Sun over a night window took tens of ms each time.
+    clock); the Sun at every minute of a night window is one array call of about 0.3 ms.
     """
-    t, stop, inside = start.timestamp(), end.timestamp(), 0
-    while t < stop:
-        inside += low <= sun_altitude(site.latitude, site.longitude, t) <= high
-        t += 60.0
-    return 60.0 * inside
+    t0 = start.timestamp()
+    minutes = t0 + 60.0 * np.arange(math.ceil((end.timestamp() - t0) / 60.0), dtype=np.float64)
+    altitude = sun_altitude(site.latitude, site.longitude, minutes)
+    return 60.0 * int(np.count_nonzero((low <= altitude) & (altitude <= high)))
 
 
 class NightBlockSource(BlockSource):

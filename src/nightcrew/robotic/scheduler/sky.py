@@ -6,7 +6,8 @@ and a constraint holds on a slice when it holds at both its edges (within 5 minu
 separation change monotonically, so this is exact up to turning points).
 
 Sun, Moon and target altitudes come from :mod:`nightcrew.astro` (Moon to ~0.3°, geocentric; targets
-to about an arcminute, vectorised over targets and edges with one precession at mid-night).
+to about an arcminute), each in one array call over the edges (targets: over targets and edges,
+with one precession at mid-night).
 """
 
 from __future__ import annotations
@@ -69,10 +70,9 @@ class SkyGrid:
         edges = grid.edges
         self.edges = edges
         lat, lon = site.latitude, site.longitude
-        self.sun_altitude = np.array([sun_altitude(lat, lon, float(t)) for t in edges])
-        moon = np.array([moon_radec(float(t)) for t in edges]).reshape(-1, 2)
-        self.moon_ra, self.moon_dec = moon[:, 0], moon[:, 1]
-        self.moon_illumination = np.array([moon_illumination(float(t)) for t in edges])
+        self.sun_altitude = sun_altitude(lat, lon, edges)
+        self.moon_ra, self.moon_dec = moon_radec(edges)
+        self.moon_illumination = moon_illumination(edges)
         middle = grid.start + grid.step * grid.n_slices / 2
         positions = np.array([b.target.position_at(middle) for b in self.blocks]).reshape(-1, 2)
         self.target_ra, self.target_dec = positions[:, 0], positions[:, 1]
