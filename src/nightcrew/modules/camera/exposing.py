@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from nightcrew.astro import modified_julian_date
 from nightcrew.errors import (
     AbortedError,
     ConfigError,
@@ -228,7 +229,7 @@ class ExposingModule(Module, IAbortable, IExposure):
 
 def _time_cards(unix_time: float) -> dict[str, FitsCard]:
     start = datetime.fromtimestamp(unix_time, UTC)
-    mjd = unix_time / 86400.0 + 40587.0
+    mjd = modified_julian_date(unix_time)
     return {
         "DATE-OBS": (start.strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3], "UTC start of exposure"),
         "MJD-OBS": (round(mjd, 8), "Modified Julian date of start of exposure"),

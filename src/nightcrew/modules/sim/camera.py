@@ -25,6 +25,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from nightcrew.astro import julian_year
 from nightcrew.errors import ConfigError, InterfaceError, NightcrewError
 from nightcrew.interfaces import (
     Binning,
@@ -219,8 +220,8 @@ class SimCamera(BaseCamera):
         geometry = render.frame_geometry(self._detector, self._optics, exposure)
         stars = StarFieldCache.empty()
         if conditions.roof_open and scene.true_radec is not None:
-            # Epoch of the star positions: the clock's Julian year.
-            jyear = 2000.0 + (start / 86400.0 + 2440587.5 - 2451545.0) / 365.25
+            # The star positions at the clock's epoch (proper motion).
+            jyear = julian_year(start)
             with self._stars_lock:
                 stars = self._stars.stars(*scene.true_radec, render.field_radius_deg(geometry), jyear)
         pointing = projection.Pointing(*(scene.true_radec or (0.0, 0.0)))

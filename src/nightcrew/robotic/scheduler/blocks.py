@@ -12,15 +12,11 @@ import math
 from dataclasses import dataclass, field
 from datetime import datetime
 
+from nightcrew.astro import julian_year
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.site import Site
 
 __all__ = ["Constraints", "Night", "SchedulableBlock", "Schedule", "ScheduledSlot", "Target"]
-
-#: Julian year in seconds, for proper motion.
-_JULIAN_YEAR = 365.25 * 86400.0
-#: Unix time of J2000.0 (2000-01-01T12:00:00 TT, ~64 s earlier in UTC: far below our accuracy).
-_J2000_UNIX = 946728000.0
 
 
 def _check_aware(value: datetime, what: str) -> None:
@@ -48,7 +44,7 @@ class Target:
 
     def position_at(self, unix_time: float) -> tuple[float, float]:
         """(ra, dec) in degrees at ``unix_time``, moved along the proper motion (linear)."""
-        years = (unix_time - _J2000_UNIX) / _JULIAN_YEAR + 2000.0 - self.epoch
+        years = julian_year(unix_time) - self.epoch
         dec = self.dec + self.pm_dec * years / 3.6e6
         cos_dec = max(math.cos(math.radians(self.dec)), 1e-9)
         ra = self.ra + self.pm_ra_cosdec * years / 3.6e6 / cos_dec
