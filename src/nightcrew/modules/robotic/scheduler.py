@@ -20,8 +20,8 @@ from nightcrew.errors import ConfigError
 from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.modules.module import Module
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
-from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_store
-from nightcrew.robotic.scheduler.ports import BlockSource, MemoryScheduleStore, ScheduleStore, night_around
+from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_writer
+from nightcrew.robotic.scheduler.ports import BlockSource, MemoryScheduleStore, ScheduleWriter, night_around
 from nightcrew.robotic.scheduler.scheduler import SolverName
 
 __all__ = ["SchedulerModule"]
@@ -37,8 +37,8 @@ class SchedulerModule(Module):
     Args:
         archive: Where the blocks come from: a block source or an archive of
             :mod:`nightcrew.robotic.archives` (an object or its description).
-        store: Where the schedule goes: a store of slots or an archive's schedule store; in memory
-            by default.
+        store: Where the schedule goes: a schedule writer or an archive's schedule store; in memory
+            (:class:`~nightcrew.robotic.scheduler.ports.MemoryScheduleStore`) by default.
         solver: ``mip`` (optimal) or ``priority`` (astroplan's greedy).
         step_s: Time slice of the scheduler, seconds.
         slew_overhead_s: Worst-case slew and settling added to every block, seconds.
@@ -51,7 +51,7 @@ class SchedulerModule(Module):
         self,
         *,
         archive: BlockSource | dict[str, Any],
-        store: ScheduleStore | dict[str, Any] | None = None,
+        store: ScheduleWriter | dict[str, Any] | None = None,
         solver: SolverName = "mip",
         step_s: float = 300.0,
         slew_overhead_s: float = 100.0,
@@ -65,7 +65,7 @@ class SchedulerModule(Module):
         archive_object = self.add_child(_built(archive, "archive"))
         store_object = self.add_child(_built(store or MemoryScheduleStore(), "store"))
         self._archive: BlockSource = _adapted(as_block_source, archive_object, "archive")
-        self._store: ScheduleStore = _adapted(as_schedule_store, store_object, "store")
+        self._store: ScheduleWriter = _adapted(as_schedule_writer, store_object, "store")
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
         )

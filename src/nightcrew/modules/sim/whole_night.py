@@ -36,7 +36,7 @@ from nightcrew.modules.sim.whole_night_plan import one_window_each, samples_for_
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
-from nightcrew.robotic.scheduler.adapters import as_schedule_store
+from nightcrew.robotic.scheduler.adapters import as_schedule_writer
 from nightcrew.site import Site
 
 __all__ = ["EVENTS_FILE", "FRAMES", "NightProgress", "WholeNight", "run_whole_night"]
@@ -101,7 +101,7 @@ async def run_whole_night(
         robotic: dict[str, dict[str, Any]] = {
             "scheduler": {
                 "archive": NightBlockSource(archive=archive, site=site),
-                "store": as_schedule_store(archive),
+                "store": as_schedule_writer(archive),
             },
             "mastermind": {"archive": archive},
             "recorder": {"path": str(out_dir / EVENTS_FILE)},

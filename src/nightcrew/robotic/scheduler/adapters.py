@@ -11,13 +11,13 @@ from datetime import datetime
 
 from nightcrew.robotic import archives
 from nightcrew.robotic.scheduler.blocks import ScheduledSlot
-from nightcrew.robotic.scheduler.ports import BlockSource, ScheduleStore
+from nightcrew.robotic.scheduler.ports import BlockSource, ScheduleWriter
 from nightcrew.robotic.tasks.blocks import ArchiveBlockSource
 
-__all__ = ["ArchiveScheduleStore", "as_block_source", "as_schedule_store"]
+__all__ = ["ArchiveScheduleWriter", "as_block_source", "as_schedule_writer"]
 
 
-class ArchiveScheduleStore:
+class ArchiveScheduleWriter:
     """Writes schedules into an archive's schedule store, from the planning time on."""
 
     def __init__(self, store: archives.ScheduleStore) -> None:
@@ -38,10 +38,10 @@ def as_block_source(value: object) -> BlockSource:
     raise TypeError(f"expected a task archive or a block source, got {type(value).__name__}")
 
 
-def as_schedule_store(value: object) -> ScheduleStore:
-    """``value`` as a schedule store: an archive's store is wrapped, a store of slots kept."""
+def as_schedule_writer(value: object) -> ScheduleWriter:
+    """``value`` as a schedule writer: an archive's schedule store is wrapped, a writer kept."""
     if isinstance(value, archives.ScheduleStore):
-        return ArchiveScheduleStore(value)
-    if isinstance(value, ScheduleStore):
+        return ArchiveScheduleWriter(value)
+    if isinstance(value, ScheduleWriter):
         return value
-    raise TypeError(f"expected a schedule store, got {type(value).__name__}")
+    raise TypeError(f"expected a schedule store or a schedule writer, got {type(value).__name__}")

@@ -1,9 +1,9 @@
 """What the scheduler module needs from the outside world, as minimal protocols, and the night.
 
 A block source offers the blocks still to observe (over a task archive: YAML, SQLite, LCO portal
-...; see :mod:`.adapters`); a schedule store keeps the plan the mastermind reads. Both are
-implemented elsewhere; :class:`MemoryScheduleStore` is the in-process store for the simulator and
-the tests.
+...; see :mod:`.adapters`); a schedule writer takes the plan, for the mastermind to read (from an
+archive's schedule store). Both are implemented elsewhere; :class:`MemoryScheduleStore` is the
+in-process writer for the simulator and the tests.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
 from nightcrew.site import Site
 
-__all__ = ["BlockSource", "MemoryScheduleStore", "ScheduleStore", "night_around"]
+__all__ = ["BlockSource", "MemoryScheduleStore", "ScheduleWriter", "night_around"]
 
 
 @runtime_checkable
@@ -34,8 +34,12 @@ class BlockSource(Protocol):
 
 
 @runtime_checkable
-class ScheduleStore(Protocol):
-    """Keeps the current schedule."""
+class ScheduleWriter(Protocol):
+    """Takes the current schedule.
+
+    Not a schedule store (:class:`nightcrew.robotic.archives.ScheduleStore`): the scheduler only
+    writes, and :func:`~nightcrew.robotic.scheduler.adapters.as_schedule_writer` wraps a store.
+    """
 
     async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
         """Replace the schedule by ``slots`` (ordered by start), planned at ``planned_at``."""
@@ -43,7 +47,7 @@ class ScheduleStore(Protocol):
 
 
 class MemoryScheduleStore:
-    """The schedule in memory, with the time it was planned at."""
+    """The schedule in memory, with the time it was planned at (a :class:`ScheduleWriter`)."""
 
     def __init__(self) -> None:
         self.slots: tuple[ScheduledSlot, ...] = ()
