@@ -1,12 +1,13 @@
 """Benchmark of the mastermind's early-start check while it waits for the next task.
 
-Run: ``.venv/bin/python -m bench.early_start [runs]`` in the checkout (it uses test helpers).
+Run: ``.venv/bin/python bench/early_start.py [runs]``.
 
 The mastermind looks at the world every ``poll_interval`` (30 clock s in the simulated night) and,
 while nothing is due, asks whether the next task may start early. Here it waits 30 min for a slot
-whose target rises at 22:17 (60 steps); the table gives the event-loop milliseconds of the whole
-wait (median and min of ``runs``), asking each step afresh (``startable_now``) and through
-``EarlyStarts``, which keeps the answer per (task, slot).
+whose target rises at 22:17 (60 steps; the task is ``early_start.yaml`` beside this file, the
+scenario of tests/robotic/test_mastermind_early_start.py); the table gives the event-loop
+milliseconds of the whole wait (median and min of ``runs``), asking each step afresh
+(``startable_now``) and through ``EarlyStarts``, which keeps the answer per (task, slot).
 """
 
 from __future__ import annotations
@@ -15,18 +16,25 @@ import statistics
 import sys
 import time
 from collections.abc import Callable
-from datetime import timedelta
-
-from tests.robotic.test_mastermind_decide import NOW, _task
-from tests.robotic.test_mastermind_early_start import RISING, SITE
+from datetime import UTC, datetime, timedelta
+from pathlib import Path
 
 from nightcrew.robotic.mastermind import EarlyStarts, Slot, SunLimits, startable_now
+from nightcrew.robotic.tasks import TaskState, TaskStatus, load_request_group_file, tasks_of_group
+from nightcrew.site import Site
 
+SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0)
+NOW = datetime(2024, 1, 15, 22, tzinfo=UTC)
 POLL, WAIT = timedelta(seconds=30), timedelta(minutes=30)
 STEPS = [NOW + POLL * i for i in range(int(WAIT / POLL))]
 
-
-TASK = _task([RISING])  # its target rises above airmass 2 at 22:17
+# Its target rises above airmass 2 at 22:17.
+(TASK,) = tasks_of_group(
+    load_request_group_file(Path(__file__).with_name("early_start.yaml")),
+    "g1",
+    ["7"],
+    [TaskStatus(state=TaskState.SCHEDULED)],
+)
 SLOT = Slot(
     task_id="7", name="rising", start=NOW + WAIT, end=NOW + 2 * WAIT, needs_sky=True, sun=SunLimits(-12.0)
 )
