@@ -25,12 +25,29 @@ TIMES = [1705356000.0, 1719792000.0, 1780000000.0]  # Jan 2024, Jul 2024, May 20
 
 @pytest.mark.parametrize("unix_time", TIMES)
 def test_sun_is_within_a_hundredth_of_a_degree_of_astropy(unix_time: float) -> None:
-    from astropy.coordinates import PrecessedGeocentric, get_body  # type: ignore[import-untyped]
+    from astropy.coordinates import get_body  # type: ignore[import-untyped]
     from astropy.time import Time  # type: ignore[import-untyped]
 
-    t = Time(unix_time, format="unix")
-    expected = get_body("sun", t).transform_to(PrecessedGeocentric(equinox=t))  # mean equator of date
+    expected = get_body("sun", Time(unix_time, format="unix"))  # GCRS: J2000 axes, from the Earth
     assert angular_separation(*sun_radec(unix_time), expected.ra.deg, expected.dec.deg) < 0.01
+
+
+@pytest.mark.parametrize("unix_time", TIMES)
+def test_sun_altitude_is_within_two_hundredths_of_a_degree_of_astropy(unix_time: float) -> None:
+    # Precessing the position twice (of date taken for J2000) put it ~0.36° off in 2026.
+    import astropy.units as u  # type: ignore[import-untyped]
+    from astropy.coordinates import AltAz, EarthLocation, get_body
+    from astropy.time import Time
+    from astropy.utils import iers  # type: ignore[import-untyped]
+
+    t = Time(unix_time, format="unix")
+    lon, lat, height = SITE.longitude * u.deg, SITE.latitude * u.deg, SITE.elevation * u.m
+    location = EarthLocation.from_geodetic(lon, lat, height)
+    with iers.conf.set_temp("auto_download", False), iers.conf.set_temp("iers_degraded_accuracy", "ignore"):
+        expected = get_body("sun", t, location).transform_to(AltAz(obstime=t, location=location))
+    alt, az = sun_altaz(SITE, unix_time)
+    assert abs(alt - expected.alt.deg) < 0.02
+    assert abs((az - expected.az.deg + 180.0) % 360.0 - 180.0) < 0.03
 
 
 def test_the_site_forms_agree() -> None:

@@ -1,9 +1,10 @@
 """The Sun seen from a site: position, altitude and the times it crosses an altitude.
 
 The position comes from the low-precision formulae of the Astronomical Almanac (about 0.01° over
-1950-2050, in the mean equator of date; we skip precession to J2000, ~0.4° in 2026, far below what
-twilight limits and sky brightness need). All angles in degrees, times as Unix seconds (UTC), one
-or a numpy array of them.
+1950-2050, in the mean equator of date), precessed back to J2000 like every other position here,
+so that :func:`~nightcrew.astro.coords.radec_to_altaz` (which precesses J2000 to the date) and
+separations from J2000 positions hold. All angles in degrees, times as Unix seconds (UTC), one or
+a numpy array of them.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from datetime import UTC, date, datetime
 import numpy as np
 
 from nightcrew.astro._math import DEG, Real, elementary
-from nightcrew.astro.coords import ecliptic_to_equatorial, from_unit_vector, radec_to_altaz
+from nightcrew.astro.coords import ecliptic_to_equatorial, from_unit_vector, precess, radec_to_altaz
 from nightcrew.astro.time import J2000, julian_date
 from nightcrew.site import Site
 
@@ -35,13 +36,14 @@ ASTRONOMICAL_TWILIGHT = -18.0
 
 
 def sun_radec(unix_time: Real) -> tuple[Real, Real]:
-    """Apparent (ra, dec) of the Sun to ~0.01° (mean equator of date), at one time or an array."""
+    """Geocentric J2000 (ra, dec) of the Sun to ~0.01°, at one time or an array."""
     xp = elementary(unix_time)
     n = julian_date(unix_time) - J2000
     mean_longitude = 280.460 + 0.9856474 * n
     mean_anomaly = (357.528 + 0.9856003 * n) * DEG
     ecliptic_longitude = mean_longitude + 1.915 * xp.sin(mean_anomaly) + 0.020 * xp.sin(2.0 * mean_anomaly)
-    return from_unit_vector(ecliptic_to_equatorial(ecliptic_longitude, 0.0, 23.439 - 0.0000004 * n, xp), xp)
+    of_date = ecliptic_to_equatorial(ecliptic_longitude, 0.0, 23.439 - 0.0000004 * n, xp)
+    return from_unit_vector(precess(of_date, unix_time, xp, inverse=True), xp)
 
 
 def sun_altitude(latitude: float, longitude: float, unix_time: Real) -> Real:
