@@ -252,6 +252,27 @@ def test_the_next_task_starts_early_when_it_can_be_observed_now() -> None:
     )
 
 
+def test_the_roof_stays_open_for_a_task_that_may_start_early_within_keep_open() -> None:
+    early = timedelta(minutes=30)
+    # Its slot is 25 min ahead (beyond keep_open) but it may start early in 10 min: closing now
+    # would mean opening again then.
+    soon = _slot("m33", 25, 60, early_from=NOW + timedelta(minutes=10))
+    assert decide(NIGHT, [soon], keep_open=KEEP_OPEN, early_start=early) == Wait(
+        "next: m33 at 22:25:00", until=soon.start
+    )
+    gap = CloseAndPark("no sky task within 15 min")
+    assert decide(NIGHT, [_slot("m33", 25, 60)], keep_open=KEEP_OPEN, early_start=early) == gap
+    later = _slot("m33", 25, 60, early_from=NOW + timedelta(minutes=16))
+    assert decide(NIGHT, [later], keep_open=KEEP_OPEN, early_start=early) == gap
+    # Bad weather and dawn still close at once.
+    bad = _at(NIGHT, weather_good=False)
+    assert decide(bad, [soon], keep_open=KEEP_OPEN, early_start=early) == CloseAndPark("the weather is bad")
+    dawn = _at(NIGHT, sun_altitude=-11.0, sun_rising=True)
+    assert decide(dawn, [soon], keep_open=KEEP_OPEN, early_start=early) == CloseAndPark(
+        "dawn: the Sun is at -11.0° and rising"
+    )
+
+
 # --- abort_cause -------------------------------------------------------------------------------
 
 

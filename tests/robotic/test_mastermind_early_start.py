@@ -4,9 +4,16 @@ from __future__ import annotations
 
 from datetime import UTC, datetime, timedelta
 
-from nightcrew.robotic.mastermind import EarlyStarts, observable_since, startable_now
+from nightcrew.robotic.mastermind import (
+    EarlyStarts,
+    Wait,
+    decide,
+    observable_since,
+    startable_from,
+    startable_now,
+)
 from nightcrew.site import Site
-from tests.robotic.test_mastermind_decide import EXPOSE, NOW, _slot, _task
+from tests.robotic.test_mastermind_decide import EXPOSE, KEEP_OPEN, NIGHT, NOW, _at, _slot, _task
 
 SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0)
 HIGH = {**EXPOSE, "target": {"name": "Capella", "ra": 79.17, "dec": 46.0}}
@@ -53,3 +60,25 @@ def test_early_starts_mark_the_next_slot_as_startable_now_does_and_follow_new_pl
     due = _slot("due", 20, 40)  # due at 22:25
     assert early.mark([due, slot], rising, later) == [due, slot]
     assert not EarlyStarts(SITE, timedelta(0)).mark([slot], rising, later)[0].startable_now
+
+
+def test_early_starts_mark_ahead_when_the_next_task_may_start_so_the_roof_stays_open_for_it() -> None:
+    early = EarlyStarts(SITE, timedelta(minutes=30), keep_open=KEEP_OPEN)
+    slot = _slot("7", 30, 60)
+    rising = {"7": _task([RISING])}
+    # Its target comes up at 22:17 (see above): the first minute startable_now says yes.
+    since = startable_from(rising["7"].request, SITE, slot.start, lookback=early.early_start)
+    assert since == NOW + timedelta(minutes=17)
+    assert startable_now(rising["7"], SITE, since, slot.start)
+    assert not startable_now(rising["7"], SITE, since - timedelta(minutes=1), slot.start)
+    at_five = NOW + timedelta(minutes=5)
+    marked = early.mark([slot], rising, at_five)[0]
+    assert (marked.early_from, marked.startable_now) == (since, False)
+    # The slot is 25 min ahead, the early start 12 min: the open roof waits for it.
+    five = _at(NIGHT, now=at_five)
+    assert decide(five, [marked], keep_open=KEEP_OPEN, early_start=early.early_start) == Wait(
+        "next: 7 at 22:30:00", until=slot.start
+    )
+    # Never startable before its slot, or beyond early_start + keep_open: not marked.
+    assert early.mark([slot], {"7": _task([LOW])}, at_five)[0].early_from is None
+    assert early.mark([slot], rising, NOW - timedelta(minutes=16))[0].early_from is None

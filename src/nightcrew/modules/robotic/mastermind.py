@@ -13,11 +13,11 @@ Decisions:
   until the first GoodWeatherEvent the weather is unknown, i.e. bad: the roof stays closed.
 * **Roof**: the mastermind opens the roof (and initialises the telescope) when a sky task is due
   and may run, and closes it and parks the telescope on bad weather, at dawn, at the end of the
-  schedule and before a gap longer than ``keep_open`` until the roof is used again - by a sky task,
-  or by the focus it opens up for ``keep_open`` before a task (so it does not close for a few
-  minutes at dusk). Bad weather, dawn, a stop and an error close at once. Roof and telescope also
-  close and park by themselves on a BadWeatherEvent; the mastermind does not rely on them, nor
-  they on it.
+  schedule and before a gap longer than ``keep_open`` until the roof is used again - by a sky task
+  (the next one from when it may start early, see below), or by the focus it opens up for
+  ``keep_open`` before a task (so it does not close for a few minutes at dusk). Bad weather, dawn,
+  a stop and an error close at once. Roof and telescope also close and park by themselves on a
+  BadWeatherEvent; the mastermind does not rely on them, nor they on it.
 * **Tasks**: an aborted task becomes FAILED with ``interrupted by <cause>: N of M exposures done``
   and its progress - FAILED tasks are schedulable, so it is back in the pool, never lost. It may run
   again in the same slot once the cause has passed (good weather), or where the scheduler puts it.
@@ -106,8 +106,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         temperature_sensor: The sensor of ``temperatures`` to use.
         max_sun_altitude: Highest Sun altitude for science tasks, degrees.
         twilight_max_sun_altitude: Highest Sun altitude for twilight (SKY_FLAT) tasks, degrees.
-        keep_open: Clock seconds the roof stays open waiting to be used again (a sky task, or the
-            focus run up to ``keep_open`` before a task that needs it); never in bad weather.
+        keep_open: Clock seconds the roof stays open waiting to be used again (a sky task - the
+            next one from when it may start early - or the focus run up to ``keep_open`` before a
+            task that needs it); never in bad weather.
         early_start: Clock seconds a task may start before its slot when it can be observed.
         poll_interval: Clock seconds between two looks at the world.
         abort_timeout: Clock seconds an aborted task may take to clean up.
@@ -195,12 +196,12 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         if not early_start >= 0:
             raise ConfigError(f"must be >= 0 seconds, got {early_start}", key="early_start")
         self._keep_open = timedelta(seconds=keep_open)
-        self._early = EarlyStarts(site, timedelta(seconds=early_start))
+        self._early = EarlyStarts(site, timedelta(seconds=early_start), keep_open=self._keep_open)
         self._schedule = ScheduleReader(
             self,
             store,
             self._archive,
-            horizon=max(2 * self._keep_open, self._early.early_start) + timedelta(hours=1),
+            horizon=self._keep_open + max(self._keep_open, self._early.early_start) + timedelta(hours=1),
             max_sun_altitude=max_sun_altitude,
             twilight_max_sun_altitude=twilight_max_sun_altitude,
         )

@@ -15,7 +15,8 @@ whether the task must stop. The rules, in order:
    now on (``startable_now``): it is taken as due (rule 2), so a task that ended early leaves no
    idle gap.
 4. Otherwise, with the roof open or the telescope unparked: it **stays open** only if it will be
-   used again within ``keep_open``: a sky task is due or starts within ``keep_open`` and the Sun
+   used again within ``keep_open``: a sky task is due or may start within ``keep_open`` - at its
+   slot, or the next one early, when it becomes startable (``early_from``, rule 3) - and the Sun
    allows it now (or is setting towards its limit), or - the focus due and the Sun low enough for
    it or setting - a task that needs the focus starts within twice ``keep_open`` (rule 5 opens up
    for that focus ``keep_open`` before the task: closing now would mean opening again within
@@ -137,6 +138,8 @@ class Slot:
         needs_focus: It images the sky and wants sharp stars (sky tasks but twilight flats).
         startable_now: Its task can be observed from now until ``start`` (window begun, target
             within its limits), so it may start early.
+        early_from: When it becomes startable before ``start`` (from then on ``startable_now``),
+            None: not before ``start``; the roof is kept open for it from then on (rule 4).
     """
 
     task_id: str
@@ -148,6 +151,7 @@ class Slot:
     may_run: bool = True
     needs_focus: bool = False
     startable_now: bool = False
+    early_from: datetime | None = None
 
     def is_due(self, now: datetime) -> bool:
         """Its slot has begun and not ended."""
@@ -305,8 +309,10 @@ def _keep_open(
     for slot in runnable:
         if not slot.needs_sky or not _sun_fits_soon(slot.sun, conditions):
             continue
-        # The focus for a task is run (opening up) keep_open before it (rule 5).
-        opens_at = slot.start - keep_open if focus_soon and slot.needs_focus else slot.start
+        # An early start (rule 3) opens up before the slot; the focus keep_open before it (rule 5).
+        opens_at = slot.early_from or slot.start
+        if focus_soon and slot.needs_focus:
+            opens_at = min(opens_at, slot.start - keep_open)
         if opens_at <= horizon:
             return True
     return False

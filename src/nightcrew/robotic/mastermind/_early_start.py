@@ -1,4 +1,4 @@
-"""Whether the next task may start before its slot: observable from now on, computed once per slot."""
+"""When the next task may start before its slot: observable from then on, computed once per slot."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from dataclasses import replace
 from datetime import datetime, timedelta
 
 from nightcrew.robotic.mastermind._decide import Slot
-from nightcrew.robotic.mastermind._tasks import observable_since, window_begun
+from nightcrew.robotic.mastermind._tasks import startable_from
 from nightcrew.robotic.tasks import Request, Task
 from nightcrew.site import Site
 
@@ -15,44 +15,45 @@ __all__ = ["EarlyStarts"]
 
 
 class EarlyStarts:
-    """Marks the next slot ``startable_now`` when its task may start up to ``early_start`` early.
+    """Marks when the next slot's task may start up to ``early_start`` early, and if it may now.
 
-    Since when a task is observable before its slot needs a small sky grid (from the first time it
-    is asked until the slot); the mastermind asks at every step while it waits, so the answer is
-    kept per (task, slot start) and holds for every later step - a new plan or a changed request
-    computes it again.
+    The next slot, once it starts within ``early_start`` + ``keep_open``, gets ``early_from`` (when
+    it becomes startable, :func:`startable_from`) - so :func:`decide` keeps the roof open for it -
+    and ``startable_now`` from then on. That needs a small sky grid over ``early_start`` before the
+    slot; the mastermind asks at every step while it waits, so the answer is kept per (task, slot
+    start) - a new plan or a changed request computes it again.
 
     Args:
         site: Where the observatory is.
         early_start: How long before its slot a task may start; zero: never early.
+        keep_open: How long before it may start early the next slot is marked (``early_from``).
     """
 
-    def __init__(self, site: Site, early_start: timedelta) -> None:
-        self._site, self.early_start = site, early_start
-        self._since: dict[tuple[str, datetime], tuple[Request, datetime | None]] = {}
+    def __init__(self, site: Site, early_start: timedelta, *, keep_open: timedelta = timedelta(0)) -> None:
+        self._site, self.early_start, self._keep_open = site, early_start, keep_open
+        self._from: dict[tuple[str, datetime], tuple[Request, datetime | None]] = {}
 
     def mark(self, slots: Sequence[Slot], tasks: Mapping[str, Task], now: datetime) -> list[Slot]:
-        """``slots`` with the next one marked startable now if nothing is due and its task may start."""
+        """``slots`` with the next one marked if nothing is due and its task may start early."""
         if not self.early_start or any(s.is_due(now) and s.may_run for s in slots):
             return list(slots)
-        upcoming = [s for s in slots if s.may_run and now < s.start <= now + self.early_start]
+        reach = now + self.early_start + self._keep_open
+        upcoming = [s for s in slots if s.may_run and now < s.start <= reach]
         if not upcoming:
             return list(slots)
         first = min(upcoming, key=lambda s: s.start)
-        if not self._startable(tasks[first.task_id], first.start, now):
+        since = self._early_from(tasks[first.task_id], first.start, now)
+        if since is None:
             return list(slots)
-        return [replace(s, startable_now=True) if s is first else s for s in slots]
+        marked = replace(first, early_from=since, startable_now=since <= now)
+        return [marked if s is first else s for s in slots]
 
-    def _startable(self, task: Task, start: datetime, now: datetime) -> bool:
-        request = task.request
-        if not window_begun(request, now, start):
-            return False
+    def _early_from(self, task: Task, start: datetime, now: datetime) -> datetime | None:
         key = (task.id, start)
-        known = self._since.get(key)
-        if known is None or known[0] != request:
+        known = self._from.get(key)
+        if known is None or known[0] != task.request:
             # Slots that have begun are no longer asked about: keep only those still ahead.
-            self._since = {k: v for k, v in self._since.items() if k[1] > now}
-            known = (request, observable_since(request, self._site, start, lookback=start - now))
-            self._since[key] = known
-        since = known[1]
-        return since is not None and since <= now
+            self._from = {k: v for k, v in self._from.items() if k[1] > now}
+            known = (task.request, startable_from(task.request, self._site, start, lookback=self.early_start))
+            self._from[key] = known
+        return known[1]

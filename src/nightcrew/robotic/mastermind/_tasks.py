@@ -21,6 +21,7 @@ __all__ = [
     "observable_since",
     "planned_exposures",
     "slot_for",
+    "startable_from",
     "startable_now",
     "sun_limits",
     "task_cards",
@@ -88,10 +89,19 @@ def startable_now(task: Task, site: Site, now: datetime, start: datetime) -> boo
     Its window must have begun (:func:`window_begun`) and its request be observable from ``now``
     until ``start`` (:func:`observable_since`): from there on the scheduler found it observable.
     """
-    if not window_begun(task.request, now, start):
-        return False
-    since = observable_since(task.request, site, start, lookback=start - now)
+    since = startable_from(task.request, site, start, lookback=start - now)
     return since is not None and since <= now
+
+
+def startable_from(request: Request, site: Site, start: datetime, *, lookback: timedelta) -> datetime | None:
+    """The first time, at most ``lookback`` before ``start``, from which ``request`` may start early.
+
+    From then on until ``start`` one of its windows has begun (:func:`window_begun`) and it is
+    observable (:func:`observable_since`); None when it may not start before ``start``.
+    """
+    opened = [w.start for w in request.windows if w.start <= start <= w.end]
+    since = observable_since(request, site, start, lookback=lookback) if opened else None
+    return None if since is None else max(since, min(opened), start - lookback)
 
 
 def window_begun(request: Request, now: datetime, start: datetime) -> bool:
