@@ -117,7 +117,10 @@ class Seeing(Module, IFitsHeaderBefore):
         if event.image_type is not None and event.image_type not in self._image_types:
             return False
         try:
-            image = await self._measure(await Image.from_vfs(self.vfs, event.filename))
+            # Not on the observing path, but in a one-process simulation it holds the GIL the
+            # others need: at real time it stalls them for its wall time only (Clock.computing).
+            with self.clock.computing():
+                image = await self._measure(await Image.from_vfs(self.vfs, event.filename))
             value = self.seeing_of(image)
         except (NightcrewError, ValueError) as exc:
             log.info("%s: no seeing from %s: %s", self.name, event.filename, exc)
