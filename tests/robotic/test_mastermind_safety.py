@@ -46,7 +46,10 @@ async def test_without_weather_information_the_roof_stays_closed_then_stop_and_d
 ) -> None:
     obs, archive = parts
     obs.clock = archive.clock = AcceleratedClock("2024-01-16T05:45:00+00:00", speed=SPEED)
-    night = await start_night(parts, [group(ARCTURUS, count=40, exposure_time=30.0)])
+    # The Sun reaches -12° at 05:58. The mastermind starts a task only if its estimate ends before
+    # that; a camera far slower than estimated (120 s read-outs, 2 s assumed) runs it into dawn.
+    groups = [group(ARCTURUS, count=8, exposure_time=30.0)]
+    night = await start_night(parts, groups, readout_time=120.0)
     (task,) = night.tasks
     now = obs.clock.now()
     await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
@@ -73,7 +76,7 @@ async def test_without_weather_information_the_roof_stays_closed_then_stop_and_d
     print(f"\nstopped: closed and parked {await _wait(night, 'stop', lambda: failed(1), 60.0):.0f} s later")
     first = rec.of(TaskFailedEvent)[0].reason
     assert first.startswith("interrupted by robotic mode being stopped: ") and first.endswith(
-        " of 40 exposures done"
+        " of 8 exposures done"
     )
 
     # Started again, it resumes the task in its slot, until the Sun rises above -12°.
@@ -95,6 +98,24 @@ async def test_without_weather_information_the_roof_stays_closed_then_stop_and_d
     assert stored.state is TaskState.FAILED and stored.schedulable
     done = [int(r.split(": ")[1].split(" ")[0]) for r in (first, dawn.reason)]
     assert stored.status.progress.total_exposures == max(done) > 0
+
+
+async def test_a_task_that_would_run_into_dawn_is_not_started_and_stays_in_the_pool(
+    parts: Parts, caplog: pytest.LogCaptureFixture
+) -> None:
+    obs, archive = parts
+    obs.clock = archive.clock = AcceleratedClock("2024-01-16T05:45:00+00:00", speed=SPEED)
+    night = await start_night(parts, [group(ARCTURUS, count=40, exposure_time=30.0)])  # 24 min
+    (task,) = night.tasks
+    now = obs.clock.now()
+    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await start_mastermind(night, weather=GoodWeather())
+    await obs.clock.sleep(300.0)
+    assert "not starting task 1 (Arcturus in V) now: with 1428 s left it would end at 06:0" in caplog.text
+    assert night.recorder.of(TaskStartedEvent) == [] and night.recorder.of(RoofOpenedEvent) == []
+    assert await night.closed_and_parked()
+    stored = await archive.get_task(task.id)
+    assert stored.state is TaskState.SCHEDULED and stored.schedulable  # not failed: may fit later
 
 
 class GoodWeather(IWeather):

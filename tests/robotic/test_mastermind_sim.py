@@ -187,9 +187,16 @@ class Night:
 
 
 async def start_night(
-    parts: Parts, groups: list[dict[str, Any]], scenario: list[dict[str, Any]] | None = None
+    parts: Parts,
+    groups: list[dict[str, Any]],
+    scenario: list[dict[str, Any]] | None = None,
+    *,
+    readout_time: float = 1.0,
 ) -> Night:
-    """The devices, the archive holding ``groups``, and with a ``scenario`` a weather station and Weather."""
+    """The devices, the archive holding ``groups``, and with a ``scenario`` a weather station and Weather.
+
+    ``readout_time``: the camera's, in seconds (the mastermind's duration estimate assumes 2 s).
+    """
     obs, archive = parts
     recorder = await obs.start(Recorder, "recorder")
     tasks = [task for group in groups for task in await archive.add_request_group(parse_request_group(group))]
@@ -197,7 +204,8 @@ async def start_night(
     await obs.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V")
     await obs.start(SimFocuser, "focuser", focus=25.0, best_focus=25.0)
     roof = await obs.start(SimRoof, "roof", open_time=30.0, close_time=30.0)
-    camera = {"detector": DETECTOR, "catalog_depth": 12.0, "seed": 3, "readout_time": 1.0, "weather": None}
+    camera = {"detector": DETECTOR, "catalog_depth": 12.0, "seed": 3, "weather": None}
+    camera["readout_time"] = readout_time
     await obs.start(SimCamera, "camera", roof="roof", **camera)
     if scenario is not None:
         await obs.start(SimWeatherStation, "weatherstation", interval=10.0, scenario=scenario)

@@ -30,6 +30,11 @@ Decisions:
   meridian, on the equator's side), as the (ra, dec) there at that moment, and tracks it - left
   where the flats pointed (alt/az, not tracking), the stars would trail. A failed series keeps the
   focus as it was and is tried again ``focus_retry_interval`` clock seconds later.
+* **Time left**: a sky task is started (or opened up and focused for) only when what it has left
+  (its recorded progress, default overheads) ends inside its window and before its Sun (with the
+  cap), airmass or Moon limit stops holding - the early start's minute grid. Otherwise it is passed
+  over at that step (not failed; asked again at the next one), so it is not aborted at dawn half
+  done. The Sun still aborts a task that runs longer than estimated.
 * **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
   before its slot if it can be observed from now on (a task that ended early leaves no gap).
 * **Progress** of a task is recorded in the archive in the background: the exposure loop does not
@@ -45,7 +50,7 @@ import asyncio
 import contextlib
 import logging
 from dataclasses import replace
-from datetime import timedelta
+from datetime import datetime, timedelta
 from typing import Any
 
 from nightcrew.config import build_object
@@ -82,6 +87,8 @@ from nightcrew.robotic.mastermind import (
     interruption_reason,
     run_watched,
     task_cards,
+    time_left,
+    within_constraints,
 )
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.tasks import Task
@@ -157,6 +164,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         site = self.site
         if site is None:
             raise ConfigError("the mastermind needs the observatory's site (for the Sun)", key="site")
+        self._sky_site = site  # checked above (the base class keeps it optional)
         for key, value in (
             ("poll_interval", poll_interval),
             ("abort_timeout", abort_timeout),
@@ -212,6 +220,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         self._wake = asyncio.Event()
         self._safe_since_stop = False
         self._last_action: Action | None = None
+        self._unfit_logged: set[tuple[str, datetime]] = set()  # (task, slot start) said not to fit
         self.add_background_task(self._robotic_loop, name="robotic loop")
 
     # --- life cycle and events -----------------------------------------------------------------
@@ -291,13 +300,20 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         slots, tasks = await self._schedule.read(conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
-        action = decide(
-            conditions,
-            self._early.mark(slots, tasks, conditions.now),
-            keep_open=self._keep_open,
-            focus_below=focus_below,
-            early_start=self._early.early_start,
-        )
+        slots = self._early.mark(slots, tasks, conditions.now)
+        while True:  # ends: each round takes one slot out
+            action = decide(
+                conditions,
+                slots,
+                keep_open=self._keep_open,
+                focus_below=focus_below,
+                early_start=self._early.early_start,
+            )
+            unfit = self._unfit_slot(action, tasks, conditions.now)
+            if unfit is None:
+                break
+            # Not now (asked again at the next step, no failure): decide as if it were not there.
+            slots = [replace(s, may_run=False) if s == unfit else s for s in slots]
         if action != self._last_action:
             log.info("%s: %s", self.name, action.describe())
             self._last_action = action
@@ -315,6 +331,37 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         if action.until is not None:
             return max(0.0, min(self._poll, (action.until - conditions.now).total_seconds()))
         return self._poll
+
+    def _unfit_slot(self, action: Action, tasks: dict[str, Task], now: datetime) -> Slot | None:
+        """The slot of ``action`` if it starts a sky task that would outlast its constraints.
+
+        Only a task about to start (due or early), with what it has left (its recorded progress):
+        started anyway it would be aborted (Sun, airmass, window end) with frames missing. BIAS and
+        DARK are never aborted by the sky; closing, waiting and a focus for a later task are
+        never held back.
+        """
+        if not isinstance(action, RunTask | OpenUp | Focus):
+            return None
+        slot = action.slot
+        if not slot.needs_sky or not (slot.is_due(now) or slot.startable_now):
+            return None
+        task = tasks[slot.task_id]
+        left = time_left(task)
+        if within_constraints(task.request, self._sky_site, now, left, max_sun_altitude=slot.sun.high):
+            return None
+        if (task.id, slot.start) not in self._unfit_logged:
+            self._unfit_logged.add((task.id, slot.start))
+            log.warning(
+                "%s: not starting task %s (%s) now: with %.0f s left it would end at %s, after its "
+                "window or its constraints (Sun %s, airmass, Moon) end",
+                self.name,
+                task.id,
+                task.name,
+                left.total_seconds(),
+                f"{now + left:%H:%M:%S}",
+                slot.sun.describe(),
+            )
+        return slot
 
     async def _sleep(self, seconds: float) -> None:
         """Wait ``seconds`` of clock time or until woken by an event."""

@@ -47,7 +47,9 @@ from nightcrew.robotic.mastermind._tasks import (
     startable_now,
     sun_limits,
     task_cards,
+    time_left,
     window_begun,
+    within_constraints,
 )
 
 __all__ = [
@@ -84,5 +86,7 @@ __all__ = [
     "startable_now",
     "sun_limits",
     "task_cards",
+    "time_left",
     "window_begun",
+    "within_constraints",
 ]

@@ -8,7 +8,7 @@ from datetime import datetime, timedelta
 from nightcrew.interfaces import FitsCard
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind._decide import Slot, SunLimits
-from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress
+from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress, estimate_duration
 from nightcrew.robotic.tasks.visibility import observable_stretches
 from nightcrew.site import Site
 
@@ -25,7 +25,9 @@ __all__ = [
     "startable_now",
     "sun_limits",
     "task_cards",
+    "time_left",
     "window_begun",
+    "within_constraints",
 ]
 
 #: Configuration types that work with the roof closed.
@@ -104,6 +106,30 @@ def startable_from(request: Request, site: Site, start: datetime, *, lookback: t
     return None if since is None else max(since, min(opened), start - lookback)
 
 
+def time_left(task: Task) -> timedelta:
+    """How long ``task`` takes from its recorded progress on (the default overheads, set-up included)."""
+    return timedelta(seconds=estimate_duration(task.request, progress=task.status.progress).total_s)
+
+
+def within_constraints(
+    request: Request, site: Site, now: datetime, duration: timedelta, *, max_sun_altitude: float = 90.0
+) -> bool:
+    """Whether ``request``, started at ``now`` and taking ``duration``, ends before its constraints fail.
+
+    One of its windows must hold ``now`` and its end (:func:`window_begun`), and it must be
+    observable all along (:func:`observable_since`, each minute from ``now``), with the Sun also at
+    most ``max_sun_altitude`` (the observatory's cap, :func:`sun_limits`): the check of an early
+    start, so a task is not started only to be aborted at dawn or its window end.
+    """
+    if not window_begun(request, now, now + duration):
+        return False
+    # Whole minutes from now on: a grid counted back from the end would start up to a minute
+    # before now and refuse a task at dusk for a Sun still too high in that minute.
+    minutes = timedelta(minutes=math.ceil(duration / timedelta(minutes=1) - 1e-9))
+    since = observable_since(_sun_capped(request, max_sun_altitude), site, now + minutes, lookback=minutes)
+    return since is not None and since <= now
+
+
 def window_begun(request: Request, now: datetime, start: datetime) -> bool:
     """Whether one of the request's windows holds both ``now`` and ``start``."""
     return any(w.start <= now and start <= w.end for w in request.windows)
@@ -122,6 +148,17 @@ def observable_since(
     begin = start - minute * math.ceil(lookback / minute - 1e-9)
     stretches = observable_stretches(request, site, begin, start + minute, step=minute.total_seconds())
     return next((a for a, b in stretches if a <= start <= b), None)
+
+
+def _sun_capped(request: Request, high: float) -> Request:
+    """``request`` with no configuration allowing the Sun above ``high``."""
+    configurations = tuple(
+        c.model_copy(update={"constraints": c.constraints.model_copy(update={"max_sun_altitude": high})})
+        if c.constraints.max_sun_altitude > high
+        else c
+        for c in request.configurations
+    )
+    return request.model_copy(update={"configurations": configurations})
 
 
 def planned_exposures(request: Request) -> int:
