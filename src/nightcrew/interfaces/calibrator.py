@@ -60,7 +60,7 @@ class ICoverCalibrator(Interface):
     @timeout(120)
     @abstractmethod
     async def calibrator_on(self, brightness: int) -> None:
-        """Switch the light on at ``brightness`` (1..max brightness); return when it is stable."""
+        """Switch the light on at ``brightness`` (0..max brightness); return when it is stable."""
 
     @timeout(60)
     @abstractmethod
