@@ -99,6 +99,10 @@ class ServedTelescope(ServedDevice):
     async def get_tracking(self, request: AlpacaRequest) -> bool:
         return await self._status() is MotionStatus.TRACKING
 
+    async def put_tracking(self, request: AlpacaRequest) -> None:
+        request.boolean("Tracking")
+        raise NotSupportedError("tracking: nightcrew tracks after an RA/Dec slew; CanSetTracking is false")
+
     async def get_atpark(self, request: AlpacaRequest) -> bool:
         self.action.raise_failure()
         return await self._status() is MotionStatus.PARKED
