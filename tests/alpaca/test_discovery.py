@@ -83,7 +83,7 @@ async def test_cli_lists_and_writes_module_files(
     assert code == 0, out
     assert f"{served.url}  nightcrew" in out
     assert "  Telescope 0: telescope  [" in out
-    files = sorted(p.name for p in tmp_path.glob("*.yaml"))
+    files = await asyncio.to_thread(lambda: sorted(p.name for p in tmp_path.glob("*.yaml")))
     assert files == [
         "camera0.yaml",
         "dome0.yaml",
