@@ -3,8 +3,8 @@
 The Alpaca Dome API drives roofs too: a roll-off roof is a Dome device whose shutter is the roof
 and that cannot turn (CanSetAzimuth false). ``OpenShutter``/``CloseShutter`` start the motion;
 ``ShutterStatus`` is polled until it is done (ASCOM ShutterState: 0 open, 1 closed, 2 opening,
-3 closing, 4 error). ``AbortSlew`` stops it halfway. The roof's state is read at every (re)connect,
-so a roof left open by hand starts as open.
+3 closing, 4 error). ``AbortSlew`` stops it halfway. The roof's state is read from the device at
+every (re)connect and before every opening or closing, so a roof moved by hand is not mistaken.
 
 Example (``examples/alpaca/roof.yaml``)::
 
@@ -93,6 +93,23 @@ class AlpacaRoof(AlpacaModule, BaseRoof):
         )
         if state != target:
             raise MoveError(f"{self.device.name}: {method}: the shutter reports an error (ShutterStatus 4)")
+
+    async def _refresh_status(self) -> None:
+        """Take the shutter's state from the device while nothing moves: it may have been moved by
+        hand or by the device's own controller, and a roof that is open but thought closed would
+        ignore close_roof() (fail safe: ask rather than trust)."""
+        if not self._motion.busy:
+            status = _STATUS_OF[await self._shutter_state()]
+            if status in (MotionStatus.IDLE, MotionStatus.PARKED):
+                await self._set_motion_status(status)
+
+    async def open_roof(self) -> None:
+        await self._refresh_status()
+        await super().open_roof()
+
+    async def close_roof(self) -> None:
+        await self._refresh_status()
+        await super().close_roof()
 
     async def _hw_open(self) -> None:
         await self._move_shutter("openshutter", ShutterState.OPEN)
