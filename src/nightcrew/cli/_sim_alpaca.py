@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import logging
 import signal
 import sys
 from datetime import UTC, datetime, timedelta
@@ -52,7 +53,15 @@ def serve_alpaca_command(args: argparse.Namespace) -> int:
         day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
         start = datetime.combine(day, args.start, tzinfo=UTC)
     clock = AcceleratedClock(start, speed=args.speed or 1.0)
-    asyncio.run(_serve(directory, args, clock))
+    # Module chatter would bury the banner; -v (or --debug) shows it.
+    logger = logging.getLogger("nightcrew")
+    old_level = logger.level
+    if not (args.verbose or args.debug):
+        logger.setLevel(logging.WARNING)
+    try:
+        asyncio.run(_serve(directory, args, clock))
+    finally:
+        logger.setLevel(old_level)
     return 0
 
 
