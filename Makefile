@@ -3,7 +3,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 # Debian packages of the real components the tests use (XMPP servers, plate solver).
-SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2
+SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2
 
 .PHONY: setup system-deps lint test sim example bench clean
 
