@@ -13,8 +13,8 @@ from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import LoopState, MotionStatus
 from nightcrew.modules.pointing import AutoGuiding, ScienceFrameAutoGuiding
 from nightcrew.modules.sim import SimCamera, SimTelescope
-from tests.modules.conftest import Observatory
-from tests.modules.test_sim_camera import CATALOG_DEPTH, SEED, observatory_module
+from nightcrew.testing import Observatory
+from tests.modules.sim_observatory import CATALOG_DEPTH, SEED
 
 from .conftest import ObservatoryFactory
 from .pointing_sim import start_pointing_observatory
@@ -166,7 +166,7 @@ async def test_science_frames_guide_and_bad_frames_are_skipped(observatory_at: O
         assert await guiding.get_loop_state() is LoopState.LOST
         assert await mount.get_offsets_radec() == pytest.approx((dra, ddec + 20.0 / 3600.0))
         await guiding.stop()
-        assert observatory_module(obs, "guiding", ScienceFrameAutoGuiding) is guiding
+        assert obs.module("guiding", ScienceFrameAutoGuiding) is guiding
 
 
 class Gate(ImageProcessor):

@@ -20,7 +20,7 @@ from nightcrew.modules.sim.interfaces import ISimTelescopeTruth
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.scripts import AutoFocusScript
 from nightcrew.robotic.tasks import TaskState
-from tests.modules.conftest import SITE
+from nightcrew.testing import SITE
 
 from .runner_sim import PLEIADES, ProgressLog, SimSetup, make_task, sim
 from .test_mastermind_sim import Parts, group, parts, start_mastermind, start_night

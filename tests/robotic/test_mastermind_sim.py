@@ -9,7 +9,7 @@ back. Times are asserted in clock seconds.
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator
 from dataclasses import dataclass, field
 from datetime import datetime, timedelta
 from pathlib import Path
@@ -45,9 +45,9 @@ from nightcrew.robotic.archives import ScheduleEntry, SqliteTaskArchive
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts import ImagingScript
 from nightcrew.robotic.tasks import Task, TaskState, parse_request_group
+from nightcrew.testing import Observatory
 from nightcrew.vfs import MemoryFile
 from nightcrew.weather import Boolean, Valid
-from tests.modules.conftest import Observatory
 
 SPEED = 200.0
 DETECTOR = {"chip_width": 128, "chip_height": 128, "cosmic_rays_per_s": 0.0}
@@ -171,12 +171,6 @@ class Night:
 
     def since(self, start: float, event_type: type[Event]) -> list[float]:
         return [t - start for t in self.recorder.times(event_type)]
-
-    async def wait_for(self, condition: Callable[[], bool], clock_seconds: float) -> None:
-        start = self.obs.clock.time()
-        while not condition():
-            assert self.obs.clock.time() - start < clock_seconds, "condition not met in time"
-            await self.obs.clock.sleep(2.0)
 
     async def closed_and_parked(self) -> bool:
         roof, telescope = await self.roof.get_motion_status(), await self.telescope.get_motion_status()
