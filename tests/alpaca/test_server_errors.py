@@ -13,10 +13,16 @@ from typing import Any
 import aiohttp
 import pytest
 
-from nightcrew.bridges.alpaca.errors import INVALID_OPERATION, INVALID_VALUE, NOT_CONNECTED, NOT_IMPLEMENTED
+from nightcrew.bridges.alpaca.errors import (
+    DRIVER_ERROR,
+    INVALID_OPERATION,
+    INVALID_VALUE,
+    NOT_CONNECTED,
+    NOT_IMPLEMENTED,
+)
 from nightcrew.errors import ConfigError
 from nightcrew.modules.alpaca.server import AlpacaServer
-from nightcrew.testing import Observatory
+from nightcrew.testing import Observatory, wait_for
 
 from .served import Served, served_observatory
 
@@ -207,3 +213,23 @@ async def test_a_busy_port_is_a_config_error(served: Served) -> None:
     async with Observatory(speed=1.0) as obs:
         with pytest.raises(ConfigError, match=f"key 'port': cannot listen on 127.0.0.1:{served.server.port}"):
             await obs.start(AlpacaServer, "second", devices={"focuser": "focuser"}, port=served.server.port)
+
+
+async def test_a_frame_that_is_gone_is_a_clear_error(served: Served, client: Client) -> None:
+    await client.connect("camera/0")
+    _, body = await client.call("PUT", "camera/0/startexposure", Duration="0.1", Light="true")
+    assert body["ErrorNumber"] == 0
+
+    async def ready() -> bool:
+        _, reply = await client.call("GET", "camera/0/imageready")
+        return bool(reply["Value"])
+
+    await wait_for(ready, 60.0, message="image ready")
+    vfs = served.observatory.vfs
+    (path,) = await vfs.find("/cache/*.fits")
+    await vfs.remove(path)
+    _, body = await client.call("GET", "camera/0/imagearray")
+    assert body["ErrorNumber"] == DRIVER_ERROR
+    assert f"GrabImageError: cannot read the frame {path} through the server's VFS" in body["ErrorMessage"]
+    _, body = await client.call("GET", "camera/0/camerastate")  # still serving
+    assert (body["ErrorNumber"], body["Value"]) == (0, 0)

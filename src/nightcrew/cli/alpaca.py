@@ -61,7 +61,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     discover.add_argument("--port", type=int, default=DISCOVERY_PORT, help="discovery UDP port (%(default)s)")
     discover.add_argument(
-        "--wait", type=_positive, default=1.0, help="seconds to wait for answers per query (%(default)s)"
+        "--wait", type=float, default=1.0, help="seconds to wait for answers per query (%(default)s)"
     )
     discover.add_argument(
         "--server",
@@ -86,6 +86,8 @@ def module_config(server: ServerInfo, device: ConfiguredDevice) -> dict[str, Any
 
 
 def _discover_command(args: argparse.Namespace) -> int:
+    if not args.wait > 0:
+        raise ConfigError(f"--wait must be > 0 seconds, got {args.wait}")
     servers = asyncio.run(_find(args))
     if not servers:
         where = ", ".join(args.server) or f"{args.address}:{args.port}"
@@ -155,13 +157,3 @@ def _write_configs(servers: list[ServerInfo], directory: Path) -> list[Path]:
             header += "# A telescope needs the site: site: {latitude: ..., longitude: ..., elevation: ...}\n"
         path.write_text(header + yaml.safe_dump(config, sort_keys=False), encoding="utf-8")
     return list(planned)
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
-    return value

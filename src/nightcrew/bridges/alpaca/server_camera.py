@@ -24,7 +24,13 @@ import numpy.typing as npt
 
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
-from nightcrew.errors import DeviceBusyError, GrabImageError, InvalidArgumentError, NotSupportedError
+from nightcrew.errors import (
+    DeviceBusyError,
+    GrabImageError,
+    InvalidArgumentError,
+    NightcrewError,
+    NotSupportedError,
+)
 from nightcrew.interfaces import (
     Binning,
     ExposureStatus,
@@ -289,7 +295,12 @@ class ServedCamera(ServedDevice):
         exposure = self._taken("imagearray")
         if exposure.pixels is None:
             assert exposure.path is not None
-            payload = await self.owner.vfs.read_bytes(exposure.path)
+            try:
+                payload = await self.owner.vfs.read_bytes(exposure.path)
+            except (NightcrewError, OSError) as exc:
+                raise GrabImageError(
+                    f"cannot read the frame {exposure.path} through the server's VFS: {exc}"
+                ) from exc
             exposure.pixels = await asyncio.to_thread(_blocking_pixels, payload, exposure.path)
         return ImageArray(exposure.pixels)
 
