@@ -15,11 +15,19 @@ Example (``examples/alpaca/covercalibrator.yaml``)::
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from enum import StrEnum
-from typing import Any, TypeVar
+from typing import Any, Generic, TypeVar
 
 from nightcrew.bridges.alpaca.errors import AlpacaReplyError
-from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NotSupportedError, RemoteError
+from nightcrew.errors import (
+    ConfigError,
+    InvalidArgumentError,
+    MoveError,
+    NightcrewError,
+    NotSupportedError,
+    RemoteError,
+)
 from nightcrew.interfaces import CalibratorState, CoverState, ICoverCalibrator
 from nightcrew.modules.alpaca.device import AlpacaModule
 
@@ -27,23 +35,51 @@ __all__ = ["AlpacaCoverCalibrator"]
 
 S = TypeVar("S", bound=StrEnum)
 
-#: ASCOM CoverStatus and CalibratorStatus numbers, in order.
-_COVER_STATES = [
-    CoverState.NOT_PRESENT,
-    CoverState.CLOSED,
+
+@dataclass(frozen=True)
+class _Part(Generic[S]):
+    """The cover or the light: its state member, its states in ASCOM order, and how it fails."""
+
+    member: str
+    states: list[S]
+    name: str
+    moving: S
+    error: type[NightcrewError]
+
+    @property
+    def not_present(self) -> S:
+        return self.states[0]
+
+
+#: ASCOM CoverStatus and CalibratorStatus, numbered 0..5 in this order.
+_COVER = _Part(
+    "coverstate",
+    [
+        CoverState.NOT_PRESENT,
+        CoverState.CLOSED,
+        CoverState.MOVING,
+        CoverState.OPEN,
+        CoverState.UNKNOWN,
+        CoverState.ERROR,
+    ],
+    "cover",
     CoverState.MOVING,
-    CoverState.OPEN,
-    CoverState.UNKNOWN,
-    CoverState.ERROR,
-]
-_CALIBRATOR_STATES = [
-    CalibratorState.NOT_PRESENT,
-    CalibratorState.OFF,
+    MoveError,
+)
+_LIGHT = _Part(
+    "calibratorstate",
+    [
+        CalibratorState.NOT_PRESENT,
+        CalibratorState.OFF,
+        CalibratorState.NOT_READY,
+        CalibratorState.READY,
+        CalibratorState.UNKNOWN,
+        CalibratorState.ERROR,
+    ],
+    "flat-field light",
     CalibratorState.NOT_READY,
-    CalibratorState.READY,
-    CalibratorState.UNKNOWN,
-    CalibratorState.ERROR,
-]
+    RemoteError,
+)
 
 
 class AlpacaCoverCalibrator(AlpacaModule, ICoverCalibrator):
@@ -70,81 +106,69 @@ class AlpacaCoverCalibrator(AlpacaModule, ICoverCalibrator):
         self._cover_timeout = float(cover_timeout)
         self._calibrator_timeout = float(calibrator_timeout)
 
-    def _ascom_state(self, value: Any, states: list[S], member: str) -> S:
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(states):
+    async def _part_state(self, part: _Part[S]) -> S:
+        value = await self._get(part.member)
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(part.states):
             raise AlpacaReplyError(
-                f"{self.device.name}: GET {member}: {value!r} is not an ASCOM state (0..5)"
+                f"{self.device.name}: GET {part.member}: {value!r} is not an ASCOM state (0..5)"
             )
-        return states[value]
+        return part.states[value]
 
-    async def _present(self, member: str, states: list[S], part: str) -> None:
-        if self._ascom_state(await self._get(member), states, member) is states[0]:
-            raise NotSupportedError(f"{self.device.name} has no {part} ({member} NotPresent)")
+    async def _present(self, part: _Part[S]) -> None:
+        if await self._part_state(part) is part.not_present:
+            raise NotSupportedError(f"{self.device.name} has no {part.name} ({part.member} NotPresent)")
+
+    async def _drive(self, part: _Part[S], method: str, target: S, within: float, **params: Any) -> None:
+        """``PUT method`` and wait until the part has left its moving state; it must be at ``target``."""
+        await self._put(method, **params)
+        moving = part.states.index(part.moving)
+        await self._poll_until(part.member, lambda value: value != moving, within, method, part.error)
+        state = await self._part_state(part)
+        if state is not target:
+            raise part.error(
+                f"{self.device.name}: {method}: the {part.name} is {state.value}, not {target.value}"
+            )
 
     # --- cover ---------------------------------------------------------------------------------
 
-    async def _move_cover(self, method: str, target: CoverState) -> None:
-        await self._present("coverstate", _COVER_STATES, "cover")
-        await self._put(method)
-        arrived = await self._poll_until(
-            "coverstate",
-            lambda value: value != _COVER_STATES.index(CoverState.MOVING),
-            self._cover_timeout,
-            method,
-            MoveError,
-        )
-        state = self._ascom_state(arrived, _COVER_STATES, "coverstate")
-        if state is not target:
-            raise MoveError(f"{self.device.name}: {method}: the cover is {state.value}, not {target.value}")
-
     async def open_cover(self) -> None:
-        await self._move_cover("opencover", CoverState.OPEN)
+        await self._present(_COVER)
+        await self._drive(_COVER, "opencover", CoverState.OPEN, self._cover_timeout)
 
     async def close_cover(self) -> None:
-        await self._move_cover("closecover", CoverState.CLOSED)
+        await self._present(_COVER)
+        await self._drive(_COVER, "closecover", CoverState.CLOSED, self._cover_timeout)
 
     async def halt_cover(self) -> None:
-        await self._present("coverstate", _COVER_STATES, "cover")
+        await self._present(_COVER)
         await self._put("haltcover")
 
     async def get_cover_state(self) -> CoverState:
-        return self._ascom_state(await self._get("coverstate"), _COVER_STATES, "coverstate")
+        return await self._part_state(_COVER)
 
     # --- calibrator ----------------------------------------------------------------------------
 
-    async def _switch_light(self, method: str, target: CalibratorState, **params: Any) -> None:
-        await self._put(method, **params)
-        arrived = await self._poll_until(
-            "calibratorstate",
-            lambda value: value != _CALIBRATOR_STATES.index(CalibratorState.NOT_READY),
-            self._calibrator_timeout,
-            method,
-            RemoteError,
-        )
-        state = self._ascom_state(arrived, _CALIBRATOR_STATES, "calibratorstate")
-        if state is not target:
-            raise RemoteError(f"{self.device.name}: {method}: the light is {state.value}, not {target.value}")
-
     async def calibrator_on(self, brightness: int) -> None:
-        await self._present("calibratorstate", _CALIBRATOR_STATES, "flat-field light")
         maximum = await self.get_max_brightness()
         if isinstance(brightness, bool) or not isinstance(brightness, int) or not 0 <= brightness <= maximum:
             raise InvalidArgumentError(
                 f"{self.device.name}: brightness must be an integer within 0..{maximum}, got {brightness!r}"
             )
-        await self._switch_light("calibratoron", CalibratorState.READY, Brightness=brightness)
+        await self._drive(
+            _LIGHT, "calibratoron", CalibratorState.READY, self._calibrator_timeout, Brightness=brightness
+        )
 
     async def calibrator_off(self) -> None:
-        await self._present("calibratorstate", _CALIBRATOR_STATES, "flat-field light")
-        await self._switch_light("calibratoroff", CalibratorState.OFF)
+        await self._present(_LIGHT)
+        await self._drive(_LIGHT, "calibratoroff", CalibratorState.OFF, self._calibrator_timeout)
 
     async def get_calibrator_state(self) -> CalibratorState:
-        return self._ascom_state(await self._get("calibratorstate"), _CALIBRATOR_STATES, "calibratorstate")
+        return await self._part_state(_LIGHT)
 
     async def get_brightness(self) -> int:
-        await self._present("calibratorstate", _CALIBRATOR_STATES, "flat-field light")
+        await self._present(_LIGHT)
         return int(await self._get("brightness"))
 
     async def get_max_brightness(self) -> int:
-        await self._present("calibratorstate", _CALIBRATOR_STATES, "flat-field light")
+        await self._present(_LIGHT)
         return int(await self._get("maxbrightness"))
