@@ -13,7 +13,7 @@ from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import LoopState, MotionStatus
 from nightcrew.modules.pointing import AutoGuiding, ScienceFrameAutoGuiding
 from nightcrew.modules.sim import SimCamera, SimTelescope
-from nightcrew.testing import Observatory
+from nightcrew.testing import Observatory, wait_for
 from tests.modules.sim_observatory import CATALOG_DEPTH, SEED
 
 from .conftest import ObservatoryFactory
@@ -74,11 +74,10 @@ async def sample_true_error(
 
 
 async def wait_for_state(guiding: AutoGuiding | ScienceFrameAutoGuiding, state: LoopState) -> None:
-    for _ in range(1000):
-        if await guiding.get_loop_state() is state:
-            return
-        await asyncio.sleep(0.01)
-    raise AssertionError(f"guiding never reached {state}")
+    async def reached() -> bool:
+        return await guiding.get_loop_state() is state
+
+    await wait_for(reached, 10.0, interval=0.01, message=f"guiding never reached {state}")  # wall seconds
 
 
 async def test_guiding_for_thirty_minutes_keeps_the_rms_below_half_an_arcsecond(
