@@ -18,7 +18,8 @@ import yaml
 
 from nightcrew.bridges.alpaca.discovery import DiscoveredServer, describe_server, discover_servers
 from nightcrew.cli.main import main
-from nightcrew.config import load_config
+from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.modules import Module
 from nightcrew.testing.alpaca import AlpacaSimulator
 
 from .served import Served, served_observatory
@@ -98,6 +99,12 @@ async def test_cli_lists_and_writes_module_files(
         "server": served.url,
         "device_number": 0,
     }
+    # Every file is a valid module configuration; all but the telescope (which needs the site) build.
+    for name in files:
+        config = load_config(tmp_path / name)
+        validate_config(config, Module)
+        if name != "telescope0.yaml":
+            assert isinstance(build_object({**config, "name": name.removesuffix(".yaml")}, Module), Module)
     # Nothing is overwritten: a second run refuses before writing anything.
     (tmp_path / "dome0.yaml").write_text("# mine\n")
     code = await asyncio.to_thread(main, [*args, "--write", str(tmp_path)])
