@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -188,5 +188,7 @@ def _as_uint16(data: npt.NDArray[Any], shape: tuple[int, int], device: str) -> n
     """The downloaded pixels as uint16 of the expected shape; GrabImageError naming what differs."""
     if data.shape != shape:
         raise GrabImageError(f"{device}: GET imagearray: got an image of {data.shape}, expected {shape}")
-    pixels: npt.NDArray[np.uint16] = np.clip(data, 0, 65535).astype(np.uint16)  # a contiguous copy
+    if data.dtype == np.uint16:
+        return cast(npt.NDArray[np.uint16], data)  # a view of the download: the FITS writer copies once
+    pixels: npt.NDArray[np.uint16] = np.clip(data, 0, 65535).astype(np.uint16)
     return pixels
