@@ -233,3 +233,29 @@ async def test_a_frame_that_is_gone_is_a_clear_error(served: Served, client: Cli
     assert f"GrabImageError: cannot read the frame {path} through the server's VFS" in body["ErrorMessage"]
     _, body = await client.call("GET", "camera/0/camerastate")  # still serving
     assert (body["ErrorNumber"], body["Value"]) == (0, 0)
+
+
+async def test_a_second_slew_is_refused_but_park_always_wins() -> None:
+    async with served_observatory(slew_rate=1.0) as served, aiohttp.ClientSession() as session:
+        client = Client(session, served.url)  # slews of a minute: the first is still running
+        await client.connect("telescope/0")
+        await client.call("PUT", "telescope/0/unpark")
+        await wait_for(lambda: _value(client, "telescope/0/atpark", False), 10.0, message="unparked")
+        _, body = await client.call("PUT", "telescope/0/slewtoaltazasync", Altitude="30", Azimuth="90")
+        assert body["ErrorNumber"] == 0
+        _, body = await client.call("PUT", "telescope/0/slewtoaltazasync", Altitude="40", Azimuth="90")
+        assert body["ErrorNumber"] == INVALID_OPERATION
+        assert "busy with slewtoaltazasync; wait for it or abort it" in body["ErrorMessage"]
+
+        _, body = await client.call("PUT", "telescope/0/park")
+        assert body["ErrorNumber"] == 0
+        await wait_for(lambda: _value(client, "telescope/0/atpark", True), 120.0, message="parked")
+        # The slew that park interrupted is not reported as a failure.
+        _, body = await client.call("GET", "telescope/0/slewing")
+        assert (body["ErrorNumber"], body["Value"]) == (0, False)
+
+
+async def _value(client: Client, path: str, expected: object) -> bool:
+    _, body = await client.call("GET", path)
+    assert body["ErrorNumber"] == 0, body
+    return bool(body["Value"] == expected)

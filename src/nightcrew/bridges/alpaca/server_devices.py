@@ -83,8 +83,8 @@ class ServedFocuser(ServedDevice):
 
     async def put_halt(self, request: AlpacaRequest) -> None:
         focuser = await self._focuser()
-        await self.action.cancel()
         await focuser.stop_motion()
+        await self.action.cancel()
 
     async def get_tempcompavailable(self, request: AlpacaRequest) -> bool:
         return False
@@ -167,13 +167,13 @@ class ServedDome(ServedDevice):
 
     async def put_closeshutter(self, request: AlpacaRequest) -> None:
         roof = await self._roof()
-        self.action.start("closeshutter", roof.close_roof)
+        self.action.start("closeshutter", roof.close_roof, preempt=True)  # closing always wins
         await self.action.settle(self.settle_time)
 
     async def put_abortslew(self, request: AlpacaRequest) -> None:
         roof = await self._roof()
-        await self.action.cancel()
         await roof.stop_motion()
+        await self.action.cancel()
 
     async def get_cansetshutter(self, request: AlpacaRequest) -> bool:
         return True
