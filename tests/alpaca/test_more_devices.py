@@ -4,12 +4,13 @@ goes away and comes back (the module goes to ERROR and back to READY by itself).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Awaitable, Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from nightcrew.bridges.alpaca.errors import AlpacaReplyError
 from nightcrew.clock import RealClock
 from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.interfaces import ModuleState
@@ -24,6 +25,8 @@ from nightcrew.modules.alpaca.switch import AlpacaSwitch
 from nightcrew.modules.module import Module
 from nightcrew.testing import Observatory
 from nightcrew.testing.alpaca import AlpacaSimulator
+
+from .faulty_server import FaultyServer, value
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "alpaca"
 #: The example of each module, by file name.
@@ -110,3 +113,72 @@ def test_weather_example_takes_the_safety_monitor_as_a_station() -> None:
     validate_config(config, Module)
     weather = build_object({**config, "name": "weather"}, Module)
     assert {check.name for check in weather._checks} >= {"safety.safe", "conditions.rain"}
+
+
+@pytest.fixture
+async def faulty() -> AsyncIterator[FaultyServer]:
+    """A device server answering what each test sets (and ``true`` to everything else)."""
+    server = FaultyServer()
+    await server.start()
+    try:
+        yield server
+    finally:
+        await server.stop()
+
+
+Call = Callable[[Any], Awaitable[object]]
+
+#: Sane replies a module needs at connect beyond the server's default ``true``.
+_NUMBERS = ("humidity", "pressure", "windspeed", "winddirection", "rainrate", "skytemperature", "dewpoint")
+GOOD_REPLIES: dict[type[AlpacaModule], dict[str, object]] = {
+    AlpacaDome: {"shutterstatus": 1, "slaved": False},
+    AlpacaSwitch: {
+        "maxswitch": 1,
+        "getswitchname": "relay",
+        "getswitchdescription": "a relay",
+        "minswitchvalue": 0.0,
+        "maxswitchvalue": 1.0,
+        "switchstep": 1.0,
+    },
+    AlpacaCoverCalibrator: {"coverstate": 1},
+    AlpacaObservingConditions: {name: 1.0 for name in (*_NUMBERS, "skyquality")},
+}
+
+
+@pytest.mark.parametrize(
+    ("cls", "member", "reply", "call", "wanted"),
+    [
+        (AlpacaRotator, "position", "north", lambda m: m.get_position_angle(), "a finite number"),
+        (AlpacaDome, "azimuth", None, lambda m: m.get_azimuth(), "a finite number"),
+        (AlpacaSwitch, "getswitch", 1, lambda m: m.get_switch(0), "true or false"),
+        (AlpacaCoverCalibrator, "coverstate", 9, lambda m: m.get_cover_state(), r"an ASCOM state \(0..5\)"),
+        (AlpacaSafetyMonitor, "issafe", "yes", lambda m: m.read_now(), "true or false"),
+        (AlpacaObservingConditions, "temperature", "warm", lambda m: m.read_now(), "a finite number"),
+    ],
+    ids=lambda v: v.__name__ if isinstance(v, type) else None,
+)
+async def test_a_malformed_value_is_an_error_naming_device_call_and_value(
+    faulty: FaultyServer, cls: type[AlpacaModule], member: str, reply: object, call: Call, wanted: str
+) -> None:
+    faulty.replies["connecting"] = value(False)
+    for name, good in GOOD_REPLIES.get(cls, {}).items():
+        faulty.replies[name] = value(good)
+    async with Observatory(clock=RealClock()) as obs:
+        module = await obs.start(cls, "device", server=faulty.url)
+        assert module.state is ModuleState.READY, module._error_string
+        faulty.replies[member] = value(reply)
+        with pytest.raises(
+            AlpacaReplyError, match=f"{cls.device_type} 0 at {faulty.url}: GET {member}: .* is not {wanted}"
+        ):
+            await call(module)
+
+
+async def test_a_malformed_reply_at_connect_keeps_the_module_in_error(faulty: FaultyServer) -> None:
+    faulty.replies["connecting"] = value(False)
+    faulty.replies["shutterstatus"] = value(7)
+    async with Observatory(clock=RealClock()) as obs:
+        roof = await obs.start(AlpacaRoof, "roof", server=faulty.url, reconnect_interval=0.2)
+        assert roof.state is ModuleState.ERROR
+        assert "GET shutterstatus: 7 is not an ASCOM ShutterState (0..4)" in await roof.get_error_string()
+        faulty.replies["shutterstatus"] = value(1)  # the device is fixed: the module reconnects
+        await obs.wait_for(lambda: roof.state is ModuleState.READY, 30.0, message="the roof recovering")

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, Generic, TypeVar
 
-from nightcrew.bridges.alpaca.errors import AlpacaReplyError
 from nightcrew.errors import (
     ConfigError,
     InvalidArgumentError,
@@ -29,7 +28,7 @@ from nightcrew.errors import (
     RemoteError,
 )
 from nightcrew.interfaces import CalibratorState, CoverState, ICoverCalibrator
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.checked import CheckedGets
 
 __all__ = ["AlpacaCoverCalibrator"]
 
@@ -82,7 +81,7 @@ _LIGHT = _Part(
 )
 
 
-class AlpacaCoverCalibrator(AlpacaModule, ICoverCalibrator):
+class AlpacaCoverCalibrator(CheckedGets, ICoverCalibrator):
     """A cover and/or flat-field panel.
 
     Args:
@@ -107,11 +106,9 @@ class AlpacaCoverCalibrator(AlpacaModule, ICoverCalibrator):
         self._calibrator_timeout = float(calibrator_timeout)
 
     async def _part_state(self, part: _Part[S]) -> S:
-        value = await self._get(part.member)
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(part.states):
-            raise AlpacaReplyError(
-                f"{self.device.name}: GET {part.member}: {value!r} is not an ASCOM state (0..5)"
-            )
+        value = await self._get_integer(part.member)
+        if not 0 <= value < len(part.states):
+            raise self._bad_value(part.member, value, "an ASCOM state (0..5)")
         return part.states[value]
 
     async def _present(self, part: _Part[S]) -> None:
@@ -167,8 +164,8 @@ class AlpacaCoverCalibrator(AlpacaModule, ICoverCalibrator):
 
     async def get_brightness(self) -> int:
         await self._present(_LIGHT)
-        return int(await self._get("brightness"))
+        return await self._get_integer("brightness")
 
     async def get_max_brightness(self) -> int:
         await self._present(_LIGHT)
-        return int(await self._get("maxbrightness"))
+        return await self._get_integer("maxbrightness")

@@ -20,7 +20,7 @@ from typing import Any
 
 from nightcrew.errors import ConfigError, MoveError, NotSupportedError
 from nightcrew.interfaces import MotionStatus
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.checked import CheckedGets
 from nightcrew.modules.roof import BaseRoof
 
 __all__ = ["AlpacaRoof", "ShutterState"]
@@ -46,7 +46,11 @@ _STATUS_OF = {
 }
 
 
-class AlpacaRoof(AlpacaModule, BaseRoof):
+def _is_shutter_state(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 4
+
+
+class AlpacaRoof(CheckedGets, BaseRoof):
     """A roof or shutter on an Alpaca Dome device.
 
     Args:
@@ -65,7 +69,7 @@ class AlpacaRoof(AlpacaModule, BaseRoof):
 
     async def _on_connected(self) -> None:
         await super()._on_connected()
-        if not await self._get("cansetshutter"):
+        if not await self._get_flag("cansetshutter"):
             raise NotSupportedError(
                 f"{self.device.name} cannot open or close its shutter (CanSetShutter false)"
             )
@@ -73,24 +77,23 @@ class AlpacaRoof(AlpacaModule, BaseRoof):
             await self._set_motion_status(_STATUS_OF[await self._shutter_state()])
 
     async def _shutter_state(self) -> ShutterState:
-        value = await self._get("shutterstatus")
-        try:
-            return ShutterState(value)
-        except ValueError:
-            raise MoveError(
-                f"{self.device.name}: ShutterStatus {value!r} is not an ASCOM ShutterState"
-            ) from None
+        value = await self._get_integer("shutterstatus")
+        if not _is_shutter_state(value):
+            raise self._bad_value("shutterstatus", value, "an ASCOM ShutterState (0..4)")
+        return ShutterState(value)
 
     async def _move_shutter(self, method: str, target: ShutterState) -> None:
         await self._put(method)
         # Wait for the target itself: a real shutter may still report its old state for a moment.
         state = await self._poll_until(
             "shutterstatus",
-            lambda value: value in (target, ShutterState.ERROR),
+            lambda value: value in (target, ShutterState.ERROR) or not _is_shutter_state(value),
             self._shutter_timeout,
             method,
             MoveError,
         )
+        if not _is_shutter_state(state):
+            raise self._bad_value("shutterstatus", state, "an ASCOM ShutterState (0..4)")
         if state != target:
             raise MoveError(f"{self.device.name}: {method}: the shutter reports an error (ShutterStatus 4)")
 

@@ -17,15 +17,15 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NightcrewError, NotSupportedError
+from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NotSupportedError
 from nightcrew.interfaces import FitsCard, IFitsHeaderBefore, IRotator, MotionStatus
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.checked import CheckedGets
 from nightcrew.modules.motion import BaseMotion
 
 __all__ = ["AlpacaRotator"]
 
 
-class AlpacaRotator(AlpacaModule, BaseMotion, IRotator, IFitsHeaderBefore):
+class AlpacaRotator(CheckedGets, BaseMotion, IRotator, IFitsHeaderBefore):
     """A rotator; FITS cards ROTPA (sky position angle) and ROTMECH (mechanical angle).
 
     Args:
@@ -44,13 +44,10 @@ class AlpacaRotator(AlpacaModule, BaseMotion, IRotator, IFitsHeaderBefore):
 
     async def _on_connected(self) -> None:
         await super()._on_connected()
-        self._can_reverse = bool(await self._get("canreverse"))
+        self._can_reverse = await self._get_flag("canreverse")
 
     async def _angle(self, member: str) -> float:
-        value = await self._get(member)
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-            raise NightcrewError(f"{self.device.name}: GET {member}: {value!r} is not an angle")
-        return float(value) % 360.0
+        return await self._get_number(member) % 360.0
 
     async def _move(self, method: str, angle: float, what: str, *, absolute: bool = True) -> None:
         if not math.isfinite(angle):
@@ -64,9 +61,11 @@ class AlpacaRotator(AlpacaModule, BaseMotion, IRotator, IFitsHeaderBefore):
 
             async def hardware() -> None:
                 await self._put(method, Position=angle)
-                await self._poll_until(
-                    "ismoving", lambda moving: moving is False, self._move_timeout, what, MoveError
+                moving = await self._poll_until(
+                    "ismoving", lambda value: value is not True, self._move_timeout, what, MoveError
                 )
+                if moving is not False:
+                    raise self._bad_value("ismoving", moving, "true or false")
 
             await self._guarded(hardware(), f"rotator failed: {what}")
             await self._set_motion_status(MotionStatus.IDLE)
@@ -96,7 +95,7 @@ class AlpacaRotator(AlpacaModule, BaseMotion, IRotator, IFitsHeaderBefore):
         await self._put("reverse", Reverse=bool(reverse))
 
     async def get_rotator_reversed(self) -> bool:
-        return bool(await self._get("reverse"))
+        return await self._get_flag("reverse")
 
     # --- IMotion -------------------------------------------------------------------------------
 

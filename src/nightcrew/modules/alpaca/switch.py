@@ -17,10 +17,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from nightcrew.bridges.alpaca.errors import AlpacaReplyError
 from nightcrew.errors import InvalidArgumentError, NotSupportedError
 from nightcrew.interfaces import ISwitch, SwitchInfo
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.checked import CheckedGets
 
 __all__ = ["AlpacaSwitch"]
 
@@ -28,7 +27,7 @@ __all__ = ["AlpacaSwitch"]
 _STEP_TOLERANCE = 1e-6
 
 
-class AlpacaSwitch(AlpacaModule, ISwitch):
+class AlpacaSwitch(CheckedGets, ISwitch):
     """The switches of an Alpaca Switch device.
 
     Args:
@@ -43,22 +42,20 @@ class AlpacaSwitch(AlpacaModule, ISwitch):
 
     async def _on_connected(self) -> None:
         await super()._on_connected()
-        count = await self._get("maxswitch")
-        if isinstance(count, bool) or not isinstance(count, int) or count < 0:
-            raise AlpacaReplyError(
-                f"{self.device.name}: GET maxswitch: {count!r} is not a number of switches"
-            )
+        count = await self._get_integer("maxswitch")
+        if count < 0:
+            raise self._bad_value("maxswitch", count, "a number of switches")
         self._switches = [await self._read_info(index) for index in range(count)]
 
     async def _read_info(self, index: int) -> SwitchInfo:
         return SwitchInfo(
             index=index,
-            name=str(await self._get("getswitchname", Id=index)),
-            description=str(await self._get("getswitchdescription", Id=index)),
-            can_write=bool(await self._get("canwrite", Id=index)),
-            min_value=float(await self._get("minswitchvalue", Id=index)),
-            max_value=float(await self._get("maxswitchvalue", Id=index)),
-            step=float(await self._get("switchstep", Id=index)),
+            name=await self._get_text("getswitchname", Id=index),
+            description=await self._get_text("getswitchdescription", Id=index),
+            can_write=await self._get_flag("canwrite", Id=index),
+            min_value=await self._get_number("minswitchvalue", Id=index),
+            max_value=await self._get_number("maxswitchvalue", Id=index),
+            step=await self._get_number("switchstep", Id=index),
         )
 
     def _info(self, switch: int) -> SwitchInfo:
@@ -83,7 +80,7 @@ class AlpacaSwitch(AlpacaModule, ISwitch):
 
     async def get_switch(self, switch: int) -> bool:
         self._info(switch)
-        return bool(await self._get("getswitch", Id=switch))
+        return await self._get_flag("getswitch", Id=switch)
 
     async def set_switch(self, switch: int, state: bool) -> None:
         self._writable(switch)
@@ -91,7 +88,7 @@ class AlpacaSwitch(AlpacaModule, ISwitch):
 
     async def get_switch_value(self, switch: int) -> float:
         self._info(switch)
-        return float(await self._get("getswitchvalue", Id=switch))
+        return await self._get_number("getswitchvalue", Id=switch)
 
     async def set_switch_value(self, switch: int, value: float) -> None:
         info = self._writable(switch)
