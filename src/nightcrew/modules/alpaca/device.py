@@ -20,10 +20,10 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any, ClassVar
 
-from nightcrew.bridges.alpaca import AlpacaClient, AlpacaDevice
+from nightcrew.bridges.alpaca import AlpacaClient, AlpacaDevice, check_server_url
 from nightcrew.bridges.alpaca.errors import AlpacaConnectionError, AlpacaNotConnectedError
 from nightcrew.errors import ConfigError, NightcrewError, RemoteTimeoutError
 from nightcrew.interfaces import ModuleState
@@ -84,6 +84,16 @@ class AlpacaModule(Module):
         self._poll_interval = float(poll_interval)
         self._reconnect_interval = float(reconnect_interval)
         self._lost: str | None = None
+
+    @staticmethod
+    def config_value_problems(values: Mapping[str, Any]) -> Iterator[tuple[str, str]]:
+        """What ``nightcrew check`` reports beyond types: a server that is no Alpaca base URL."""
+        server = values.get("server")
+        if isinstance(server, str):
+            try:
+                check_server_url(server)
+            except ValueError as exc:
+                yield "server", str(exc)
 
     # --- lifecycle -----------------------------------------------------------------------------
 
