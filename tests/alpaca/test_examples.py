@@ -77,7 +77,7 @@ async def test_client_example_builds_and_connects(
             "bad.yaml:3: key 'server': an Alpaca server URL is only scheme://host:port",
         ),
         (
-            "class: nightcrew.modules.alpaca.AlpacaFilterWheel\nserver: http://127.0.0.1:1\ndevice_number: one\n",
+            "class: nightcrew.modules.alpaca.AlpacaFilterWheel\nserver: http://h:1\ndevice_number: one\n",
             "bad.yaml:3: key 'device_number': ",
         ),
     ],
