@@ -58,10 +58,16 @@ class Served:
 
 @asynccontextmanager
 async def served_observatory(
-    *, chip: int = 512, slew_rate: float = 90.0, **server_options: Any
+    *,
+    chip: int = 512,
+    slew_rate: float = 90.0,
+    focuser_speed: float = 20.0,
+    filter_change_time: float = 0.2,
+    **server_options: Any,
 ) -> AsyncIterator[Served]:
-    """Telescope (``slew_rate`` °/s), camera (``chip`` x ``chip`` pixels), dome, focuser, filter
-    wheel and weather, served by an AlpacaServer ``alpaca``."""
+    """Telescope (``slew_rate`` °/s), camera (``chip`` x ``chip`` pixels), dome, focuser
+    (``focuser_speed`` mm/s), filter wheel (``filter_change_time`` s) and weather, served by an
+    AlpacaServer ``alpaca``."""
     async with Observatory(speed=1.0, epoch=DARK_NIGHT) as obs:
         await obs.start(SimTelescope, "telescope", slew_rate=slew_rate, settle_time=0.0, init_time=0.0)
         await obs.start(
@@ -76,8 +82,8 @@ async def served_observatory(
             readout_time=0.0,
         )
         await obs.start(SimDome, "dome", open_time=1.0, close_time=1.0, rotation_speed=90.0)
-        await obs.start(SimFocuser, "focuser", speed=20.0, focus=20.0)
-        await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"], change_time=0.2)
+        await obs.start(SimFocuser, "focuser", speed=focuser_speed, focus=20.0)
+        await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"], change_time=filter_change_time)
         await obs.start(
             Weather,
             "weather",
