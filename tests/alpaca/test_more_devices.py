@@ -13,6 +13,7 @@ import pytest
 from nightcrew.bridges.alpaca.errors import AlpacaReplyError
 from nightcrew.clock import RealClock
 from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.alpaca.covercalibrator import AlpacaCoverCalibrator
 from nightcrew.modules.alpaca.device import AlpacaModule
@@ -182,3 +183,38 @@ async def test_a_malformed_reply_at_connect_keeps_the_module_in_error(faulty: Fa
         assert "GET shutterstatus: 7 is not an ASCOM ShutterState (0..4)" in await roof.get_error_string()
         faulty.replies["shutterstatus"] = value(1)  # the device is fixed: the module reconnects
         await obs.wait_for(lambda: roof.state is ModuleState.READY, 30.0, message="the roof recovering")
+
+
+@pytest.mark.parametrize(
+    ("yaml", "message"),
+    [
+        (
+            "class: nightcrew.modules.alpaca.AlpacaRoof\nserver: http://127.0.0.1:11111\n"
+            "shutter_timeout: 1000\n",
+            "module.yaml:3: key 'shutter_timeout': must be within 0..300 seconds (the announced timeout), "
+            "got 1000",
+        ),
+        (
+            "class: nightcrew.modules.alpaca.AlpacaCoverCalibrator\nserver: http://127.0.0.1:11111\n"
+            "calibrator_timeout: 60\n",
+            "module.yaml:3: key 'calibrator_timeout': must be within 0..60 seconds",
+        ),
+        (
+            "class: nightcrew.modules.alpaca.AlpacaDome\nserver: http://127.0.0.1:11111\ndome_radius: 2\n"
+            "mount_offset: [3, 0, 0]\n",
+            "module.yaml:4: key 'mount_offset': the telescope pivot (3, 0, 0) m east/north/up is 3.000 m",
+        ),
+        (
+            "class: nightcrew.modules.alpaca.AlpacaSwitch\nserver: 127.0.0.1:11111\n",
+            "module.yaml:2: key 'server': an Alpaca server URL starts with http://",
+        ),
+    ],
+)
+def test_check_reports_a_bad_option_in_one_line(tmp_path: Path, yaml: str, message: str) -> None:
+    # What `nightcrew check` runs: validation without building anything.
+    path = tmp_path / "module.yaml"
+    path.write_text(yaml)
+    with pytest.raises(ConfigError) as raised:
+        validate_config(load_config(path), Module)
+    assert message in str(raised.value)
+    assert "\n" not in str(raised.value)

@@ -20,7 +20,6 @@ from enum import StrEnum
 from typing import Any, Generic, TypeVar
 
 from nightcrew.errors import (
-    ConfigError,
     InvalidArgumentError,
     MoveError,
     NightcrewError,
@@ -91,19 +90,14 @@ class AlpacaCoverCalibrator(CheckedGets, ICoverCalibrator):
     """
 
     device_type = "covercalibrator"
+    wait_limits = {"cover_timeout": 120.0, "calibrator_timeout": 60.0}
 
     def __init__(
         self, *, cover_timeout: float = 100.0, calibrator_timeout: float = 50.0, **kwargs: Any
     ) -> None:
         super().__init__(**kwargs)
-        if not 0 < cover_timeout < 120:
-            raise ConfigError(f"must be within 0..120 seconds, got {cover_timeout}", key="cover_timeout")
-        if not 0 < calibrator_timeout < 60:
-            raise ConfigError(
-                f"must be within 0..60 seconds, got {calibrator_timeout}", key="calibrator_timeout"
-            )
-        self._cover_timeout = float(cover_timeout)
-        self._calibrator_timeout = float(calibrator_timeout)
+        self._cover_timeout = self._checked_wait("cover_timeout", cover_timeout)
+        self._calibrator_timeout = self._checked_wait("calibrator_timeout", calibrator_timeout)
 
     async def _part_state(self, part: _Part[S]) -> S:
         value = await self._get_integer(part.member)

@@ -19,11 +19,12 @@ Example (``examples/alpaca/dome.yaml``)::
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 from nightcrew.errors import ConfigError, MoveError, NotSupportedError
 from nightcrew.modules.alpaca.roof import AlpacaRoof
-from nightcrew.modules.roof import BaseDome
+from nightcrew.modules.roof import BaseDome, DomeGeometry
 from nightcrew.modules.roof.dome import AZIMUTH
 
 __all__ = ["AlpacaDome"]
@@ -41,13 +42,22 @@ class AlpacaDome(AlpacaRoof, BaseDome):
             module options.
     """
 
+    wait_limits = {**AlpacaRoof.wait_limits, "rotation_timeout": 300.0}
+
+    @classmethod
+    def config_value_problems(cls, values: Mapping[str, Any]) -> Iterator[tuple[str, str]]:
+        yield from super().config_value_problems(values)
+        if values.get("dome_radius") is not None:
+            try:
+                DomeGeometry(values["dome_radius"], *values.get("mount_offset", (0.0, 0.0, 0.0)))
+            except ConfigError as exc:
+                yield exc.key or "dome_radius", exc.message
+            except TypeError:
+                pass  # wrong types or lengths: the hints' checks report those
+
     def __init__(self, *, rotation_timeout: float = 240.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        if not 0 < rotation_timeout < 300:
-            raise ConfigError(
-                f"must be within 0..300 seconds, got {rotation_timeout}", key="rotation_timeout"
-            )
-        self._rotation_timeout = float(rotation_timeout)
+        self._rotation_timeout = self._checked_wait("rotation_timeout", rotation_timeout)
 
     async def _on_connected(self) -> None:
         await super()._on_connected()

@@ -18,7 +18,7 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import Any
 
-from nightcrew.errors import ConfigError, MoveError, NotSupportedError
+from nightcrew.errors import MoveError, NotSupportedError
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.alpaca.checked import CheckedGets
 from nightcrew.modules.roof import BaseRoof
@@ -59,12 +59,11 @@ class AlpacaRoof(CheckedGets, BaseRoof):
     """
 
     device_type = "dome"
+    wait_limits = {"shutter_timeout": 300.0}
 
     def __init__(self, *, shutter_timeout: float = 240.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        if not 0 < shutter_timeout < 300:
-            raise ConfigError(f"must be within 0..300 seconds, got {shutter_timeout}", key="shutter_timeout")
-        self._shutter_timeout = float(shutter_timeout)
+        self._shutter_timeout = self._checked_wait("shutter_timeout", shutter_timeout)
         self._stopped_status = MotionStatus.IDLE
 
     async def _on_connected(self) -> None:

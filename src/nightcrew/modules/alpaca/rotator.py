@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NotSupportedError
+from nightcrew.errors import InvalidArgumentError, MoveError, NotSupportedError
 from nightcrew.interfaces import FitsCard, IFitsHeaderBefore, IRotator, MotionStatus
 from nightcrew.modules.alpaca.checked import CheckedGets
 from nightcrew.modules.motion import BaseMotion
@@ -34,12 +34,11 @@ class AlpacaRotator(CheckedGets, BaseMotion, IRotator, IFitsHeaderBefore):
     """
 
     device_type = "rotator"
+    wait_limits = {"move_timeout": 300.0}
 
     def __init__(self, *, move_timeout: float = 240.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        if not 0 < move_timeout < 300:
-            raise ConfigError(f"must be within 0..300 seconds, got {move_timeout}", key="move_timeout")
-        self._move_timeout = float(move_timeout)
+        self._move_timeout = self._checked_wait("move_timeout", move_timeout)
         self._can_reverse = False
 
     async def _on_connected(self) -> None:
