@@ -15,10 +15,12 @@ import pytest
 
 from nightcrew.clock import RealClock
 from nightcrew.modules.alpaca import AlpacaFilterWheel, AlpacaFocuser, AlpacaTelescope
+from nightcrew.modules.alpaca.dome import AlpacaDome
 from nightcrew.testing import (
     SITE,
     ContractProbe,
     ContractSetup,
+    DomeContract,
     FilterWheelContract,
     FocuserContract,
     Observatory,
@@ -30,7 +32,9 @@ from .served import served_observatory
 
 async def _client(module_class: type[Any], name: str, **options: Any) -> AsyncIterator[ContractSetup[Any]]:
     # Motions of seconds, so the suites catch them under way even on a loaded machine.
-    served_devices = served_observatory(slew_rate=10.0, focuser_speed=2.0, filter_change_time=2.0)
+    served_devices = served_observatory(
+        slew_rate=10.0, focuser_speed=2.0, filter_change_time=2.0, dome_time=4.0
+    )
     async with served_devices as served, Observatory(clock=RealClock(), site=SITE) as obs:
         probe = await obs.start(ContractProbe, "probe")
         module = await obs.start(module_class, name, server=served.url, **options)
@@ -62,4 +66,13 @@ class TestServedFilterWheel(FilterWheelContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
         async for setup in _client(AlpacaFilterWheel, "filters"):
+            yield setup
+
+
+class TestServedDome(DomeContract):
+    timeout = 60.0
+
+    @pytest.fixture
+    async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
+        async for setup in _client(AlpacaDome, "dome"):
             yield setup
