@@ -5,6 +5,7 @@ from nightcrew.modules.sim.filters import SimFilterWheel
 from nightcrew.modules.sim.focuser import SimFocuser
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth
 from nightcrew.modules.sim.roof import SimDome, SimRoof
+from nightcrew.modules.sim.rotator import SimRotator
 from nightcrew.modules.sim.telescope import SimTelescope
 from nightcrew.modules.sim.weather import SimWeatherStation
 
@@ -17,6 +18,7 @@ __all__ = [
     "SimFilterWheel",
     "SimFocuser",
     "SimRoof",
+    "SimRotator",
     "SimTelescope",
     "SimWeatherStation",
 ]
