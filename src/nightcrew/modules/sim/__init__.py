@@ -6,6 +6,7 @@ from nightcrew.modules.sim.focuser import SimFocuser
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth
 from nightcrew.modules.sim.roof import SimDome, SimRoof
 from nightcrew.modules.sim.rotator import SimRotator
+from nightcrew.modules.sim.switch import SimSwitch
 from nightcrew.modules.sim.telescope import SimTelescope
 from nightcrew.modules.sim.weather import SimWeatherStation
 
@@ -19,6 +20,7 @@ __all__ = [
     "SimFocuser",
     "SimRoof",
     "SimRotator",
+    "SimSwitch",
     "SimTelescope",
     "SimWeatherStation",
 ]
