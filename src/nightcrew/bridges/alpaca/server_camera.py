@@ -46,7 +46,7 @@ from nightcrew.interfaces import (
 __all__ = ["ImageArray", "ServedCamera"]
 
 #: CameraStates.
-_IDLE, _WAITING, _EXPOSING, _READING, _DOWNLOAD, _ERROR = range(6)
+_IDLE, _WAITING, _EXPOSING, _READING, _ERROR = 0, 1, 2, 3, 5
 _STATES = {ExposureStatus.EXPOSING: _EXPOSING, ExposureStatus.READOUT: _READING, ExposureStatus.ERROR: _ERROR}
 _MAX_EXPOSURE = 3600.0
 
@@ -267,7 +267,7 @@ class ServedCamera(ServedDevice):
         if not self.action.running:
             return _IDLE
         status = await (await self._camera()).get_exposure_status()
-        return _STATES.get(status, _DOWNLOAD)
+        return _STATES.get(status, _WAITING)  # idle while the module prepares the exposure
 
     async def get_imageready(self, request: AlpacaRequest) -> bool:
         self.action.raise_failure()
