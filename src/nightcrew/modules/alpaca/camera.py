@@ -23,7 +23,7 @@ import numpy.typing as npt
 
 from nightcrew.errors import AbortedError, ConfigError, GrabImageError, InvalidArgumentError, NightcrewError
 from nightcrew.interfaces import Binning, ExposureStatus, IGain, Window
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.device import LOST_DEVICE_ERRORS, AlpacaModule
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
 
 __all__ = ["AlpacaCamera"]
@@ -107,7 +107,11 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         except asyncio.CancelledError:
             await asyncio.shield(self._abort_exposure())
             raise
-        data = await self.device.image_array(time_limit=self._readout_timeout)
+        try:
+            data = await self.device.image_array(time_limit=self._readout_timeout)
+        except LOST_DEVICE_ERRORS as exc:
+            self._connection_lost(str(exc))
+            raise
         temperature = await self._get("ccdtemperature")
         return Frame(
             _as_uint16(data, settings.shape, self.device.name),

@@ -29,12 +29,12 @@ from nightcrew.errors import ConfigError, NightcrewError, RemoteTimeoutError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
 
-__all__ = ["AlpacaModule"]
+__all__ = ["LOST_DEVICE_ERRORS", "AlpacaModule"]
 
 log = logging.getLogger(__name__)
 
 #: Errors meaning the device is gone (not that it refused one call).
-_LOST = (AlpacaConnectionError, AlpacaNotConnectedError, RemoteTimeoutError)
+LOST_DEVICE_ERRORS = _LOST = (AlpacaConnectionError, AlpacaNotConnectedError, RemoteTimeoutError)
 
 
 class AlpacaModule(Module):
