@@ -127,6 +127,7 @@ async def test_alpyca_gets_the_frame_the_camera_wrote(served: Served) -> None:
     await asyncio.to_thread(setattr, camera, "Connected", True)
     assert await asyncio.to_thread(lambda: (camera.CameraXSize, camera.CameraYSize)) == (512, 512)
     assert await asyncio.to_thread(lambda: camera.MaxBinX) == 4
+    assert await asyncio.to_thread(lambda: (camera.PixelSizeX, camera.PixelSizeY)) == (9.0, 9.0)
 
     await asyncio.to_thread(camera.StartExposure, 0.5, True)
     await wait_in_thread(lambda: camera.ImageReady, 60.0, "image ready")

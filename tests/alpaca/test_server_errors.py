@@ -207,6 +207,10 @@ async def test_bad_configurations_name_the_key() -> None:
         AlpacaServer(name="alpaca", devices={"focuser": "focuser"}, port=70000)
     with pytest.raises(ConfigError, match=r"key 'devices\.camera': give a module name"):
         AlpacaServer(name="alpaca", devices={"camera": []})
+    with pytest.raises(ConfigError, match=r"key 'pixel_sizes\.guider': guider is not a served camera"):
+        AlpacaServer(name="alpaca", devices={"camera": "camera"}, pixel_sizes={"guider": 5.0})
+    with pytest.raises(ConfigError, match=r"key 'pixel_sizes\.camera': must be > 0 µm, got -1"):
+        AlpacaServer(name="alpaca", devices={"camera": "camera"}, pixel_sizes={"camera": -1})
 
 
 async def test_a_busy_port_is_a_config_error(served: Served) -> None:

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.config import build_object, load_config, to_plain, validate_config
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca.server import AlpacaServer
 from nightcrew.modules.sim.night import (
@@ -36,6 +36,7 @@ from nightcrew.modules.sim.night import (
     park_and_close,
 )
 from nightcrew.modules.sim.night_plan import night_start
+from nightcrew.sim.render import CameraModel
 
 __all__ = ["SAFETY", "serve_alpaca_command"]
 
@@ -89,6 +90,7 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         vfs=vfs,
         site=next((m.site for m in modules if m.site is not None), None),
         devices=devices,
+        pixel_sizes={CAMERA: _pixel_size(directory)},
         port=args.alpaca,
         discovery_port=args.alpaca_discovery_port,
     )
@@ -119,3 +121,11 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
             loop.remove_signal_handler(sig)
         for module in reversed(opened):
             await module.close()
+
+
+def _pixel_size(directory: Path) -> float:
+    """The simulated camera's pixel size in µm (its detector's pixel_size_um)."""
+    path = directory / f"{CAMERA}.yaml"
+    detector = to_plain(load_config(path).get("detector") or {}) if path.is_file() else {}
+    size = detector.get("pixel_size_um") if isinstance(detector, dict) else None
+    return float(size) if isinstance(size, int | float) else CameraModel().pixel_size_um

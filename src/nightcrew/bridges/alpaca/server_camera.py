@@ -69,15 +69,20 @@ class _Exposure:
 
 
 class ServedCamera(ServedDevice):
-    """Alpaca Camera (ICameraV3 members) on a nightcrew ICamera module."""
+    """Alpaca Camera (ICameraV3 members) on a nightcrew ICamera module.
+
+    Args:
+        pixel_size: Pixel size in µm (the interface does not tell it).
+    """
 
     device_type = "camera"
     type_name = "Camera"
     interface_version = 3
     interface = ICamera
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
+    def __init__(self, *args: Any, pixel_size: float | None = None, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        self._pixel_size = pixel_size
         self._bin = Binning(1, 1)
         self._subframe: tuple[int, int, int, int] | None = None  # start x, y, num x, y (binned)
         self._last: _Exposure | None = None
@@ -111,6 +116,13 @@ class ServedCamera(ServedDevice):
 
     async def get_canasymmetricbin(self, request: AlpacaRequest) -> bool:
         return any(b.x != b.y for b in await self._binnings())
+
+    async def get_pixelsizex(self, request: AlpacaRequest) -> float:
+        if self._pixel_size is None:
+            raise NotSupportedError(f"pixelsize: no pixel size configured for {self.module} (pixel_sizes)")
+        return self._pixel_size
+
+    get_pixelsizey = get_pixelsizex
 
     async def get_maxadu(self, request: AlpacaRequest) -> int:
         return 65535
