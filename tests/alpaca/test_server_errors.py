@@ -87,6 +87,7 @@ async def test_unknown_devices_are_bad_requests_naming_what_is_served(client: Cl
             "parameter Declination='inf' is not a finite number",
         ),
         ({"RightAscension": "12"}, "slewtocoordinatesasync: missing parameter Declination"),
+        ({"RightAscension": "١٢", "Declination": "10"}, "parameter RightAscension='١٢' is not a number"),
     ],
 )
 async def test_malformed_parameters_are_bad_requests(
