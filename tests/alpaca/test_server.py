@@ -9,6 +9,7 @@ verdict as a safety monitor.
 from __future__ import annotations
 
 import asyncio
+from pathlib import Path
 
 import aiohttp
 import numpy as np
@@ -22,7 +23,10 @@ from alpaca.telescope import Telescope  # type: ignore[import-untyped]
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from alpaca import management  # type: ignore[import-untyped]
+from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.interfaces import MotionStatus
+from nightcrew.modules import Module
+from nightcrew.modules.alpaca import AlpacaServer
 from nightcrew.modules.sim import SimTelescope
 from nightcrew.vfs import VirtualFileSystem
 
@@ -232,3 +236,19 @@ async def _last_path(vfs: VirtualFileSystem) -> str:
     paths = sorted(await vfs.find("/cache/*.fits"))
     assert len(paths) == 1, paths
     return paths[0]
+
+
+def test_the_example_configuration_builds() -> None:
+    path = Path(__file__).resolve().parents[2] / "examples" / "alpaca" / "server.yaml"
+    config = load_config(path)
+    validate_config(config, Module)
+    server = build_object({**config, "name": "alpaca"}, Module)
+    assert isinstance(server, AlpacaServer)
+    assert [d.describe() for d in server.devices] == [
+        "telescope 0 (module telescope)",
+        "camera 0 (module camera)",
+        "dome 0 (module roof)",
+        "focuser 0 (module focuser)",
+        "filterwheel 0 (module filters)",
+        "safetymonitor 0 (module safety)",
+    ]
