@@ -5,12 +5,15 @@ from __future__ import annotations
 
 from collections.abc import AsyncIterator
 
+import numpy as np
 import pytest
 
+from nightcrew.astro import altaz_to_radec
 from nightcrew.clock import RealClock
 from nightcrew.errors import InvalidArgumentError, MoveError
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.alpaca import AlpacaTelescope
+from nightcrew.modules.alpaca.telescope import of_date
 from nightcrew.testing import Observatory
 from nightcrew.testing.alpaca import SIMULATOR_SITE, AlpacaSimulator
 from tests.alpaca.faulty_server import FaultyServer, alpaca_error, value
@@ -79,5 +82,55 @@ async def test_an_alpaca_error_during_a_slew_is_a_move_error_naming_device_and_c
             ):
                 await telescope.move_altaz(45.0, 90.0)
             assert await telescope.get_motion_status() is MotionStatus.ERROR
+    finally:
+        await server.stop()
+
+
+def test_of_date_is_fk5_precession() -> None:
+    from astropy import units as u  # type: ignore[import-untyped]
+    from astropy.coordinates import FK5, SkyCoord  # type: ignore[import-untyped]
+    from astropy.time import Time  # type: ignore[import-untyped]
+
+    unix_time = 1_795_000_000.0  # 2026-11-19
+    for ra, dec in ((10.0, 20.0), (250.0, -60.0), (83.6, 22.0)):
+        ra_d, dec_d = of_date(ra, dec, unix_time)
+        expected = SkyCoord(ra * u.deg, dec * u.deg, frame=FK5(equinox="J2000")).transform_to(
+            FK5(equinox=Time(unix_time, format="unix"))
+        )
+        assert abs((ra_d - expected.ra.deg + 180) % 360 - 180) * np.cos(np.radians(dec)) < 1 / 3600
+        assert abs(dec_d - expected.dec.deg) < 1 / 3600
+        assert of_date(ra_d, dec_d, unix_time, inverse=True) == pytest.approx((ra, dec), abs=1e-9)
+
+
+async def test_a_jnow_mount_gets_and_gives_positions_of_date() -> None:
+    server = FaultyServer()
+    server.replies.update(
+        {
+            "connecting": value(False),
+            "atpark": value(False),
+            "slewing": value(False),
+            "tracking": value(True),
+            "equatorialsystem": value(1),
+            "sitelatitude": value(SIMULATOR_SITE.latitude),
+            "sitelongitude": value(SIMULATOR_SITE.longitude),
+        }
+    )
+    await server.start()
+    try:
+        async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+            telescope = await obs.start(AlpacaTelescope, "telescope", server=server.url)
+            await telescope.init()
+            alt_az_ra, alt_az_dec = altaz_to_radec(
+                70.0, 180.0, SIMULATOR_SITE.latitude, SIMULATOR_SITE.longitude, obs.clock.time()
+            )
+            ra, dec = float(alt_az_ra) % 360.0, float(alt_az_dec)
+            await telescope.move_radec(ra, dec)
+            (fields,) = [f for _, member, f in server.requests if member == "slewtocoordinatesasync"]
+            sent = (float(fields["RightAscension"]) * 15.0, float(fields["Declination"]))
+            assert sent == pytest.approx(of_date(ra, dec, obs.clock.time()), abs=1e-3)
+            assert abs(sent[1] - dec) > 0.01  # 25 years of precession, not J2000
+            server.replies["rightascension"] = value(sent[0] / 15.0)
+            server.replies["declination"] = value(sent[1])
+            assert await telescope.get_radec() == pytest.approx((ra, dec), abs=1e-3)
     finally:
         await server.stop()
