@@ -16,8 +16,10 @@ import numpy as np
 import pytest
 from alpaca.camera import Camera  # type: ignore[import-untyped]
 from alpaca.dome import Dome, ShutterState  # type: ignore[import-untyped]
+from alpaca.exceptions import NotImplementedException  # type: ignore[import-untyped]
 from alpaca.filterwheel import FilterWheel  # type: ignore[import-untyped]
 from alpaca.focuser import Focuser  # type: ignore[import-untyped]
+from alpaca.observingconditions import ObservingConditions  # type: ignore[import-untyped]
 from alpaca.safetymonitor import SafetyMonitor  # type: ignore[import-untyped]
 from alpaca.telescope import Telescope  # type: ignore[import-untyped]
 from astropy.io import fits  # type: ignore[import-untyped]
@@ -27,10 +29,11 @@ from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca import AlpacaServer
-from nightcrew.modules.sim import SimTelescope
+from nightcrew.modules.sim import SimTelescope, SimWeatherStation
+from nightcrew.testing import Observatory
 from nightcrew.vfs import VirtualFileSystem
 
-from .served import MILKY_WAY, Served, served_observatory, wait_in_thread
+from .served import DARK_NIGHT, MILKY_WAY, Served, served_observatory, wait_in_thread
 
 
 @pytest.fixture
@@ -251,4 +254,27 @@ def test_the_example_configuration_builds() -> None:
         "focuser 0 (module focuser)",
         "filterwheel 0 (module filters)",
         "safetymonitor 0 (module safety)",
+        "observingconditions 0 (module weather)",
     ]
+
+
+async def test_a_weather_station_as_observing_conditions() -> None:
+    scenario = [{"at": 0, "temperature": 8.0, "humidity": 55, "wind_speed": 18.0, "clouds": 0.05}]
+    async with Observatory(speed=1.0, epoch=DARK_NIGHT) as obs:
+        await obs.start(SimWeatherStation, "station", scenario=scenario)
+        server = await obs.start(
+            AlpacaServer, "alpaca", devices={"observingconditions": "station"}, port=0, discovery_port=None
+        )
+        conditions = ObservingConditions(f"127.0.0.1:{server.port}", 0)
+        await asyncio.to_thread(setattr, conditions, "Connected", True)
+        read = await asyncio.to_thread(
+            lambda: (conditions.Temperature, conditions.Humidity, conditions.WindSpeed)
+        )
+        assert read == pytest.approx((8.0, 55.0, 5.0))  # wind in m/s
+        assert "temperature of nightcrew module station" in await asyncio.to_thread(
+            conditions.SensorDescription, "Temperature"
+        )
+        assert await asyncio.to_thread(conditions.TimeSinceLastUpdate, "") >= 0.0
+        assert await asyncio.to_thread(lambda: conditions.AveragePeriod) == 0.0
+        with pytest.raises(NotImplementedException, match="observingconditions member cloudcover"):
+            await asyncio.to_thread(lambda: conditions.CloudCover)

@@ -63,6 +63,7 @@ async def test_sim_serves_its_devices_to_alpyca(sim_server: tuple[subprocess.Pop
         ("Focuser", "focuser"),
         ("FilterWheel", "filters"),
         ("SafetyMonitor", "safety"),
+        ("ObservingConditions", "weather"),
     }
 
     dome, telescope, camera = Dome(address, 0), Telescope(address, 0), Camera(address, 0)

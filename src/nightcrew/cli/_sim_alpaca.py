@@ -3,7 +3,8 @@
 Instead of running a night, the bundled (or ``--configs``) devices run on a clock at real speed
 (``--speed`` to change it) that starts at dusk of ``--date`` (or ``--start``), and an AlpacaServer
 serves them on 127.0.0.1:PORT: telescope, camera (frames are also written to ``--out``), roof as
-Dome, focuser, filter wheel, and the weather verdict of ``robotic/safety.yaml`` as SafetyMonitor.
+Dome, focuser, filter wheel, the weather station as ObservingConditions and the weather verdict
+of ``robotic/safety.yaml`` as SafetyMonitor.
 Any Alpaca client (N.I.N.A., SharpCap, alpyca scripts) can then drive the simulated sky; it finds
 the server by Alpaca discovery on loopback (``--alpaca-discovery-port``). On Ctrl-C or SIGTERM the
 telescope parks, the roof closes and everything stops.
@@ -38,10 +39,12 @@ from nightcrew.modules.sim.night import (
 from nightcrew.modules.sim.night_plan import night_start
 from nightcrew.sim.render import CameraModel
 
-__all__ = ["SAFETY", "serve_alpaca_command"]
+__all__ = ["SAFETY", "STATION", "serve_alpaca_command"]
 
 #: The weather verdict module (robotic/safety.yaml) served as the SafetyMonitor.
 SAFETY = "safety"
+#: The weather station (weather.yaml) served as ObservingConditions.
+STATION = "weather"
 
 
 def serve_alpaca_command(args: argparse.Namespace) -> int:
@@ -77,6 +80,8 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         "focuser": FOCUSER,
         "filterwheel": FILTERS,
     }
+    if any(module.name == STATION for module in modules):
+        devices["observingconditions"] = STATION
     safety = directory / "robotic" / f"{SAFETY}.yaml"
     if safety.is_file():
         config = load_config(safety)

@@ -11,6 +11,7 @@ Example (see ``examples/alpaca/server.yaml``)::
       focuser: focuser
       filterwheel: filters
       safetymonitor: weather      # the weather module's good/bad verdict
+      observingconditions: station  # a weather station's (or the weather module's) sensors
     vfs: ...                      # must reach the camera's file roots (ImageArray reads the frame)
 
 The devices are reached through proxies on the module's comm, so the observatory may run in this
@@ -35,6 +36,7 @@ from nightcrew.bridges.alpaca.server_devices import (
     ServedDome,
     ServedFilterWheel,
     ServedFocuser,
+    ServedObservingConditions,
     ServedSafetyMonitor,
 )
 from nightcrew.bridges.alpaca.server_telescope import ServedTelescope
@@ -56,6 +58,7 @@ SERVED_TYPES: dict[str, type[ServedDevice]] = {
         ServedFocuser,
         ServedFilterWheel,
         ServedSafetyMonitor,
+        ServedObservingConditions,
     )
 }
 
@@ -65,7 +68,8 @@ class AlpacaServer(Module):
 
     Args:
         devices: Alpaca device type → module name, or a list of names (device numbers 0, 1, ...).
-            Types: telescope, camera, dome, focuser, filterwheel, safetymonitor.
+            Types: telescope, camera, dome, focuser, filterwheel, safetymonitor,
+            observingconditions.
         host: Address the HTTP server listens on.
         port: HTTP port (11111 is customary; 0 picks a free port, see :attr:`port`).
         discovery_host: Address of the discovery responder; ``host`` when None.
