@@ -4,6 +4,7 @@ tracking, and an Alpaca error during a slew."""
 from __future__ import annotations
 
 from collections.abc import AsyncIterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -60,30 +61,24 @@ async def test_tracking_rates_sync_and_pier_side(telescope: AlpacaTelescope) -> 
         await telescope.sync_radec(400.0, 0.0)
 
 
-async def test_an_alpaca_error_during_a_slew_is_a_move_error_naming_device_and_call() -> None:
-    server = FaultyServer()
-    server.replies.update(
-        {
-            "connecting": value(False),
-            "atpark": value(False),
-            "tracking": value(True),
-            "sitelatitude": value(SIMULATOR_SITE.latitude),
-            "sitelongitude": value(SIMULATOR_SITE.longitude),
-            "slewtoaltazasync": alpaca_error(0x408, "the mount is parked"),
-        }
-    )
-    await server.start()
-    try:
-        async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
-            telescope = await obs.start(AlpacaTelescope, "telescope", server=server.url)
-            await telescope.init()
-            with pytest.raises(
-                MoveError, match=r"telescope 0 at .*: PUT slewtoaltazasync: InvalidWhileParked"
-            ):
-                await telescope.move_altaz(45.0, 90.0)
-            assert await telescope.get_motion_status() is MotionStatus.ERROR
-    finally:
-        await server.stop()
+def as_mount(server: FaultyServer, **members: Any) -> None:
+    """Make ``server`` answer as an unparked mount at the simulator's site, plus ``members``."""
+    mount: dict[str, Any] = {"connecting": False, "atpark": False, "slewing": False, "tracking": True}
+    mount.update(sitelatitude=SIMULATOR_SITE.latitude, sitelongitude=SIMULATOR_SITE.longitude, **members)
+    server.replies.update({member: value(v) for member, v in mount.items()})
+
+
+async def test_an_alpaca_error_during_a_slew_is_a_move_error_naming_device_and_call(
+    faulty: FaultyServer,
+) -> None:
+    as_mount(faulty)
+    faulty.replies["slewtoaltazasync"] = alpaca_error(0x408, "the mount is parked")
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        telescope = await obs.start(AlpacaTelescope, "telescope", server=faulty.url)
+        await telescope.init()
+        with pytest.raises(MoveError, match=r"telescope 0 at .*: PUT slewtoaltazasync: InvalidWhileParked"):
+            await telescope.move_altaz(45.0, 90.0)
+        assert await telescope.get_motion_status() is MotionStatus.ERROR
 
 
 def test_of_date_is_fk5_precession() -> None:
@@ -102,35 +97,20 @@ def test_of_date_is_fk5_precession() -> None:
         assert of_date(ra_d, dec_d, unix_time, inverse=True) == pytest.approx((ra, dec), abs=1e-9)
 
 
-async def test_a_jnow_mount_gets_and_gives_positions_of_date() -> None:
-    server = FaultyServer()
-    server.replies.update(
-        {
-            "connecting": value(False),
-            "atpark": value(False),
-            "slewing": value(False),
-            "tracking": value(True),
-            "equatorialsystem": value(1),
-            "sitelatitude": value(SIMULATOR_SITE.latitude),
-            "sitelongitude": value(SIMULATOR_SITE.longitude),
-        }
-    )
-    await server.start()
-    try:
-        async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
-            telescope = await obs.start(AlpacaTelescope, "telescope", server=server.url)
-            await telescope.init()
-            alt_az_ra, alt_az_dec = altaz_to_radec(
-                70.0, 180.0, SIMULATOR_SITE.latitude, SIMULATOR_SITE.longitude, obs.clock.time()
-            )
-            ra, dec = float(alt_az_ra) % 360.0, float(alt_az_dec)
-            await telescope.move_radec(ra, dec)
-            (fields,) = [f for _, member, f in server.requests if member == "slewtocoordinatesasync"]
-            sent = (float(fields["RightAscension"]) * 15.0, float(fields["Declination"]))
-            assert sent == pytest.approx(of_date(ra, dec, obs.clock.time()), abs=1e-3)
-            assert abs(sent[1] - dec) > 0.01  # 25 years of precession, not J2000
-            server.replies["rightascension"] = value(sent[0] / 15.0)
-            server.replies["declination"] = value(sent[1])
-            assert await telescope.get_radec() == pytest.approx((ra, dec), abs=1e-3)
-    finally:
-        await server.stop()
+async def test_a_jnow_mount_gets_and_gives_positions_of_date(faulty: FaultyServer) -> None:
+    as_mount(faulty, equatorialsystem=1)
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        telescope = await obs.start(AlpacaTelescope, "telescope", server=faulty.url)
+        await telescope.init()
+        alt_az_ra, alt_az_dec = altaz_to_radec(
+            70.0, 180.0, SIMULATOR_SITE.latitude, SIMULATOR_SITE.longitude, obs.clock.time()
+        )
+        ra, dec = float(alt_az_ra) % 360.0, float(alt_az_dec)
+        await telescope.move_radec(ra, dec)
+        (fields,) = [f for _, member, f in faulty.requests if member == "slewtocoordinatesasync"]
+        sent = (float(fields["RightAscension"]) * 15.0, float(fields["Declination"]))
+        assert sent == pytest.approx(of_date(ra, dec, obs.clock.time()), abs=1e-3)
+        assert abs(sent[1] - dec) > 0.01  # 25 years of precession, not J2000
+        faulty.replies["rightascension"] = value(sent[0] / 15.0)
+        faulty.replies["declination"] = value(sent[1])
+        assert await telescope.get_radec() == pytest.approx((ra, dec), abs=1e-3)

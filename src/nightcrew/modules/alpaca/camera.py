@@ -105,7 +105,7 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         try:
             await self._wait_for_image(settings.exposure_time)
         except asyncio.CancelledError:
-            await asyncio.shield(self._abort_exposure())
+            await asyncio.shield(self._put_best_effort("abortexposure"))
             raise
         try:
             data = await self.device.image_array(time_limit=self._readout_timeout)
@@ -137,12 +137,6 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         except TimeoutError:
             raise GrabImageError(f"{self.device.name}: no image within {limit:g} s") from None
         await self._set_exposure_status(ExposureStatus.READOUT)
-
-    async def _abort_exposure(self) -> None:
-        try:
-            await self.device.put("abortexposure")
-        except Exception as exc:
-            log.warning("%s: AbortExposure failed: %s", self.name, exc)
 
     async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
         if enabled:

@@ -174,6 +174,14 @@ class AlpacaModule(Module):
             self._connection_lost(str(exc))
             raise
 
+    async def _put_best_effort(self, member: str) -> None:
+        """``PUT member`` (AbortSlew, Halt, ...) while a motion is being cancelled: a failure is logged,
+        not raised, so that the cancellation goes on."""
+        try:
+            await self.device.put(member)
+        except Exception as exc:
+            log.warning("%s: %s on %s failed: %s", self.name, member, self.device.name, exc)
+
     async def _poll_until(
         self,
         member: str,

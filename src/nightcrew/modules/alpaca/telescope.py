@@ -88,14 +88,8 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
             )
         except asyncio.CancelledError:
             # Aborted (park, stop_motion, pre-emption): the mount must not finish the slew on its own.
-            await asyncio.shield(self._abort_slew())
+            await asyncio.shield(self._put_best_effort("abortslew"))
             raise
-
-    async def _abort_slew(self) -> None:
-        try:
-            await self.device.put("abortslew")
-        except Exception as exc:
-            log.warning("%s: AbortSlew failed: %s", self.name, exc)
 
     async def _hw_init(self) -> None:
         if await self._get("atpark"):
@@ -128,7 +122,7 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
         await self._wait_slewing_done(f"slew to Alt {alt:.4f}°, Az {az:.4f}°")
 
     async def _hw_stop(self) -> None:
-        await self._abort_slew()
+        await self._put_best_effort("abortslew")
 
     async def _hw_get_radec(self) -> tuple[float, float]:
         ra_hours, dec = await self._get("rightascension"), await self._get("declination")
