@@ -36,7 +36,7 @@ from nightcrew.modules.alpaca import (
 )
 from nightcrew.modules.focus.series import AutoFocusSeries, ProjectionFocusMeasure
 from nightcrew.testing import ContractProbe, Observatory
-from nightcrew.testing.alpaca import SIMULATOR_SITE, TEST_OVERRIDES, AlpacaSimulator, _merged
+from nightcrew.testing.alpaca import SIMULATOR_SITE, TEST_OVERRIDES, AlpacaSimulator, merge_config
 
 from ..sim.solving import offset_arcsec, solve_field_executable
 
@@ -47,7 +47,7 @@ pytestmark = pytest.mark.solver
 #: offline table below saturation in the 2 s focus frames.
 FOCAL_LENGTH_MM, PIXEL_UM, CHIP = 400.0, 5.0, 2048
 PIXEL_SCALE = 206.265 * PIXEL_UM / FOCAL_LENGTH_MM
-SEQUENCE_OVERRIDES: dict[str, Any] = _merged(
+SEQUENCE_OVERRIDES: dict[str, Any] = merge_config(
     TEST_OVERRIDES,
     {
         "devices": {
