@@ -1,7 +1,7 @@
 """nightcrew on both ends of Alpaca: nightcrew's Alpaca client modules drive nightcrew's simulated
 devices through AlpacaServer, as they would drive any Alpaca server.
 
-A second observatory (its own network, clock and VFS) runs AlpacaTelescope, AlpacaCamera,
+A second observatory (its own network and VFS, the same clock) runs AlpacaTelescope, AlpacaCamera,
 AlpacaFocuser and AlpacaFilterWheel pointed at the server; what they do must arrive at the
 simulated devices, and the frame the Alpaca camera writes must hold the simulated camera's pixels.
 """
@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from nightcrew.clock import RealClock
 from nightcrew.interfaces import ImageType
 from nightcrew.modules.alpaca.camera import AlpacaCamera
 from nightcrew.modules.alpaca.filterwheel import AlpacaFilterWheel
@@ -34,7 +33,11 @@ class Both:
 
 @pytest.fixture
 async def both() -> AsyncIterator[Both]:
-    async with served_observatory() as served, Observatory(clock=RealClock(), site=SITE) as client:
+    # One clock (real-time rate, a dark night) on both sides, so they agree on the sky.
+    async with (
+        served_observatory() as served,
+        Observatory(clock=served.observatory.clock, site=SITE) as client,
+    ):
         yield Both(served, client)
 
 
