@@ -1,0 +1,1 @@
+"""Bridges to other device protocols (INDI, Alpaca): clients and servers, no nightcrew modules."""
