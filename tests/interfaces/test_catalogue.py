@@ -18,6 +18,7 @@ from nightcrew.interfaces import (
     IPointingRaDec,
     IReady,
     IRoof,
+    IRotator,
     ITelescope,
     interface_by_name,
     interfaces_of,
@@ -73,6 +74,8 @@ def test_duplicate_interface_name_is_refused() -> None:
         (ITelescope, {IMotion, IReady, IPointingRaDec, IPointingAltAz}),
         (ICamera, {IData, IAbortable, IExposure}),
         (IDome, {IRoof, IMotion, IReady}),
+        # A rotator is halted, initialised and parked like every moving device.
+        (IRotator, {IMotion, IReady}),
     ],
     ids=lambda v: getattr(v, "__name__", ""),
 )

@@ -9,6 +9,7 @@ import pytest
 
 from nightcrew.interfaces import (
     IAutoFocus,
+    ICoverCalibrator,
     IData,
     IFilters,
     IFlatField,
@@ -16,6 +17,8 @@ from nightcrew.interfaces import (
     IMotion,
     IPointingRaDec,
     IRoof,
+    IRotator,
+    ISwitch,
     ITelescope,
     interface_methods,
     interfaces_of,
@@ -41,6 +44,16 @@ METHODS = declared_methods()
         (IFlatField.flat_field, 3600),
         (IModule.get_label, DEFAULT_TIMEOUT),
         (IMotion.get_motion_status, DEFAULT_TIMEOUT),
+        (IRotator.move_position_angle, 300),
+        (IRotator.move_position_angle_by, 300),
+        (IRotator.move_mechanical, 300),
+        (IRotator.get_position_angle, DEFAULT_TIMEOUT),
+        (ICoverCalibrator.open_cover, 120),
+        (ICoverCalibrator.close_cover, 120),
+        (ICoverCalibrator.calibrator_on, 120),
+        (ICoverCalibrator.calibrator_off, 60),
+        (ICoverCalibrator.halt_cover, DEFAULT_TIMEOUT),
+        (ISwitch.set_switch_value, DEFAULT_TIMEOUT),
     ],
     ids=lambda v: getattr(v, "__qualname__", str(v)),
 )
@@ -52,6 +65,13 @@ def test_composed_interface_keeps_inherited_timeouts() -> None:
     methods = interface_methods(interfaces_of(ITelescope))
     assert method_timeout(methods["init"], {}) == 300
     assert method_timeout(methods["move_altaz"], {}) == 300
+
+
+def test_rotator_halts_through_stop_motion() -> None:
+    # Halting a rotator is IMotion's stop_motion, so a mastermind's "stop everything" reaches it.
+    methods = interface_methods(interfaces_of(IRotator))
+    assert methods["stop_motion"] is IMotion.stop_motion
+    assert method_timeout(methods["park"], {}) == 300
 
 
 @pytest.mark.parametrize("item", METHODS, ids=method_id)

@@ -10,7 +10,16 @@ import pytest
 
 from nightcrew.comm.codec import decode, encode
 from nightcrew.errors import CodecError
-from nightcrew.interfaces import FitsValue, IFitsHeaderBefore, IMotion, MotionStatus
+from nightcrew.interfaces import (
+    CalibratorState,
+    CoverState,
+    FitsValue,
+    IFitsHeaderBefore,
+    IMotion,
+    ISwitch,
+    MotionStatus,
+    SwitchInfo,
+)
 from nightcrew.interfaces.base import Interface
 
 from .catalogue import declared_methods, method_id
@@ -66,3 +75,30 @@ def test_wrong_argument_type_is_refused() -> None:
 def test_unknown_motion_status_is_refused() -> None:
     with pytest.raises(CodecError, match="not a valid MotionStatus"):
         decode("sleeping", MotionStatus)
+
+
+def test_switch_list_decodes_to_switch_infos() -> None:
+    hint = typing.get_type_hints(ISwitch.get_switches)["return"]
+    heater = SwitchInfo(
+        index=1,
+        name="Dew heater",
+        description="0-100 %",
+        can_write=True,
+        min_value=0.0,
+        max_value=100.0,
+        step=0.5,
+    )
+    decoded = decode(encode([heater]), hint)
+    assert decoded == [heater]
+    assert type(decoded[0]) is SwitchInfo
+
+
+@pytest.mark.parametrize(
+    ("enum_class", "wire"), [(CoverState, "not_present"), (CalibratorState, "not_ready")]
+)
+def test_cover_calibrator_states_travel_as_strings(
+    enum_class: type[CoverState | CalibratorState], wire: str
+) -> None:
+    assert encode(enum_class(wire)) == wire
+    with pytest.raises(CodecError, match=f"not a valid {enum_class.__name__}"):
+        decode("half_open", enum_class)

@@ -1,1 +1,1 @@
-"""Bridges to other device protocols (INDI, Alpaca): clients and servers, no nightcrew modules."""
+"""Bridges to other protocols: the layer between nightcrew modules and foreign devices or clients."""

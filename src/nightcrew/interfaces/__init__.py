@@ -6,6 +6,7 @@ Importing this package registers all of them, so :func:`interface_by_name` knows
 
 from nightcrew.interfaces.automation import IAcquisition, IAutoGuiding, IFlatField, IPointingSeries
 from nightcrew.interfaces.base import Interface, interface_by_name, interface_methods, interfaces_of
+from nightcrew.interfaces.calibrator import CalibratorState, CoverState, ICoverCalibrator
 from nightcrew.interfaces.camera import (
     Binning,
     CoolingStatus,
@@ -44,13 +45,17 @@ from nightcrew.interfaces.pointing import (
 )
 from nightcrew.interfaces.robotic import IAutonomous, IScriptRunner
 from nightcrew.interfaces.roof import IDome, IRoof
+from nightcrew.interfaces.rotator import IRotator
 from nightcrew.interfaces.sensors import ITemperatures
 from nightcrew.interfaces.spectrograph import ISpectrograph
+from nightcrew.interfaces.switch import ISwitch, SwitchInfo
 from nightcrew.interfaces.weather import IWeather, SensorValue, WeatherReport
 
 __all__ = [
     "Binning",
+    "CalibratorState",
     "CoolingStatus",
+    "CoverState",
     "ExposureStatus",
     "FitsCard",
     "FitsValue",
@@ -63,6 +68,7 @@ __all__ = [
     "ICamera",
     "IConfig",
     "ICooling",
+    "ICoverCalibrator",
     "IData",
     "IDome",
     "IExposure",
@@ -84,11 +90,13 @@ __all__ = [
     "IPointingSeries",
     "IReady",
     "IRoof",
+    "IRotator",
     "IRunnable",
     "IRunning",
     "IScriptRunner",
     "ISpectrograph",
     "IStartStop",
+    "ISwitch",
     "ITelescope",
     "ITemperatures",
     "IVideo",
@@ -100,6 +108,7 @@ __all__ = [
     "ModuleState",
     "MotionStatus",
     "SensorValue",
+    "SwitchInfo",
     "WeatherReport",
     "WeatherSensor",
     "Window",

@@ -81,3 +81,4 @@ class WeatherSensor(StrEnum):
     SUN_ALTITUDE = "sun_altitude"  # degrees above the horizon (computed, not measured)
     PARTICLES = "particles"  # counts per m³
     SKY_BRIGHTNESS = "sky_brightness"  # mag/arcsec²
+    SAFE = "safe"  # 1 when a safety monitor (e.g. Alpaca SafetyMonitor IsSafe) says safe, 0 otherwise

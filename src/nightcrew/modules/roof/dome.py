@@ -11,6 +11,7 @@ from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
 from nightcrew.interfaces import FitsCard, IDome, IFitsHeaderBefore, IPointingAltAz, MotionStatus
 from nightcrew.modules.motion import MotionRunner
 from nightcrew.modules.roof.base import BaseRoof
+from nightcrew.modules.roof.geometry import DomeGeometry, slit_azimuth
 
 __all__ = ["BaseDome", "azimuth_difference"]
 
@@ -34,6 +35,9 @@ class BaseDome(BaseRoof, IDome, IFitsHeaderBefore):
         follow: Name of the telescope whose azimuth the slit follows; None: no following.
         follow_tolerance: Degrees the slit may lag before it turns.
         follow_interval: Clock seconds between two looks at the telescope.
+        dome_radius: Radius of the dome in metres; with ``mount_offset``, where the followed
+            telescope's axis meets the dome (None: the slit follows the telescope's azimuth).
+        mount_offset: Metres (east, north, up) from the dome centre to the telescope's pivot.
         **kwargs: Module options.
     """
 
@@ -43,6 +47,8 @@ class BaseDome(BaseRoof, IDome, IFitsHeaderBefore):
         follow: str | None = None,
         follow_tolerance: float = 2.0,
         follow_interval: float = 5.0,
+        dome_radius: float | None = None,
+        mount_offset: tuple[float, float, float] = (0.0, 0.0, 0.0),
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -53,6 +59,11 @@ class BaseDome(BaseRoof, IDome, IFitsHeaderBefore):
         self._follow = follow
         self._follow_tolerance = float(follow_tolerance)
         self._follow_interval = float(follow_interval)
+        if len(mount_offset) != 3:
+            raise ConfigError(f"give [east, north, up] in metres, got {mount_offset!r}", key="mount_offset")
+        if dome_radius is None and any(mount_offset):
+            raise ConfigError("an offset telescope needs the dome's radius too", key="dome_radius")
+        self._geometry = None if dome_radius is None else DomeGeometry(dome_radius, *map(float, mount_offset))
         self._rotation = MotionRunner("dome rotation")
         if follow:
             self.add_background_task(self._follow_loop)
@@ -100,10 +111,11 @@ class BaseDome(BaseRoof, IDome, IFitsHeaderBefore):
                 continue
             try:
                 telescope = await self.proxy(self._follow, IPointingAltAz)
-                _, target = await telescope.get_altaz()
+                alt, az = await telescope.get_altaz()
             except NightcrewError as exc:
                 log.warning("%s: cannot follow %s: %s", self.name, self._follow, exc)
                 continue
+            target = az if self._geometry is None else slit_azimuth(self._geometry, alt, az)
             if abs(azimuth_difference(target, await self._hw_get_azimuth())) > self._follow_tolerance:
                 try:
                     await self.move_azimuth(target)

@@ -1,0 +1,218 @@
+"""One nightcrew module served as one Alpaca device: the members every device type shares.
+
+A device type (telescope, camera, ...) is a subclass of :class:`ServedDevice` whose members are
+methods named ``get_<member>`` (answers a GET) and ``put_<member>`` (answers a PUT), each taking the
+:class:`~nightcrew.bridges.alpaca.server_protocol.AlpacaRequest` and returning the reply's value.
+The served module is reached through a proxy for every request, so a module that restarts, or
+lives in another process behind XMPP, is served the same way.
+
+Members a device type does not have are answered with NotImplemented (0x400), as the Alpaca
+specification asks for optional members; a member called with the wrong HTTP method is a bad
+request. Until a client sets ``Connected`` (or calls ``Connect``), only the common informational
+members answer; the others give NotConnected (0x407).
+
+Alpaca's asynchronous operations (SlewToCoordinatesAsync, Move, OpenShutter, ...) start the
+nightcrew call in a :class:`BackgroundAction` and return at once; the device reports it as moving
+until the call returns. A call that fails in the background is reported with its own error by the
+next request that asks whether the device is still moving, so a client learns of it.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import re
+from collections.abc import Awaitable, Callable, Coroutine
+from typing import Any, ClassVar, TypeVar
+
+from nightcrew import __version__
+from nightcrew.bridges.alpaca.errors import AlpacaNotConnectedError
+from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest, BadRequest
+from nightcrew.errors import NotSupportedError
+from nightcrew.interfaces import Interface
+from nightcrew.object import Object
+
+__all__ = ["BackgroundAction", "ServedDevice"]
+
+log = logging.getLogger(__name__)
+
+I = TypeVar("I", bound=Interface)  # noqa: E741 - the conventional name for an interface type
+
+#: Members that answer without a connection (what a client reads to choose a device).
+_ALWAYS_ANSWERED = frozenset(
+    {
+        "connected",
+        "connecting",
+        "connect",
+        "disconnect",
+        "description",
+        "driverinfo",
+        "driverversion",
+        "interfaceversion",
+        "name",
+        "supportedactions",
+    }
+)
+_MEMBER = re.compile(r"[a-z][a-z0-9]*")
+
+
+class BackgroundAction:
+    """The one asynchronous operation of a device: runs a nightcrew call while clients poll.
+
+    Args:
+        what: The device, for log messages (``telescope 0 (module telescope)``).
+    """
+
+    def __init__(self, what: str) -> None:
+        self._what = what
+        self._task: asyncio.Task[None] | None = None
+        self._action = ""
+        self._failure: BaseException | None = None
+
+    @property
+    def running(self) -> bool:
+        """Whether an operation is still under way."""
+        return self._task is not None and not self._task.done()
+
+    @property
+    def current(self) -> str:
+        """The name of the operation under way, empty when none is."""
+        return self._action if self.running else ""
+
+    def start(self, action: str, call: Callable[[], Coroutine[Any, Any, Any]]) -> None:
+        """Start ``call()`` (a nightcrew call), replacing a finished one; its failure is kept."""
+        self._failure = None
+        self._action = action
+        self._task = asyncio.get_running_loop().create_task(self._run(call), name=f"alpaca {action}")
+
+    async def _run(self, call: Callable[[], Coroutine[Any, Any, Any]]) -> None:
+        try:
+            await call()
+        except asyncio.CancelledError:
+            raise
+        except Exception as exc:
+            log.warning("%s: %s failed: %s", self._what, self._action, exc)
+            self._failure = exc
+
+    async def settle(self, seconds: float) -> None:
+        """Wait up to ``seconds`` wall time for the operation, so a refusal reaches the request that
+        started it; a slower failure is reported later by :meth:`raise_failure`."""
+        if self._task is not None and not self._task.done():
+            await asyncio.wait([self._task], timeout=seconds)
+        self.raise_failure()
+
+    def raise_failure(self) -> None:
+        """Raise (once) the error of an operation that failed."""
+        failure, self._failure = self._failure, None
+        if failure is not None:
+            raise failure
+
+    async def cancel(self) -> None:
+        """Stop waiting for the operation (the device is stopped by the caller)."""
+        task, self._task = self._task, None
+        if task is not None and not task.done():
+            task.cancel()
+            await asyncio.gather(task, return_exceptions=True)
+        self._failure = None
+
+
+class ServedDevice:
+    """An Alpaca device backed by a nightcrew module; subclasses add the members of their type.
+
+    Args:
+        owner: The server module: its comm reaches ``module``, its VFS, clock and site serve the
+            device.
+        module: Name of the nightcrew module behind the device.
+        number: Alpaca device number (0, 1, ... per device type).
+        settle_time: Wall seconds an asynchronous operation may take to be refused before the
+            request that started it returns.
+    """
+
+    #: Alpaca device type as in URLs (``telescope``) and as in the management API (``Telescope``).
+    device_type: ClassVar[str]
+    type_name: ClassVar[str]
+    #: The Alpaca interface version this server implements for the type.
+    interface_version: ClassVar[int]
+    #: The nightcrew interface the module must offer.
+    interface: ClassVar[type[Interface]]
+
+    def __init__(self, owner: Object, module: str, number: int, *, settle_time: float = 0.2) -> None:
+        self.owner = owner
+        self.module = module
+        self.number = number
+        self.settle_time = settle_time
+        self.connected = False
+        self.action = BackgroundAction(self.describe())
+
+    def describe(self) -> str:
+        return f"{self.device_type} {self.number} (module {self.module})"
+
+    async def proxy(self, interface: type[I]) -> I:
+        """The served module as ``interface`` (raises when it is offline or lacks it)."""
+        return await self.owner.proxy(self.module, interface)
+
+    async def optional(self, interface: type[I]) -> I | None:
+        """The served module as ``interface`` if it offers it, else None."""
+        proxy = await self.owner.comm.proxy(self.module)
+        return proxy if isinstance(proxy, interface) else None
+
+    # --- dispatch ------------------------------------------------------------------------------
+
+    async def handle(self, method: str, member: str, request: AlpacaRequest) -> Any:
+        """Answer ``method`` (``get`` or ``put``) of ``member``; the reply's value."""
+        if not _MEMBER.fullmatch(member):
+            raise BadRequest(f"{member!r} is not an Alpaca member name")
+        handler = self._handler(method, member)
+        if handler is None:
+            other = "put" if method == "get" else "get"
+            if self._handler(other, member) is not None:
+                raise BadRequest(f"{self.device_type} member {member} is called with {other.upper()}")
+            raise NotSupportedError(f"{self.device_type} member {member} is not implemented by nightcrew")
+        if member not in _ALWAYS_ANSWERED and not self.connected:
+            raise AlpacaNotConnectedError(
+                f"{self.describe()} is not connected; set Connected=true first ({method.upper()} {member})"
+            )
+        return await handler(request)
+
+    def _handler(self, method: str, member: str) -> Callable[[AlpacaRequest], Awaitable[Any]] | None:
+        handler = getattr(self, f"{method}_{member}", None)
+        return handler if callable(handler) else None
+
+    # --- members of every device ---------------------------------------------------------------
+
+    async def get_connected(self, request: AlpacaRequest) -> bool:
+        return self.connected
+
+    async def put_connected(self, request: AlpacaRequest) -> None:
+        connected = request.boolean("Connected")
+        if connected:
+            await self.proxy(self.interface)  # the module must be online and of the right kind
+        self.connected = connected
+
+    async def get_connecting(self, request: AlpacaRequest) -> bool:
+        return False  # connecting is immediate: the module is reached through the comm
+
+    async def put_connect(self, request: AlpacaRequest) -> None:
+        await self.proxy(self.interface)
+        self.connected = True
+
+    async def put_disconnect(self, request: AlpacaRequest) -> None:
+        self.connected = False
+
+    async def get_description(self, request: AlpacaRequest) -> str:
+        return f"nightcrew module {self.module}"
+
+    async def get_name(self, request: AlpacaRequest) -> str:
+        return self.module
+
+    async def get_driverinfo(self, request: AlpacaRequest) -> str:
+        return f"nightcrew AlpacaServer serving module {self.module} ({self.interface.__name__})"
+
+    async def get_driverversion(self, request: AlpacaRequest) -> str:
+        return __version__
+
+    async def get_interfaceversion(self, request: AlpacaRequest) -> int:
+        return self.interface_version
+
+    async def get_supportedactions(self, request: AlpacaRequest) -> list[str]:
+        return []

@@ -1,0 +1,21 @@
+"""Device contract suites: pytest classes a driver's test module subclasses (see nightcrew.testing)."""
+
+from nightcrew.testing.contracts._base import ContractProbe, ContractSetup, DeviceContract, timed_call
+from nightcrew.testing.contracts.camera import CameraContract
+from nightcrew.testing.contracts.filters import FilterWheelContract
+from nightcrew.testing.contracts.focuser import FocuserContract
+from nightcrew.testing.contracts.roof import DomeContract, RoofContract
+from nightcrew.testing.contracts.telescope import TelescopeContract
+
+__all__ = [
+    "CameraContract",
+    "ContractProbe",
+    "ContractSetup",
+    "DeviceContract",
+    "DomeContract",
+    "FilterWheelContract",
+    "FocuserContract",
+    "RoofContract",
+    "TelescopeContract",
+    "timed_call",
+]

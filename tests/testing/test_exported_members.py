@@ -1,0 +1,30 @@
+"""nightcrew.testing's public surface is what its docstring promises, nothing more."""
+
+from __future__ import annotations
+
+import nightcrew.testing
+
+
+def test_exported_members() -> None:
+    assert sorted(nightcrew.testing.__all__) == sorted(
+        [
+            "EPOCH",
+            "SITE",
+            "CameraContract",
+            "Condition",
+            "ContractProbe",
+            "ContractSetup",
+            "DeviceContract",
+            "DomeContract",
+            "EventRecorder",
+            "FilterWheelContract",
+            "FocuserContract",
+            "Observatory",
+            "RoofContract",
+            "TelescopeContract",
+            "timed_call",
+            "wait_for",
+        ]
+    )
+    missing = [name for name in nightcrew.testing.__all__ if not hasattr(nightcrew.testing, name)]
+    assert missing == []
