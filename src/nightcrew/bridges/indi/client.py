@@ -253,6 +253,8 @@ class IndiClient:
             if message.message:
                 self.messages[message.device] = message.message
             vector.generation += 1
+            if vector.state is PropertyState.BUSY:
+                vector.busy_generation = vector.generation
             self._changed(vector)
         elif isinstance(message, DefVector):
             vector = message.vector
@@ -357,9 +359,10 @@ class IndiClient:
     ) -> Vector:
         """Send ``new*Vector``; with ``wait`` > 0 (wall seconds), wait for the answer and the end of Busy.
 
-        Done when the server has updated the vector since our request and it is neither Busy nor
-        (with ``done``) short of ``done(vector)``. Alert raises IndiAlertError with the device's
-        message.
+        Done when the server has updated the vector since our request and it is not Busy. With
+        ``done``, an update that was not preceded by Busy must also satisfy ``done(vector)``: a
+        periodic Ok the driver sent before it read our request must not end the wait. Alert
+        raises IndiAlertError with the device's message.
         """
         vector = self.vector(device, name)
         unknown = set(members) - set(vector.members)
@@ -377,7 +380,8 @@ class IndiClient:
         def finished(v: Vector) -> bool:
             if v.generation <= sent or v.state is PropertyState.BUSY:
                 return False
-            return v.state is PropertyState.ALERT or done is None or done(v)
+            went_busy = v.busy_generation > sent
+            return v.state is PropertyState.ALERT or done is None or went_busy or done(v)
 
         result = await self.wait(device, name, finished, wait, "the end of the request")
         if result.state is PropertyState.ALERT:

@@ -87,7 +87,8 @@ MemberValue = float | bool | str | PropertyState | Blob
 
 @dataclass
 class Vector:
-    """A property vector as the client knows it; ``generation`` counts the updates received."""
+    """A property vector as the client knows it; ``generation`` counts the updates received,
+    ``busy_generation`` is the last of them that reported Busy."""
 
     device: str
     name: str
@@ -101,6 +102,7 @@ class Vector:
     timeout: float = 0.0
     message: str = ""
     generation: int = 0
+    busy_generation: int = 0
     limits: dict[str, tuple[float, float, float]] = field(default_factory=dict)
 
     @property
