@@ -188,7 +188,10 @@ def parse_number(text: str) -> float:
     sign = -1.0 if parts[0].startswith("-") else 1.0
     value = 0.0
     for scale, part in zip((1.0, 60.0, 3600.0), parts, strict=False):
-        value += abs(float(part)) / scale
+        try:
+            value += abs(float(part)) / scale
+        except ValueError:
+            raise ValueError(f"not a number: {text!r}") from None
     return sign * value
 
 

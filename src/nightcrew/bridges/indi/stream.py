@@ -50,15 +50,22 @@ class IndiStreamParser:
             self._check_blob()
         try:
             self._parser.feed(data)
+            return self._read_events()
         except ParseError as exc:
             raise IndiProtocolError(
                 f"malformed XML from the server: {exc}", device=self._device, name=self._name
             ) from None
-        return self._read_events()
 
     def close(self) -> None:
         """The connection ended: raise if it ended inside an element (a truncated message)."""
-        if self._depth > 1:
+        truncated = self._depth > 1
+        if not truncated:
+            try:  # ends the synthetic root: expat objects if a tag was left open halfway
+                self._parser.feed(b"</indi>")
+                self._parser.close()
+            except ParseError:
+                truncated = True
+        if truncated:
             raise IndiProtocolError(
                 "the stream ended inside a message (truncated XML)", device=self._device, name=self._name
             )
