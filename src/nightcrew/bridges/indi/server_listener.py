@@ -38,8 +38,9 @@ _PAUSE_CHUNKS, _RESUME_CHUNKS = 64, 8
 class IndiClient(asyncio.Protocol):
     """One connected client: what it sent, its BLOB policy and what waits to be sent to it."""
 
-    def __init__(self, max_pending_bytes: int) -> None:
+    def __init__(self, max_pending_bytes: int, on_connected: Callable[[IndiClient], None]) -> None:
         self.address = "?"
+        self._on_connected = on_connected
         self._transport: asyncio.Transport | None = None
         self._received: asyncio.Queue[bytes] = asyncio.Queue()  # b"" marks the end of the stream
         self._reading_paused = False
@@ -60,6 +61,7 @@ class IndiClient(asyncio.Protocol):
         self._transport = transport
         peer = transport.get_extra_info("peername")
         self.address = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else str(peer)
+        self._on_connected(self)
 
     def data_received(self, data: bytes) -> None:
         self._received.put_nowait(data)
@@ -212,7 +214,7 @@ class IndiListener:
     async def start(self) -> None:
         loop = asyncio.get_running_loop()
         try:
-            self._server = await loop.create_server(self._connected, self._host, self._port)
+            self._server = await loop.create_server(self._new_client, self._host, self._port)
         except OSError as exc:
             raise ModuleError(f"cannot listen for INDI clients on {self._host}:{self._port}: {exc}") from exc
         log.info("INDI server listening on %s:%d", self._host, self.port)
@@ -237,11 +239,14 @@ class IndiListener:
             if client.wants(device, name, is_blob):
                 client.send(data)
 
-    def _connected(self) -> IndiClient:
-        client = IndiClient(self._max_pending)
-        task = asyncio.get_running_loop().create_task(self._serve(client), name="INDI client")
+    def _new_client(self) -> IndiClient:
+        return IndiClient(self._max_pending, self._connected)
+
+    def _connected(self, client: IndiClient) -> None:
+        task = asyncio.get_running_loop().create_task(
+            self._serve(client), name=f"INDI client {client.address}"
+        )
         self._clients[client] = task
-        return client
 
     async def _serve(self, client: IndiClient) -> None:
         if len(self.clients) > self._max_clients:

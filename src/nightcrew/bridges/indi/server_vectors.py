@@ -292,8 +292,8 @@ def _member_request(
     if isinstance(member, NumberMember):
         try:
             number = parse_number(text)
-        except ValueError as exc:
-            raise InvalidArgumentError(f"{where}.{member.name}: {exc}") from None
+        except ValueError:
+            raise InvalidArgumentError(f"{where}.{member.name}: not a number: {text!r}") from None
         if not math.isfinite(number):
             raise InvalidArgumentError(f"{where}.{member.name}: not a finite number: {text!r}")
         if member.minimum < member.maximum and not member.minimum <= number <= member.maximum:

@@ -214,10 +214,12 @@ class ServedDevice(ABC, Generic[P]):
             state, message = PropertyState.OK, ""
         if self._actions.get(vector.name) is not asyncio.current_task():
             return  # replaced by a later request, whose outcome counts
-        vector.state = state
-        vector.message = message
-        self._link.publish(vector)
-        self._link.wake(self.name)
+        # Read the values the action left first, so a client that sees Ok reads the new position.
+        await self.refresh()
+        if self._actions.get(vector.name) is asyncio.current_task():
+            vector.state = state
+            vector.message = message
+            self._link.publish(vector)
 
     def _follow(self, vector: Property[Any], *, busy: bool, failed: bool = False) -> None:
         """A property's state from the device, unless an action of ours runs on it."""

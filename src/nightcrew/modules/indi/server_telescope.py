@@ -133,10 +133,10 @@ class ServedTelescope(ServedDevice[ITelescope]):
         ra, dec = await telescope.get_radec()
         alt, az = await telescope.get_altaz()
         ra_date, dec_date = j2000_to_of_date(ra, dec, self._link.clock.time())
-        self.eod.by_name["RA"].value = round(ra_date / 15.0, 9)
-        self.eod.by_name["DEC"].value = round(dec_date, 8)
-        self.horizontal.by_name["ALT"].value = round(alt, 8)
-        self.horizontal.by_name["AZ"].value = round(az, 8)
+        self.eod.by_name["RA"].value = round(ra_date / 15.0, 7)
+        self.eod.by_name["DEC"].value = round(dec_date, 6)
+        self.horizontal.by_name["ALT"].value = round(alt, 6)
+        self.horizontal.by_name["AZ"].value = round(az, 6)
         failed = status is MotionStatus.ERROR
         self._follow(self.eod, busy=status is MotionStatus.SLEWING, failed=failed)
         self.horizontal.state = PropertyState.BUSY if status in _MOVING else PropertyState.OK
