@@ -336,6 +336,11 @@ class IndiClient:
                     future = asyncio.get_running_loop().create_future()
                     self._waiters.setdefault(key, set()).add(future)
                     await future
+        except IndiError as exc:
+            if exc.device:
+                raise
+            # The connection broke: say what we were waiting for.
+            raise type(exc)(f"waiting for {what}: {exc}", device=device, name=name) from exc
         except TimeoutError:
             state = self.properties.get(key)
             now = f"it is {state.state.value}" if state is not None else "it is not defined"

@@ -225,7 +225,7 @@ def _member_value(kind: VectorKind, member: Element, device: str, name: str) -> 
             return PropertyState(text.strip())
         if kind is VectorKind.BLOB:
             return _blob(member, text, device, name)
-        return text
+        return text.strip()  # libindi wraps values in newlines and indentation
     except ValueError as exc:
         raise IndiProtocolError(f"member {member_name}: {exc}", device=device, name=name) from None
 

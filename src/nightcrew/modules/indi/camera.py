@@ -111,7 +111,14 @@ class IndiCamera(IndiModule, BaseCamera):
 
     async def _on_indi_ready(self) -> None:
         indi, wait = self._indi, self._indi.connect_timeout
-        info = indi.vector("CCD_INFO")
+        # Drivers fill in the chip size only after CONNECT: wait for a real one.
+        info = await indi.client.wait(
+            indi.device,
+            "CCD_INFO",
+            lambda v: v.number("CCD_MAX_X") >= 1 and v.number("CCD_MAX_Y") >= 1,
+            wait,
+            "a chip size",
+        )
         chip = Window(0, 0, round(info.number("CCD_MAX_X")), round(info.number("CCD_MAX_Y")))
         if self._window in (_NO_CHIP, self._chip) or chip != self._chip:
             self._window = chip

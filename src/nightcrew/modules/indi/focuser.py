@@ -55,6 +55,8 @@ class IndiFocuser(IndiModule, BaseFocuser):
             return
         if update.vector.state is PropertyState.BUSY:
             await self._set_motion_status(MotionStatus.MOVING)
+        elif update.vector.state is PropertyState.ALERT:
+            await self._set_motion_status(MotionStatus.ERROR)
         else:
             self._focus = update.vector.number(_MEMBER) / self._steps_per_mm - self._offset
             await self._set_motion_status(MotionStatus.IDLE)

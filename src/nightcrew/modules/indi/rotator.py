@@ -44,8 +44,8 @@ class IndiRotator(IndiModule, BaseMotion, IRotator, IFitsHeaderBefore):
     async def _on_indi_update(self, update: IndiUpdate) -> None:
         if update.name != _ANGLE or self._motion.busy or update.vector is None:
             return
-        busy = update.vector.state is PropertyState.BUSY
-        await self._set_motion_status(MotionStatus.MOVING if busy else MotionStatus.IDLE)
+        statuses = {PropertyState.BUSY: MotionStatus.MOVING, PropertyState.ALERT: MotionStatus.ERROR}
+        await self._set_motion_status(statuses.get(update.vector.state, MotionStatus.IDLE))
 
     async def _turn(self, angle: float, what: str) -> None:
         if not math.isfinite(angle):
