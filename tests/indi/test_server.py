@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import os
-import shutil
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,23 +27,11 @@ from nightcrew.modules.indi.server import IndiServer
 from nightcrew.modules.sim import SimCamera, SimDome, SimFilterWheel, SimFocuser, SimTelescope
 from nightcrew.site import Site
 from nightcrew.vfs import MemoryFile, VirtualFileSystem
+from tests.indi.server_clients import PATIENCE, getprop, require_clients, run, setprop, wait_for
 
 #: A winter night at a mid-northern site, the Sun well down.
 EPOCH = "2024-01-15T22:00:00+00:00"
 SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0, name="Göttingen")
-#: Wall seconds any one awaited condition may take, even on a loaded machine.
-PATIENCE = 60.0
-CLIENTS = ("indi_getprop", "indi_setprop")
-
-
-def _require_clients() -> None:
-    missing = [tool for tool in CLIENTS if shutil.which(tool) is None]
-    if not missing:
-        return
-    message = f"IndiServer tests need {', '.join(missing)} (make system-deps installs indi-bin)"
-    if os.environ.get("CI") == "true":
-        pytest.fail(message)
-    pytest.skip(message)
 
 
 @dataclass
@@ -66,7 +52,7 @@ class Served:
 
 @pytest.fixture
 async def served() -> AsyncIterator[Served]:
-    _require_clients()
+    require_clients()
     clock = AcceleratedClock(EPOCH, speed=20.0)
     network = LocalNetwork()
     vfs = VirtualFileSystem({"cache": MemoryFile()})
@@ -115,45 +101,6 @@ async def served() -> AsyncIterator[Served]:
     finally:
         for module in reversed(modules):
             await module.close()
-
-
-async def run(tool: str, *args: str, cwd: Path | None = None) -> tuple[int, str, str]:
-    process = await asyncio.create_subprocess_exec(
-        tool, *args, cwd=cwd, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE
-    )
-    out, err = await process.communicate()
-    assert process.returncode is not None
-    return process.returncode, out.decode(), err.decode()
-
-
-async def getprop(port: str, *specs: str) -> dict[str, str]:
-    """What indi_getprop reports for ``device.property.element`` specs (all of them, or none)."""
-    _, out, _ = await run("indi_getprop", "-p", port, "-t", "5", *specs)
-    values = {}
-    for line in out.splitlines():
-        key, _, value = line.partition("=")
-        values[key] = value
-    return values
-
-
-async def setprop(port: str, spec: str) -> None:
-    code, out, err = await run("indi_setprop", "-p", port, spec)
-    assert code == 0, f"indi_setprop {spec}: exit {code}: {out}{err}"
-
-
-async def wait_for(
-    port: str, specs: list[str], done: Callable[[dict[str, str]], bool], what: str = ""
-) -> dict[str, str]:
-    """indi_getprop ``specs`` until all are reported and ``done`` holds; fail after PATIENCE."""
-    loop = asyncio.get_running_loop()
-    deadline = loop.time() + PATIENCE
-    values: dict[str, str] = {}
-    while loop.time() < deadline:
-        values = await getprop(port, *specs)
-        if all(spec in values for spec in specs) and done(values):
-            return values
-        await asyncio.sleep(0.1)  # pace the polling only; the deadline bounds the wait
-    raise AssertionError(f"{what or specs} not reached within {PATIENCE} s; last: {values}")
 
 
 async def test_getprop_lists_the_simulated_observatory_with_the_telescope_position(served: Served) -> None:
