@@ -6,6 +6,7 @@ from nightcrew.modules.indi.filters import IndiFilterWheel
 from nightcrew.modules.indi.focuser import IndiFocuser
 from nightcrew.modules.indi.link import IndiLink, IndiModule
 from nightcrew.modules.indi.rotator import IndiRotator
+from nightcrew.modules.indi.server import IndiServer
 from nightcrew.modules.indi.telescope import IndiTelescope
 from nightcrew.modules.indi.weather import IndiWeather
 
@@ -17,6 +18,7 @@ __all__ = [
     "IndiLink",
     "IndiModule",
     "IndiRotator",
+    "IndiServer",
     "IndiTelescope",
     "IndiWeather",
 ]
