@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import dataclasses
 import logging
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -73,8 +74,8 @@ class IndiTimeoutError(IndiError):
 class IndiUpdate:
     """What a listener is told: a vector defined, changed or deleted, a message, or the connection.
 
-    ``vector`` is None for messages and connection changes; ``deleted`` is set for delProperty
-    (``vector`` then holds the last known state, or None when a whole device went).
+    ``vector`` is a snapshot of the vector as this update left it (None for messages and
+    connection changes); ``deleted`` is set for delProperty.
     """
 
     device: str
@@ -273,7 +274,9 @@ class IndiClient:
 
     def _changed(self, vector: Vector) -> None:
         self._wake(vector.key)
-        self._notify(IndiUpdate(vector.device, vector.name, vector, message=vector.message))
+        if self._listeners:  # a snapshot: listeners may look later, when the vector has moved on
+            snapshot = dataclasses.replace(vector, members=dict(vector.members))
+            self._notify(IndiUpdate(vector.device, vector.name, snapshot, message=vector.message))
 
     def _delete(self, message: DelProperty) -> None:
         keys = [

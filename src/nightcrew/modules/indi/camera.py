@@ -53,7 +53,7 @@ def blocking_read_fits(blob: Blob, device: str) -> Frame:
     """Pixels (uint16) and camera cards of a FITS BLOB; parsing takes milliseconds: run in a thread."""
     from astropy.io import fits  # type: ignore[import-untyped]
 
-    if blob.format.lower() not in (".fits", ".fit", ".fts"):
+    if blob.format.lower() not in (".fits", ".fit", ".fts", ".fits.fz"):
         raise IndiError(
             f"BLOB format {blob.format!r} is not FITS (set CCD_TRANSFER_FORMAT to FITS)",
             device=device,
@@ -61,8 +61,10 @@ def blocking_read_fits(blob: Blob, device: str) -> Frame:
         )
     try:
         with fits.open(io.BytesIO(blob.data)) as hdus:
-            data = np.asarray(hdus[0].data)
-            header = hdus[0].header
+            # fpack (.fits.fz, what CCD_COMPRESSION gives) keeps the image in the first extension.
+            hdu = next((h for h in hdus if h.data is not None), hdus[0])
+            data = np.asarray(hdu.data)
+            header = hdu.header
             cards: dict[str, FitsCard] = {
                 key: (header[key], header.comments[key]) for key in DRIVER_CARDS if key in header
             }

@@ -19,6 +19,7 @@ Example (``examples/indi/telescope.yaml``)::
 from __future__ import annotations
 
 import logging
+from functools import partial
 from typing import Any
 
 from nightcrew.astro import angular_separation, j2000_to_of_date, of_date_to_j2000
@@ -35,6 +36,8 @@ log = logging.getLogger(__name__)
 _COORD = "EQUATORIAL_EOD_COORD"
 #: A coordinate update closer than this (degrees) to the target counts as arrived even without Busy.
 _ON_TARGET = 0.01
+#: Slews towards one target before the mount's own idea of "there" is accepted.
+_APPROACHES = 3
 
 
 class IndiTelescope(IndiModule, BaseTelescope):
@@ -108,20 +111,29 @@ class IndiTelescope(IndiModule, BaseTelescope):
         )
 
     async def _goto(self, ra: float, dec: float, mode: str) -> None:
-        """Slew to ICRS (ra, dec) with ON_COORD_SET ``mode`` (TRACK, SLEW or SYNC)."""
+        """Slew to ICRS (ra, dec) with ON_COORD_SET ``mode`` (TRACK, SLEW or SYNC).
+
+        A mount may end a long slew short of the target (the simulator aims at the hour angle of
+        the slew's start, so the sky has moved on when it arrives): then it slews again, at most
+        :data:`_APPROACHES` times in all.
+        """
         await self._indi.switch("ON_COORD_SET", mode, wait=self._indi.connect_timeout)
-        ra_now, dec_now = j2000_to_of_date(ra, dec, self.clock.time())
+        for _ in range(_APPROACHES):
+            ra_now, dec_now = j2000_to_of_date(ra, dec, self.clock.time())
 
-        def arrived(vector: Vector) -> bool:
-            there = vector.number("RA") * 15.0, vector.number("DEC")
-            return angular_separation(there[0], there[1], ra_now, dec_now) < _ON_TARGET
-
-        await self._indi.send(
-            _COORD, {"RA": ra_now / 15.0, "DEC": dec_now}, wait=self._move_timeout, done=arrived
-        )
+            arrived = partial(_near, ra_now, dec_now)
+            vector = await self._indi.send(
+                _COORD, {"RA": ra_now / 15.0, "DEC": dec_now}, wait=self._move_timeout, done=arrived
+            )
+            if mode == "SYNC" or arrived(vector):
+                return
+            log.info("%s: %s ended off the target; approaching again", self.name, mode)
 
     async def _hw_move_radec(self, ra: float, dec: float) -> None:
         await self._goto(ra, dec, "TRACK")
+        if self._indi.has("TELESCOPE_TRACK_STATE") and not self._tracking():
+            # ON_COORD_SET TRACK does not switch tracking back on everywhere (the simulator).
+            await self._indi.switch("TELESCOPE_TRACK_STATE", "TRACK_ON", wait=self._indi.connect_timeout)
 
     async def _hw_move_altaz(self, alt: float, az: float) -> None:
         await self._goto(*self._radec_of(alt, az), "SLEW")
@@ -154,3 +166,8 @@ class IndiTelescope(IndiModule, BaseTelescope):
             "changing tracking failed",
         )
         await self._set_motion_status(MotionStatus.TRACKING if enabled else MotionStatus.IDLE)
+
+
+def _near(ra: float, dec: float, vector: Vector) -> bool:
+    """Whether the coordinate vector (JNow, RA in hours) reports (ra, dec) (JNow, degrees)."""
+    return bool(angular_separation(vector.number("RA") * 15.0, vector.number("DEC"), ra, dec) < _ON_TARGET)
