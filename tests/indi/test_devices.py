@@ -79,7 +79,7 @@ async def test_weather_parameters_are_sensors_and_the_indi_state_is_an_evaluator
             recorder.clear()
             await control.send("Weather Simulator", "WEATHER_CONTROL", {"Precip": 10.0}, wait=10)
             await control.send("Weather Simulator", "WEATHER_REFRESH", {"REFRESH": True}, wait=10)
-            await wait_for(lambda: recorder.of(BadWeatherEvent), 30, message="BadWeatherEvent")
+            await wait_for(lambda: bool(recorder.of(BadWeatherEvent)), 30, message="BadWeatherEvent")
             await wait_for(lambda: station._value(WeatherSensor.SAFE) == 0.0, 30, message="unsafe")
             assert not await station.is_weather_good()
             assert (await station.get_current_weather()).sensors == pytest.approx(
