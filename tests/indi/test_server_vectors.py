@@ -11,6 +11,7 @@ from astropy.time import Time  # type: ignore[import-untyped]
 
 from nightcrew.astro import j2000_to_of_date, of_date_to_j2000
 from nightcrew.bridges.indi.protocol import DefVector, IndiProtocolError, SetVector, parse_element
+from nightcrew.bridges.indi.server_listener import IndiClient
 from nightcrew.bridges.indi.server_vectors import (
     BlobMember,
     LightMember,
@@ -166,3 +167,22 @@ def test_jnow_conversion_is_fk5_precession(when: str) -> None:
         )
         back = of_date_to_j2000(ra_date, dec_date, time.unix)
         assert back == pytest.approx((ra, dec), abs=1e-9)
+
+
+def test_blobs_go_only_to_clients_that_asked_for_them() -> None:
+    client = IndiClient(1 << 20, lambda client: None)
+    assert client.wants("camera", "CCD_EXPOSURE", is_blob=False)
+    assert not client.wants("camera", "CCD1", is_blob=True)  # Never until asked, as the protocol says
+    client.set_blob_policy(ET.fromstring('<enableBLOB device="camera">Also</enableBLOB>'))
+    assert client.wants("camera", "CCD1", is_blob=True) and client.wants(
+        "camera", "CCD_EXPOSURE", is_blob=False
+    )
+    assert not client.wants("telescope", "CCD1", is_blob=True)
+    client.set_blob_policy(ET.fromstring('<enableBLOB device="camera" name="CCD1">Only</enableBLOB>'))
+    assert client.wants("camera", "CCD1", is_blob=True)
+    client.set_blob_policy(ET.fromstring('<enableBLOB device="camera">Only</enableBLOB>'))
+    assert not client.wants("camera", "CCD_EXPOSURE", is_blob=False)
+    # An invalid policy is ignored.
+    client.set_blob_policy(ET.fromstring('<enableBLOB device="camera">Sometimes</enableBLOB>'))
+    assert not client.wants("camera", "CCD_EXPOSURE", is_blob=False)
+    assert client.wants(None, None, is_blob=False)  # the server's own messages
