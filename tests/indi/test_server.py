@@ -43,6 +43,7 @@ class Served:
     filters: SimFilterWheel
     dome: SimDome
     clock: AcceleratedClock
+    network: LocalNetwork
     moves: asyncio.Queue[MoveRaDecEvent] = field(default_factory=asyncio.Queue)
 
     @property
@@ -89,7 +90,7 @@ async def served() -> AsyncIterator[Served]:
         )
         modules.append(server)
         await server.open()
-        result = Served(server, telescope, camera, focuser, filters, dome, clock)
+        result = Served(server, telescope, camera, focuser, filters, dome, clock, network)
 
         async def on_move(event: MoveRaDecEvent, sender: str) -> None:
             await result.moves.put(event)
@@ -184,6 +185,18 @@ async def test_setprop_slews_the_telescope_and_nightcrew_sees_the_move(
         "the aborted slew's Alert",
     )
     assert await served.telescope.get_motion_status() is MotionStatus.IDLE
+
+    # A slew nightcrew itself makes (a script, the mastermind) is seen by the client too.
+    ra, dec = altaz_to_radec(50.0, 150.0, SITE.latitude, SITE.longitude, served.clock.time())
+    await served.telescope.move_radec(ra, dec)
+    ra_date, dec_date = j2000_to_of_date(ra, dec, served.clock.time())
+    values = await wait_for(
+        port,
+        ["telescope.EQUATORIAL_EOD_COORD.DEC", "telescope.TELESCOPE_TRACK_STATE.TRACK_ON"],
+        lambda v: abs(float(v["telescope.EQUATORIAL_EOD_COORD.DEC"]) - dec_date) < 1e-5,
+        "the position of nightcrew's own slew",
+    )
+    assert values["telescope.TELESCOPE_TRACK_STATE.TRACK_ON"] == "On"
 
 
 async def test_an_exposure_reaches_the_client_as_a_fits_blob(served: Served, tmp_path: Path) -> None:
@@ -325,3 +338,38 @@ async def test_bad_client_input_is_answered_and_never_ends_the_service(served: S
     assert served.moves.empty()
     assert await served.telescope.get_motion_status() is MotionStatus.PARKED
     assert await served.focuser.get_motion_status() is MotionStatus.IDLE
+
+
+async def test_an_image_the_server_cannot_read_ends_the_exposure_in_alert(served: Served) -> None:
+    """A server without the camera's VFS root: the exposure runs, the client learns why no BLOB came."""
+    blind = IndiServer(
+        port=0,
+        camera="camera",
+        poll_interval=0.2,
+        comm=LocalComm("blind", network=served.network),
+        clock=served.clock,
+        vfs=VirtualFileSystem(),
+    )
+    await blind.open()
+    try:
+        port = str(blind.port)
+        await wait_for(port, ["camera.CCD_EXPOSURE._STATE"], lambda v: True)
+        reader, writer = await asyncio.open_connection("127.0.0.1", blind.port)
+        try:
+            writer.write(
+                b'<newNumberVector device="camera" name="CCD_EXPOSURE">'
+                b'<oneNumber name="CCD_EXPOSURE_VALUE">1</oneNumber></newNumberVector>\n'
+            )
+            seen = bytearray()
+            await read_until(reader, b"unknown root '/cache'", seen)
+            at = seen.index(b"unknown root '/cache'")
+            answer = seen[seen.rindex(b"<setNumberVector", 0, at) : at]
+            assert b'name="CCD_EXPOSURE" state="Alert"' in answer, answer
+        finally:
+            writer.close()
+            with contextlib.suppress(ConnectionError):
+                await writer.wait_closed()
+        values = await getprop(port, "camera.CCD_EXPOSURE._STATE")
+        assert values == {"camera.CCD_EXPOSURE._STATE": "Alert"}
+    finally:
+        await blind.close()
