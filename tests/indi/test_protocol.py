@@ -156,3 +156,16 @@ def test_client_messages() -> None:
     assert enable_blob("CCD & co") == b'<enableBLOB device="CCD &amp; co">Also</enableBLOB>\n'
     with pytest.raises(ValueError, match="expected a number"):
         new_vector("S", "C", VectorKind.NUMBER, {"RA": "fast"})
+
+
+def test_a_blob_split_anywhere_parses_the_same() -> None:
+    data = bytes(range(256)) * 4
+    stream = DEF_NUMBER + _blob(data) + b'<message device="CCD" message="done"/>'
+    for chunk in (1, 3, 7, 9, 10, 64, 1000):
+        parser = IndiStreamParser()
+        messages = [
+            m for start in range(0, len(stream), chunk) for m in parser.feed(stream[start : start + chunk])
+        ]
+        parser.close()
+        assert isinstance(messages[1], SetVector) and messages[1].members == {"CCD1": Blob(data, ".fits")}
+        assert messages[2] == IndiMessage("CCD", "done")

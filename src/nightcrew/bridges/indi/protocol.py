@@ -10,13 +10,15 @@ its length checked against the announced ``size``).
 
 from __future__ import annotations
 
-import binascii
 import math
 import zlib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
 from xml.etree.ElementTree import Element
 from xml.sax.saxutils import escape, quoteattr
+
+import pybase64
 
 __all__ = [
     "Blob",
@@ -211,7 +213,9 @@ def _state(text: str | None, device: str, name: str) -> PropertyState | None:
         raise IndiProtocolError(f"unknown state {text!r}", device=device, name=name) from None
 
 
-def _member_value(kind: VectorKind, member: Element, device: str, name: str) -> MemberValue:
+def _member_value(
+    kind: VectorKind, member: Element, device: str, name: str, payloads: Mapping[Element, bytes]
+) -> MemberValue:
     text = member.text or ""
     member_name = member.get("name", "")
     try:
@@ -224,13 +228,13 @@ def _member_value(kind: VectorKind, member: Element, device: str, name: str) -> 
         if kind is VectorKind.LIGHT:
             return PropertyState(text.strip())
         if kind is VectorKind.BLOB:
-            return _blob(member, text, device, name)
+            return _blob(member, payloads.get(member, text), device, name)
         return text.strip()  # libindi wraps values in newlines and indentation
     except ValueError as exc:
         raise IndiProtocolError(f"member {member_name}: {exc}", device=device, name=name) from None
 
 
-def _blob(member: Element, text: str, device: str, name: str) -> Blob:
+def _blob(member: Element, text: str | bytes, device: str, name: str) -> Blob:
     member_name = member.get("name", "")
     fmt = member.get("format", "")
     try:
@@ -240,10 +244,10 @@ def _blob(member: Element, text: str, device: str, name: str) -> Blob:
             f"BLOB {member_name}: size is not an integer", device=device, name=name
         ) from None
     try:
-        data = binascii.a2b_base64(text)
+        data = pybase64.b64decode(text)  # skips line breaks like binascii, ~40x faster
         if fmt.endswith(".z"):
             data, fmt = zlib.decompress(data), fmt[:-2]
-    except (binascii.Error, zlib.error) as exc:
+    except (ValueError, zlib.error) as exc:  # binascii.Error is a ValueError
         raise IndiProtocolError(
             f"BLOB {member_name} cannot be decoded: {exc}", device=device, name=name
         ) from None
@@ -258,7 +262,12 @@ def _blob(member: Element, text: str, device: str, name: str) -> Blob:
 
 
 def _members(
-    element: Element, prefix: str, kind: VectorKind, device: str, name: str
+    element: Element,
+    prefix: str,
+    kind: VectorKind,
+    device: str,
+    name: str,
+    payloads: Mapping[Element, bytes],
 ) -> dict[str, MemberValue]:
     members: dict[str, MemberValue] = {}
     tag = f"{'def' if prefix == 'def' else 'one'}{kind.value}"
@@ -271,7 +280,7 @@ def _members(
         if kind is VectorKind.BLOB and prefix == "def":
             members[member_name] = Blob(b"", "")
         else:
-            members[member_name] = _member_value(kind, member, device, name)
+            members[member_name] = _member_value(kind, member, device, name, payloads)
     return members
 
 
@@ -284,9 +293,12 @@ def _timeout(text: str | None, device: str, name: str) -> float | None:
         raise IndiProtocolError(f"timeout {text!r} is not a number", device=device, name=name) from None
 
 
-def parse_element(element: Element) -> ServerMessage | None:
+def parse_element(
+    element: Element, payloads: Mapping[Element, bytes] | None = None
+) -> ServerMessage | None:
     """The message a top-level element from a server carries; None for what a client ignores
-    (another client's new*Vector, enableBLOB, getProperties snooping)."""
+    (another client's new*Vector, enableBLOB, getProperties snooping). ``payloads`` holds the
+    base64 text of ``oneBLOB`` elements that the stream parser kept out of the tree."""
     tag = element.tag
     device = element.get("device", "")
     name = element.get("name", "")
@@ -300,7 +312,7 @@ def parse_element(element: Element) -> ServerMessage | None:
             if not device or not name:
                 raise IndiProtocolError(f"<{tag}> without device or name", device=device, name=name)
             state = _state(element.get("state"), device, name)
-            members = _members(element, prefix, kind, device, name)
+            members = _members(element, prefix, kind, device, name, payloads or {})
             timeout = _timeout(element.get("timeout"), device, name)
             message = element.get("message", "")
             if prefix == "set":
