@@ -293,9 +293,7 @@ def _timeout(text: str | None, device: str, name: str) -> float | None:
         raise IndiProtocolError(f"timeout {text!r} is not a number", device=device, name=name) from None
 
 
-def parse_element(
-    element: Element, payloads: Mapping[Element, bytes] | None = None
-) -> ServerMessage | None:
+def parse_element(element: Element, payloads: Mapping[Element, bytes] | None = None) -> ServerMessage | None:
     """The message a top-level element from a server carries; None for what a client ignores
     (another client's new*Vector, enableBLOB, getProperties snooping). ``payloads`` holds the
     base64 text of ``oneBLOB`` elements that the stream parser kept out of the tree."""
