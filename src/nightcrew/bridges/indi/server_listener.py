@@ -233,6 +233,10 @@ class IndiListener:
             await self._server.wait_closed()
             self._server = None
 
+    def wanted(self, device: str | None, name: str | None, *, is_blob: bool = False) -> bool:
+        """Whether any client wants messages of ``device``'s property ``name`` (a BLOB: enabled it)."""
+        return any(client.wants(device, name, is_blob) for client in self.clients)
+
     def broadcast(self, data: bytes, device: str | None, name: str | None, *, is_blob: bool = False) -> None:
         """Queue ``data`` for every client that wants it."""
         for client in self.clients:

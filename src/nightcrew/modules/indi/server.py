@@ -164,9 +164,9 @@ class IndiServer(Module):
             self._listener.broadcast(_xml(set_element(vector)), vector.device, vector.name)
 
     def publish_blob(self, vector: Property[Any], member: str, data: bytes, fmt: str) -> None:
-        self._listener.broadcast(
-            blob_message(vector, member, data, fmt), vector.device, vector.name, is_blob=True
-        )
+        if self._listener.wanted(vector.device, vector.name, is_blob=True):  # encode only for someone
+            message = blob_message(vector, member, data, fmt)
+            self._listener.broadcast(message, vector.device, vector.name, is_blob=True)
 
     def wake(self, device: str) -> None:
         if device in self._wakes:
