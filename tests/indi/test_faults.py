@@ -165,3 +165,20 @@ async def test_a_spoiled_stream_fails_the_exposure_cleanly(
         assert message.split(":")[0].replace("\\", "") in await camera.get_error_string()
         await _state(camera, ModuleState.READY)
         assert await camera.grab_data() in await _files(obs)
+
+
+async def test_a_wheel_holding_other_filters_than_configured_is_an_error(indi_server: IndiServer) -> None:
+    async with Observatory(clock=RealClock()) as obs:
+        wheel = await obs.start(
+            IndiFilterWheel,
+            "wheel",
+            host=indi_server.host,
+            port=indi_server.port,
+            device="Filter Simulator",
+            filters=["U", "B", "V"],
+            connect_timeout=3.0,
+        )
+        assert wheel.state is ModuleState.ERROR
+        error = await wheel.get_error_string()
+        assert "Filter Simulator.FILTER_NAME: the wheel holds ['Red', 'Green'" in error
+        assert "expects ['U', 'B', 'V']" in error

@@ -1,7 +1,7 @@
 """A filter wheel behind an INDI driver: slot ``FILTER_SLOT`` (1-based), names from ``FILTER_NAME``.
 
-The names are the device's: they are read on every connection (and when the device changes them),
-so ``filters`` is not a YAML key here.
+The names are the device's: they are read on every connection (and when the device changes them);
+``filters`` in the YAML file, if given, is what the wheel must hold.
 
 Example (``examples/indi/filterwheel.yaml``)::
 
@@ -32,13 +32,16 @@ class IndiFilterWheel(IndiModule, BaseFilterWheel):
     """An INDI filter wheel.
 
     Args:
+        filters: The names the wheel should hold, in slot order; when given, a wheel holding
+            others is an error (e.g. after someone swapped filters). By default: whatever it holds.
         **kwargs: INDI options (``host``, ``port``, ``device`` ...) and module options.
     """
 
     indi_needs = (_SLOT, _NAMES)
 
-    def __init__(self, **kwargs: Any) -> None:
-        super().__init__(filters=[_UNKNOWN], **kwargs)
+    def __init__(self, *, filters: list[str] | None = None, **kwargs: Any) -> None:
+        super().__init__(filters=list(filters) if filters else [_UNKNOWN], **kwargs)
+        self._expected = list(filters) if filters else None
 
     def _read_names(self, names: Vector) -> None:
         # Member order is slot order (FILTER_SLOT_NAME_1, _2, ...).
@@ -46,6 +49,12 @@ class IndiFilterWheel(IndiModule, BaseFilterWheel):
         if not found or len(set(found)) != len(found):
             raise IndiError(
                 f"filter names must be unique and present, got {found}", device=names.device, name=_NAMES
+            )
+        if self._expected is not None and found != self._expected:
+            raise IndiError(
+                f"the wheel holds {found}, the configuration (key 'filters') expects {self._expected}",
+                device=names.device,
+                name=_NAMES,
             )
         self._filters = found
 
