@@ -373,3 +373,18 @@ async def test_an_image_the_server_cannot_read_ends_the_exposure_in_alert(served
         assert values == {"camera.CCD_EXPOSURE._STATE": "Alert"}
     finally:
         await blind.close()
+
+
+async def test_a_module_in_error_state_shows_as_alert_until_it_recovers(served: Served) -> None:
+    port = served.port
+    state = "telescope.CONNECTION._STATE"
+    await wait_for(port, [state], lambda v: v[state] == "Ok")
+    served.telescope.set_error("mount controller lost")
+    await wait_for(port, [state], lambda v: v[state] == "Alert", "CONNECTION in Alert")
+    # Requests meanwhile are refused by the module and end in Alert too.
+    await setprop(port, "telescope.TELESCOPE_PARK.UNPARK=On")
+    park = "telescope.TELESCOPE_PARK._STATE"
+    await wait_for(port, [park], lambda v: v[park] == "Alert", "TELESCOPE_PARK in Alert")
+    assert await served.telescope.reset_error()
+    await wait_for(port, [state], lambda v: v[state] == "Ok", "CONNECTION back to Ok")
+    assert await served.telescope.get_motion_status() is MotionStatus.PARKED
