@@ -32,15 +32,8 @@ async def test_a_short_sequence_on_indi_devices_only(indi_server: IndiServer) ->
         recorder = await obs.start(
             EventRecorder, "recorder", types=[NewImageEvent, RoofOpenedEvent, RoofClosedEvent]
         )
-        telescope = await obs.start(IndiTelescope, "telescope", device="Telescope Simulator", **at)
-        dome = await obs.start(
-            IndiDome, "dome", device="Dome Simulator", follow="telescope", follow_interval=1.0, **at
-        )
-        wheel = await obs.start(IndiFilterWheel, "filters", device="Filter Simulator", **at)
-        focuser = await obs.start(IndiFocuser, "focuser", device="Focuser Simulator", max_focus=100.0, **at)
-        await obs.start(IndiRotator, "rotator", device="Rotator Simulator", **at)
         await obs.start(IndiWeather, "indiweather", device="Weather Simulator", interval=1.0, **at)
-        await obs.start(
+        weather = await obs.start(
             Weather,
             "weather",
             stations={"indi": ModuleStation(module="indiweather")},
@@ -48,6 +41,16 @@ async def test_a_short_sequence_on_indi_devices_only(indi_server: IndiServer) ->
             interval=1.0,
             min_good_time=0.0,
         )
+        # Fail safe, the weather is bad until the INDI station's first reading: wait for good
+        # weather before the devices start, or they would park and close at once.
+        await wait_for(weather.is_weather_good, 30, message="good weather")
+        telescope = await obs.start(IndiTelescope, "telescope", device="Telescope Simulator", **at)
+        dome = await obs.start(
+            IndiDome, "dome", device="Dome Simulator", follow="telescope", follow_interval=1.0, **at
+        )
+        wheel = await obs.start(IndiFilterWheel, "filters", device="Filter Simulator", **at)
+        focuser = await obs.start(IndiFocuser, "focuser", device="Focuser Simulator", max_focus=100.0, **at)
+        await obs.start(IndiRotator, "rotator", device="Rotator Simulator", **at)
         camera = await obs.start(
             IndiCamera,
             "camera",
@@ -57,8 +60,6 @@ async def test_a_short_sequence_on_indi_devices_only(indi_server: IndiServer) ->
             **at,
         )
 
-        # Fail safe: the weather is bad until the INDI station's first reading says it is good.
-        await wait_for(lambda: dome._bad_weather is None, 30, message="good weather at the dome")
         await dome.open_roof()
         await telescope.init()
         ra, dec = telescope._radec_of(55.0, 135.0)
