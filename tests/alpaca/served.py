@@ -58,10 +58,17 @@ class Served:
 
 @asynccontextmanager
 async def served_observatory(
-    *, chip: int = 512, slew_rate: float = 90.0, **server_options: Any
+    *,
+    chip: int = 512,
+    slew_rate: float = 90.0,
+    focuser_speed: float = 20.0,
+    filter_change_time: float = 0.2,
+    dome_time: float = 1.0,
+    **server_options: Any,
 ) -> AsyncIterator[Served]:
-    """Telescope (``slew_rate`` °/s), camera (``chip`` x ``chip`` pixels), dome, focuser, filter
-    wheel and weather, served by an AlpacaServer ``alpaca``."""
+    """Telescope (``slew_rate`` °/s), camera (``chip`` x ``chip`` pixels), dome (opens, closes and
+    turns 90° in ``dome_time`` s), focuser (``focuser_speed`` mm/s), filter wheel
+    (``filter_change_time`` s) and weather, served by an AlpacaServer ``alpaca``."""
     async with Observatory(speed=1.0, epoch=DARK_NIGHT) as obs:
         await obs.start(SimTelescope, "telescope", slew_rate=slew_rate, settle_time=0.0, init_time=0.0)
         await obs.start(
@@ -75,9 +82,11 @@ async def served_observatory(
             detector={"chip_width": chip, "chip_height": chip},
             readout_time=0.0,
         )
-        await obs.start(SimDome, "dome", open_time=1.0, close_time=1.0, rotation_speed=90.0)
-        await obs.start(SimFocuser, "focuser", speed=20.0, focus=20.0)
-        await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"], change_time=0.2)
+        await obs.start(
+            SimDome, "dome", open_time=dome_time, close_time=dome_time, rotation_speed=90.0 / dome_time
+        )
+        await obs.start(SimFocuser, "focuser", speed=focuser_speed, focus=20.0)
+        await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"], change_time=filter_change_time)
         await obs.start(
             Weather,
             "weather",
@@ -86,7 +95,13 @@ async def served_observatory(
             min_good_time=0.0,
             interval=1.0,
         )
-        options: dict[str, Any] = {"devices": DEVICES, "port": 0, "discovery_port": 0, **server_options}
+        options: dict[str, Any] = {
+            "devices": DEVICES,
+            "port": 0,
+            "discovery_port": 0,
+            "pixel_sizes": {"camera": 9.0},
+            **server_options,
+        }
         server = await obs.start(AlpacaServer, "alpaca", **options)
         yield Served(obs, server)
 

@@ -114,6 +114,24 @@ async def test_roof_starts_with_the_state_the_shutter_is_in(alpaca_server: str) 
             assert await device.get("shutterstatus") == 1
 
 
+async def test_roof_opened_by_hand_is_still_closed_by_close_roof(alpaca_server: str) -> None:
+    # Fail safe: the module believes the roof closed, someone opened it at the controller.
+    async with Observatory(clock=RealClock()) as obs:
+        roof = await obs.start(AlpacaRoof, "roof", server=alpaca_server, device_number=ROLL_OFF_ROOF)
+        await roof.close_roof()
+        await roof.device.put("openshutter")
+        assert await roof.get_motion_status() is MotionStatus.PARKED  # what it last knew
+        await roof.close_roof()
+        assert await roof.device.get("shutterstatus") == 1
+        await roof.device.put("openshutter")
+        await roof.open_roof()  # already open: nothing to do, and it knows it is open now
+        assert await roof.get_motion_status() is MotionStatus.IDLE
+        await roof.device.put("closeshutter")
+        await roof.open_roof()  # closed by hand meanwhile: opens it
+        assert await roof.device.get("shutterstatus") == 0
+        await roof.close_roof()
+
+
 async def test_dome_refuses_a_device_that_cannot_turn(alpaca_server: str) -> None:
     async with Observatory(clock=RealClock()) as obs:
         dome = await obs.start(AlpacaDome, "dome", server=alpaca_server, device_number=ROLL_OFF_ROOF)

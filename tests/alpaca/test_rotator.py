@@ -91,5 +91,8 @@ async def test_stop_motion_halts_the_device(rotator: tuple[AlpacaRotator, EventR
 def test_moves_announce_a_timeout_longer_than_the_module_waits() -> None:
     module = AlpacaRotator(name="rotator", server="http://127.0.0.1:1")
     assert module._move_timeout < method_timeout(IRotator.move_position_angle, {})
-    with pytest.raises(ConfigError, match=r"key 'move_timeout': must be within 0\.\.300 seconds, got 300"):
+    with pytest.raises(
+        ConfigError,
+        match=r"key 'move_timeout': must be within 0\.\.300 seconds \(the announced timeout\), got 300",
+    ):
         AlpacaRotator(name="rotator", server="http://127.0.0.1:1", move_timeout=300)

@@ -13,10 +13,16 @@ from typing import Any
 import aiohttp
 import pytest
 
-from nightcrew.bridges.alpaca.errors import INVALID_OPERATION, INVALID_VALUE, NOT_CONNECTED, NOT_IMPLEMENTED
+from nightcrew.bridges.alpaca.errors import (
+    DRIVER_ERROR,
+    INVALID_OPERATION,
+    INVALID_VALUE,
+    NOT_CONNECTED,
+    NOT_IMPLEMENTED,
+)
 from nightcrew.errors import ConfigError
 from nightcrew.modules.alpaca.server import AlpacaServer
-from nightcrew.testing import Observatory
+from nightcrew.testing import Observatory, wait_for
 
 from .served import Served, served_observatory
 
@@ -81,6 +87,7 @@ async def test_unknown_devices_are_bad_requests_naming_what_is_served(client: Cl
             "parameter Declination='inf' is not a finite number",
         ),
         ({"RightAscension": "12"}, "slewtocoordinatesasync: missing parameter Declination"),
+        ({"RightAscension": "١٢", "Declination": "10"}, "parameter RightAscension='١٢' is not a number"),
     ],
 )
 async def test_malformed_parameters_are_bad_requests(
@@ -140,6 +147,8 @@ async def test_refusals_of_the_module_reach_the_client(client: Client) -> None:
     status, body = await client.call(
         "PUT", "telescope/0/slewtocoordinatesasync", RightAscension="17.963", Declination="4.7"
     )
+    if body["ErrorNumber"] == 0:  # refused after the request returned: the next poll says so
+        status, body = await client.call("GET", "telescope/0/slewing")
     assert (status, body["ErrorNumber"]) == (200, INVALID_OPERATION)
     assert "telescope is parked; call init() first" in body["ErrorMessage"]
     _, body = await client.call("GET", "telescope/0/slewing")
@@ -174,6 +183,8 @@ async def test_parameter_names_ignore_case_and_transaction_ids_are_echoed(client
         assert body["ClientTransactionID"] == 0
     _, body = await client.call("PUT", "focuser/0/move", POSITION="1000")
     assert body["ErrorNumber"] == 0
+    _, body = await client.call("GET", "focuser/0/position", ClientID="x" * 5000)  # ignored
+    assert body["ErrorNumber"] == 0
 
 
 async def test_a_module_that_is_not_online_is_a_clear_error() -> None:
@@ -201,9 +212,93 @@ async def test_bad_configurations_name_the_key() -> None:
         AlpacaServer(name="alpaca", devices={"focuser": "focuser"}, port=70000)
     with pytest.raises(ConfigError, match=r"key 'devices\.camera': give a module name"):
         AlpacaServer(name="alpaca", devices={"camera": []})
+    with pytest.raises(ConfigError, match=r"key 'pixel_sizes\.guider': guider is not a served camera"):
+        AlpacaServer(name="alpaca", devices={"camera": "camera"}, pixel_sizes={"guider": 5.0})
+    with pytest.raises(ConfigError, match=r"key 'pixel_sizes\.camera': must be > 0 µm, got -1"):
+        AlpacaServer(name="alpaca", devices={"camera": "camera"}, pixel_sizes={"camera": -1})
 
 
 async def test_a_busy_port_is_a_config_error(served: Served) -> None:
     async with Observatory(speed=1.0) as obs:
         with pytest.raises(ConfigError, match=f"key 'port': cannot listen on 127.0.0.1:{served.server.port}"):
             await obs.start(AlpacaServer, "second", devices={"focuser": "focuser"}, port=served.server.port)
+
+
+async def test_a_frame_that_is_gone_is_a_clear_error(served: Served, client: Client) -> None:
+    await client.connect("camera/0")
+    _, body = await client.call("PUT", "camera/0/startexposure", Duration="0.1", Light="true")
+    assert body["ErrorNumber"] == 0
+
+    async def ready() -> bool:
+        _, reply = await client.call("GET", "camera/0/imageready")
+        return bool(reply["Value"])
+
+    await wait_for(ready, 60.0, message="image ready")
+    vfs = served.observatory.vfs
+    (path,) = await vfs.find("/cache/*.fits")
+    await vfs.remove(path)
+    _, body = await client.call("GET", "camera/0/imagearray")
+    assert body["ErrorNumber"] == DRIVER_ERROR
+    assert f"GrabImageError: cannot read the frame {path} through the server's VFS" in body["ErrorMessage"]
+    _, body = await client.call("GET", "camera/0/camerastate")  # still serving
+    assert (body["ErrorNumber"], body["Value"]) == (0, 0)
+
+
+async def test_a_second_slew_is_refused_but_park_always_wins() -> None:
+    async with served_observatory(slew_rate=1.0) as served, aiohttp.ClientSession() as session:
+        client = Client(session, served.url)  # slews of a minute: the first is still running
+        await client.connect("telescope/0")
+        await client.call("PUT", "telescope/0/unpark")
+        await wait_for(lambda: _value(client, "telescope/0/atpark", False), 10.0, message="unparked")
+        _, body = await client.call("PUT", "telescope/0/slewtoaltazasync", Altitude="30", Azimuth="90")
+        assert body["ErrorNumber"] == 0
+        _, body = await client.call("PUT", "telescope/0/slewtoaltazasync", Altitude="40", Azimuth="90")
+        assert body["ErrorNumber"] == INVALID_OPERATION
+        assert "busy with slewtoaltazasync; wait for it or abort it" in body["ErrorMessage"]
+
+        _, body = await client.call("PUT", "telescope/0/park")
+        assert body["ErrorNumber"] == 0
+        await wait_for(lambda: _value(client, "telescope/0/atpark", True), 120.0, message="parked")
+        # The slew that park interrupted is not reported as a failure.
+        _, body = await client.call("GET", "telescope/0/slewing")
+        assert (body["ErrorNumber"], body["Value"]) == (0, False)
+
+
+async def _value(client: Client, path: str, expected: object) -> bool:
+    _, body = await client.call("GET", path)
+    assert body["ErrorNumber"] == 0, body
+    return bool(body["Value"] == expected)
+
+
+@pytest.mark.parametrize(
+    ("method", "path", "params"),
+    [
+        ("GET", "telescope/0/__init__", {}),
+        ("GET", "telescope/0/Get_Proxy", {}),
+        ("GET", "telescope/-1/connected", {}),
+        ("GET", "telescope/99999999999999999999/connected", {}),
+        ("PUT", "telescope/0/slewtoaltazasync", {"Altitude": "1e400", "Azimuth": "0"}),
+        ("PUT", "telescope/0/slewtoaltazasync", {"Altitude": "١٢", "Azimuth": "0"}),
+        ("PUT", "telescope/0/targetdeclination", {"TargetDeclination": ""}),
+        ("PUT", "camera/0/numx", {"NumX": "2.5"}),
+        ("PUT", "camera/0/numx", {"NumX": "-3"}),
+        ("PUT", "camera/0/startexposure", {"Duration": "1", "Light": ""}),
+        ("PUT", "focuser/0/move", {"Position": "99999999999999999999999"}),
+        ("PUT", "filterwheel/0/position", {"Position": "-1"}),
+        ("PUT", "dome/0/slewtoazimuth", {"Azimuth": "nan"}),
+    ],
+)
+async def test_odd_requests_get_an_answer_and_never_stop_the_server(
+    client: Client, method: str, path: str, params: dict[str, str]
+) -> None:
+    device = path.rsplit("/", 1)[0]
+    if device.split("/")[1] == "0":
+        await client.connect(device)
+    status, body = await client.call(method, path, **params)
+    assert status in (200, 400)
+    if status == 200:
+        assert body["ErrorNumber"] != 0 and body["ErrorMessage"], body
+    else:
+        assert isinstance(body, str) and body
+    status, body = await client.call("GET", "telescope/0/name")
+    assert (status, body["Value"]) == (200, "telescope")

@@ -14,6 +14,7 @@ from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.events import TestEvent
 from nightcrew.modules import Module
 from nightcrew.server import Account, init_server, start_server, stop_server
+from nightcrew.testing import wait_for
 
 from .conftest import Network
 from .sample import Calculator, ICalculator, ISlow, Listener
@@ -62,14 +63,6 @@ def test_config_errors_are_found_when_the_comm_is_built() -> None:
     assert comm.name == "camera" and comm.jid == "camera@obs.local/dome"
 
 
-async def _until(condition: object, seconds: float) -> None:
-    deadline = time.monotonic() + seconds
-    while not condition():  # type: ignore[operator]
-        if time.monotonic() > deadline:
-            raise AssertionError(f"not within {seconds} s")
-        await asyncio.sleep(0.05)
-
-
 async def test_modules_reconnect_after_a_server_restart(prosody_network: Network) -> None:
     # On Prosody only: it restarts in a fraction of a second (ejabberd needs ~7 s).
     xmpp_network = prosody_network
@@ -89,7 +82,7 @@ async def test_modules_reconnect_after_a_server_restart(prosody_network: Network
         await asyncio.wait_for(in_flight, 3)  # fails fast instead of hanging
 
     # every module is back within 10 s: in the room, calls through the old proxy, events
-    await _until(lambda: "calc" in listener.comm.clients and "listener" in calc.comm.clients, 10)
+    await wait_for(lambda: "calc" in listener.comm.clients and "listener" in calc.comm.clients, 10)
     assert await proxy.add(2, 2) == 4.0
     assert time.monotonic() - restarted < 10
     await calc.comm.send_event(TestEvent(message="after restart"))

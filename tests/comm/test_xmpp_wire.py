@@ -18,6 +18,7 @@ from slixmpp.xmlstream.handler import Callback
 from slixmpp.xmlstream.matcher import MatchXPath
 
 from nightcrew.events import TestEvent
+from nightcrew.testing import wait_for
 
 from .conftest import Network
 from .sample import Calculator, Listener
@@ -76,19 +77,11 @@ async def plain_client(prosody_network: Network) -> AsyncIterator[PlainClient]:
     await client.xmpp.disconnect(wait=1)
 
 
-async def _wait_for(condition: Any) -> None:
-    for _ in range(100):
-        if condition():
-            return
-        await asyncio.sleep(0.05)
-    raise AssertionError("condition not met within 5 s")
-
-
 async def test_a_plain_client_calls_a_module_with_the_documented_stanzas(
     prosody_network: Network, plain_client: PlainClient
 ) -> None:
     await prosody_network.start(Calculator, "calc")
-    await _wait_for(lambda: "calc" in plain_client.occupants)
+    await wait_for(lambda: "calc" in plain_client.occupants, 5.0)
     calc_jid = plain_client.occupants["calc"]
 
     disco: Any = plain_client.xmpp.make_iq_get(ito=calc_jid)
@@ -132,7 +125,7 @@ async def test_a_plain_client_sends_an_event_a_module_receives(
     prosody_network: Network, plain_client: PlainClient
 ) -> None:
     listener = await prosody_network.start(Listener, "listener")
-    await _wait_for(lambda: "listener" in plain_client.occupants)
+    await wait_for(lambda: "listener" in plain_client.occupants, 5.0)
     room = f"{prosody_network.room}@conference.observatory.test"
     plain_client.xmpp.send_raw(
         f"<message type='groupchat' to='{room}'>"
@@ -146,8 +139,8 @@ async def test_module_state_changes_are_announced_in_presence(
     prosody_network: Network, plain_client: PlainClient
 ) -> None:
     calc = await prosody_network.start(Calculator, "calc")
-    await _wait_for(lambda: plain_client.states.get("calc") == "ready")
+    await wait_for(lambda: plain_client.states.get("calc") == "ready", 5.0)
     calc.set_error("lost the filter wheel")
-    await _wait_for(lambda: plain_client.states.get("calc") == "error")
+    await wait_for(lambda: plain_client.states.get("calc") == "error", 5.0)
     await calc.reset_error()
-    await _wait_for(lambda: plain_client.states.get("calc") == "ready")
+    await wait_for(lambda: plain_client.states.get("calc") == "ready", 5.0)

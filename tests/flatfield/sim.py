@@ -16,8 +16,8 @@ from nightcrew.interfaces import Binning
 from nightcrew.modules.flatfield import FlatField, FlatFieldPointing
 from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimRoof, SimTelescope, SimWeatherStation
 from nightcrew.sim.catalog_data import load_reference_stars
+from nightcrew.testing import Observatory
 from nightcrew.vfs import LocalFile, VirtualFileSystem
-from tests.modules.conftest import Observatory
 
 #: 2024-01-15 at Göttingen: the Sun is at -4.9° at 16:12 UTC (dusk) and -9.5° at 06:17 UTC (dawn).
 DUSK = datetime(2024, 1, 15, 16, 12, tzinfo=UTC)

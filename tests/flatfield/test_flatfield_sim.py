@@ -13,7 +13,7 @@ from astropy.io import fits  # type: ignore[import-untyped]
 from nightcrew.astro import sun_altaz
 from nightcrew.errors import AbortedError
 from nightcrew.modules.flatfield import FlatFieldScheduler
-from tests.modules.conftest import SITE
+from nightcrew.testing import SITE
 
 from .sim import BINNING, DAWN, DUSK, FUNCTIONS, TARGET, TwilightObservatory, start_flat_observatory
 

@@ -6,7 +6,7 @@ from collections.abc import AsyncIterator
 
 import pytest
 
-from tests.modules.conftest import Observatory
+from nightcrew.testing import Observatory
 
 
 @pytest.fixture

@@ -10,7 +10,7 @@ from nightcrew.interfaces import IAutoFocus
 from nightcrew.modules import Module
 from nightcrew.robotic.mastermind import FocusKeeper
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
-from tests.modules.conftest import SITE, Observatory
+from nightcrew.testing import SITE, Observatory
 
 RETRY_S = 600.0
 

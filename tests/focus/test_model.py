@@ -15,8 +15,8 @@ from nightcrew.events import FocusFoundEvent
 from nightcrew.modules import Module
 from nightcrew.modules.focus import FocusModel
 from nightcrew.modules.sim import SimFilterWheel, SimFocuser, SimWeatherStation
+from nightcrew.testing import Observatory
 from nightcrew.vfs import LocalFile, VirtualFileSystem
-from tests.modules.conftest import Observatory
 
 #: Ambient temperatures of the simulated night, one plateau of PLATEAU seconds each.
 TEMPERATURES = [18.0, 4.0, 12.0, -3.0, 9.0, 15.0, 0.0, 6.0, -6.0, 11.0]
@@ -70,7 +70,7 @@ async def report_focus_series(
     filter_offset: float = 0.0,
 ) -> None:
     """At the middle of each plateau, a 'focus series' reports the true best focus plus noise."""
-    weather = next(m for m in observatory._modules if isinstance(m, SimWeatherStation))
+    weather = next(m for m in observatory.modules if isinstance(m, SimWeatherStation))
     rng = np.random.default_rng(7)
     start = observatory.clock.time()
     for index in range(count):

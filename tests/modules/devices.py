@@ -85,28 +85,6 @@ class ImageListener(Module):
         self.arrived.set()
 
 
-class EventRecorder(Module):
-    """Records every event of the given types with its sender, and can send events."""
-
-    def __init__(self, *, types: list[type[Event]], **kwargs: Any) -> None:
-        super().__init__(**kwargs)
-        self._types = types
-        self.events: list[tuple[Event, str]] = []
-
-    async def open(self) -> None:
-        if self.state is not ModuleState.STARTING:
-            return
-        await super().open()
-        for event_type in self._types:
-            await self.comm.register_event(event_type, self.on_event)
-
-    async def on_event(self, event: Event, sender: str) -> None:
-        self.events.append((event, sender))
-
-    def of(self, event_type: type[E]) -> list[E]:
-        return [e for e, _ in self.events if isinstance(e, event_type)]
-
-
 class BrokenFocuser(BaseFocuser):
     """A focuser whose motor fails."""
 

@@ -9,8 +9,8 @@ import pytest
 
 from nightcrew.errors import AbortedError, DeviceBusyError, InvalidArgumentError
 from nightcrew.interfaces import Binning, ExposureStatus, ImageType, Window
+from nightcrew.testing import Observatory
 
-from .conftest import Observatory
 from .devices import GradientCamera, HeaderPeer, ImageListener
 
 

@@ -10,9 +10,9 @@ from nightcrew.errors import ConfigError, DeviceBusyError, InvalidArgumentError,
 from nightcrew.events import FilterChangedEvent, NewSpectrumEvent
 from nightcrew.interfaces import ITemperatures, MotionStatus, WeatherSensor
 from nightcrew.modules.sim import ISimFocuserTruth, SimFilterWheel, SimFocuser, SimWeatherStation
+from nightcrew.testing import EventRecorder, Observatory
 
-from .conftest import Observatory
-from .devices import BrokenFocuser, EventRecorder, LineSpectrograph
+from .devices import BrokenFocuser, LineSpectrograph
 
 FILTERS = ["B", "V", "R", "clear"]
 

@@ -8,8 +8,7 @@ from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
 from nightcrew.modules.roof import DomeGeometry, azimuth_difference, slit_azimuth
 from nightcrew.modules.sim import SimDome, SimTelescope
-
-from .conftest import Observatory
+from nightcrew.testing import Observatory
 
 
 @pytest.mark.parametrize(("alt", "az"), [(0.0, 0.0), (30.0, 123.4), (75.0, 359.5), (-5.0, 200.0)])

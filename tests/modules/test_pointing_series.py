@@ -19,9 +19,8 @@ from nightcrew.modules.sim import SimCamera, SimTelescope
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts import PointingSeriesScript
 from nightcrew.robotic.tasks import TaskProgress
+from nightcrew.testing import SITE, Observatory
 from tests.robotic.runner_sim import make_task
-
-from .conftest import SITE, Observatory
 
 #: 1024² at 1.16"/px binned 2x2: a 20' field of 512² pixels, enough stars anywhere for a catalog solve.
 DETECTOR = {"chip_width": 1024, "chip_height": 1024, "cosmic_rays_per_s": 0.0}

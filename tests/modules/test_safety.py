@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Callable
 
 import pytest
 
@@ -17,20 +16,9 @@ from nightcrew.events import (
 )
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.sim import SimDome, SimRoof, SimTelescope
-
-from .conftest import Observatory
-from .devices import EventRecorder
+from nightcrew.testing import EventRecorder, Observatory
 
 BETELGEUSE = (88.7929, 7.4071)
-
-
-async def _wait_for(observatory: Observatory, condition: Callable[[], bool], clock_seconds: float) -> float:
-    """Clock seconds until ``condition()`` holds; fails after ``clock_seconds``."""
-    start = observatory.clock.time()
-    while not condition():
-        assert observatory.clock.time() - start < clock_seconds, "condition not met in time"
-        await observatory.clock.sleep(0.5)
-    return observatory.clock.time() - start
 
 
 async def test_roof_opens_and_closes_with_events(observatory: Observatory) -> None:
@@ -75,7 +63,7 @@ async def test_bad_weather_closes_the_roof_and_parks_the_telescope_by_themselves
     def safe() -> bool:
         return roof._motion_status is MotionStatus.PARKED and telescope._motion_status is MotionStatus.PARKED
 
-    await _wait_for(observatory, safe, 60.0)
+    await observatory.wait_for(safe, 60.0, interval=0.5)
     with pytest.raises(MoveError, match=r"weather is bad \(rain\); the roof stays closed until it is good"):
         await roof.open_roof()
     assert roof.opened == 0.0
@@ -93,7 +81,7 @@ async def test_bad_weather_while_the_roof_opens_closes_it(observatory: Observato
     await weather.comm.send_event(BadWeatherEvent(reason="wind"))
     with pytest.raises(AbortedError):
         await opening
-    await _wait_for(observatory, lambda: roof._motion_status is MotionStatus.PARKED, 60.0)
+    await observatory.wait_for(lambda: roof._motion_status is MotionStatus.PARKED, 60.0, interval=0.5)
     assert roof.opened == 0.0
 
 

@@ -10,65 +10,24 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 import sep  # type: ignore[import-not-found]
-from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.errors import ConfigError
 from nightcrew.modules.camera import ExposureSettings, Frame
 from nightcrew.modules.sim import (
     SimCamera,
-    SimFilterWheel,
     SimFocuser,
     SimRoof,
-    SimTelescope,
     SimWeatherStation,
 )
 from nightcrew.modules.sim.scene import Scene
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.projection import FrameGeometry, Pointing, sky_to_pixel
+from nightcrew.testing import Observatory
 
-from .conftest import Observatory
+from .sim_observatory import CATALOG_DEPTH, DETECTOR, PLEIADES, SEED, expose, start_observatory
 
-PLEIADES = (56.75, 24.12)  # high in the sky at the conftest epoch
-# A 1024² chip keeps each frame fast; 9 µm at 1600 mm is 1.16"/px, a 0.33° field.
-DETECTOR = {"chip_width": 1024, "chip_height": 1024, "cosmic_rays_per_s": 0.0}
-CATALOG_DEPTH = 15.0
-SEED = 3
 #: Clock seconds the slow weather station below takes to answer.
 SLOW_ANSWER_S = 5.0
-
-
-async def start_observatory(
-    observatory: Observatory,
-    *,
-    weather: type[SimWeatherStation] = SimWeatherStation,
-    camera_class: type[SimCamera] = SimCamera,
-    target: tuple[float, float] = PLEIADES,
-    **camera: Any,
-) -> SimCamera:
-    """Telescope tracking ``target`` (the Pleiades), focuser at best focus, V filter, roof open, clear sky."""
-    telescope = await observatory.start(SimTelescope, "telescope", init_time=0.0, seed=1)
-    await observatory.start(SimFocuser, "focuser", focus=25.0, best_focus=25.0)
-    await observatory.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V")
-    roof = await observatory.start(SimRoof, "roof", open_time=1.0)
-    await observatory.start(weather, "weather", scenario=[{"at": 0, "clouds": 0.0}])
-    await telescope.init()
-    await telescope.move_radec(*target)
-    await roof.open_roof()
-    options: dict[str, Any] = {
-        "detector": DETECTOR,
-        "catalog_depth": CATALOG_DEPTH,
-        "seed": SEED,
-        "filter_throughputs": {"V": 0.8, "R": 0.9},
-        "readout_time": 0.5,
-        **camera,
-    }
-    return await observatory.start(camera_class, "camera", **options)
-
-
-async def expose(observatory: Observatory, camera: SimCamera, seconds: float = 1.0) -> fits.PrimaryHDU:
-    await camera.set_exposure_time(seconds)
-    filename = await camera.grab_data()
-    return (await observatory.vfs.read_fits(filename))[0]
 
 
 def detect(data: npt.NDArray[Any]) -> tuple[Any, float]:
@@ -132,7 +91,7 @@ async def test_closed_roof_shows_no_stars(observatory: Observatory) -> None:
 async def test_defocus_widens_the_stars(observatory: Observatory) -> None:
     camera = await start_observatory(observatory)
     sharp = await expose(observatory, camera, 1.0)
-    focuser = observatory_module(observatory, "focuser", SimFocuser)
+    focuser = observatory.module("focuser", SimFocuser)
     await focuser.set_focus(25.3)  # 0.3 mm off: 30"/mm * 0.3 = 9" of defocus blur
     blurred = await expose(observatory, camera, 1.0)
     assert blurred.header["FOCUS"] == pytest.approx(25.3)
@@ -230,9 +189,3 @@ async def test_date_obs_is_when_the_shutter_opens_not_when_the_devices_were_aske
 def test_bad_configuration_names_the_key(options: dict[str, Any], message: str) -> None:
     with pytest.raises(ConfigError, match=message):
         SimCamera(name="camera", **options)
-
-
-def observatory_module(observatory: Observatory, name: str, cls: type[Any]) -> Any:
-    module = next(m for m in observatory._modules if m.name == name)
-    assert isinstance(module, cls)
-    return module

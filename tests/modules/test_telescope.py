@@ -11,9 +11,7 @@ from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, Invalid
 from nightcrew.events import MotionStatusChangedEvent, MoveRaDecEvent
 from nightcrew.interfaces import ITelescope, MotionStatus
 from nightcrew.modules.sim import ISimTelescopeTruth, SimTelescope
-
-from .conftest import Observatory
-from .devices import EventRecorder
+from nightcrew.testing import EventRecorder, Observatory
 
 BETELGEUSE = (88.7929, 7.4071)  # about 46° up at the test epoch
 

@@ -1,4 +1,4 @@
-"""Focus series, acquisition, guiding and seeing on the simulated observatory of tests/modules."""
+"""Focus series, acquisition, guiding and seeing on simulated observatories at chosen clock speeds."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ from contextlib import AbstractAsyncContextManager, asynccontextmanager
 
 import pytest
 
+from nightcrew.testing import Observatory
 from nightcrew.vfs import MemoryFile
-from tests.modules.conftest import Observatory, observatory
 
-__all__ = ["ObservatoryFactory", "observatory", "observatory_at"]
+__all__ = ["ObservatoryFactory", "observatory_at"]
 
 ObservatoryFactory = Callable[[float], AbstractAsyncContextManager[Observatory]]
 

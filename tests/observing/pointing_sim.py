@@ -9,8 +9,8 @@ from __future__ import annotations
 from typing import Any
 
 from nightcrew.modules.sim import SimCamera, SimTelescope
-from tests.modules.conftest import Observatory
-from tests.modules.test_sim_camera import PLEIADES, observatory_module, start_observatory
+from nightcrew.testing import Observatory
+from tests.modules.sim_observatory import PLEIADES, start_observatory
 
 
 async def start_pointing_observatory(
@@ -19,7 +19,7 @@ async def start_pointing_observatory(
     """tests/modules' observatory with its telescope replaced by a "mount" with options ``mount``."""
     science = await start_observatory(obs, telescope="mount", **camera)
     # The camera now looks through "mount"; the stock telescope must not write headers any more.
-    await observatory_module(obs, "telescope", SimTelescope).close()
+    await obs.module("telescope", SimTelescope).close()
     options: dict[str, Any] = {"init_time": 0.0, "settle_time": 0.5, **mount}
     telescope = await obs.start(SimTelescope, "mount", **options)
     await telescope.init()

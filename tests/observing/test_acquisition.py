@@ -15,7 +15,7 @@ from nightcrew.images.processors.detection import SepSourceDetection
 from nightcrew.images.processors.offsets import AstrometryOffsets
 from nightcrew.modules.pointing import Acquisition
 from nightcrew.modules.pointing.apply import SkyError, pixel_error_to_sky
-from tests.modules.test_sim_camera import CATALOG_DEPTH, PLEIADES, SEED, observatory_module
+from tests.modules.sim_observatory import CATALOG_DEPTH, PLEIADES, SEED
 
 from .conftest import ObservatoryFactory
 from .pointing_sim import start_pointing_observatory
@@ -49,7 +49,7 @@ async def test_acquisition_converges_from_a_large_miss(
         await obs.start(
             Acquisition, "acquisition", camera="camera", telescope="mount", pipeline=acquisition_pipeline()
         )
-        acquisition = observatory_module(obs, "acquisition", Acquisition)
+        acquisition = obs.module("acquisition", Acquisition)
         start_miss = angular_separation(*await mount.get_true_radec(), *PLEIADES) * 60.0
         result: dict[str, Any] = await acquisition.acquire_target()
         final = angular_separation(*await mount.get_true_radec(), *PLEIADES) * 3600.0
@@ -74,7 +74,7 @@ async def test_acquisition_refuses_an_offset_above_the_maximum(observatory_at: O
             pipeline=acquisition_pipeline(),
             max_offset=120.0,
         )
-        acquisition = observatory_module(obs, "acquisition", Acquisition)
+        acquisition = obs.module("acquisition", Acquisition)
         with pytest.raises(
             InvalidArgumentError, match=r"measured offset \d+\.\d\" exceeds max_offset 120\": not applied"
         ):

@@ -19,8 +19,8 @@ from nightcrew.events import FocusFoundEvent
 from nightcrew.modules.focus.series import AutoFocusSeries
 from nightcrew.modules.sim import SimFilterWheel, SimFocuser
 from nightcrew.robotic.mastermind import FocusField
-from tests.modules.conftest import SITE, Observatory
-from tests.modules.test_sim_camera import observatory_module, start_observatory
+from nightcrew.testing import SITE, Observatory
+from tests.modules.sim_observatory import start_observatory
 
 #: The Sun at -10°: right after the sky flats, when the mastermind focuses.
 DUSK = "2026-11-10T16:42:00+00:00"
@@ -49,8 +49,8 @@ async def test_a_dusk_series_finds_the_true_focus(dusk: Observatory) -> None:
         catalog_depth=16.0,
         seed=42,
     )
-    await observatory_module(dusk, "filters", SimFilterWheel).set_filter("R")
-    focuser = observatory_module(dusk, "focuser", SimFocuser)
+    await dusk.module("filters", SimFilterWheel).set_filter("R")
+    focuser = dusk.module("focuser", SimFocuser)
     truth = await focuser.get_best_focus()
     await focuser.set_focus(truth - 0.25)
     autofocus = await dusk.start(AutoFocusSeries, "autofocus", camera="camera", focuser="focuser")

@@ -18,8 +18,8 @@ from nightcrew.focus.series import (
 )
 from nightcrew.modules.focus.series import AutoFocusSeries, ProjectionFocusMeasure
 from nightcrew.modules.sim import SimCamera, SimFocuser
-from tests.modules.conftest import Observatory
-from tests.modules.test_sim_camera import observatory_module, start_observatory
+from nightcrew.testing import Observatory
+from tests.modules.sim_observatory import start_observatory
 
 from .conftest import ObservatoryFactory
 
@@ -33,7 +33,7 @@ async def focus_setup(
     camera = await start_observatory(obs)
     # A 512² window of the 1.16"/px chip: sharp stars sampled well enough, a quarter of the pixels.
     await camera.set_window(256, 256, 512, 512)
-    focuser = observatory_module(obs, "focuser", SimFocuser)
+    focuser = obs.module("focuser", SimFocuser)
     await focuser.set_focus(start_focus)
     await obs.start(AutoFocusSeries, "autofocus", camera="camera", focuser="focuser", **options)
     return camera, focuser
@@ -97,7 +97,7 @@ async def test_nine_frames_find_the_true_focus_within_two_percent_of_the_range(
             return True
 
         await focuser.comm.register_event(FocusFoundEvent, on_focus)
-        autofocus = observatory_module(obs, "autofocus", AutoFocusSeries)
+        autofocus = obs.module("autofocus", AutoFocusSeries)
         count, step = 9, 0.04
         focus, error = await autofocus.auto_focus(count, step, 2.0)
         truth = await focuser.get_best_focus()
@@ -121,7 +121,7 @@ async def test_nine_frames_find_the_true_focus_within_two_percent_of_the_range(
 async def test_projection_measure_finds_focus_too(observatory_at: ObservatoryFactory) -> None:
     async with observatory_at(SPEED) as obs:
         _, focuser = await focus_setup(obs, 24.95, measure=ProjectionFocusMeasure())
-        autofocus = observatory_module(obs, "autofocus", AutoFocusSeries)
+        autofocus = obs.module("autofocus", AutoFocusSeries)
         focus, _ = await autofocus.auto_focus(9, 0.04, 2.0)
         deviation = abs(focus - await focuser.get_best_focus()) / 0.32
         print(f"auto-focus (projection): {100 * deviation:.2f} % of range")
@@ -133,7 +133,7 @@ async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
 ) -> None:
     async with observatory_at(SPEED) as obs:
         _, focuser = await focus_setup(obs, 25.3)
-        autofocus = observatory_module(obs, "autofocus", AutoFocusSeries)
+        autofocus = obs.module("autofocus", AutoFocusSeries)
         # The far frames of 1 s show too few stars to measure: the usable series ends before 25.38.
         with pytest.raises(FocusOutsideSeriesError, match=r"outside the series 25\.2200\.\.25\.3[0-8]00"):
             await autofocus.auto_focus(9, 0.02, 1.0)
@@ -143,7 +143,7 @@ async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
 async def test_abort_ends_the_series_and_restores_the_focus(observatory_at: ObservatoryFactory) -> None:
     async with observatory_at(SPEED) as obs:
         _, focuser = await focus_setup(obs, 25.05)
-        autofocus = observatory_module(obs, "autofocus", AutoFocusSeries)
+        autofocus = obs.module("autofocus", AutoFocusSeries)
         series = asyncio.ensure_future(autofocus.auto_focus(9, 0.04, 5.0))
         for _ in range(500):  # two frames of 5 s: about 0.1 s of wall time
             if (await autofocus.auto_focus_status()).get("done", 0) >= 2:

@@ -13,8 +13,8 @@ from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import LoopState, MotionStatus
 from nightcrew.modules.pointing import AutoGuiding, ScienceFrameAutoGuiding
 from nightcrew.modules.sim import SimCamera, SimTelescope
-from tests.modules.conftest import Observatory
-from tests.modules.test_sim_camera import CATALOG_DEPTH, SEED, observatory_module
+from nightcrew.testing import Observatory, wait_for
+from tests.modules.sim_observatory import CATALOG_DEPTH, SEED
 
 from .conftest import ObservatoryFactory
 from .pointing_sim import start_pointing_observatory
@@ -74,11 +74,10 @@ async def sample_true_error(
 
 
 async def wait_for_state(guiding: AutoGuiding | ScienceFrameAutoGuiding, state: LoopState) -> None:
-    for _ in range(1000):
-        if await guiding.get_loop_state() is state:
-            return
-        await asyncio.sleep(0.01)
-    raise AssertionError(f"guiding never reached {state}")
+    async def reached() -> bool:
+        return await guiding.get_loop_state() is state
+
+    await wait_for(reached, 10.0, interval=0.01, message=f"guiding never reached {state}")  # wall seconds
 
 
 async def test_guiding_for_thirty_minutes_keeps_the_rms_below_half_an_arcsecond(
@@ -166,7 +165,7 @@ async def test_science_frames_guide_and_bad_frames_are_skipped(observatory_at: O
         assert await guiding.get_loop_state() is LoopState.LOST
         assert await mount.get_offsets_radec() == pytest.approx((dra, ddec + 20.0 / 3600.0))
         await guiding.stop()
-        assert observatory_module(obs, "guiding", ScienceFrameAutoGuiding) is guiding
+        assert obs.module("guiding", ScienceFrameAutoGuiding) is guiding
 
 
 class Gate(ImageProcessor):

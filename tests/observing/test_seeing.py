@@ -8,7 +8,7 @@ import pytest
 
 from nightcrew.errors import ConfigError
 from nightcrew.modules.image.seeing import Seeing, zenith_seeing
-from tests.modules.test_sim_camera import expose, start_observatory
+from tests.modules.sim_observatory import expose, start_observatory
 
 from .conftest import ObservatoryFactory
 

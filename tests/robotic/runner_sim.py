@@ -15,8 +15,8 @@ from nightcrew.modules import Module
 from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimFocuser, SimRoof, SimTelescope
 from nightcrew.robotic.runner import Script, TaskRunner
 from nightcrew.robotic.tasks import Task, TaskProgress, parse_request_group, tasks_of_group
+from nightcrew.testing import Observatory
 from nightcrew.vfs import MemoryFile
-from tests.modules.conftest import Observatory
 
 __all__ = ["PLEIADES", "ProgressLog", "SimSetup", "make_task", "request_group", "sim", "start_sim"]
 

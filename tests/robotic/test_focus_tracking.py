@@ -20,12 +20,12 @@ from nightcrew.modules.sim.interfaces import ISimTelescopeTruth
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.scripts import AutoFocusScript
 from nightcrew.robotic.tasks import TaskState
-from tests.modules.conftest import SITE
+from nightcrew.testing import SITE
 
+from .mastermind_night import Parts, group, start_mastermind, start_night
 from .runner_sim import PLEIADES, ProgressLog, SimSetup, make_task, sim
-from .test_mastermind_sim import Parts, group, parts, start_mastermind, start_night
 
-__all__ = ["parts", "sim"]
+__all__ = ["sim"]
 
 SERIES_S = 30.0
 #: Where the true pointing may move while tracking: drift 1"/min and 5" periodic error, with margin.

@@ -21,11 +21,9 @@ from nightcrew.events import (
 from nightcrew.interfaces import IWeather, MotionStatus, SensorValue, WeatherReport, WeatherSensor
 from nightcrew.robotic.archives import ScheduleEntry, ScheduleStore
 from nightcrew.robotic.tasks import TaskState
-from tests.modules.conftest import SITE
+from nightcrew.testing import SITE
 
-from .test_mastermind_sim import PLEIADES, SPEED, Night, Parts, group, parts, start_mastermind, start_night
-
-__all__ = ["parts"]
+from .mastermind_night import PLEIADES, SPEED, Night, Parts, group, start_mastermind, start_night
 
 ARCTURUS = {"name": "Arcturus", "ra": 213.915, "dec": 19.182}  # high in the south-east before dawn
 

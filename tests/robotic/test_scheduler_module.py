@@ -9,17 +9,14 @@ from datetime import UTC, datetime, timedelta
 
 import pytest
 
-from nightcrew.clock import AcceleratedClock
-from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.events import GoodWeatherEvent, TaskFailedEvent
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.robotic.scheduler import Night, SchedulableBlock
 from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, night_around
 from nightcrew.robotic.scheduler.synthetic import synthetic_blocks
-from nightcrew.site import Site
+from nightcrew.testing import SITE, Observatory
 
-SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0, name="Göttingen")
 EPOCH = datetime(2024, 1, 15, 20, 0, tzinfo=UTC)
 BLOCKS = synthetic_blocks(Night(EPOCH, EPOCH + timedelta(hours=10), SITE), 25, seed=11)
 
@@ -60,27 +57,14 @@ class Setup:
 
 @pytest.fixture
 async def setup() -> AsyncIterator[Setup]:
-    network = LocalNetwork()
-    clock = AcceleratedClock(EPOCH, speed=10.0)
-    archive, store = ListArchive(list(BLOCKS)), CountingStore()
-    scheduler = SchedulerModule(
-        archive=archive,
-        store=store,
-        time_limit_s=2.0,
-        poll_interval_s=20.0,
-        comm=LocalComm("scheduler", network=network),
-        clock=clock,
-        site=SITE,
-    )
-    sender = Module(comm=LocalComm("mastermind", network=network), clock=clock)
-    await sender.open()
-    await scheduler.open()
-    try:
+    async with Observatory(speed=10.0, epoch=EPOCH) as obs:
+        archive, store = ListArchive(list(BLOCKS)), CountingStore()
+        sender = await obs.start(Module, "mastermind")
+        scheduler = await obs.start(
+            SchedulerModule, "scheduler", archive=archive, store=store, time_limit_s=2.0, poll_interval_s=20.0
+        )
         await asyncio.wait_for(store.written.wait(), timeout=20)  # the first plan
         yield Setup(scheduler, sender, archive, store)
-    finally:
-        await scheduler.close()
-        await sender.close()
 
 
 async def test_the_first_plan_is_written_at_start(setup: Setup) -> None:

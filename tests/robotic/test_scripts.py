@@ -24,7 +24,6 @@ from nightcrew.robotic.runner import (
 from nightcrew.robotic.scripts import AutoFocusScript, CalibrationScript, ImagingScript, focus_step
 from nightcrew.robotic.scripts._repeat import RepeatTiming
 from nightcrew.robotic.tasks import InstrumentConfig, Task
-from tests.modules.test_sim_camera import observatory_module
 
 from .runner_sim import DETECTOR, PLEIADES, ProgressLog, SimSetup, make_task, sim
 
@@ -110,7 +109,7 @@ async def test_bias_and_dark_frames_without_moving_the_telescope(sim: SimSetup) 
 
 async def test_auto_focus_then_expose_in_one_task(sim: SimSetup) -> None:
     await sim.obs.start(AutoFocusSeries, "focus", camera="camera", focuser="focuser")
-    focuser = observatory_module(sim.obs, "focuser", SimFocuser)
+    focuser = sim.obs.module("focuser", SimFocuser)
     await focuser.set_focus(24.9)  # 0.1 mm off the best focus (25.0)
     runner = await sim.runner({"AUTO_FOCUS": AutoFocusScript(), "EXPOSE": ImagingScript()})
     focus_frames = {"exposure_time": 2.0, "exposure_count": 7, "optical_elements": {"filter": "V"}}

@@ -5,9 +5,7 @@ from __future__ import annotations
 import pytest
 
 from nightcrew.clock import AcceleratedClock
-from nightcrew.testing import wait_for
-
-EPOCH = "2024-01-15T22:00:00+00:00"
+from nightcrew.testing import EPOCH, wait_for
 
 
 async def test_returns_the_clock_seconds_until_the_condition_held() -> None:

@@ -34,6 +34,7 @@ SUBCOMMANDS = [
     "tasks",
     "flats",
     "report",
+    "alpaca",
 ]
 
 

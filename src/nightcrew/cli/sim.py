@@ -113,6 +113,18 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "(KStars/Ekos, Stellarium) on 127.0.0.1:PORT (INDI's usual port is 7624)",
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
+    alpaca = parser.add_argument_group("serving the devices to Alpaca clients (--alpaca)")
+    alpaca.add_argument(
+        "--alpaca",
+        type=_port,
+        default=None,
+        metavar="PORT",
+        help="instead of a night, serve the devices as ASCOM Alpaca devices on 127.0.0.1:PORT in real "
+        "time (--speed to change) until Ctrl-C; see docs/alpaca.md",
+    )
+    alpaca.add_argument(
+        "--alpaca-discovery-port", type=_port, default=32227, help="Alpaca discovery UDP port (%(default)s)"
+    )
     parser.set_defaults(func=_sim_command)
     return parser
 
@@ -124,6 +136,10 @@ def whole_night_command(args: argparse.Namespace) -> int:
 
 
 def _sim_command(args: argparse.Namespace) -> int:
+    if args.alpaca is not None:
+        from nightcrew.cli._sim_alpaca import serve_alpaca_command
+
+        return serve_alpaca_command(args)
     if not args.quick:
         return whole_night_command(args)
     args.speed = args.speed or QUICK_SPEED
@@ -280,3 +296,10 @@ def _count(text: str, minimum: int = 1) -> int:
 
 def _non_negative(text: str) -> int:
     return _count(text, minimum=0)
+
+
+def _port(text: str) -> int:
+    value = _count(text, minimum=0)
+    if value > 65535:
+        raise argparse.ArgumentTypeError(f"not a port number (0..65535): {text}")
+    return value

@@ -10,7 +10,8 @@ What a type hint accepts: ``int`` (not ``bool``), ``float`` (also ``int``), ``st
 for any other class an instance of it (e.g. a YAML timestamp for ``datetime``) or a description of an
 object of (a subclass of) it: a mapping with ``class``. ``str | IInterface`` takes a module name.
 A missing hint, ``Any`` and hints this module cannot check (``Callable``, type variables, ...)
-accept anything.
+accept anything. A class with a static method ``config_value_problems(values)`` (the description's
+keys and values, ``class`` left out) yielding ``(key, message)`` pairs has those reported too.
 """
 
 from __future__ import annotations
@@ -105,6 +106,11 @@ def check_object(
             yield _problem(
                 f"missing required key '{name}' for {path}", class_location, join_key(prefix, name)
             )
+    # A class may check values its type hints cannot express (e.g. that a str is a URL).
+    value_check = getattr(cls, "config_value_problems", None)
+    if callable(value_check):
+        for key, message in value_check({k: v for k, v in node.items() if k != "class"}):
+            yield _problem(message, location_in(node, key, owner), join_key(prefix, key))
 
 
 def check_value(value: object, hint: Any, key: str, location: Location | None) -> Iterator[ConfigError]:

@@ -30,12 +30,21 @@ from typing import Any
 
 import yaml
 
-__all__ = ["TEST_OVERRIDES", "AlpacaSimulator", "build_star_table", "free_port", "start_simulator"]
+from nightcrew.site import Site
+
+__all__ = [
+    "SIMULATOR_SITE",
+    "TEST_OVERRIDES",
+    "AlpacaSimulator",
+    "build_star_table",
+    "free_port",
+    "start_simulator",
+]
 
 #: Changes to alpaca-simulators' template config for tests: short focal length, quick slews.
 TEST_OVERRIDES: dict[str, Any] = {
     "devices": {
-        "telescope": {0: {"focallength": 0.2, "aperturediameter": 0.05, "slew_rate": 30.0}},
+        "telescope": {0: {"focallength": 0.2, "aperturediameter": 0.05, "slew_rate": 10.0}},
         "camera": {0: {"pixel_defects": {}}},
     },
     "gaia_query_timeout": 30,
@@ -207,3 +216,7 @@ def start_simulator(
     simulator = AlpacaSimulator(directory=directory, port=port or free_port(), config_path=config_path)
     simulator.start()
     return simulator
+
+
+#: Where alpaca-simulators' telescope stands (its template's site); give nightcrew modules the same.
+SIMULATOR_SITE = Site(latitude=48.0, longitude=8.0, elevation=1000.0, name="alpaca-simulators")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from datetime import datetime
 from types import TracebackType
 from typing import Any, TypeVar
 
@@ -47,7 +48,7 @@ class Observatory:
         speed: float = 100.0,
         *,
         clock: Clock | None = None,
-        epoch: str = EPOCH,
+        epoch: datetime | str = EPOCH,
         site: Site | None = SITE,
         vfs: VirtualFileSystem | None = None,
     ) -> None:

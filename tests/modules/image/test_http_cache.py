@@ -8,8 +8,8 @@ import pytest
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
 from nightcrew.modules.image.http_cache import HttpFileCache
+from nightcrew.testing import Observatory
 from nightcrew.vfs import HttpFile, VfsError, VfsFileNotFoundError, VirtualFileSystem
-from tests.modules.conftest import Observatory
 
 TOKEN = "s3cret-token"
 

@@ -15,8 +15,8 @@ import pytest
 
 from nightcrew.modules.image import ImageWatcher
 from nightcrew.modules.image.watch_state import Backoff, PendingFile, WatchState
+from nightcrew.testing import Observatory
 from nightcrew.vfs import LocalFile, MemoryFile, VfsError, VirtualFileSystem
-from tests.modules.conftest import Observatory
 
 FILES = 1000
 

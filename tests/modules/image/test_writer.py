@@ -7,10 +7,9 @@ import pytest
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
 from nightcrew.modules.image import ImageWriter
+from nightcrew.testing import Observatory
 from nightcrew.vfs import MemoryFile, VirtualFileSystem
-from tests.modules.conftest import Observatory
 from tests.modules.devices import GradientCamera
-from tests.modules.weather.conftest import wait_for
 
 
 async def test_new_images_are_copied_by_pattern(fast_observatory: Observatory) -> None:
@@ -27,7 +26,7 @@ async def test_new_images_are_copied_by_pattern(fast_observatory: Observatory) -
     camera = await obs.start(GradientCamera, "camera")
     await camera.set_exposure_time(2.0)
     original = await camera.grab_data()
-    await wait_for(obs, lambda: bool(writer.written), 2000.0)
+    await obs.wait_for(lambda: bool(writer.written), 2000.0, interval=1.0)
     (copy,) = writer.written
     assert copy.startswith("/archive/object/2024-01-15T22-") and copy.endswith("-2.0.fits")
     assert await vfs.read_bytes(copy) == await obs.vfs.read_bytes(original)

@@ -12,8 +12,7 @@ import pytest
 from nightcrew.interfaces import IAutonomous
 from nightcrew.modules import Module
 from nightcrew.modules.utils import AutonomousWarning
-from tests.modules.conftest import Observatory
-from tests.modules.weather.conftest import wait_for
+from nightcrew.testing import Observatory
 
 
 class Robot(Module, IAutonomous):
@@ -44,12 +43,12 @@ async def test_warns_while_a_module_is_autonomous(
     assert warning.autonomous == [] and not await obs.vfs.exists("/cache/flag")
     with caplog.at_level(logging.WARNING):
         robot.on = True
-        await wait_for(obs, lambda: warning.autonomous == ["mastermind"], 30.0)
-        await wait_for(obs, lambda: beeps.exists(), 4000.0)  # a Python start takes wall time
+        await obs.wait_for(lambda: warning.autonomous == ["mastermind"], 30.0, interval=1.0)
+        await obs.wait_for(lambda: beeps.exists(), 4000.0, interval=1.0)  # a Python start takes wall time
     assert "autonomous, may move at any time: mastermind" in caplog.text
     assert await obs.vfs.read_bytes("/cache/flag") == b"mastermind\n"
     robot.on = False
-    await wait_for(obs, lambda: warning.autonomous == [], 30.0)
+    await obs.wait_for(lambda: warning.autonomous == [], 30.0, interval=1.0)
     await obs.clock.sleep(1.0)
     assert not await obs.vfs.exists("/cache/flag")
     assert beeps.read_text() == "beep\n"

@@ -12,9 +12,8 @@ import pytest
 
 from nightcrew.modules.utils import Kiosk
 from nightcrew.modules.utils.png import encode_png, stretch_to_uint8
-from tests.modules.conftest import Observatory
+from nightcrew.testing import Observatory
 from tests.modules.devices import GradientCamera
-from tests.modules.weather.conftest import wait_for
 
 
 def decode_png(data: bytes) -> npt.NDArray[np.uint8]:
@@ -62,7 +61,7 @@ async def test_kiosk_serves_the_cameras_image(fast_observatory: Observatory) -> 
     kiosk = await obs.start(Kiosk, "kiosk", camera="camera", interval=30.0, exposure_time=1.0, port=0)
     assert kiosk.port > 0
     # The camera's exposure is short, but it spends some wall time (many clock seconds) on headers.
-    await wait_for(obs, lambda: kiosk.png is not None, 2000.0)
+    await obs.wait_for(lambda: kiosk.png is not None, 2000.0, interval=1.0)
     async with aiohttp.ClientSession() as session:
         async with session.get(f"http://127.0.0.1:{kiosk.port}/kiosk.png") as response:
             assert response.status == 200 and response.content_type == "image/png"
@@ -82,7 +81,7 @@ async def test_kiosk_without_camera_shows_new_images(fast_observatory: Observato
             assert response.status == 503
         camera = await obs.start(GradientCamera, "camera")
         await camera.grab_data()
-        await wait_for(obs, lambda: kiosk.png is not None, 2000.0)
+        await obs.wait_for(lambda: kiosk.png is not None, 2000.0, interval=1.0)
         async with session.get(f"http://127.0.0.1:{kiosk.port}/kiosk.png") as response:
             assert response.status == 200
             assert decode_png(await response.read()).shape == (48, 64)

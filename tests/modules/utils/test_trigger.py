@@ -13,9 +13,8 @@ from nightcrew.errors import ConfigError
 from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
 from nightcrew.modules.utils import Trigger
-from tests.modules.conftest import Observatory
+from nightcrew.testing import Observatory
 from tests.modules.devices import GradientCamera
-from tests.modules.weather.conftest import wait_for
 
 
 class ITestImageArchive(Interface):
@@ -54,7 +53,7 @@ async def test_new_image_calls_archive_add_image(fast_observatory: Observatory) 
     )
     camera = await obs.start(GradientCamera, "camera")
     filename = await camera.grab_data()
-    await wait_for(obs, lambda: bool(archive.added), 2000.0)
+    await obs.wait_for(lambda: bool(archive.added), 2000.0, interval=1.0)
     assert archive.added == [(filename, None)]  # the second trigger waits for another sender
 
 
@@ -79,7 +78,7 @@ async def test_kwargs_from_event_fields_and_a_failing_call_is_logged(
     camera = await obs.start(GradientCamera, "camera")
     with caplog.at_level(logging.ERROR):
         filename = await camera.grab_data()
-        await wait_for(obs, lambda: bool(archive.added), 2000.0)
+        await obs.wait_for(lambda: bool(archive.added), 2000.0, interval=1.0)
     assert archive.added == [(filename, "object")]
     assert "module 'archive' offers no method no_such_method()" in caplog.text
 

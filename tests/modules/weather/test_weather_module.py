@@ -24,11 +24,8 @@ from nightcrew.modules.weather import (
     SunStation,
     Weather,
 )
+from nightcrew.testing import EventRecorder, Observatory
 from nightcrew.weather import Boolean, Schmitt, Switch, Valid
-from tests.modules.conftest import Observatory
-from tests.modules.devices import EventRecorder
-
-from .conftest import wait_for
 
 BETELGEUSE = (88.7929, 7.4071)
 RAIN_AT, DRY_AT, MIN_GOOD = 300.0, 600.0, 120.0
@@ -58,7 +55,7 @@ async def test_rain_closes_the_roof_and_parks_the_telescope_within_a_minute(
     )
     # Good from the start, but declared so only after the minimum good time.
     assert not await weather.is_weather_good()
-    await wait_for(obs, lambda: bool(recorder.of(GoodWeatherEvent)), 300.0)
+    await obs.wait_for(lambda: bool(recorder.of(GoodWeatherEvent)), 300.0, interval=1.0)
     assert obs.clock.time() - started >= MIN_GOOD
     assert await weather.is_weather_good()
     await roof.open_roof()
@@ -66,14 +63,14 @@ async def test_rain_closes_the_roof_and_parks_the_telescope_within_a_minute(
     await telescope.move_radec(*BETELGEUSE)
     assert obs.clock.time() - started < RAIN_AT, "the test's timeline is too slow"
 
-    await wait_for(obs, lambda: obs.clock.time() - station._started >= RAIN_AT, RAIN_AT)
+    await obs.wait_for(lambda: obs.clock.time() - station._started >= RAIN_AT, RAIN_AT, interval=1.0)
     rain_started = station._started + RAIN_AT  # the scenario's clock starts with the station
 
     def safe() -> bool:
         parked = MotionStatus.PARKED
         return roof._motion_status is parked and telescope._motion_status is parked
 
-    await wait_for(obs, safe, 60.0)
+    await obs.wait_for(safe, 60.0, interval=1.0)
     took = obs.clock.time() - rain_started
     print(f"rain → roof closed and telescope parked in {took:.1f} simulated s")
     assert took < 60.0
@@ -82,7 +79,7 @@ async def test_rain_closes_the_roof_and_parks_the_telescope_within_a_minute(
     assert not await weather.is_weather_good()
 
     # Dry again at 600 s: good weather is declared only after the minimum good time.
-    await wait_for(obs, lambda: len(recorder.of(GoodWeatherEvent)) == 2, 600.0)
+    await obs.wait_for(lambda: len(recorder.of(GoodWeatherEvent)) == 2, 600.0, interval=1.0)
     declared = obs.clock.time() - started
     assert DRY_AT + MIN_GOOD <= declared <= DRY_AT + MIN_GOOD + 60.0  # never early; late by polling only
     eta = recorder.of(GoodWeatherEvent)[-1].eta
@@ -106,7 +103,7 @@ async def test_report_sensor_values_and_fits_header(fast_observatory: Observator
         },
         min_good_time=0,
     )
-    await wait_for(obs, lambda: weather._gate.is_good, 60.0)
+    await obs.wait_for(lambda: weather._gate.is_good, 60.0, interval=1.0)
     report = await weather.get_current_weather()
     assert report.good and report.sensors["humidity"] == 55.0 and report.sensors["rain"] == 0.0
     assert report.sensors["sun_altitude"] is not None and report.sensors["sun_altitude"] < -18.0  # 22 h UTC
@@ -132,7 +129,7 @@ async def test_a_silent_station_is_bad_weather(fast_observatory: Observatory) ->
         min_good_time=0,
         station_timeout=5.0,
     )
-    await wait_for(obs, lambda: bool(recorder.of(BadWeatherEvent)), 30.0)
+    await obs.wait_for(lambda: bool(recorder.of(BadWeatherEvent)), 30.0, interval=1.0)
     assert recorder.of(BadWeatherEvent)[0].reason == "roof.rain: no value"
     assert not await weather.is_weather_good()
 
@@ -149,10 +146,10 @@ async def test_a_station_that_stops_answering_turns_stale_then_bad(fast_observat
         interval=10.0,
         min_good_time=0,
     )
-    await wait_for(obs, lambda: bool(recorder.of(GoodWeatherEvent)), 30.0)
+    await obs.wait_for(lambda: bool(recorder.of(GoodWeatherEvent)), 30.0, interval=1.0)
     await station.close()
     gone = obs.clock.time()
-    await wait_for(obs, lambda: bool(recorder.of(BadWeatherEvent)), 200.0)
+    await obs.wait_for(lambda: bool(recorder.of(BadWeatherEvent)), 200.0, interval=1.0)
     assert 120.0 <= obs.clock.time() - gone <= 150.0
     assert "stale" in recorder.of(BadWeatherEvent)[0].reason
 
@@ -209,13 +206,13 @@ async def test_http_and_csv_stations_combined(
         checks={"current.rain": Boolean(), "mean.humidity": Switch(bad_above=90)},
         min_good_time=0,
     )
-    await wait_for(obs, lambda: weather._gate.is_good, 30.0)
+    await obs.wait_for(lambda: weather._gate.is_good, 30.0, interval=1.0)
     mean = await weather.get_sensor_value("mean", WeatherSensor.HUMIDITY)
     assert mean.value == pytest.approx(75.0)
     assert (await weather.get_sensor_value("log", WeatherSensor.TEMPERATURE)).value == 6.0
     assert (await weather.get_sensor_value("web", WeatherSensor.TEMPERATURE)).value == 4.0
     document["current"]["rain"] = True
-    await wait_for(obs, lambda: not weather._gate.is_good, 60.0)
+    await obs.wait_for(lambda: not weather._gate.is_good, 60.0, interval=1.0)
     assert "current.rain: is true" in weather._bad_reason()
     await asyncio.sleep(0)
 

@@ -25,8 +25,9 @@ import socket
 from dataclasses import dataclass
 from typing import Any
 
-from nightcrew.bridges.alpaca.client import AlpacaClient, _json_reply
-from nightcrew.bridges.alpaca.errors import AlpacaReplyError
+from nightcrew.bridges.alpaca.client import DEVICE_TYPES, AlpacaClient, _json_reply
+from nightcrew.bridges.alpaca.errors import AlpacaConnectionError, AlpacaReplyError
+from nightcrew.errors import NightcrewError, RemoteTimeoutError
 
 __all__ = [
     "DISCOVERY_PORT",
@@ -44,6 +45,19 @@ log = logging.getLogger(__name__)
 DISCOVERY_PORT = 32227
 DISCOVERY_QUERY = b"alpacadiscovery1"
 _LOOPBACK_BROADCAST = "127.255.255.255"
+#: URL device type → DeviceType as the management API spells it.
+_TYPE_NAMES = {
+    "camera": "Camera",
+    "covercalibrator": "CoverCalibrator",
+    "dome": "Dome",
+    "filterwheel": "FilterWheel",
+    "focuser": "Focuser",
+    "observingconditions": "ObservingConditions",
+    "rotator": "Rotator",
+    "safetymonitor": "SafetyMonitor",
+    "switch": "Switch",
+    "telescope": "Telescope",
+}
 
 
 class DiscoveryResponder:
@@ -214,8 +228,11 @@ class ServerInfo:
     devices: tuple[ConfiguredDevice, ...]
 
 
-async def describe_server(url: str, *, http_timeout: float = 5.0) -> ServerInfo:
+async def describe_server(url: str, *, http_timeout: float = 5.0, probe: bool = True) -> ServerInfo:
     """Read the management API of the server at ``url`` (``http://host:port``).
+
+    A server without the management API (HTTP 404 there, e.g. alpaca-simulators) is asked for
+    the ``name`` of device 0, 1, ... of every type instead, when ``probe`` is true.
 
     Raises:
         AlpacaConnectionError: The server cannot be reached.
@@ -223,9 +240,14 @@ async def describe_server(url: str, *, http_timeout: float = 5.0) -> ServerInfo:
     """
     async with AlpacaClient(url, timeout=http_timeout) as client:
         base = client.server.rstrip("/")
-        description = await _management_value(client, base, "description")
+        where = f"{base}/management/v1"
+        try:
+            description = await _management_value(client, base, "description")
+        except AlpacaReplyError as exc:
+            if not (probe and "HTTP 404" in str(exc)):
+                raise
+            return ServerInfo(base, "", "", "", "", await _probe_devices(client))
         devices = await _management_value(client, base, "configureddevices")
-    where = f"{base}/management/v1"
     if not isinstance(description, dict):
         raise AlpacaReplyError(f"{where}/description: Value is not an object: {description!r}")
     if not isinstance(devices, list):
@@ -238,6 +260,27 @@ async def describe_server(url: str, *, http_timeout: float = 5.0) -> ServerInfo:
         location=str(description.get("Location", "")),
         devices=tuple(_device(entry, f"{where}/configureddevices") for entry in devices),
     )
+
+
+#: Device numbers probed per type on a server without the management API.
+_PROBED_NUMBERS = 8
+
+
+async def _probe_devices(client: AlpacaClient) -> tuple[ConfiguredDevice, ...]:
+    """The devices that answer GET name (device 0, 1, ... of each type, until one does not)."""
+    found = []
+    for device_type in sorted(DEVICE_TYPES):
+        for number in range(_PROBED_NUMBERS):
+            try:
+                name = await client.device(device_type, number).get("name")
+            except AlpacaReplyError:
+                break  # HTTP 400/404: no such device
+            except (AlpacaConnectionError, RemoteTimeoutError):
+                raise  # the server, not the device, is the problem
+            except NightcrewError:
+                name = ""  # the device exists but will not say its name (e.g. not connected)
+            found.append(ConfiguredDevice(str(name), _TYPE_NAMES[device_type], number, ""))
+    return tuple(found)
 
 
 async def _management_value(client: AlpacaClient, base: str, member: str) -> Any:

@@ -34,8 +34,8 @@ __all__ = ["ServerDescription", "build_app", "unique_id"]
 log = logging.getLogger(__name__)
 
 _IMAGEBYTES = "application/imagebytes"
-#: ImageArrayElementType of the JSON ImageArray: integers are sent as Int32.
-_JSON_INT32 = 2
+#: ImageArrayElementType of the JSON ImageArray: integers are sent as Int32, others as Double.
+_JSON_INT32, _JSON_DOUBLE = 2, 3
 #: A fixed namespace, so a device's UniqueID stays the same across restarts of the server.
 _NAMESPACE = uuid.UUID("5d6f1c3e-7a4b-4f0e-9a51-6e2a2c0b7d11")
 
@@ -179,6 +179,7 @@ async def _image_response(
 
     def blocking_json() -> str:
         body = reply(alpaca, transaction, image.data.T.tolist())
-        return json.dumps({"Type": _JSON_INT32, "Rank": 2, **body})
+        element = _JSON_INT32 if image.data.dtype.kind in "iu" else _JSON_DOUBLE
+        return json.dumps({"Type": element, "Rank": 2, **body})
 
     return web.Response(text=await asyncio.to_thread(blocking_json), content_type="application/json")

@@ -14,7 +14,9 @@ members answer; the others give NotConnected (0x407).
 Alpaca's asynchronous operations (SlewToCoordinatesAsync, Move, OpenShutter, ...) start the
 nightcrew call in a :class:`BackgroundAction` and return at once; the device reports it as moving
 until the call returns. A call that fails in the background is reported with its own error by the
-next request that asks whether the device is still moving, so a client learns of it.
+next request that asks whether the device is still moving, so a client learns of it. A second
+operation while one runs is refused (InvalidOperation), except those that must always win (Park,
+CloseShutter), which the nightcrew module lets preempt the running motion.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from typing import Any, ClassVar, TypeVar
 from nightcrew import __version__
 from nightcrew.bridges.alpaca.errors import AlpacaNotConnectedError
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest, BadRequest
-from nightcrew.errors import NotSupportedError
+from nightcrew.errors import DeviceBusyError, NotSupportedError
 from nightcrew.interfaces import Interface
 from nightcrew.object import Object
 
@@ -66,6 +68,7 @@ class BackgroundAction:
     def __init__(self, what: str) -> None:
         self._what = what
         self._task: asyncio.Task[None] | None = None
+        self._superseded: set[asyncio.Task[None]] = set()
         self._action = ""
         self._failure: BaseException | None = None
 
@@ -79,20 +82,31 @@ class BackgroundAction:
         """The name of the operation under way, empty when none is."""
         return self._action if self.running else ""
 
-    def start(self, action: str, call: Callable[[], Coroutine[Any, Any, Any]]) -> None:
-        """Start ``call()`` (a nightcrew call), replacing a finished one; its failure is kept."""
+    def start(
+        self, action: str, call: Callable[[], Coroutine[Any, Any, Any]], *, preempt: bool = False
+    ) -> None:
+        """Start ``call()`` (a nightcrew call). While one runs, a new one is refused with
+        DeviceBusyError unless it ``preempt``s (park, close: the module itself stops the old one,
+        whose failure is then not reported)."""
+        if self.running and not preempt:
+            raise DeviceBusyError(f"{self._what} is busy with {self._action}; wait for it or abort it")
+        previous = self._task
+        if previous is not None and not previous.done():
+            self._superseded.add(previous)
+            previous.add_done_callback(self._superseded.discard)
         self._failure = None
         self._action = action
-        self._task = asyncio.get_running_loop().create_task(self._run(call), name=f"alpaca {action}")
+        self._task = asyncio.get_running_loop().create_task(self._run(action, call), name=f"alpaca {action}")
 
-    async def _run(self, call: Callable[[], Coroutine[Any, Any, Any]]) -> None:
+    async def _run(self, action: str, call: Callable[[], Coroutine[Any, Any, Any]]) -> None:
         try:
             await call()
         except asyncio.CancelledError:
             raise
         except Exception as exc:
-            log.warning("%s: %s failed: %s", self._what, self._action, exc)
-            self._failure = exc
+            if asyncio.current_task() is self._task:  # a superseded operation's end is no news
+                log.warning("%s: %s failed: %s", self._what, action, exc)
+                self._failure = exc
 
     async def settle(self, seconds: float) -> None:
         """Wait up to ``seconds`` wall time for the operation, so a refusal reaches the request that
@@ -108,11 +122,12 @@ class BackgroundAction:
             raise failure
 
     async def cancel(self) -> None:
-        """Stop waiting for the operation (the device is stopped by the caller)."""
-        task, self._task = self._task, None
-        if task is not None and not task.done():
+        """Forget the operations under way (after the caller stopped the device) and their failures."""
+        tasks = [t for t in (self._task, *self._superseded) if t is not None and not t.done()]
+        self._task = None
+        for task in tasks:
             task.cancel()
-            await asyncio.gather(task, return_exceptions=True)
+        await asyncio.gather(*tasks, return_exceptions=True)
         self._failure = None
 
 

@@ -208,12 +208,12 @@ class ServedTelescope(ServedDevice):
 
     async def put_abortslew(self, request: AlpacaRequest) -> None:
         telescope = await self._telescope()
-        await self.action.cancel()
         await telescope.stop_motion()
+        await self.action.cancel()
 
     async def put_park(self, request: AlpacaRequest) -> None:
         telescope = await self._telescope()
-        self.action.start("park", telescope.park)
+        self.action.start("park", telescope.park, preempt=True)  # parking always wins
         await self.action.settle(self.settle_time)
 
     async def put_unpark(self, request: AlpacaRequest) -> None:

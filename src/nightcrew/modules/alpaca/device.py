@@ -20,21 +20,21 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any, ClassVar
 
-from nightcrew.bridges.alpaca import AlpacaClient, AlpacaDevice
+from nightcrew.bridges.alpaca import AlpacaClient, AlpacaDevice, check_server_url
 from nightcrew.bridges.alpaca.errors import AlpacaConnectionError, AlpacaNotConnectedError
 from nightcrew.errors import ConfigError, NightcrewError, RemoteTimeoutError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
 
-__all__ = ["AlpacaModule"]
+__all__ = ["LOST_DEVICE_ERRORS", "AlpacaModule"]
 
 log = logging.getLogger(__name__)
 
 #: Errors meaning the device is gone (not that it refused one call).
-_LOST = (AlpacaConnectionError, AlpacaNotConnectedError, RemoteTimeoutError)
+LOST_DEVICE_ERRORS = _LOST = (AlpacaConnectionError, AlpacaNotConnectedError, RemoteTimeoutError)
 
 
 class AlpacaModule(Module):
@@ -84,6 +84,16 @@ class AlpacaModule(Module):
         self._poll_interval = float(poll_interval)
         self._reconnect_interval = float(reconnect_interval)
         self._lost: str | None = None
+
+    @staticmethod
+    def config_value_problems(values: Mapping[str, Any]) -> Iterator[tuple[str, str]]:
+        """What ``nightcrew check`` reports beyond types: a server that is no Alpaca base URL."""
+        server = values.get("server")
+        if isinstance(server, str):
+            try:
+                check_server_url(server)
+            except ValueError as exc:
+                yield "server", str(exc)
 
     # --- lifecycle -----------------------------------------------------------------------------
 
@@ -163,6 +173,14 @@ class AlpacaModule(Module):
         except _LOST as exc:
             self._connection_lost(str(exc))
             raise
+
+    async def _put_best_effort(self, member: str) -> None:
+        """``PUT member`` (AbortSlew, Halt, ...) while a motion is being cancelled: a failure is logged,
+        not raised, so that the cancellation goes on."""
+        try:
+            await self.device.put(member)
+        except Exception as exc:
+            log.warning("%s: %s on %s failed: %s", self.name, member, self.device.name, exc)
 
     async def _poll_until(
         self,

@@ -19,11 +19,12 @@ Example (``examples/alpaca/dome.yaml``)::
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterator, Mapping
 from typing import Any
 
-from nightcrew.errors import ConfigError, MoveError, NightcrewError, NotSupportedError
+from nightcrew.errors import ConfigError, MoveError, NotSupportedError
 from nightcrew.modules.alpaca.roof import AlpacaRoof
-from nightcrew.modules.roof import BaseDome
+from nightcrew.modules.roof import BaseDome, DomeGeometry
 from nightcrew.modules.roof.dome import AZIMUTH
 
 __all__ = ["AlpacaDome"]
@@ -41,22 +42,31 @@ class AlpacaDome(AlpacaRoof, BaseDome):
             module options.
     """
 
+    wait_limits = {**AlpacaRoof.wait_limits, "rotation_timeout": 300.0}
+
+    @classmethod
+    def config_value_problems(cls, values: Mapping[str, Any]) -> Iterator[tuple[str, str]]:
+        yield from super().config_value_problems(values)
+        if values.get("dome_radius") is not None:
+            try:
+                DomeGeometry(values["dome_radius"], *values.get("mount_offset", (0.0, 0.0, 0.0)))
+            except ConfigError as exc:
+                yield exc.key or "dome_radius", exc.message
+            except TypeError:
+                pass  # wrong types or lengths: the hints' checks report those
+
     def __init__(self, *, rotation_timeout: float = 240.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        if not 0 < rotation_timeout < 300:
-            raise ConfigError(
-                f"must be within 0..300 seconds, got {rotation_timeout}", key="rotation_timeout"
-            )
-        self._rotation_timeout = float(rotation_timeout)
+        self._rotation_timeout = self._checked_wait("rotation_timeout", rotation_timeout)
 
     async def _on_connected(self) -> None:
         await super()._on_connected()
-        if not await self._get("cansetazimuth"):
+        if not await self._get_flag("cansetazimuth"):
             raise NotSupportedError(
                 f"{self.device.name} cannot turn (CanSetAzimuth false); drive a roll-off roof with AlpacaRoof"
             )
         try:
-            if await self._get("slaved"):
+            if await self._get_flag("slaved"):
                 await self._put("slaved", Slaved=False)
                 log.info(
                     "%s: switched off %s's own slaving; nightcrew follows instead",
@@ -68,13 +78,15 @@ class AlpacaDome(AlpacaRoof, BaseDome):
 
     async def _hw_move_azimuth(self, az: float) -> None:
         await self._put("slewtoazimuth", Azimuth=az)
-        await self._poll_until(
+        slewing = await self._poll_until(
             "slewing",
-            lambda slewing: slewing is False,
+            lambda value: value is not True,
             self._rotation_timeout,
             f"turning to {az:.1f}°",
             MoveError,
         )
+        if slewing is not False:
+            raise self._bad_value("slewing", slewing, "true or false")
 
     async def stop_motion(self, device: str | None = None) -> None:
         await super().stop_motion(device)
@@ -84,7 +96,4 @@ class AlpacaDome(AlpacaRoof, BaseDome):
             await self._put("abortslew")
 
     async def _hw_get_azimuth(self) -> float:
-        value = await self._get("azimuth")
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise NightcrewError(f"{self.device.name}: Azimuth {value!r} is not a number")
-        return float(value) % 360.0
+        return await self._get_number("azimuth") % 360.0

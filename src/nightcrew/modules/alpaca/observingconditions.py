@@ -33,14 +33,12 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import math
 from collections.abc import Callable
 from typing import Any
 
-from nightcrew.bridges.alpaca.errors import AlpacaReplyError
 from nightcrew.errors import InvalidArgumentError, NotSupportedError
 from nightcrew.interfaces import WeatherSensor
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.checked import CheckedGets
 from nightcrew.modules.weatherstation import BaseWeatherStation
 
 __all__ = ["SENSORS", "AlpacaObservingConditions"]
@@ -66,7 +64,7 @@ SENSORS: dict[str, tuple[WeatherSensor, Callable[[float], float]]] = {
 }
 
 
-class AlpacaObservingConditions(AlpacaModule, BaseWeatherStation):
+class AlpacaObservingConditions(CheckedGets, BaseWeatherStation):
     """The sensors of an ObservingConditions device as a weather station.
 
     Args:
@@ -97,12 +95,10 @@ class AlpacaObservingConditions(AlpacaModule, BaseWeatherStation):
 
     async def _read(self, member: str) -> float | None:
         try:
-            value = await self._get(member)
+            value = await self._get_number(member)
         except InvalidArgumentError:
             return None  # ValueNotSet
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-            raise AlpacaReplyError(f"{self.device.name}: GET {member}: {value!r} is not a number")
-        return SENSORS[member][1](float(value))
+        return SENSORS[member][1](value)
 
     async def _hw_read_sensors(self) -> dict[WeatherSensor, float | None]:
         values = await asyncio.gather(*(self._read(member) for member in self._members))

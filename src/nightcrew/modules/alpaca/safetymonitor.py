@@ -21,15 +21,14 @@ Example (``examples/alpaca/safetymonitor.yaml``)::
 
 from __future__ import annotations
 
-from nightcrew.bridges.alpaca.errors import AlpacaReplyError
 from nightcrew.interfaces import WeatherSensor
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.modules.alpaca.checked import CheckedGets
 from nightcrew.modules.weatherstation import BaseWeatherStation
 
 __all__ = ["AlpacaSafetyMonitor"]
 
 
-class AlpacaSafetyMonitor(AlpacaModule, BaseWeatherStation):
+class AlpacaSafetyMonitor(CheckedGets, BaseWeatherStation):
     """A safety monitor; good weather means a fresh IsSafe that is true.
 
     Args:
@@ -40,9 +39,7 @@ class AlpacaSafetyMonitor(AlpacaModule, BaseWeatherStation):
     device_type = "safetymonitor"
 
     async def _hw_read_sensors(self) -> dict[WeatherSensor, float | None]:
-        safe = await self._get("issafe")
-        if not isinstance(safe, bool):
-            raise AlpacaReplyError(f"{self.device.name}: GET issafe: {safe!r} is not true or false")
+        safe = await self._get_flag("issafe")
         return {WeatherSensor.SAFE: 1.0 if safe else 0.0}
 
     async def is_weather_good(self) -> bool:

@@ -46,6 +46,7 @@ __all__ = ["ContractProbe", "ContractSetup", "DeviceContract", "timed_call"]
 M = TypeVar("M", bound=Module)
 IT = TypeVar("IT", bound=Interface)
 T = TypeVar("T")
+E = TypeVar("E", bound=Event)
 
 #: Every event a contract suite looks at.
 CONTRACT_EVENTS: list[type[Event]] = [
@@ -122,7 +123,7 @@ class ContractSetup(Generic[M]):
             condition, clock_seconds, clock=self.clock, message=message or "condition not met"
         )
 
-    def events(self, event_type: type[Any]) -> list[Any]:
+    def events(self, event_type: type[E]) -> list[E]:
         """Events of ``event_type`` the probe heard from the device."""
         return self.probe.of(event_type, sender=self.module.name)
 

@@ -141,6 +141,8 @@ class CameraContract(DeviceContract):
         binning, window = await self._small_frame(contract)
         filename = await camera.grab_data()
         assert await camera.get_exposure_status() is ExposureStatus.IDLE
+        assert await camera.get_exposure_progress() == 0.0  # 0 when idle (IExposure)
+        assert await (await contract.proxy(IExposureTime)).get_exposure_time_left() == 0.0
         hdu = (await contract.module.vfs.read_fits(filename))[0]
         assert hdu.data.shape == (window.height // binning.y, window.width // binning.x)
         header = hdu.header

@@ -1,0 +1,136 @@
+"""``nightcrew sim --alpaca PORT``: the simulated observatory as Alpaca devices, until Ctrl-C.
+
+Instead of running a night, the bundled (or ``--configs``) devices run on a clock at real speed
+(``--speed`` to change it) that starts at dusk of ``--date`` (or ``--start``), and an AlpacaServer
+serves them on 127.0.0.1:PORT: telescope, camera (frames are also written to ``--out``), roof as
+Dome, focuser, filter wheel, the weather station as ObservingConditions and the weather verdict
+of ``robotic/safety.yaml`` as SafetyMonitor.
+Any Alpaca client (N.I.N.A., SharpCap, alpyca scripts) can then drive the simulated sky; it finds
+the server by Alpaca discovery on loopback (``--alpaca-discovery-port``). On Ctrl-C or SIGTERM the
+telescope parks, the roof closes and everything stops.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import logging
+import signal
+import sys
+from datetime import UTC, datetime, timedelta
+from pathlib import Path
+
+from nightcrew.clock import AcceleratedClock
+from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.config import build_object, load_config, to_plain, validate_config
+from nightcrew.modules import Module
+from nightcrew.modules.alpaca.server import AlpacaServer
+from nightcrew.modules.sim.night import (
+    CAMERA,
+    FILTERS,
+    FOCUSER,
+    ROOF,
+    SIM_RPC_GRACE,
+    TELESCOPE,
+    build_observatory,
+    bundled_observatory,
+    park_and_close,
+)
+from nightcrew.modules.sim.night_plan import night_start
+from nightcrew.sim.render import CameraModel
+
+__all__ = ["SAFETY", "STATION", "serve_alpaca_command"]
+
+#: The weather verdict module (robotic/safety.yaml) served as the SafetyMonitor.
+SAFETY = "safety"
+#: The weather station (weather.yaml) served as ObservingConditions.
+STATION = "weather"
+
+
+def serve_alpaca_command(args: argparse.Namespace) -> int:
+    from nightcrew.cli.sim import site_of
+
+    directory: Path = args.configs or bundled_observatory()
+    site = site_of(directory)
+    start = night_start(args.date, site)
+    if args.start is not None:
+        day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
+        start = datetime.combine(day, args.start, tzinfo=UTC)
+    clock = AcceleratedClock(start, speed=args.speed or 1.0)
+    # Module chatter would bury the banner; -v (or --debug) shows it.
+    logger = logging.getLogger("nightcrew")
+    old_level = logger.level
+    if not (args.verbose or args.debug):
+        logger.setLevel(logging.WARNING)
+    try:
+        asyncio.run(_serve(directory, args, clock))
+    finally:
+        logger.setLevel(old_level)
+    return 0
+
+
+async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedClock) -> None:
+    network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
+    modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
+    vfs = modules[0].vfs  # the one VFS of the observatory: the server reads the camera's frames
+    devices: dict[str, str | list[str]] = {
+        "telescope": TELESCOPE,
+        "camera": CAMERA,
+        "dome": ROOF,
+        "focuser": FOCUSER,
+        "filterwheel": FILTERS,
+    }
+    if any(module.name == STATION for module in modules):
+        devices["observingconditions"] = STATION
+    safety = directory / "robotic" / f"{SAFETY}.yaml"
+    if safety.is_file():
+        config = load_config(safety)
+        validate_config(config, Module)
+        config.update({"comm": LocalComm(SAFETY, network=network), "clock": clock, "vfs": vfs})
+        modules.append(build_object(config, Module))
+        devices["safetymonitor"] = SAFETY
+    server = AlpacaServer(
+        comm=LocalComm("alpaca", network=network),
+        clock=clock,
+        vfs=vfs,
+        site=next((m.site for m in modules if m.site is not None), None),
+        devices=devices,
+        pixel_sizes={CAMERA: _pixel_size(directory)},
+        port=args.alpaca,
+        discovery_port=args.alpaca_discovery_port,
+    )
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        loop.add_signal_handler(sig, stop.set)
+    driver = Module(comm=LocalComm("sim-alpaca", network=network), clock=clock)
+    opened: list[Module] = []
+    try:
+        for module in [*modules, server, driver]:
+            await module.open()
+            opened.append(module)
+        discovery = server.discovery_port
+        print(
+            f"serving the simulated observatory as Alpaca devices at {server.url}"
+            + (f" (discovery on UDP port {discovery})" if discovery is not None else "")
+            + f"; clock from {clock.now():%Y-%m-%d %H:%M} UTC at {clock.speed:g}x; Ctrl-C stops",
+            flush=True,
+        )
+        for device in server.devices:
+            print(f"  {device.type_name} {device.number}: module {device.module}", flush=True)
+        await stop.wait()
+        print("stopping: parking the telescope and closing the roof", file=sys.stderr, flush=True)
+        await park_and_close(driver)
+    finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.remove_signal_handler(sig)
+        for module in reversed(opened):
+            await module.close()
+
+
+def _pixel_size(directory: Path) -> float:
+    """The simulated camera's pixel size in µm (its detector's pixel_size_um)."""
+    path = directory / f"{CAMERA}.yaml"
+    detector = to_plain(load_config(path).get("detector") or {}) if path.is_file() else {}
+    size = detector.get("pixel_size_um") if isinstance(detector, dict) else None
+    return float(size) if isinstance(size, int | float) else CameraModel().pixel_size_um

@@ -1,0 +1,192 @@
+"""AlpacaCamera: an ASCOM Alpaca camera on the camera base (settings, FITS, headers, events).
+
+The base does everything a camera shares (checks, header providers, one atomic FITS write, events);
+this driver only exposes: it sets binning and subframe (``BinX/BinY``, ``StartX/StartY/NumX/NumY``
+in binned pixels), calls ``StartExposure``, polls ``ImageReady`` and ``CameraState`` and downloads
+``ImageArray`` as ImageBytes (JSON if the device offers nothing else). A download of the wrong size,
+a camera in error state or a device that goes away mid-exposure fails the exposure with one
+GrabImageError naming the device and the call; the base writes no file then.
+
+The chip size and binnings come from the device when it connects; until then the camera knows
+no chip (a 1x1 placeholder). Gain and offset follow IGain; the readout mode is the run-time config
+option ``readout_mode`` (choices: the device's ReadoutModes).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from typing import Any, cast
+
+import numpy as np
+import numpy.typing as npt
+
+from nightcrew.errors import AbortedError, ConfigError, GrabImageError, InvalidArgumentError, NightcrewError
+from nightcrew.interfaces import Binning, ExposureStatus, IGain, Window
+from nightcrew.modules.alpaca.device import LOST_DEVICE_ERRORS, AlpacaModule
+from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
+
+__all__ = ["AlpacaCamera"]
+
+log = logging.getLogger(__name__)
+
+#: Alpaca CameraStates.
+_READING, _ERROR = 3, 5
+
+
+class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
+    """A camera reached over ASCOM Alpaca.
+
+    Args:
+        readout_timeout: Wall seconds readout and download may take after the exposure time.
+        **kwargs: ``server``, ``device_number`` and the other Alpaca options (AlpacaModule), and the
+            camera's (``filename_pattern``, ``fits_headers``, ...).
+    """
+
+    device_type = "camera"
+
+    def __init__(self, *, readout_timeout: float = 120.0, **kwargs: Any) -> None:
+        self._chip = Window(0, 0, 1, 1)
+        self._binnings = [Binning(1, 1)]
+        self._gains: list[str] = []
+        self._readout_modes: list[str] = []
+        super().__init__(**kwargs)
+        if not readout_timeout > 0:
+            raise ConfigError(f"must be > 0 seconds, got {readout_timeout}", key="readout_timeout")
+        self._readout_timeout = float(readout_timeout)
+
+    async def _on_connected(self) -> None:
+        chip = Window(0, 0, int(await self._get("cameraxsize")), int(await self._get("cameraysize")))
+        max_x, max_y = int(await self._get("maxbinx")), int(await self._get("maxbiny"))
+        asymmetric = bool(await self._get("canasymmetricbin"))
+        self._binnings = [
+            Binning(x, y)
+            for x in range(1, max_x + 1)
+            for y in range(1, max_y + 1)
+            if (asymmetric or x == y) and chip.width // x > 0 and chip.height // y > 0
+        ]
+        self._gains = await self._optional_list("gains")
+        self._readout_modes = await self._optional_list("readoutmodes")
+        if chip != self._chip:
+            self._chip, self._window, self._binning = chip, chip, Binning(1, 1)
+
+    async def _optional_list(self, member: str) -> list[str]:
+        try:
+            return [str(v) for v in await self._get(member)]
+        except NightcrewError:  # not every camera has named gains or readout modes
+            return []
+
+    # --- hooks ---------------------------------------------------------------------------------
+
+    def _hw_full_frame(self) -> Window:
+        return self._chip
+
+    def _hw_binnings(self) -> list[Binning]:
+        return list(self._binnings)
+
+    async def _hw_expose(self, settings: ExposureSettings) -> Frame:
+        try:
+            return await self._expose(settings)
+        except (asyncio.CancelledError, AbortedError, GrabImageError):
+            raise
+        except NightcrewError as exc:
+            raise GrabImageError(f"exposure failed: {exc}") from exc
+
+    async def _expose(self, settings: ExposureSettings) -> Frame:
+        binning, window = settings.binning, settings.window
+        await self._put("binx", BinX=binning.x)
+        await self._put("biny", BinY=binning.y)
+        await self._put("startx", StartX=window.left // binning.x)
+        await self._put("starty", StartY=window.top // binning.y)
+        await self._put("numx", NumX=window.width // binning.x)
+        await self._put("numy", NumY=window.height // binning.y)
+        await self._put("startexposure", Duration=settings.exposure_time, Light=settings.shutter_open)
+        self._start_integration()
+        try:
+            await self._wait_for_image(settings.exposure_time)
+        except asyncio.CancelledError:
+            await asyncio.shield(self._put_best_effort("abortexposure"))
+            raise
+        try:
+            data = await self.device.image_array(time_limit=self._readout_timeout)
+        except LOST_DEVICE_ERRORS as exc:
+            self._connection_lost(str(exc))
+            raise
+        temperature = await self._get("ccdtemperature")
+        return Frame(
+            _as_uint16(data, settings.shape, self.device.name),
+            {"CCD-TEMP": (temperature, "CCD temperature [degC]")},
+        )
+
+    async def _wait_for_image(self, exposure_time: float) -> None:
+        async def image_ready() -> None:
+            while True:
+                state = await self._get("camerastate")
+                if state == _ERROR:
+                    raise GrabImageError(f"{self.device.name}: the camera reports an error (CameraState 5)")
+                if state == _READING:
+                    await self._set_exposure_status(ExposureStatus.READOUT)
+                if await self._get("imageready"):
+                    return
+                await asyncio.sleep(self._poll_interval)
+
+        limit = exposure_time + self._readout_timeout
+        try:
+            async with asyncio.timeout(limit):
+                await image_ready()
+        except TimeoutError:
+            raise GrabImageError(f"{self.device.name}: no image within {limit:g} s") from None
+        await self._set_exposure_status(ExposureStatus.READOUT)
+
+    async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
+        if enabled:
+            await self._put("setccdtemperature", SetCCDTemperature=setpoint)
+        await self._put("cooleron", CoolerOn=enabled)
+
+    async def _hw_cooling_power(self) -> float:
+        try:
+            return float(await self._get("coolerpower"))
+        except NightcrewError:
+            return 0.0
+
+    # --- IGain ---------------------------------------------------------------------------------
+
+    async def set_gain(self, gain: float) -> None:
+        if self._gains and not (0 <= gain < len(self._gains) and float(gain).is_integer()):
+            raise InvalidArgumentError(f"gain must be an index into {self._gains}, got {gain}")
+        await self._put("gain", Gain=int(gain))
+
+    async def get_gain(self) -> float:
+        return float(await self._get("gain"))
+
+    async def set_offset(self, offset: float) -> None:
+        await self._put("offset", Offset=int(offset))
+
+    async def get_offset(self) -> float:
+        return float(await self._get("offset"))
+
+    # --- config options ------------------------------------------------------------------------
+
+    async def _get_config_readout_mode(self) -> str:
+        index = int(await self._get("readoutmode"))
+        return self._readout_modes[index] if 0 <= index < len(self._readout_modes) else str(index)
+
+    async def _set_config_readout_mode(self, value: str) -> None:
+        if value not in self._readout_modes:
+            raise InvalidArgumentError(
+                f"unknown readout mode {value!r}; known: {', '.join(self._readout_modes)}"
+            )
+        await self._put("readoutmode", ReadoutMode=self._readout_modes.index(value))
+
+    def _get_config_options_readout_mode(self) -> list[str]:
+        return list(self._readout_modes)
+
+
+def _as_uint16(data: npt.NDArray[Any], shape: tuple[int, int], device: str) -> npt.NDArray[np.uint16]:
+    """The downloaded pixels as uint16 of the expected shape; GrabImageError naming what differs."""
+    if data.shape != shape:
+        raise GrabImageError(f"{device}: GET imagearray: got an image of {data.shape}, expected {shape}")
+    if data.dtype == np.uint16:
+        return cast(npt.NDArray[np.uint16], data)  # a view of the download: the FITS writer copies once
+    pixels: npt.NDArray[np.uint16] = np.clip(data, 0, 65535).astype(np.uint16)
+    return pixels

@@ -1,0 +1,95 @@
+"""alpaca-simulators is killed and restarted mid-session: the modules go to ERROR and come back
+to READY by themselves, and work again, without being restarted."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Awaitable, Callable
+
+import pytest
+
+from nightcrew.clock import RealClock
+from nightcrew.errors import GrabImageError, ModuleError
+from nightcrew.interfaces import ExposureStatus, ICamera, IFilters, IFocuser, IModule, ITelescope, ModuleState
+from nightcrew.modules.alpaca import AlpacaCamera, AlpacaFilterWheel, AlpacaFocuser, AlpacaTelescope
+from nightcrew.testing import ContractProbe, Observatory, wait_for
+from nightcrew.testing.alpaca import SIMULATOR_SITE, AlpacaSimulator
+
+_QUICK = {"reconnect_interval": 0.2, "timeout": 5.0}
+
+
+async def test_modules_recover_when_the_server_comes_back(
+    start_alpaca_simulator: Callable[..., AlpacaSimulator],
+) -> None:
+    simulator = start_alpaca_simulator()
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        caller = await obs.start(ContractProbe, "other")  # calls as any other module would
+        modules = [
+            await obs.start(AlpacaTelescope, "telescope", server=simulator.url, **_QUICK),
+            await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK),
+            await obs.start(AlpacaFocuser, "focuser", server=simulator.url, **_QUICK),
+            await obs.start(AlpacaFilterWheel, "filters", server=simulator.url, **_QUICK),
+        ]
+        assert all(m.state is ModuleState.READY for m in modules)
+        pid = simulator.pid
+        simulator.stop()
+
+        await wait_for(
+            lambda: all(m.state is ModuleState.ERROR for m in modules), 30.0, message="modules in ERROR"
+        )
+        focuser = await caller.comm.proxy("focuser", IFocuser)
+        with pytest.raises(ModuleError, match=r"error state: lost focuser 0 at http://127\.0\.0\.1:\d+"):
+            await focuser.set_focus(10.0)
+        state = await (await caller.comm.proxy("camera", IModule)).get_error_string()
+        assert "lost camera 0 at" in state
+
+        simulator.start()
+        assert simulator.pid != pid
+        await wait_for(
+            lambda: all(m.state is ModuleState.READY for m in modules), 30.0, message="modules READY again"
+        )
+        await focuser.set_focus(10.2)
+        assert await focuser.get_focus() == pytest.approx(10.2)
+        telescope = await caller.comm.proxy("telescope", ITelescope)
+        await telescope.init()
+        _, az = await telescope.get_altaz()
+        await telescope.move_altaz(45.0, (az + 5.0) % 360.0)
+        wheel = await caller.comm.proxy("filters", IFilters)
+        await wheel.set_filter("Blue")
+        assert await wheel.get_filter() == "Blue"
+        camera = await caller.comm.proxy("camera", ICamera)
+        filename = await camera.grab_data()
+        assert filename.endswith(".fits")
+
+
+async def test_a_camera_losing_its_server_mid_exposure_writes_no_file(
+    start_alpaca_simulator: Callable[..., AlpacaSimulator],
+) -> None:
+    simulator = start_alpaca_simulator()
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        await camera.set_exposure_time(30.0)
+        exposure = asyncio.ensure_future(camera.grab_data())
+        await wait_for(camera_exposing(camera), 10.0, message="exposing")
+        simulator.stop()
+        with pytest.raises(
+            GrabImageError, match=r"exposure failed: camera 0 at http://127\.0\.0\.1:\d+: GET "
+        ):
+            await exposure
+        assert await obs.vfs.listdir("/cache") == []  # no half-written FITS file
+        assert camera.state is ModuleState.ERROR
+        simulator.start()
+        await wait_for(lambda: camera.state is ModuleState.READY, 30.0, message="camera READY again")
+        await camera.set_exposure_time(0.2)
+        assert (await camera.grab_data()).endswith(".fits")
+
+
+def camera_exposing(camera: AlpacaCamera) -> Callable[[], Awaitable[bool]]:
+    """The device itself exposes (CameraState 2), not just the module (which says so before it asks)."""
+
+    async def exposing() -> bool:
+        return await camera.get_exposure_status() is ExposureStatus.EXPOSING and (
+            await camera.device.get("camerastate") == 2
+        )
+
+    return exposing

@@ -1,0 +1,28 @@
+"""Fixtures of the robotic tests."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import pytest
+
+from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.testing import Observatory
+from nightcrew.vfs import MemoryFile
+
+from .mastermind_night import SPEED, Parts
+
+
+@pytest.fixture
+async def parts(tmp_path: Path) -> AsyncIterator[Parts]:
+    """A fast observatory and an open SQLite archive on its clock; closed in that order."""
+    obs = Observatory(speed=SPEED)
+    archive = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=obs.clock, poll_interval=0)
+    await archive.open()
+    try:
+        yield obs, archive
+    finally:
+        await obs.close()
+        await archive.close()
+        MemoryFile.clear_shared()
