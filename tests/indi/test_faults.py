@@ -182,3 +182,26 @@ async def test_a_wheel_holding_other_filters_than_configured_is_an_error(indi_se
         error = await wheel.get_error_string()
         assert "Filter Simulator.FILTER_NAME: the wheel holds ['Red', 'Green'" in error
         assert "expects ['U', 'B', 'V']" in error
+
+
+async def test_a_module_started_before_its_server_is_ready_once_the_server_is(
+    own_indi_server: Callable[..., IndiServer],
+) -> None:
+    server = own_indi_server("indi_simulator_focus")
+    server.kill()
+    async with Observatory(clock=RealClock()) as obs:
+        focuser = await obs.start(
+            IndiFocuser,
+            "focuser",
+            host=server.host,
+            port=server.port,
+            device="Focuser Simulator",
+            connect_timeout=1.0,
+        )
+        assert focuser.state is ModuleState.ERROR
+        error = await focuser.get_error_string()
+        assert f"INDI device 'Focuser Simulator' on {server.host}:{server.port} not ready within 1 s" in error
+        assert "cannot connect to indiserver" in error
+        server.start()
+        await _state(focuser, ModuleState.READY)
+        await focuser.set_focus(await focuser.get_focus() + 0.5)

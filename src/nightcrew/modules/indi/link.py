@@ -107,7 +107,8 @@ class IndiLink:
             async with asyncio.timeout(self.connect_timeout):
                 await self._ready.wait()
         except TimeoutError:
-            self._fail(f"{self.where} not ready within {self.connect_timeout:g} s: {self._reason}")
+            reason = self._reason if self.client.connected else self.client.last_error
+            self._fail(f"{self.where} not ready within {self.connect_timeout:g} s: {reason}")
 
     # --- supervision ---------------------------------------------------------------------------
 
