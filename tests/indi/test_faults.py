@@ -204,4 +204,4 @@ async def test_a_module_started_before_its_server_is_ready_once_the_server_is(
         assert "cannot connect to indiserver" in error
         server.start()
         await _state(focuser, ModuleState.READY)
-        await focuser.set_focus(await focuser.get_focus() + 0.5)
+        await focuser.set_focus(await focuser.get_focus() - 0.5)  # the fresh simulator is at 50 of 0..50 mm
