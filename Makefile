@@ -2,8 +2,9 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
-# Debian packages of the real components the tests use (XMPP servers, plate solver).
-SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2
+# Debian packages of the real components the tests use (XMPP servers, plate solver, INDI simulators;
+# iproute2 for the private network namespaces of servers that listen on every interface).
+SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2 indi-bin
 
 .PHONY: setup system-deps lint test sim example bench clean
 

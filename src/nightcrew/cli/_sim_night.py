@@ -8,14 +8,23 @@ import logging
 import signal
 import sys
 import time
+from collections.abc import Callable
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
 from nightcrew.clock import AcceleratedClock
+from nightcrew.comm.local import LocalNetwork
 from nightcrew.errors import ConfigError
+from nightcrew.modules import Module
 from nightcrew.modules.sim.night import bundled_observatory
-from nightcrew.modules.sim.whole_night import NightProgress, ProgressCallback, WholeNight, run_whole_night
+from nightcrew.modules.sim.whole_night import (
+    FRAMES,
+    NightProgress,
+    ProgressCallback,
+    WholeNight,
+    run_whole_night,
+)
 from nightcrew.modules.sim.whole_night_plan import night_span, weather_scenario
 from nightcrew.report import write_report
 from nightcrew.site import Site
@@ -129,10 +138,25 @@ async def _run(
             seed=args.seed,
             progress=progress,
             stop=stop,
+            extra_modules=_indi(args, clock, site),
         )
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
+
+
+def _indi(
+    args: argparse.Namespace, clock: AcceleratedClock, site: Site
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """With ``--indi PORT``: the IndiServer serving the night's devices."""
+    if args.indi is None:
+        return None
+    from nightcrew.cli.sim import indi_server
+
+    port: int = args.indi
+    return lambda network: [
+        indi_server(port, network=network, clock=clock, frames=args.out / FRAMES, site=site)
+    ]
 
 
 def _printer(stream: TextIO) -> ProgressCallback:

@@ -8,7 +8,8 @@ the mastermind runs them (sky flats, bias and darks, focus, science), the weathe
 may interrupt them, and at the end the telescope parks and the roof closes (also after an error or
 Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night report
 (report.html) go to ``--out``. ``--quick`` runs the short scripted night instead (a few fields, no
-scheduler). Progress is shown on stderr, a summary on stdout.
+scheduler). ``--indi PORT`` also serves the devices to INDI clients (KStars/Ekos, Stellarium) on
+127.0.0.1:PORT while the night runs. Progress is shown on stderr, a summary on stdout.
 """
 
 from __future__ import annotations
@@ -24,12 +25,19 @@ from datetime import time as time_of_day
 from pathlib import Path
 from typing import Any, TextIO
 
-from nightcrew.clock import AcceleratedClock
-from nightcrew.comm.local import LocalNetwork
+from nightcrew.clock import AcceleratedClock, Clock
+from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
+from nightcrew.modules import Module
 from nightcrew.modules.sim.night import (
+    CAMERA,
+    FILTERS,
+    FOCUSER,
+    IMAGES_ROOT,
+    ROOF,
     SIM_RPC_GRACE,
+    TELESCOPE,
     NightReport,
     ProgressCallback,
     build_observatory,
@@ -39,8 +47,9 @@ from nightcrew.modules.sim.night import (
 from nightcrew.modules.sim.night_plan import Step, choose_targets, night_start, plan_night
 from nightcrew.modules.sim.whole_night_plan import WEATHER_SCENARIOS
 from nightcrew.site import Site
+from nightcrew.vfs import LocalFile, VirtualFileSystem
 
-__all__ = ["NIGHT_SPEED", "add_parser", "site_of"]
+__all__ = ["NIGHT_SPEED", "add_parser", "indi_server", "site_of"]
 
 #: Clock seconds per wall second: the short night, and the whole night (14.4 h in under 3 minutes).
 QUICK_SPEED, NIGHT_SPEED = 60.0, 320.0
@@ -94,6 +103,14 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--configs", type=Path, default=None, help="directory of module files (default: the bundled ones)"
+    )
+    parser.add_argument(
+        "--indi",
+        type=_port,
+        default=None,
+        metavar="PORT",
+        help="also serve the telescope, camera, focuser, filter wheel and roof to INDI clients "
+        "(KStars/Ekos, Stellarium) on 127.0.0.1:PORT (INDI's usual port is 7624)",
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
     alpaca = parser.add_argument_group("serving the devices to Alpaca clients (--alpaca)")
@@ -157,6 +174,10 @@ async def _run(
     clock = AcceleratedClock(start, speed=args.speed)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
+    if args.indi is not None:
+        modules.append(
+            indi_server(args.indi, network=network, clock=clock, frames=args.out, site=site_of(directory))
+        )
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -168,6 +189,28 @@ async def _run(
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
+
+
+def indi_server(port: int, *, network: LocalNetwork, clock: Clock, frames: Path, site: Site) -> Module:
+    """An IndiServer for the simulated observatory's devices, on ``network``, loopback ``port``.
+
+    ``frames`` is the directory the camera writes to (its VFS root ``images``), from which the
+    server reads the FITS files it sends as BLOBs.
+    """
+    from nightcrew.modules.indi.server import IndiServer
+
+    return IndiServer(
+        port=port,
+        telescope=TELESCOPE,
+        camera=CAMERA,
+        focuser=FOCUSER,
+        filters=FILTERS,
+        dome=ROOF,
+        comm=LocalComm("indi", network=network),
+        clock=clock,
+        site=site,
+        vfs=VirtualFileSystem({IMAGES_ROOT: LocalFile(str(frames))}),
+    )
 
 
 def site_of(directory: Path) -> Site:
@@ -222,6 +265,13 @@ def _clock_time(text: str) -> time_of_day:
         return time_of_day.fromisoformat(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a time (HH:MM): {text!r}") from None
+
+
+def _port(text: str) -> int:
+    value = _count(text)
+    if value > 65535:
+        raise argparse.ArgumentTypeError(f"must be a TCP port 1..65535, got {text}")
+    return value
 
 
 def _positive(text: str) -> float:
