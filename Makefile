@@ -2,8 +2,8 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
-# Debian packages of the real components the tests use (XMPP servers, plate solver).
-SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2
+# Debian packages of the real components the tests use (XMPP servers, plate solver, browser).
+SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 chromium
 
 .PHONY: setup system-deps lint test sim example bench clean
 
