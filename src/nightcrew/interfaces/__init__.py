@@ -42,7 +42,16 @@ from nightcrew.interfaces.pointing import (
     IPointingRaDec,
     ITelescope,
 )
-from nightcrew.interfaces.robotic import IAutonomous, IScriptRunner
+from nightcrew.interfaces.robotic import (
+    IAutonomous,
+    IRobotic,
+    IRoboticScheduler,
+    IScriptRunner,
+    Plan,
+    PlannedTask,
+    RoboticStatus,
+    RoboticTask,
+)
 from nightcrew.interfaces.roof import IDome, IRoof
 from nightcrew.interfaces.sensors import ITemperatures
 from nightcrew.interfaces.spectrograph import ISpectrograph
@@ -83,6 +92,8 @@ __all__ = [
     "IPointingRaDec",
     "IPointingSeries",
     "IReady",
+    "IRobotic",
+    "IRoboticScheduler",
     "IRoof",
     "IRunnable",
     "IRunning",
@@ -99,6 +110,10 @@ __all__ = [
     "LoopState",
     "ModuleState",
     "MotionStatus",
+    "Plan",
+    "PlannedTask",
+    "RoboticStatus",
+    "RoboticTask",
     "SensorValue",
     "WeatherReport",
     "WeatherSensor",
