@@ -20,9 +20,14 @@ export function imageCard(ctx) {
   let loading = false;
   let again = false;
 
-  const panzoom = Panzoom(img, { maxScale: 32, minScale: 0.5, contain: null, canvas: true });
-  stage.addEventListener("wheel", (e) => panzoom.zoomWithWheel(e));
-  const reset = h("button", { onclick: () => panzoom.reset() }, "Fit");
+  // Panzoom measures the element, so it starts once the image is on the page.
+  let panzoom = null;
+  function startPanzoom() {
+    if (panzoom || !img.isConnected) return;
+    panzoom = Panzoom(img, { maxScale: 32, minScale: 0.5, canvas: true });
+    stage.addEventListener("wheel", (e) => panzoom.zoomWithWheel(e));
+  }
+  const reset = h("button#image-fit", { onclick: () => panzoom?.reset() }, "Fit");
 
   async function load() {
     if (currentId === null) return;
@@ -40,6 +45,7 @@ export function imageCard(ctx) {
       img.src = next.src;
       img.dataset.imageId = id;
       img.dataset.shownAt = String(performance.now());
+      startPanzoom();
     } catch {
       info.textContent = `frame ${id} could not be loaded`;
     }
@@ -65,7 +71,7 @@ export function imageCard(ctx) {
     load();
     loadHeader();
   });
-  ctx.cleanup(() => panzoom.destroy());
+  ctx.cleanup(() => panzoom?.destroy());
   loadHeader().then(load);
   return card("Last image",
     h("div.controls", h("label", "Stretch ", stretch), h("label", "Low % ", low), h("label", "High % ", high), reset),
