@@ -115,7 +115,9 @@ class Socket:
             while True:
                 received = await self.socket.receive()
                 if received.type is not aiohttp.WSMsgType.TEXT:
-                    raise AssertionError(f"socket closed ({received.type}, {received.data}) waiting for {what}")
+                    raise AssertionError(
+                        f"socket closed ({received.type}, {received.data}) waiting for {what}"
+                    )
                 message = json.loads(received.data)
                 self.messages.append(message)
                 if match(message):
@@ -131,7 +133,7 @@ async def open_socket(client: ApiClient) -> Socket:
 async def eventually(condition: Callable[[], Any], what: str) -> None:
     """Wait (polling, bounded) until ``condition()`` is true."""
     async with asyncio.timeout(PATIENCE):
-        while not await _value(condition()):
+        while not await _value(condition()):  # noqa: ASYNC110 - polling a state from outside
             await asyncio.sleep(0.01)
     assert await _value(condition()), what
 
