@@ -7,7 +7,9 @@ from playwright.async_api import Page, expect
 from .observatory import OPERATOR, VIEWER, Observatory, login
 
 
-async def test_wrong_password_is_refused_without_saying_which_part(page: Page, observatory: Observatory) -> None:
+async def test_wrong_password_is_refused_without_saying_which_part(
+    page: Page, observatory: Observatory
+) -> None:
     await page.goto(observatory.url)
     await page.fill("#login-user", OPERATOR[0])
     await page.fill("#login-password", "not-the-password")

@@ -54,13 +54,15 @@ export function sexagesimal(degrees, hours = false) {
   if (degrees === null || degrees === undefined || !Number.isFinite(degrees)) return "—";
   const value = hours ? (((degrees % 360) + 360) % 360) / 15 : degrees;
   const sign = value < 0 ? "-" : hours ? "" : "+";
-  let rest = Math.abs(value);
-  const whole = Math.floor(rest);
-  rest = (rest - whole) * 60;
-  const minutes = Math.floor(rest);
-  const seconds = (rest - minutes) * 60;
+  // Round in the last shown digit first, so 59.999 s becomes the next minute, not "60.00".
+  const digits = hours ? 2 : 1;
+  const units = Math.round(Math.abs(value) * 3600 * 10 ** digits);
+  const perMinute = 60 * 10 ** digits;
+  const whole = Math.floor(units / (60 * perMinute));
+  const minutes = Math.floor(units / perMinute) % 60;
+  const seconds = (units % perMinute) / 10 ** digits;
   const pad = (n, w) => String(n).padStart(w, "0");
-  const sec = seconds.toFixed(hours ? 2 : 1).padStart(hours ? 5 : 4, "0");
+  const sec = seconds.toFixed(digits).padStart(digits + 3, "0");
   return `${sign}${pad(whole, 2)}${hours ? "h" : "°"}${pad(minutes, 2)}${hours ? "m" : "′"}${sec}${hours ? "s" : "″"}`;
 }
 
