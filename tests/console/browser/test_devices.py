@@ -21,7 +21,7 @@ async def test_camera_page_takes_an_exposure_and_shows_it(page: Page, observator
     await expect(image).to_have_attribute("data-image-id", "1")
     # The PNG decoded in the browser at the frame's shape (256 x 256 fits max_size unbinned).
     assert await image.evaluate("(img) => [img.naturalWidth, img.naturalHeight]") == [256, 256]
-    await expect(page.locator("#image-info")).to_contain_text("256 × 256 px")
+    await expect(page.locator("#image-info")).to_contain_text("256 \u00d7 256 px")
     await page.click(".header-box summary")
     header = page.locator("#image-header")
     await expect(header.locator("tr:has(th:text-is('EXPTIME')) td").first).to_have_text("2.5")
@@ -47,7 +47,8 @@ async def test_telescope_page_moves_the_telescope(page: Page, observatory: Obser
     await page.click("#tel-move-radec")
     await expect(page.locator("#motion-status")).to_have_text("tracking")
     await expect(page.locator("#tel-ra")).to_have_text("03h47m00.00s")
-    await expect(page.locator("#tel-dec")).to_have_text("+24°07′12.0″")
+    # +24 degrees 07 minutes 12.0 seconds, written with the degree, prime and double prime signs
+    await expect(page.locator("#tel-dec")).to_have_text("+24\u00b007\u203212.0\u2033")
     assert await telescope.get_motion_status() is MotionStatus.TRACKING
     ra, dec = await telescope.get_radec()
     assert (ra, dec) == PLEIADES
