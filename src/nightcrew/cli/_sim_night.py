@@ -129,10 +129,20 @@ async def _run(
             seed=args.seed,
             progress=progress,
             stop=stop,
+            extra_modules=_console(args, clock, site),
         )
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
+
+
+def _console(args: argparse.Namespace, clock: AcceleratedClock, site: Site) -> Any:
+    if args.console is None:
+        return None
+    from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
+    from nightcrew.modules.sim.whole_night import FRAMES
+
+    return sim_console(args.console, clock=clock, site=site, images=args.out / FRAMES)
 
 
 def _printer(stream: TextIO) -> ProgressCallback:

@@ -95,6 +95,15 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "--configs", type=Path, default=None, help="directory of module files (default: the bundled ones)"
     )
+    parser.add_argument(
+        "--console",
+        type=_port,
+        nargs="?",
+        const=37180,
+        default=None,
+        metavar="PORT",
+        help="serve the web console on 127.0.0.1:PORT (default 37180) to watch the night live",
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
     parser.set_defaults(func=_sim_command)
     return parser
@@ -141,6 +150,10 @@ async def _run(
     clock = AcceleratedClock(start, speed=args.speed)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
+    if args.console is not None:
+        from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
+
+        modules += sim_console(args.console, clock=clock, site=site_of(directory), images=args.out)(network)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -226,6 +239,13 @@ def _count(text: str, minimum: int = 1) -> int:
     if value < minimum:
         raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text}")
     return value
+
+
+def _port(text: str) -> int:
+    port = _count(text, minimum=1)
+    if port > 65535:
+        raise argparse.ArgumentTypeError(f"not a port number: {text}")
+    return port
 
 
 def _non_negative(text: str) -> int:

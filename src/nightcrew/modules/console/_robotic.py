@@ -30,8 +30,11 @@ class WeatherVerdicts:
         self._verdicts: deque[dict[str, Any]] = deque(maxlen=size)
 
     def add(self, time: datetime, good: bool, reason: str = "") -> None:
-        if self._verdicts and self._verdicts[-1]["good"] == good:
-            return
+        """The verdict at clock ``time`` (kept if it differs from the last, and is not older)."""
+        if self._verdicts:
+            last = self._verdicts[-1]
+            if last["good"] == good or datetime.fromisoformat(last["time"]) > time:
+                return
         self._verdicts.append({"time": time.isoformat(), "good": good, "reason": reason})
 
     def as_list(self) -> list[dict[str, Any]]:

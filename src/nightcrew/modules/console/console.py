@@ -317,7 +317,7 @@ class WebConsole(Module):
         history.append(
             {"time": report.time.isoformat(), "good": report.good, "sensors": to_json(report.sensors)}
         )
-        self.weather_verdicts.add(report.time, report.good)
+        self.weather_verdicts.add(self.clock.now(), report.good)
 
 
 def _checked_widgets(widgets: dict[str, Any]) -> dict[str, dict[str, str]]:

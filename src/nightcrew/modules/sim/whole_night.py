@@ -88,8 +88,13 @@ async def run_whole_night(
     seed: int | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
+    extra_modules: Callable[[LocalNetwork], list[Module]] | None = None,
 ) -> WholeNight:
-    """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc)."""
+    """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
+
+    ``extra_modules`` builds more modules on the night's network (e.g. the web console), opened
+    after the others and closed before them.
+    """
     await asyncio.to_thread(_blocking_clear_records, out_dir)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     # The watcher opens first, so that whatever fails later, it can still park and close.
@@ -116,6 +121,7 @@ async def run_whole_night(
         modules = [
             *build_observatory(directory, overrides=device_overrides, **common),
             *build_observatory(directory / ROBOTIC, overrides=robotic, **common),
+            *(extra_modules(network) if extra_modules is not None else []),
         ]
         recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
         for module in [watcher, *modules]:
