@@ -84,10 +84,8 @@ function open() {
 }
 
 function showBanner(kind, text) {
-  if (!banner) {
-    banner = h("div#live-banner", { role: "status", "aria-live": "polite" });
-    document.body.append(banner);
-  }
+  if (!banner) banner = h("div#live-banner", { role: "status", "aria-live": "polite" });
+  if (!banner.isConnected) document.body.append(banner); // the frame replaces the body's children
   clearTimeout(banner.hideTimer);
   banner.className = kind ? `banner-${kind}` : "";
   banner.hidden = !kind;
