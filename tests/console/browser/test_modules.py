@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from playwright.async_api import Page, expect
 
 from nightcrew.interfaces import IWindow
@@ -77,5 +79,30 @@ async def test_no_module_pages_and_no_status(page: Page) -> None:
         await expect(page.locator("#nav-shell")).to_be_visible()
         await expect(page.locator("#module-list li")).to_have_count(0)
         await expect(page.locator("#nav-status")).to_have_count(0)
+    finally:
+        await obs.close()
+
+
+async def test_custom_widget_shows_on_its_module_page(page: Page, tmp_path: Path) -> None:
+    widget = tmp_path / "roof-widget.html"
+    # The observatory's own page uses the API with the session cookie, like the console's pages.
+    widget.write_text(
+        "<!doctype html><p id=hello>Roof camera</p><p id=roof-state></p><script>"
+        "fetch('/api/modules/roof').then((r) => r.json())"
+        ".then((m) => { document.getElementById('roof-state').textContent = 'roof is ' + m.state; });"
+        "</script>"
+    )
+    obs = Observatory()
+    try:
+        await obs.start_devices()
+        await obs.start_console(widgets={"roof": {"title": "Roof camera", "file": str(widget)}})
+        await login(page, obs.url)
+        await page.click("#module-list li[data-module='roof'] a")
+        card = page.locator(".custom-widget")
+        await expect(card.locator("h3")).to_have_text("Roof camera")
+        frame = page.frame_locator(".custom-widget iframe")
+        await expect(frame.locator("#roof-state")).to_have_text("roof is ready")
+        await page.click("#module-list li[data-module='camera'] a")
+        await expect(page.locator(".custom-widget")).to_have_count(0)
     finally:
         await obs.close()
