@@ -108,9 +108,9 @@ class Socket:
 
     async def wait_for(self, match: Callable[[dict[str, Any]], bool], what: str) -> dict[str, Any]:
         """The first message (received before or after now) for which ``match`` holds."""
-        for message in self.messages:
-            if match(message):
-                return message
+        for seen in self.messages:
+            if match(seen):
+                return seen
         async with asyncio.timeout(PATIENCE):
             while True:
                 received = await self.socket.receive()
@@ -118,7 +118,7 @@ class Socket:
                     raise AssertionError(
                         f"socket closed ({received.type}, {received.data}) waiting for {what}"
                     )
-                message = json.loads(received.data)
+                message: dict[str, Any] = json.loads(received.data)
                 self.messages.append(message)
                 if match(message):
                     return message

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import pytest
 
@@ -83,7 +84,7 @@ async def test_the_shell_runs_a_line_and_names_what_does_not_parse(operator: Api
     ],
 )
 async def test_bad_calls_get_one_clear_error(
-    operator: ApiClient, call: dict, status: int, error_class: str, message: str
+    operator: ApiClient, call: dict[str, Any], status: int, error_class: str, message: str
 ) -> None:
     answer = await operator.post("/api/call", call)
     assert answer[0] == status

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from typing import Any
 
 import pytest
 
@@ -30,9 +31,13 @@ async def test_a_wrong_user_and_a_wrong_password_get_the_same_answer(
     client = clients(console.url)
     wrong_password = await client.login(OPERATOR, "guess")
     wrong_user = await client.login("mallory", OPERATOR_PASSWORD)
-    assert wrong_password == wrong_user == (
-        401,
-        {"error": {"class": "LoginError", "message": "wrong user name or password", "module": None}},
+    assert (
+        wrong_password
+        == wrong_user
+        == (
+            401,
+            {"error": {"class": "LoginError", "message": "wrong user name or password", "module": None}},
+        )
     )
     assert (await client.get("/api/modules"))[0] == 401
 
@@ -144,7 +149,9 @@ async def test_passwords_never_reach_the_log(
         ({"ann": {"password": "x"}}, "accounts.ann", "unknown keys password"),
     ],
 )
-def test_a_bad_account_is_named_when_the_console_is_built(accounts: dict, key: str, message: str) -> None:
+def test_a_bad_account_is_named_when_the_console_is_built(
+    accounts: dict[str, Any], key: str, message: str
+) -> None:
     with pytest.raises(ConfigError, match=message) as raised:
         WebConsole(name="console", accounts=accounts)
     assert raised.value.key == key
