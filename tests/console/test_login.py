@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -155,3 +156,45 @@ def test_a_bad_account_is_named_when_the_console_is_built(
     with pytest.raises(ConfigError, match=message) as raised:
         WebConsole(name="console", accounts=accounts)
     assert raised.value.key == key
+
+
+async def test_the_page_options_are_public_and_widgets_need_a_session(
+    observatory: Observatory, clients: Callable[[str], ApiClient], tmp_path: Path
+) -> None:
+    page = tmp_path / "dewar.html"
+    page.write_text("<p>dewar pressure</p>")
+    console = await observatory.start_console(
+        title="Hill top",
+        show_shell=False,
+        show_modules=["camera"],
+        widgets={"camera": {"title": "Dewar", "file": str(page)}},
+    )
+    client = clients(console.url)
+    assert await client.get("/api/config") == (
+        200,
+        {
+            "title": "Hill top",
+            "show_shell": False,
+            "show_events": True,
+            "show_status": True,
+            "show_modules": ["camera"],
+            "widgets": {"camera": {"title": "Dewar", "url": "/api/widgets/camera"}},
+        },
+    )
+    assert (await client.get_bytes("/api/widgets/camera"))[0] == 401
+    await client.login(VIEWER, VIEWER_PASSWORD)
+    status, body, headers = await client.get_bytes("/api/widgets/camera")
+    assert (
+        status == 200 and body == b"<p>dewar pressure</p>" and headers["Content-Type"].startswith("text/html")
+    )
+    assert (await client.get_bytes("/api/widgets/roof"))[0] == 404
+    status, index, _ = await client.get_bytes("/")
+    assert status == 200 and b"<html" in index.lower()
+
+
+def test_a_widget_file_that_does_not_exist_is_named(tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="no such file") as raised:
+        WebConsole(
+            name="console", widgets={"camera": {"title": "Dewar", "file": str(tmp_path / "none.html")}}
+        )
+    assert raised.value.key == "widgets.camera.file"
