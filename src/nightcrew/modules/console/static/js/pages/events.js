@@ -11,6 +11,7 @@ const SHOW = 300;
 
 export function eventsPage(container) {
   const events = [];
+  let total = 0; // received since the page opened (the list keeps the last KEEP)
   const typeFilter = h("select#events-type", { "aria-label": "event type", onchange: render }, h("option", { value: "" }, "all types"));
   const senderFilter = h("select#events-sender", { "aria-label": "sender", onchange: render }, h("option", { value: "" }, "all senders"));
   const list = h("ol#events-list");
@@ -25,7 +26,8 @@ export function eventsPage(container) {
   function render() {
     const shown = events.filter(passes).slice(-SHOW).reverse();
     replace(list, shown.map(row));
-    counter.textContent = `${events.length} received, ${shown.length} shown`;
+    counter.textContent = `${total} received, ${shown.length} shown`;
+    pending.length = 0;
   }
   function options(select, values, label) {
     const chosen = select.value;
@@ -33,6 +35,7 @@ export function eventsPage(container) {
     select.value = chosen;
   }
   function add(e) {
+    total++;
     events.push(e);
     if (events.length > KEEP) events.splice(0, events.length - KEEP);
     if (!types.has(e.event)) {
@@ -44,16 +47,25 @@ export function eventsPage(container) {
       options(senderFilter, senders, "all senders");
     }
   }
-  // Many events a second: add each as it comes, but redraw at most once per frame.
+  // Many events a second: new rows go on top once per frame; only a filter change redraws all.
+  const pending = [];
   let scheduled = false;
-  const stop = on("event", (e) => {
+  function flush() {
+    scheduled = false;
+    const rows = pending.splice(0).filter(passes).slice(-SHOW).reverse().map(row);
+    list.prepend(...rows);
+    while (list.childElementCount > SHOW) list.lastElementChild.remove();
+    counter.textContent = `${total} received, ${list.childElementCount} shown`;
+  }
+  // The console dropped messages for this browser (it fell behind): say so, plainly.
+  const dropped = h("span#events-dropped.error");
+  const stopDropped = on("dropped", (msg) => (dropped.textContent = `${msg.count} live messages were dropped: this browser fell behind`));
+  const stopEvents = on("event", (e) => {
     add(e);
-    if (!passes(e) || scheduled) return;
+    pending.push(e);
+    if (scheduled) return;
     scheduled = true;
-    requestAnimationFrame(() => {
-      scheduled = false;
-      render();
-    });
+    requestAnimationFrame(flush);
   });
   api.get(`/api/events/recent?limit=${SHOW}`).then((r) => {
     events.unshift(...r.events.filter((e) => !events.some((x) => x.time === e.time && x.event === e.event && x.sender === e.sender)));
@@ -68,10 +80,13 @@ export function eventsPage(container) {
 
   container.append(h("section.events",
     h("h2", "Events"),
-    h("div.controls", typeFilter, senderFilter, counter),
+    h("div.controls", typeFilter, senderFilter, counter, dropped),
     sendForm(),
     list));
-  return stop;
+  return () => {
+    stopEvents();
+    stopDropped();
+  };
 }
 
 function sendForm() {
