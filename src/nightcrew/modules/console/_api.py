@@ -19,6 +19,7 @@ from nightcrew.modules.console._describe import describe_event_types, to_json
 from nightcrew.modules.console._http import (
     COOKIE,
     ApiError,
+    check_origin,
     error_middleware,
     field_of,
     json_body,
@@ -90,6 +91,7 @@ class _Routes:
     # --- sessions ------------------------------------------------------------------------------
 
     async def login(self, request: web.Request) -> web.Response:
+        check_origin(request)
         body = await json_body(request)
         user, password = field_of(body, "user", str), field_of(body, "password", str)
         keys = [f"user:{user}", f"address:{request.remote}"]
@@ -252,9 +254,14 @@ class _Routes:
 
     async def websocket(self, request: web.Request) -> web.WebSocketResponse:
         session = require_session(request)
-        socket = web.WebSocketResponse(heartbeat=20.0)
+        check_origin(request)
+        # A short close timeout: a browser that does not answer must not hold up the console's close.
+        socket = web.WebSocketResponse(heartbeat=20.0, timeout=2.0)
         await socket.prepare(request)
         client = Client(session.token)
+        # Relayed from now on (queued until the pump starts), so nothing falls between hello and the pump.
+        self.console.relay.add(client)
+        self.sockets[client] = socket
         hello = {
             "type": "hello",
             "user": session.user,
@@ -262,19 +269,21 @@ class _Routes:
             "modules": self._module_list(),
             "time": self.console.clock.now().isoformat(),
         }
-        await socket.send_json(hello)
-        self.console.relay.add(client)
-        self.sockets[client] = socket
-        pump = asyncio.create_task(client.pump(socket.send_str), name="websocket pump")
         try:
-            async for _ in socket:  # the client sends nothing we use; this waits for the close
-                pass
+            await socket.send_json(hello)
+            pump = asyncio.create_task(client.pump(socket.send_str), name="websocket pump")
+            try:
+                async for _ in socket:  # the client sends nothing we use; this waits for the close
+                    pass
+            finally:
+                pump.cancel()
+                with contextlib.suppress(asyncio.CancelledError, ConnectionError):
+                    await pump
+        except ConnectionError:
+            pass  # the browser went away; nothing to tell it
         finally:
             self.console.relay.remove(client)
             self.sockets.pop(client, None)
-            pump.cancel()
-            with contextlib.suppress(asyncio.CancelledError, ConnectionError):
-                await pump
         return socket
 
     async def close_sockets(self, app: web.Application) -> None:

@@ -13,6 +13,7 @@ import json
 import logging
 from collections.abc import Awaitable, Callable
 from typing import Any
+from urllib.parse import urlsplit
 
 from aiohttp import web
 
@@ -29,6 +30,7 @@ __all__ = [
     "COOKIE",
     "CSRF_HEADER",
     "ApiError",
+    "check_origin",
     "error_middleware",
     "json_body",
     "require_call_right",
@@ -102,12 +104,20 @@ def current_session(request: web.Request) -> Session | None:
     return request.app[_SESSION_KEY].get(request.cookies.get(COOKIE))
 
 
+def check_origin(request: web.Request) -> None:
+    """Refuse a request that a page of another site made (its browser names that site in Origin)."""
+    origin = request.headers.get("Origin")
+    if origin is not None and urlsplit(origin).netloc != request.host:
+        raise ApiError(403, "CsrfError", f"cross-site request from {origin} refused")
+
+
 def require_session(request: web.Request) -> Session:
-    """The request's session; for unsafe methods also its CSRF token checked. ApiError otherwise."""
+    """The request's session; for unsafe methods also its CSRF token and origin checked."""
     session = current_session(request)
     if session is None:
         raise ApiError(401, "NotLoggedInError", "not logged in (or the session expired)")
     if request.method in _UNSAFE_METHODS:
+        check_origin(request)
         token = request.headers.get(CSRF_HEADER, "")
         if not hmac.compare_digest(token.encode(), session.csrf_token.encode()):
             raise ApiError(403, "CsrfError", f"missing or wrong {CSRF_HEADER} header")

@@ -170,8 +170,8 @@ class WebConsole(Module):
         await asyncio.gather(*(self.directory.add(name, at_start=True) for name in comm.clients))
 
     async def close(self) -> None:
+        await self._stop_server()  # first: no request meets a module half closed
         await super().close()
-        await self._stop_server()
 
     async def _start_server(self) -> None:
         runner = web.AppRunner(build_app(self, STATIC_DIR), access_log=None)
