@@ -7,6 +7,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import aiohttp
 import pytest
 
 from nightcrew.errors import ConfigError
@@ -198,3 +199,22 @@ def test_a_widget_file_that_does_not_exist_is_named(tmp_path: Path) -> None:
             name="console", widgets={"camera": {"title": "Dewar", "file": str(tmp_path / "none.html")}}
         )
     assert raised.value.key == "widgets.camera.file"
+
+
+async def test_a_page_of_another_site_can_neither_log_in_nor_open_the_socket(
+    observatory: Observatory, clients: Callable[[str], ApiClient]
+) -> None:
+    console = await observatory.start_console()
+    client = clients(console.url)
+    evil = {"Origin": "http://evil.example"}
+    login = {"user": OPERATOR, "password": OPERATOR_PASSWORD}
+    async with client.http.post(client.base + "/api/login", json=login, headers=evil) as response:
+        assert response.status == 403
+        assert (await response.json())["error"]["class"] == "CsrfError"
+    await client.login(OPERATOR, OPERATOR_PASSWORD)
+    with pytest.raises(aiohttp.WSServerHandshakeError) as refused:
+        await client.http.ws_connect(client.base + "/api/ws", headers=evil)
+    assert refused.value.status == 403
+    same_site = {"Origin": client.base}
+    async with client.http.ws_connect(client.base + "/api/ws", headers=same_site) as socket:
+        assert (await socket.receive_json())["type"] == "hello"
