@@ -26,13 +26,14 @@ from nightcrew.clock import Clock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import build_object, load_config
 from nightcrew.errors import ConfigError
+from nightcrew.interfaces import ModuleState
 from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole, hash_password
 from nightcrew.modules.sim.night import IMAGES_ROOT
 from nightcrew.site import Site
 from nightcrew.vfs import LocalFile, VirtualFileSystem
 
-__all__ = ["PASSWORD_VARIABLE", "add_parser", "one_time_accounts", "print_welcome", "sim_console"]
+__all__ = ["PASSWORD_VARIABLE", "AnnouncedConsole", "add_parser", "one_time_accounts", "sim_console"]
 
 #: Environment variable with the password of the one-time account.
 PASSWORD_VARIABLE = "NIGHTCREW_CONSOLE_PASSWORD"
@@ -60,9 +61,22 @@ def one_time_accounts() -> tuple[dict[str, Any], str]:
     return {"operator": {"password_hash": hash_password(password), "role": "operator"}}, password
 
 
-def print_welcome(url: str, password: str | None) -> None:
-    login = f"; log in as 'operator' with password {password}" if password else ""
-    print(f"nightcrew console at {url}{login}", file=sys.stderr, flush=True)
+class AnnouncedConsole(WebConsole):
+    """A console that prints where it is (and the one-time password) once it is ready.
+
+    Args:
+        password: The one-time account's password to print; None when the accounts are configured.
+        **kwargs: WebConsole options.
+    """
+
+    def __init__(self, *, password: str | None = None, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._password = password
+
+    def on_state_changed(self, old: ModuleState, new: ModuleState) -> None:
+        if new is ModuleState.READY and old is ModuleState.STARTING:
+            login = f"; log in as 'operator' with password {self._password}" if self._password else ""
+            print(f"nightcrew console at {self.url}{login}", file=sys.stderr, flush=True)
 
 
 def sim_console(
@@ -70,12 +84,12 @@ def sim_console(
 ) -> Callable[[LocalNetwork], list[Module]]:
     """What ``nightcrew sim --console PORT`` adds to the night: a console reading the frames in ``images``."""
     accounts, password = one_time_accounts()
-    print_welcome(f"http://127.0.0.1:{port}/", password)
 
     def build(network: LocalNetwork) -> list[Module]:
         vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(images))})
         comm = LocalComm("console", network=network)
-        return [WebConsole(comm=comm, clock=clock, site=site, vfs=vfs, port=port, accounts=accounts)]
+        options = {"clock": clock, "site": site, "vfs": vfs, "port": port, "accounts": accounts}
+        return [AnnouncedConsole(comm=comm, password=password, **options)]
 
     return build
 
@@ -85,17 +99,18 @@ def _command(args: argparse.Namespace) -> int:
         print(hash_password(_read_password()))
         return 0
     config: Any = load_config(args.config) if args.config else {}
-    config.setdefault("class", _CLASS)
+    if config.get("class", _CLASS) not in (_CLASS, "nightcrew.modules.console.WebConsole"):
+        raise ConfigError(f"the console's class is {_CLASS}", file=args.config, key="class")
+    config["class"] = f"{__name__}.{AnnouncedConsole.__name__}"
     for key, value in (("host", args.host), ("port", args.port)):
         if value is not None:
             config[key] = value
-    password = None
     if not config.get("accounts"):
-        config["accounts"], password = one_time_accounts()
+        config["accounts"], config["password"] = one_time_accounts()
     config["comm"] = load_comm(args.comm)
     console = build_object(config, WebConsole)
     assert isinstance(console, WebConsole)
-    asyncio.run(_serve(console, password))
+    asyncio.run(_serve(console))
     return 0
 
 
@@ -111,14 +126,13 @@ def _read_password() -> str:
     return password
 
 
-async def _serve(console: WebConsole, password: str | None) -> None:
+async def _serve(console: WebConsole) -> None:
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
         loop.add_signal_handler(sig, stop.set)
     try:
         await console.open()
-        print_welcome(console.url, password)
         await stop.wait()
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):

@@ -102,7 +102,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         const=37180,
         default=None,
         metavar="PORT",
-        help="serve the web console on 127.0.0.1:PORT (default 37180) to watch the night live",
+        help="serve the web console on 127.0.0.1:PORT (default 37180; 0: a free one) to watch the night live",
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
     parser.set_defaults(func=_sim_command)
@@ -242,7 +242,7 @@ def _count(text: str, minimum: int = 1) -> int:
 
 
 def _port(text: str) -> int:
-    port = _count(text, minimum=1)
+    port = _count(text, minimum=0)  # 0: a free one (the console prints which)
     if port > 65535:
         raise argparse.ArgumentTypeError(f"not a port number: {text}")
     return port
