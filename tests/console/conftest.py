@@ -9,22 +9,17 @@ from __future__ import annotations
 import asyncio
 import json
 from collections.abc import AsyncIterator, Callable
-from typing import Any, TypeVar
+from typing import Any
 
 import aiohttp
 import pytest
 
-from nightcrew.clock import AcceleratedClock
-from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole, hash_password
-from nightcrew.site import Site
-from nightcrew.vfs import MemoryFile, VirtualFileSystem
+from tests.modules.conftest import SITE
+from tests.modules.conftest import Observatory as ModulesObservatory
 
-M = TypeVar("M", bound=Module)
+__all__ = ["SITE", "ApiClient", "Observatory", "Socket", "eventually", "open_socket"]
 
-EPOCH = "2024-01-15T22:00:00+00:00"
-SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0, name="Göttingen")
 OPERATOR, OPERATOR_PASSWORD = "olga", "operator-password-1"
 VIEWER, VIEWER_PASSWORD = "vera", "viewer-password-2"
 ACCOUNTS = {
@@ -35,33 +30,14 @@ ACCOUNTS = {
 PATIENCE = 20.0
 
 
-class Observatory:
-    """Modules on one network, one fast clock, one in-memory VFS; closed after the test."""
-
-    def __init__(self, speed: float = 100.0) -> None:
-        self.clock = AcceleratedClock(EPOCH, speed=speed)
-        self.vfs = VirtualFileSystem({"cache": MemoryFile()})
-        self.network = LocalNetwork()
-        self.modules: list[Module] = []
-
-    async def start(self, cls: type[M], name: str, **kwargs: Any) -> M:
-        kwargs.setdefault("clock", self.clock)
-        kwargs.setdefault("site", SITE)
-        kwargs.setdefault("vfs", self.vfs)
-        module = cls(comm=LocalComm(name, network=self.network), **kwargs)
-        self.modules.append(module)
-        await module.open()
-        return module
+class Observatory(ModulesObservatory):
+    """The modules' test observatory (one network, one fast clock, one in-memory VFS), plus a console."""
 
     async def start_console(self, **kwargs: Any) -> WebConsole:
         kwargs.setdefault("port", 0)
         kwargs.setdefault("accounts", ACCOUNTS)
         kwargs.setdefault("status_interval", 0.05)
         return await self.start(WebConsole, "console", **kwargs)
-
-    async def close(self) -> None:
-        for module in reversed(self.modules):
-            await module.close()
 
 
 class ApiClient:
@@ -144,7 +120,7 @@ async def _value(value: Any) -> Any:
 
 @pytest.fixture
 async def observatory() -> AsyncIterator[Observatory]:
-    obs = Observatory()
+    obs = Observatory(speed=100.0)
     try:
         yield obs
     finally:

@@ -68,7 +68,7 @@ async def test_a_post_without_the_csrf_token_is_refused(
     observatory: Observatory, clients: Callable[[str], ApiClient]
 ) -> None:
     console = await observatory.start_console()
-    await observatory.start(SimTelescope, "telescope")
+    telescope = await observatory.start(SimTelescope, "telescope")
     client = clients(console.url)
     await client.login(OPERATOR, OPERATOR_PASSWORD)
     for token in ("", "not-the-token"):
@@ -76,8 +76,6 @@ async def test_a_post_without_the_csrf_token_is_refused(
             "/api/call", {"module": "telescope", "method": "init", "args": []}, csrf=token
         )
         assert status == 403 and body["error"]["class"] == "CsrfError"
-    telescope = observatory.modules[-1]
-    assert isinstance(telescope, SimTelescope)
     assert await telescope.get_motion_status() == "parked"  # nothing was called
 
 
