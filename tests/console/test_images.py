@@ -9,8 +9,11 @@ from datetime import UTC, datetime
 
 import numpy as np
 import pytest
+from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.errors import InvalidArgumentError
+from nightcrew.events import NewImageEvent
+from nightcrew.modules import Module
 from nightcrew.modules.console._images import Frame, View, render_png
 from nightcrew.modules.sim import SimCamera
 
@@ -118,3 +121,22 @@ async def test_an_exposure_from_the_browser_shows_up_as_a_png_with_its_header(
     keys = {card["key"]: card["value"] for card in info["header"]}
     assert keys["EXPTIME"] == pytest.approx(1.0) and keys["NAXIS1"] == 300
     assert (await client.get("/api/images"))[1]["images"][0]["module"] == "camera"
+
+
+async def test_frames_arriving_faster_than_they_load_skip_to_the_newest(
+    observatory: Observatory, clients: Callable[[str], ApiClient]
+) -> None:
+    camera = await observatory.start(Module, "fastcam")
+    console = await observatory.start_console()
+    client = clients(console.url)
+    await client.login(OPERATOR, OPERATOR_PASSWORD)
+    socket = await open_socket(client)
+    paths = [f"/cache/frame{n}.fits" for n in range(5)]
+    for n, path in enumerate(paths):
+        await camera.vfs.write_fits(path, fits.PrimaryHDU(np.full((20, 30), n, np.float32)))
+    for path in paths:  # all at once: the console is still loading the first when the rest arrive
+        await camera.comm.send_event(NewImageEvent(filename=path))
+    await socket.wait_for(lambda m: m["type"] == "image" and m["filename"] == paths[-1], "the newest frame")
+    shown = [m["filename"] for m in socket.messages if m["type"] == "image"]
+    assert shown == [paths[0], paths[-1]]
+    assert console.frames["fastcam"].filename == paths[-1]

@@ -133,6 +133,7 @@ class WebConsole(Module):
         self.task_names: dict[str, str] = {}
         self._frame_ids = 0
         self._default_png: dict[str, tuple[int, bytes]] = {}  # module -> (frame id, PNG of View())
+        self._next_frame: dict[str, str | None] = {}  # module -> frame to load next, while loading
         self._status_interval, self._weather_interval = float(status_interval), float(weather_interval)
         self._runner: web.AppRunner | None = None
         self.directory: ModuleDirectory | None = None
@@ -228,7 +229,7 @@ class WebConsole(Module):
         elif isinstance(event, BadWeatherEvent):
             self.weather_verdicts.add(self.clock.now(), False, event.reason)
         elif isinstance(event, NewImageEvent):
-            await self._load_frame(sender, event.filename)
+            await self._show_frame(sender, event.filename)
 
     def _log_record(self, event: LogEvent, sender: str) -> None:
         message = {
@@ -244,6 +245,20 @@ class WebConsole(Module):
 
     # --- frames --------------------------------------------------------------------------------
 
+    async def _show_frame(self, module: str, filename: str) -> None:
+        """Load the newest frame of ``module``: one load per camera at a time, frames that arrive
+        meanwhile replace each other (a fast camera cannot pile up work, the newest one is shown)."""
+        first = module not in self._next_frame
+        self._next_frame[module] = filename
+        if not first:
+            return  # the running load takes it next
+        try:
+            while (latest := self._next_frame.get(module)) is not None:
+                self._next_frame[module] = None
+                await self._load_frame(module, latest)
+        finally:
+            del self._next_frame[module]
+
     async def _load_frame(self, module: str, filename: str) -> None:
         self._frame_ids += 1
         frame_id = self._frame_ids
@@ -256,9 +271,6 @@ class WebConsole(Module):
         except (NightcrewError, OSError, ValueError) as exc:
             log.warning("%s: cannot show %s from %s: %s", self.name, filename, module, exc)
             return
-        latest = self.frames.get(module)
-        if latest is not None and latest.id > frame_id:
-            return  # a newer frame was quicker
         self.frames[module] = frame
         self._default_png[module] = (frame_id, png)
         self.relay.send({"type": "image", "module": module, "id": frame_id, "filename": filename})
