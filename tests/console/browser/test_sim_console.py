@@ -14,6 +14,7 @@ import signal
 import socket
 import sys
 from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from pathlib import Path
 
 import pytest
@@ -31,21 +32,21 @@ def _free_port() -> int:
         return int(probe.getsockname()[1])
 
 
-@pytest.fixture
-async def sim_console(tmp_path: Path) -> AsyncIterator[str]:
-    """A simulated night (6 clock hours from dusk at 100x: at most ~4 wall minutes) with its console."""
+@asynccontextmanager
+async def sim_night(tmp: Path, *, hours: float, speed: float, start: str | None = None) -> AsyncIterator[str]:
+    """``nightcrew sim --console PORT`` as a process; yields the console's URL once it listens."""
     port = _free_port()
     env = {**os.environ, "NIGHTCREW_CONSOLE_PASSWORD": PASSWORD}
+    extra = ["--start", start] if start else []
     process = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "nightcrew", "sim", "--console", str(port), "--out", str(tmp_path / "night"),
-        "--hours", "6", "--speed", "100",
+        sys.executable, "-m", "nightcrew", "sim", "--console", str(port), "--out", str(tmp / "night"),
+        "--hours", str(hours), "--speed", str(speed), *extra,
         env=env, stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.PIPE,
     )  # fmt: skip
     try:
         assert process.stderr is not None
         line = await asyncio.wait_for(process.stderr.readline(), 120)
         assert b"nightcrew console at" in line, line
-        url = f"http://127.0.0.1:{port}/"
         async with asyncio.timeout(60):  # the console listens once the observatory is up
             while True:
                 try:
@@ -55,7 +56,7 @@ async def sim_console(tmp_path: Path) -> AsyncIterator[str]:
                     continue
                 writer.close()
                 break
-        yield url
+        yield f"http://127.0.0.1:{port}/"
     finally:
         if process.returncode is None:
             process.send_signal(signal.SIGINT)  # the sim stops the night cleanly on Ctrl-C
@@ -64,6 +65,13 @@ async def sim_console(tmp_path: Path) -> AsyncIterator[str]:
             except TimeoutError:
                 process.kill()
                 await process.wait()
+
+
+@pytest.fixture
+async def sim_console(tmp_path: Path) -> AsyncIterator[str]:
+    """A simulated night (6 clock hours from dusk at 100x: at most ~4 wall minutes) with its console."""
+    async with sim_night(tmp_path, hours=6, speed=100) as url:
+        yield url
 
 
 async def test_sim_console_shows_the_night_live(page: Page, sim_console: str) -> None:

@@ -105,7 +105,7 @@ async def test_status_page_shows_and_resets_an_error(page: Page, observatory: Ob
     await page.click("#nav-status")
     row = page.locator("#status-table tr[data-module='focuser']")
     await expect(row.locator("td.state")).to_have_text("ready")
-    await expect(row.locator("button.reset")).to_be_disabled()
+    await expect(row.locator("button.reset")).to_have_count(0)  # offered only for a module in error
     focuser.set_error("motor stalled at 24.8 mm")
     await expect(row.locator("td.state")).to_have_text("error")
     await expect(row.locator("td.error")).to_have_text("motor stalled at 24.8 mm")

@@ -9,9 +9,9 @@ export function statusPage(container) {
   const message = h("p#status-message.message", { role: "status" });
   function render() {
     replace(body, [...state.modules.values()].map((m) => {
-      const reset = h("button.reset", { dataset: { module: m.name } }, "Reset error");
-      reset.disabled = !isOperator() || m.state !== "error";
-      reset.onclick = async () => {
+      const reset = m.state === "error" ? h("button.reset", { dataset: { module: m.name } }, "Reset error") : "";
+      if (reset) reset.disabled = !isOperator();
+      if (reset) reset.onclick = async () => {
         message.className = "message";
         try {
           const ready = await api.call(m.name, "reset_error", []);

@@ -3,7 +3,6 @@
 
 import * as api from "../api.js";
 import { h, show } from "../dom.js";
-import { card } from "./context.js";
 
 /** An input for one parameter: a select for choices and booleans, a text field otherwise. */
 export function paramInput(param, idPrefix = "") {
@@ -38,8 +37,8 @@ export function paramValue(param, input) {
 
 export function methodsCard(ctx) {
   const names = Object.keys(ctx.module.methods || {}).sort();
-  return card("Methods",
-    h("p.hint", `${names.length} methods from ${ctx.module.interfaces.length} interfaces`),
+  return h("details.card.methods", { dataset: { widget: "methods" } },
+    h("summary", h("strong", "Methods"), ` — all ${names.length} of ${ctx.module.interfaces.length} interfaces, each with a form`),
     names.map((name) => methodRow(ctx, name, ctx.module.methods[name])));
 }
 

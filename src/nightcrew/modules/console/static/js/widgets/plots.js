@@ -22,7 +22,13 @@ export function linePlot(title, labels, { height = 180, xTime = true, yLabel = "
     tzDate: (ts) => uPlot.tzDate(new Date(ts * 1e3), "Etc/UTC"),
     scales: { x: { time: xTime } },
     axes: [
-      { stroke: "#aab", grid: { stroke: "#2a3040" }, ticks: { stroke: "#2a3040" } },
+      {
+        stroke: "#aab",
+        grid: { stroke: "#2a3040" },
+        ticks: { stroke: "#2a3040" },
+        // Observatories keep UTC on a 24-hour clock, not the browser's local am/pm.
+        values: xTime ? (u, splits) => splits.map((s) => new Date(s * 1000).toISOString().slice(11, 16)) : undefined,
+      },
       { stroke: "#aab", grid: { stroke: "#2a3040" }, ticks: { stroke: "#2a3040" }, label: yLabel, size: 55 },
     ],
     series: [

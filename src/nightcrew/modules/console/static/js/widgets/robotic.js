@@ -54,16 +54,21 @@ export function timeline(title = "Plan of the night") {
       ctx.fillRect(x(w.time), top, x(end) - x(w.time), height);
     });
     const slots = body.scheduler?.plan?.slots || [];
-    const barHeight = Math.min(22, height / 6);
+    // Tasks in three lanes above the horizon line: at night the Sun's curve stays below it.
+    const barHeight = Math.min(24, height / 8);
+    ctx.font = `${Math.round(11 * devicePixelRatio)}px sans-serif`;
     slots.forEach((s, i) => {
-      const x0 = x(s.start);
-      const x1 = x(s.end);
-      const y = top + height - barHeight * (1.3 + (i % 3) * 1.15);
+      const x0 = Math.max(u.bbox.left, x(s.start));
+      const x1 = Math.min(u.bbox.left + u.bbox.width, x(s.end));
+      if (x1 <= x0) return;
+      const y = top + barHeight * (0.4 + (i % 3) * 1.2);
       ctx.fillStyle = TASK_COLOURS[i % TASK_COLOURS.length];
       ctx.fillRect(x0, y, Math.max(2, x1 - x0), barHeight);
-      ctx.fillStyle = "#0b0f18";
-      ctx.font = `${Math.round(11 * devicePixelRatio)}px sans-serif`;
-      if (x1 - x0 > 30) ctx.fillText(s.name || s.task_id, x0 + 4, y + barHeight * 0.7, x1 - x0 - 6);
+      const label = s.name || `#${s.task_id}`;
+      if (ctx.measureText(label).width < x1 - x0 - 6) {
+        ctx.fillStyle = "#0b0f18";
+        ctx.fillText(label, x0 + 3, y + barHeight * 0.7);
+      }
     });
     const now = x(body.time);
     ctx.strokeStyle = "#e5d15b";

@@ -34,6 +34,7 @@ export function telescopeCard(ctx) {
       ctx.action("Offset Alt/Az", "set_offsets_altaz", () => [value("tel-off-alt") / 3600, value("tel-off-az") / 3600], { message, id: "tel-offset-altaz" })));
   }
   const sky = skyPlot();
+  const caption = h("figcaption#sky-caption", "where it points; the Moon and the Sun");
   ctx.poll([["get_radec"], ["get_altaz"], ["get_offsets_radec"], ["get_offsets_altaz"]], (v) => {
     if (v.get_radec) {
       setRa(sexagesimal(v.get_radec[0], true));
@@ -53,6 +54,7 @@ export function telescopeCard(ctx) {
       const s = await api.get("/api/sky");
       sky.moon(s.moon.alt, s.moon.az, s.moon.illumination);
       sky.sun(s.sun.alt, s.sun.az);
+      caption.textContent = `Moon ${show(s.moon.alt, 3)}° high, ${Math.round(100 * s.moon.illumination)} % lit; Sun ${show(s.sun.alt, 3)}°`;
     } catch {
       /* no site configured: the plot shows the telescope only */
     }
@@ -65,5 +67,5 @@ export function telescopeCard(ctx) {
       h("div",
         h("div.readouts", raEl, decEl, altEl, azEl, ctx.offers("IOffsetsRaDec") || ctx.offers("IOffsetsAltAz") ? offEl : null),
         forms, message),
-      h("figure.sky", sky.element, h("figcaption", "where it points; the Moon and the Sun"))));
+      h("figure.sky", sky.element, caption)));
 }

@@ -65,5 +65,5 @@ export function weatherCard(ctx) {
   history();
   const timer = setInterval(history, 10000);
   ctx.cleanup(() => clearInterval(timer));
-  return card("Weather", h("div.split", h("div", verdict, reason, table), plotsBox));
+  return card("Weather", h("div.weather-now", h("div", verdict, reason), table), plotsBox);
 }
