@@ -114,6 +114,18 @@ async def test_guessing_is_stopped_for_the_user_name_even_with_the_right_passwor
         client.base + "/api/login", json={"user": OPERATOR, "password": OPERATOR_PASSWORD}
     ) as response:
         assert 0 < int(response.headers["Retry-After"]) <= 301
+    assert (await client.login(VIEWER, VIEWER_PASSWORD))[0] == 200  # others on this address still may
+
+
+async def test_guessing_across_many_names_is_stopped_for_the_address(
+    observatory: Observatory, clients: Callable[[str], ApiClient]
+) -> None:
+    console = await observatory.start_console(login_attempts=2)
+    client = clients(console.url)
+    for number in range(8):  # four times the per-name limit, each name below it
+        assert (await client.login(f"user{number}", "guess"))[0] == 401
+    status, body = await client.login(VIEWER, VIEWER_PASSWORD)
+    assert status == 429 and body["error"]["class"] == "RateLimitedError"
 
 
 def test_the_limiter_forgets_failures_after_its_window() -> None:

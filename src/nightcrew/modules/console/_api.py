@@ -94,9 +94,8 @@ class _Routes:
         check_origin(request)
         body = await json_body(request)
         user, password = field_of(body, "user", str), field_of(body, "password", str)
-        keys = [f"user:{user}", f"address:{request.remote}"]
-        limiter = self.console.limiter
-        wait = limiter.retry_after(keys)
+        limiters = ((self.console.user_limiter, user), (self.console.address_limiter, str(request.remote)))
+        wait = max(limiter.retry_after([key]) for limiter, key in limiters)
         if wait > 0:
             raise ApiError(
                 429,
@@ -106,7 +105,8 @@ class _Routes:
             )
         account = await asyncio.to_thread(check_login, self.console.accounts, user, password)
         if account is None:
-            limiter.failed(keys)
+            for limiter, key in limiters:
+                limiter.failed([key])
             raise ApiError(401, "LoginError", "wrong user name or password")
         session = self.console.sessions.create(account)
         response = web.json_response(self._session_body(session))

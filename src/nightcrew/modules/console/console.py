@@ -50,6 +50,7 @@ _NOT_LISTED = frozenset(
     {LogEvent.event_name(), ModuleOpenedEvent.event_name(), ModuleClosedEvent.event_name()}
 )
 _HISTORY = 1000
+_ADDRESS_FACTOR = 4
 
 
 class WebConsole(Module):
@@ -68,8 +69,8 @@ class WebConsole(Module):
         widgets: ``{module: {title: ..., file: page.html}}``: a page of the observatory's own shown
             on that module's page.
         session_lifetime: Wall seconds a session lives after its last use.
-        login_attempts, login_window: At most this many failed logins per user name and per client
-            address within this many wall seconds.
+        login_attempts, login_window: At most this many failed logins per user name (four times
+            as many per client address) within this many wall seconds.
         status_interval: Wall seconds between two polls of module states and the robotic status.
         weather_interval: Clock seconds between two polls of the weather modules.
         **kwargs: Module options (``site`` for the Sun and Moon, ``vfs`` to read the cameras' frames).
@@ -123,7 +124,10 @@ class WebConsole(Module):
         }
         self._host, self._port = host, port
         self.sessions = Sessions(session_lifetime)
-        self.limiter = LoginLimiter(login_attempts, login_window)
+        self.user_limiter = LoginLimiter(login_attempts, login_window)
+        # Everyone behind one proxy shares an address: a wider limit there, so one person's
+        # typing cannot lock the others out, while guessing across many names still stops.
+        self.address_limiter = LoginLimiter(_ADDRESS_FACTOR * login_attempts, login_window)
         self.relay = Relay()
         self.events: deque[dict[str, Any]] = deque(maxlen=_HISTORY)
         self.log_records: deque[dict[str, Any]] = deque(maxlen=_HISTORY)
