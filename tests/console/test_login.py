@@ -10,7 +10,9 @@ from typing import Any
 import aiohttp
 import pytest
 
+from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.errors import ConfigError
+from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole, hash_password, verify_password
 from nightcrew.modules.console._auth import LoginLimiter
 from nightcrew.modules.sim import SimTelescope
@@ -228,3 +230,12 @@ async def test_a_page_of_another_site_can_neither_log_in_nor_open_the_socket(
     same_site = {"Origin": client.base}
     async with client.http.ws_connect(client.base + "/api/ws", headers=same_site) as socket:
         assert (await socket.receive_json())["type"] == "hello"
+
+
+def test_the_example_configuration_builds_a_console() -> None:
+    path = Path(__file__).resolve().parents[2] / "examples" / "console.yaml"
+    config = load_config(path)
+    validate_config(config, Module)
+    console = build_object({**config, "name": "console"}, Module)
+    assert isinstance(console, WebConsole) and console.port == 37180
+    assert {a.role.value for a in console.accounts.values()} == {"operator", "viewer"}
