@@ -58,6 +58,7 @@ async def test_logging_in_sets_a_strict_http_only_cookie_and_logging_out_ends_th
         cookie = response.cookies["nightcrew_session"]
         body = await response.json()
     assert cookie["httponly"] and cookie["samesite"] == "Strict" and cookie["path"] == "/"
+    assert not cookie["secure"]  # plain HTTP on loopback; cookie_secure behind a TLS proxy
     assert body["user"] == OPERATOR and body["role"] == "operator" and len(body["csrf_token"]) > 20
     client.csrf = body["csrf_token"]
     assert (await client.get("/api/session"))[1]["csrf_token"] == client.csrf
@@ -239,3 +240,14 @@ def test_the_example_configuration_builds_a_console() -> None:
     console = build_object({**config, "name": "console"}, Module)
     assert isinstance(console, WebConsole) and console.port == 37180
     assert {a.role.value for a in console.accounts.values()} == {"operator", "viewer"}
+
+
+async def test_behind_a_tls_proxy_the_cookie_is_secure(
+    observatory: Observatory, clients: Callable[[str], ApiClient]
+) -> None:
+    console = await observatory.start_console(cookie_secure=True)
+    client = clients(console.url)
+    async with client.http.post(
+        client.base + "/api/login", json={"user": VIEWER, "password": VIEWER_PASSWORD}
+    ) as response:
+        assert response.status == 200 and response.cookies["nightcrew_session"]["secure"]

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from nightcrew.events import ModuleStateChangedEvent
+from nightcrew.interfaces import ModuleState
 from nightcrew.modules.sim import SimCamera, SimRoof, SimTelescope
 
 from .conftest import (
@@ -103,3 +105,19 @@ async def test_an_error_state_shows_and_the_operator_resets_it(
     )
     modules = (await client.get("/api/modules"))[1]["modules"]
     assert [(m["name"], m["state"], m["error"]) for m in modules] == [("roof", "ready", "")]
+
+
+async def test_a_module_announcing_its_state_is_shown_at_once(
+    observatory: Observatory, clients: Callable[[str], ApiClient]
+) -> None:
+    roof = await observatory.start(SimRoof, "roof")
+    console = await observatory.start_console(status_interval=3600.0)  # no poll would find it
+    client = clients(console.url)
+    await client.login(VIEWER, VIEWER_PASSWORD)
+    socket = await open_socket(client)
+    event = ModuleStateChangedEvent(
+        last=ModuleState.READY, current=ModuleState.ERROR, error="rain sensor wet"
+    )
+    await roof.comm.send_event(event)
+    changed = await socket.wait_for(lambda m: m["type"] == "module_state", "the announced state")
+    assert changed == {"type": "module_state", "name": "roof", "state": "error", "error": "rain sensor wet"}

@@ -110,7 +110,14 @@ class _Routes:
             raise ApiError(401, "LoginError", "wrong user name or password")
         session = self.console.sessions.create(account)
         response = web.json_response(self._session_body(session))
-        response.set_cookie(COOKIE, session.token, httponly=True, samesite="Strict", path="/")
+        response.set_cookie(
+            COOKIE,
+            session.token,
+            httponly=True,
+            samesite="Strict",
+            path="/",
+            secure=self.console.cookie_secure,
+        )
         return response
 
     async def logout(self, request: web.Request) -> web.Response:

@@ -24,6 +24,7 @@ from nightcrew.events import (
     LogEvent,
     ModuleClosedEvent,
     ModuleOpenedEvent,
+    ModuleStateChangedEvent,
     NewImageEvent,
     TaskFailedEvent,
     TaskFinishedEvent,
@@ -34,7 +35,7 @@ from nightcrew.interfaces import IWeather, ModuleState
 from nightcrew.modules.console._api import build_app
 from nightcrew.modules.console._auth import Account, LoginLimiter, Sessions, accounts_from_config
 from nightcrew.modules.console._describe import to_json
-from nightcrew.modules.console._directory import ModuleDirectory
+from nightcrew.modules.console._directory import ModuleDirectory, ModuleEntry
 from nightcrew.modules.console._images import Frame, View, frame_from_hdul, render_png
 from nightcrew.modules.console._relay import Relay
 from nightcrew.modules.console._robotic import WeatherVerdicts, robotic_view
@@ -69,6 +70,7 @@ class WebConsole(Module):
         widgets: ``{module: {title: ..., file: page.html}}``: a page of the observatory's own shown
             on that module's page.
         session_lifetime: Wall seconds a session lives after its last use.
+        cookie_secure: Mark the session cookie Secure (HTTPS only): set it behind a TLS proxy.
         login_attempts, login_window: At most this many failed logins per user name (four times
             as many per client address) within this many wall seconds.
         status_interval: Wall seconds between two polls of module states and the robotic status.
@@ -89,6 +91,7 @@ class WebConsole(Module):
         show_modules: bool | list[str] = True,
         widgets: dict[str, dict[str, str]] | None = None,
         session_lifetime: float = 12 * 3600.0,
+        cookie_secure: bool = False,
         login_attempts: int = 5,
         login_window: float = 300.0,
         status_interval: float = 2.0,
@@ -124,6 +127,7 @@ class WebConsole(Module):
         }
         self._host, self._port = host, port
         self.sessions = Sessions(session_lifetime)
+        self.cookie_secure = cookie_secure
         self.user_limiter = LoginLimiter(login_attempts, login_window)
         # Everyone behind one proxy shares an address: a wider limit there, so one person's
         # typing cannot lock the others out, while guessing across many names still stops.
@@ -234,6 +238,20 @@ class WebConsole(Module):
             self.weather_verdicts.add(self.clock.now(), False, event.reason)
         elif isinstance(event, NewImageEvent):
             await self._show_frame(sender, event.filename)
+        elif isinstance(event, ModuleStateChangedEvent):
+            self._state_heard(sender, event)
+
+    def _state_heard(self, sender: str, event: ModuleStateChangedEvent) -> None:
+        """A module said its state changed: shown at once (the poll would find it later)."""
+        entry = self.directory.get(sender) if self.directory is not None else None
+        if entry is not None and (entry.state, entry.error) != (str(event.current), event.error):
+            entry.state, entry.error = str(event.current), event.error
+            self._send_state(entry)
+
+    def _send_state(self, entry: ModuleEntry) -> None:
+        self.relay.send(
+            {"type": "module_state", "name": entry.name, "state": entry.state, "error": entry.error}
+        )
 
     def _log_record(self, event: LogEvent, sender: str) -> None:
         message = {
@@ -297,9 +315,7 @@ class WebConsole(Module):
             if self.directory is None:
                 continue
             for entry in await self.directory.refresh_states():
-                self.relay.send(
-                    {"type": "module_state", "name": entry.name, "state": entry.state, "error": entry.error}
-                )
+                self._send_state(entry)
             if self.relay.clients:
                 self.relay.send({"type": "robotic", **await self.robotic()})
 
