@@ -55,8 +55,9 @@ async def robotic_view(
     scheduler = await _ask(comm, directory, IRoboticScheduler, "plan", task_names)
     plan = scheduler["plan"] if scheduler is not None else None
     if plan is not None:
-        start, end = datetime.fromisoformat(plan["night_start"]), datetime.fromisoformat(plan["night_end"])
-        start = min(start, now)
+        # A re-plan starts its night at the planning time: show the last hours before it too.
+        start = min(datetime.fromisoformat(plan["night_start"]), now - _BEFORE)
+        end = datetime.fromisoformat(plan["night_end"])
     else:
         start, end = now - _BEFORE, now + _AFTER
     return {
