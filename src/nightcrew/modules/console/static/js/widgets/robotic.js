@@ -19,7 +19,10 @@ export function mastermindCard(ctx) {
   const [condEl, setCond] = readout("Conditions", "mm-conditions");
   const description = h("p#mm-description.verdict");
   const progress = h("progress#mm-progress", { max: 1, value: 0 });
+  const line = timeline("The night: plan, Sun and weather"); // the plan it follows, beside what it does
+  ctx.cleanup(() => line.destroy());
   followRobotic(ctx, (body) => {
+    line.update(body);
     const s = body.mastermind?.module === ctx.name ? body.mastermind.status : null;
     if (!s) return;
     setAction(s.running ? s.action : "stopped");
@@ -31,7 +34,7 @@ export function mastermindCard(ctx) {
     progress.value = t?.exposures_done || 0;
     setCond(`Sun ${show(s.sun_altitude, 3)}°, weather ${s.weather_good === null ? "?" : s.weather_good ? "good" : "bad"}, roof ${show(s.roof)}, telescope ${s.telescope_ready ? "ready" : "not ready"}`);
   });
-  return card("Mastermind", description, h("div.readouts", actionEl, whyEl, taskEl, condEl), progress);
+  return card("Mastermind", description, h("div.readouts", actionEl, whyEl, taskEl, condEl), progress, line.element);
 }
 
 const TASK_COLOURS = ["#4e9af1", "#5fbf6f", "#f1a14e", "#a78bfa", "#d65f8f", "#6fd3d3"];
@@ -57,6 +60,8 @@ export function timeline(title = "Plan of the night") {
     // Tasks in three lanes above the horizon line: at night the Sun's curve stays below it.
     const barHeight = Math.min(24, height / 8);
     ctx.font = `${Math.round(11 * devicePixelRatio)}px sans-serif`;
+    ctx.textAlign = "left"; // uPlot leaves its axis labels' alignment on the context
+    ctx.textBaseline = "alphabetic";
     slots.forEach((s, i) => {
       const x0 = Math.max(u.bbox.left, x(s.start));
       const x1 = Math.min(u.bbox.left + u.bbox.width, x(s.end));
