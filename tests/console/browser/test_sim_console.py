@@ -11,7 +11,6 @@ import asyncio
 import os
 import re
 import signal
-import socket
 import sys
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -24,39 +23,34 @@ from .observatory import login
 
 PASSWORD = "watch-the-night-9"
 ACTIONS = re.compile(r"^(wait|run_task|open_up|focus|close_and_park)$")
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
+WELCOME = re.compile(r"nightcrew console at (http://127\.0\.0\.1:\d+/)")
 
 
 @asynccontextmanager
 async def sim_night(tmp: Path, *, hours: float, speed: float, start: str | None = None) -> AsyncIterator[str]:
-    """``nightcrew sim --console PORT`` as a process; yields the console's URL once it listens."""
-    port = _free_port()
+    """``nightcrew sim --console 0`` as a process; yields the console's URL once it listens.
+
+    The sim prints ``nightcrew console at URL`` once the console listens (on a free port, as 0
+    asks); its other output is read on so that a full pipe never stalls the night.
+    """
     env = {**os.environ, "NIGHTCREW_CONSOLE_PASSWORD": PASSWORD}
     extra = ["--start", start] if start else []
     process = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "nightcrew", "sim", "--console", str(port), "--out", str(tmp / "night"),
+        sys.executable, "-m", "nightcrew", "sim", "--console", "0", "--out", str(tmp / "night"),
         "--hours", str(hours), "--speed", str(speed), *extra,
         env=env, stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.PIPE,
     )  # fmt: skip
+    assert process.stderr is not None
+    stderr = process.stderr
+    drain: asyncio.Task[bytes] | None = None
     try:
-        assert process.stderr is not None
-        line = await asyncio.wait_for(process.stderr.readline(), 120)
-        assert b"nightcrew console at" in line, line
-        async with asyncio.timeout(60):  # the console listens once the observatory is up
-            while True:
-                try:
-                    _, writer = await asyncio.open_connection("127.0.0.1", port)
-                except OSError:
-                    await asyncio.sleep(0.2)
-                    continue
-                writer.close()
-                break
-        yield f"http://127.0.0.1:{port}/"
+        seen: list[str] = []
+        async with asyncio.timeout(180):  # the observatory starts, then the console listens
+            while not (found := WELCOME.search(line := (await stderr.readline()).decode())):
+                assert line, f"the sim ended before its console listened: {seen}"
+                seen.append(line)
+        drain = asyncio.create_task(stderr.read())
+        yield found.group(1)
     finally:
         if process.returncode is None:
             process.send_signal(signal.SIGINT)  # the sim stops the night cleanly on Ctrl-C
@@ -65,6 +59,8 @@ async def sim_night(tmp: Path, *, hours: float, speed: float, start: str | None 
             except TimeoutError:
                 process.kill()
                 await process.wait()
+        if drain is not None:
+            await drain
 
 
 @pytest.fixture
