@@ -118,3 +118,20 @@ async def test_status_page_shows_and_resets_an_error(page: Page, observatory: Ob
     assert focuser.state is ModuleState.READY
     version = await focuser.get_version()
     await expect(row.locator("td").nth(3)).to_have_text(version)
+
+
+async def test_log_pane_filters_by_level_and_module(page: Page, observatory: Observatory) -> None:
+    await login(page, observatory.url)
+    await page.click("#module-list li[data-module='filters'] a")
+    await page.select_option("#filter-select", "R")
+    await page.click("#filter-set")
+    records = page.locator("#log-list li")
+    moving = records.filter(has_text="filters: motion status idle -> moving")
+    await expect(moving.first).to_be_visible()
+    await expect(moving.first.locator(".mod")).to_have_text("filters")
+    await page.select_option("#log-module", "telescope")
+    await expect(records.filter(has_text="filters:")).to_have_count(0)
+    await page.select_option("#log-module", "filters")
+    await expect(moving.first).to_be_visible()
+    await page.select_option("#log-level", "WARNING")  # the motion records are INFO
+    await expect(moving).to_have_count(0)
