@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import struct
 import zlib
 from collections.abc import Callable
@@ -17,7 +18,7 @@ from nightcrew.modules import Module
 from nightcrew.modules.console._images import Frame, View, render_png
 from nightcrew.modules.sim import SimCamera
 
-from .conftest import OPERATOR, OPERATOR_PASSWORD, ApiClient, Observatory, open_socket
+from .conftest import OPERATOR, OPERATOR_PASSWORD, ApiClient, Observatory, eventually, open_socket
 
 DETECTOR = {"chip_width": 300, "chip_height": 200, "cosmic_rays_per_s": 0.0}
 
@@ -140,3 +141,25 @@ async def test_frames_arriving_faster_than_they_load_skip_to_the_newest(
     shown = [m["filename"] for m in socket.messages if m["type"] == "image"]
     assert shown == [paths[0], paths[-1]]
     assert console.frames["fastcam"].filename == paths[-1]
+
+
+async def test_a_frame_that_cannot_be_read_is_skipped_and_the_console_stays_up(
+    observatory: Observatory, clients: Callable[[str], ApiClient], caplog: pytest.LogCaptureFixture
+) -> None:
+    camera = await observatory.start(Module, "brokencam")
+    console = await observatory.start_console()
+    client = clients(console.url)
+    await client.login(OPERATOR, OPERATOR_PASSWORD)
+    await camera.vfs.write_bytes("/cache/broken.fits", b"SIMPLE  = not a FITS file")
+    await camera.vfs.write_fits("/cache/good.fits", fits.PrimaryHDU(np.ones((20, 30), np.float32)))
+    socket = await open_socket(client)
+    with caplog.at_level(logging.WARNING):
+        for path in ("/cache/missing.fits", "/cache/broken.fits"):
+            await camera.comm.send_event(NewImageEvent(filename=path))
+            refused = f"cannot show {path}"
+            await eventually(lambda: refused in caplog.text, f"{path} refused")  # noqa: B023 - awaited here
+    await camera.comm.send_event(NewImageEvent(filename="/cache/good.fits"))
+    await socket.wait_for(lambda m: m["type"] == "image", "the good frame")
+    assert [m["filename"] for m in socket.messages if m["type"] == "image"] == ["/cache/good.fits"]
+    assert console.state == "ready"
+    assert (await client.get("/api/images/brokencam/latest.json"))[1]["filename"] == "/cache/good.fits"

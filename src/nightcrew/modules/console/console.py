@@ -290,7 +290,7 @@ class WebConsole(Module):
                 frame_from_hdul, hdul, module=module, id=frame_id, filename=filename, time=self.clock.now()
             )
             png = await asyncio.to_thread(render_png, frame, View())
-        except (NightcrewError, OSError, ValueError) as exc:
+        except Exception as exc:  # a frame it cannot show must not count against the console
             log.warning("%s: cannot show %s from %s: %s", self.name, filename, module, exc)
             return
         self.frames[module] = frame
