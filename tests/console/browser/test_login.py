@@ -22,6 +22,22 @@ async def test_wrong_password_is_refused_without_saying_which_part(
     await expect(page.locator("#whoami")).to_have_count(0)
 
 
+async def test_repeated_wrong_passwords_are_slowed_down(page: Page, observatory: Observatory) -> None:
+    await page.goto(observatory.url)
+    error = page.locator("#login-error")
+    for attempt in range(5):  # the console's default: 5 failures per user name within 5 minutes
+        await page.fill("#login-user", OPERATOR[0])
+        await page.fill("#login-password", f"guess-{attempt}")
+        await page.click("#login-submit")
+        await expect(error).to_have_text("wrong user name or password")
+        await page.evaluate("document.getElementById('login-error').textContent = ''")
+    await page.fill("#login-user", OPERATOR[0])
+    await page.fill("#login-password", OPERATOR[1])  # even the right one waits now
+    await page.click("#login-submit")
+    await expect(error).to_contain_text("too many failed logins; try again in")
+    await expect(page.locator("#whoami")).to_have_count(0)
+
+
 async def test_operator_logs_in_sees_the_modules_and_logs_out(page: Page, observatory: Observatory) -> None:
     await login(page, observatory.url, OPERATOR)
     await expect(page.locator("#whoami")).to_have_text(f"{OPERATOR[0]} (operator)")
