@@ -24,13 +24,16 @@ from .conftest import SITE, VIEWER, VIEWER_PASSWORD, ApiClient, Observatory, eve
 
 
 class ListArchive:
-    """Blocks in a list (the scheduler's block source)."""
+    """Blocks in a list, named after their ids (the scheduler's NamedBlockSource)."""
 
     def __init__(self, blocks: list[SchedulableBlock]) -> None:
         self.blocks = blocks
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
         return list(self.blocks)
+
+    async def block_names(self) -> dict[str, str]:
+        return {block.id: f"field {block.id}" for block in self.blocks}
 
 
 @pytest.fixture
@@ -98,6 +101,7 @@ async def test_the_pages_see_what_the_mastermind_does_and_what_the_scheduler_pla
     assert [s["task_id"] for s in plan["slots"]] == [s.block_id for s in scheduler.schedule.slots]
     priorities = {b.id: b.priority for b in blocks}
     assert all(s["priority"] == priorities[s["task_id"]] for s in plan["slots"])
+    assert all(s["name"] == f"field {s['task_id']}" for s in plan["slots"])
 
     sun = view["sun"]
     assert sun[0]["time"] <= state["time"] <= sun[-1]["time"]

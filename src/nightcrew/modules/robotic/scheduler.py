@@ -22,7 +22,13 @@ from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask
 from nightcrew.modules.module import Module
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
 from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_writer
-from nightcrew.robotic.scheduler.ports import BlockSource, MemoryScheduleStore, ScheduleWriter, night_around
+from nightcrew.robotic.scheduler.ports import (
+    BlockSource,
+    MemoryScheduleStore,
+    NamedBlockSource,
+    ScheduleWriter,
+    night_around,
+)
 from nightcrew.robotic.scheduler.scheduler import SolverName
 
 __all__ = ["SchedulerModule"]
@@ -142,7 +148,8 @@ class SchedulerModule(Module, IRoboticScheduler):
             self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
         )
         self.schedule = schedule
-        self._plan = plan_of(schedule, blocks, night, now)
+        names = await self._archive.block_names() if isinstance(self._archive, NamedBlockSource) else {}
+        self._plan = plan_of(schedule, blocks, night, now, names)
         await self._store.set_schedule(schedule.slots, now)
         log.info(
             "planned %d blocks from %s (%s, objective %.2f, %.1f s)",
@@ -169,9 +176,14 @@ class SchedulerModule(Module, IRoboticScheduler):
 
 
 def plan_of(
-    schedule: Schedule, blocks: Sequence[SchedulableBlock], night: Night, planned_at: datetime
+    schedule: Schedule,
+    blocks: Sequence[SchedulableBlock],
+    night: Night,
+    planned_at: datetime,
+    names: dict[str, str] | None = None,
 ) -> Plan:
-    """The plan as IRoboticScheduler shows it."""
+    """The plan as IRoboticScheduler shows it (``names``: block id → task name, where known)."""
+    names = names or {}
     priorities = {block.id: block.priority for block in blocks}
     return Plan(
         planned_at=planned_at,
@@ -184,7 +196,13 @@ def plan_of(
         gap=schedule.gap,
         wall_time_s=schedule.wall_time_s,
         slots=tuple(
-            PlannedTask(task_id=s.block_id, start=s.start, end=s.end, priority=priorities.get(s.block_id))
+            PlannedTask(
+                task_id=s.block_id,
+                start=s.start,
+                end=s.end,
+                priority=priorities.get(s.block_id),
+                name=names.get(s.block_id),
+            )
             for s in schedule.slots
         ),
     )
