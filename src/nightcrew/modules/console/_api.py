@@ -37,6 +37,8 @@ if TYPE_CHECKING:
 
 __all__ = ["build_app"]
 
+log = logging.getLogger(__name__)
+
 #: Longest shell line taken (a literal nested deep enough crashes the parser).
 _MAX_LINE = 10_000
 #: WebSocket close code telling the page that its session ended.
@@ -105,10 +107,14 @@ class _Routes:
             )
         account = await asyncio.to_thread(check_login, self.console.accounts, user, password)
         if account is None:
+            # Not the name tried: people type their password into the wrong field.
+            log.warning("%s: failed login from %s", self.console.name, request.remote)
             for limiter, key in limiters:
                 limiter.failed([key])
             raise ApiError(401, "LoginError", "wrong user name or password")
         session = self.console.sessions.create(account)
+        who = (self.console.name, account.user, account.role.value, request.remote)
+        log.info("%s: %s logged in (%s) from %s", *who)
         response = web.json_response(self._session_body(session))
         response.set_cookie(
             COOKIE,
@@ -123,6 +129,7 @@ class _Routes:
     async def logout(self, request: web.Request) -> web.Response:
         session = require_session(request)
         self.console.sessions.end(session.token)
+        log.info("%s: %s logged out", self.console.name, session.user)
         for client, socket in list(self.sockets.items()):
             if client.session_token == session.token:
                 await socket.close(code=SESSION_ENDED, message=b"logged out")
