@@ -13,7 +13,7 @@ from aiohttp import WSCloseCode, web
 
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.events.base import event_by_name
-from nightcrew.modules.console._auth import check_login, is_read_method
+from nightcrew.modules.console._auth import Session, check_login, is_read_method
 from nightcrew.modules.console._calls import MAX_READS, call_json, call_many, parse_shell_line
 from nightcrew.modules.console._describe import describe_event_types, to_json
 from nightcrew.modules.console._http import (
@@ -182,7 +182,7 @@ class _Routes:
         if not isinstance(args, list | dict):
             raise ApiError(400, "InvalidArgumentError", "field 'args' must be a list or an object")
         require_call_right(session, method)
-        result = await call_json(self.console.comm, self._directory(), module, method, args)
+        result = await self._call(session, module, method, args)
         return web.json_response({"result": result})
 
     async def shell(self, request: web.Request) -> web.Response:
@@ -195,10 +195,15 @@ class _Routes:
         except (RecursionError, MemoryError):
             raise ApiError(400, "InvalidArgumentError", "the line is nested too deeply") from None
         require_call_right(session, method)
-        result = await call_json(self.console.comm, self._directory(), module, method, args)
+        result = await self._call(session, module, method, args)
         return web.json_response(
             {"module": module, "method": method, "args": to_json(args), "result": result}
         )
+
+    async def _call(self, session: Session, module: str, method: str, args: Any) -> Any:
+        if not is_read_method(method):  # who changed what, for the record
+            log.info("%s: %s calls %s.%s()", self.console.name, session.user, module, method)
+        return await call_json(self.console.comm, self._directory(), module, method, args)
 
     async def read(self, request: web.Request) -> web.Response:
         require_session(request)
