@@ -49,6 +49,15 @@ async def main(out: Path, tmp: Path) -> None:
         await expect(page.locator("#last-image")).to_have_attribute("data-image-id", re.compile(r"\d+"))
         await page.select_option("#image-stretch", "asinh")
         await shoot(page, out, "camera")
+        stage = page.locator(".image-stage")
+        await stage.scroll_into_view_if_needed()
+        box = await stage.bounding_box()
+        assert box is not None
+        await page.mouse.move(box["x"] + box["width"] * 0.4, box["y"] + box["height"] * 0.45)
+        for _ in range(14):
+            await page.mouse.wheel(0, -300)
+        await expect(page.locator("#image-detail")).to_be_visible()
+        await stage.screenshot(path=out / "console-camera-zoom.png")
 
         await page.click("#module-list li[data-module='telescope'] a")
         await expect(page.locator("#tel-ra")).not_to_have_text("—")

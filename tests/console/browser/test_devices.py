@@ -5,7 +5,7 @@ from __future__ import annotations
 from playwright.async_api import Page, expect
 
 from nightcrew.interfaces import MotionStatus
-from nightcrew.modules.sim import SimTelescope
+from nightcrew.modules.sim import SimCamera, SimTelescope
 
 from .observatory import PLEIADES, Observatory, login
 
@@ -67,3 +67,34 @@ async def test_telescope_page_moves_the_telescope(page: Page, observatory: Obser
     )
     await page.click("#motion-park")
     await expect(page.locator("#motion-status")).to_have_text("parked")
+
+
+async def test_zooming_into_a_large_frame_shows_its_full_resolution(page: Page, observatory: Observatory) -> None:
+    big = await observatory.start(
+        SimCamera,
+        "bigcam",
+        detector={"chip_width": 2048, "chip_height": 2048, "cosmic_rays_per_s": 0.0},
+        catalog_depth=10.0,
+        seed=4,
+        readout_time=0.5,
+    )
+    await big.set_exposure_time(1.0)
+    await login(page, observatory.url)
+    await page.click("#module-list li[data-module='bigcam'] a")
+    await page.click("#cam-expose")
+    overview = page.locator("#last-image")
+    await expect(overview).to_have_attribute("data-image-id", "1", timeout=60_000)
+    assert await overview.evaluate("(img) => img.naturalWidth") == 1024  # the whole frame, binned 2x2
+    detail = page.locator("#image-detail")
+    await expect(detail).to_be_hidden()
+    await page.locator(".image-stage").scroll_into_view_if_needed()
+    box = await page.locator(".image-stage").bounding_box()
+    assert box is not None
+    await page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    for _ in range(15):  # zoom in around the middle, past the overview's own resolution
+        await page.mouse.wheel(0, -300)
+    await expect(detail).to_be_visible()
+    region = [int(v) for v in (await detail.get_attribute("data-region") or "").split(",")]
+    assert 0 < region[2] < 2048 and 0 < region[3] < 2048  # a part of the frame ...
+    natural = await detail.evaluate("(img) => [img.naturalWidth, img.naturalHeight]")
+    assert natural == [region[2], region[3]]  # ... at one PNG pixel per frame pixel
