@@ -69,7 +69,9 @@ async def test_telescope_page_moves_the_telescope(page: Page, observatory: Obser
     await expect(page.locator("#motion-status")).to_have_text("parked")
 
 
-async def test_zooming_into_a_large_frame_shows_its_full_resolution(page: Page, observatory: Observatory) -> None:
+async def test_zooming_into_a_large_frame_shows_its_full_resolution(
+    page: Page, observatory: Observatory
+) -> None:
     big = await observatory.start(
         SimCamera,
         "bigcam",
