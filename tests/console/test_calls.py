@@ -101,6 +101,8 @@ async def test_malformed_requests_are_refused_and_the_console_stays_up(operator:
         assert "not JSON" in (await response.json())["error"]["message"]
     status, body = await operator.get("/api/nothing-here")
     assert status == 404 and body["error"]["class"] == "HTTPError"
+    status, body = await operator.post("/api/modules", {})
+    assert status == 405 and body["error"]["class"] == "HTTPError"
     assert (await operator.call("telescope", "get_motion_status"))[0] == 200
 
 
