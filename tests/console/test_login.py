@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import io
 import logging
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -10,6 +12,7 @@ from typing import Any
 import aiohttp
 import pytest
 
+from nightcrew.cli.main import main
 from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.errors import ConfigError
 from nightcrew.modules import Module
@@ -251,3 +254,17 @@ async def test_behind_a_tls_proxy_the_cookie_is_secure(
         client.base + "/api/login", json={"user": VIEWER, "password": VIEWER_PASSWORD}
     ) as response:
         assert response.status == 200 and response.cookies["nightcrew_session"]["secure"]
+
+
+def test_nightcrew_console_hashes_a_password_from_a_pipe(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setattr(sys, "stdin", io.StringIO("a long pass phrase\n"))
+    assert main(["console", "--hash-password"]) == 0
+    stored = capsys.readouterr().out.strip()
+    assert verify_password("a long pass phrase", stored) and not verify_password(
+        "a long pass phrase\n", stored
+    )
+    monkeypatch.setattr(sys, "stdin", io.StringIO("\n"))
+    assert main(["console", "--hash-password"]) == 2  # an empty password is a configuration error
+    assert "an empty password" in capsys.readouterr().err
