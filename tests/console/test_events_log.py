@@ -73,6 +73,8 @@ async def test_the_operator_sends_an_event_with_its_fields(
         {"ok": True},
     )
     await eventually(lambda: listener.heard == [("hi", "console")], "the listener hearing it")
+    recent = (await client.get("/api/events/recent", sender="console"))[1]["events"]
+    assert [(e["event"], e["fields"]) for e in recent] == [("TestEvent", {"message": "hi"})]
     status, body = await client.post("/api/events", {"type": "NoSuchEvent", "fields": {}})
     assert status == 404 and "unknown event type 'NoSuchEvent'" in body["error"]["message"]
     status, body = await client.post("/api/events", {"type": "TestEvent", "fields": {"message": 3}})
@@ -97,6 +99,9 @@ async def test_log_records_arrive_with_their_module_and_level(
     status, body = await client.get("/api/log", module="hello")
     assert status == 200 and {r["module"] for r in body["records"]} == {"hello"}
     assert (await client.get("/api/log", level="ERROR"))[1]["records"] == []
+    await client.login(VIEWER, "wrong")
+    own = (await client.get("/api/log", module="console", level="WARNING"))[1]["records"]
+    assert [r["message"] for r in own] == ["console: failed login from 127.0.0.1"]
     status, body = await client.get("/api/log", level="LOUD")
     assert status == 400 and "unknown log level 'LOUD'" in body["error"]["message"]
 

@@ -256,6 +256,7 @@ class _Routes:
         except TypeError as exc:  # a missing field
             raise InvalidArgumentError(f"{name}: {exc}") from None
         await self.console.comm.send_event(event)
+        await self.console.on_event(event, self.console.name)  # the bus does not echo it back
         return web.json_response({"ok": True})
 
     async def log(self, request: web.Request) -> web.Response:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections import deque
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +33,7 @@ from nightcrew.events import (
 )
 from nightcrew.events.base import event_by_name, event_names
 from nightcrew.interfaces import IWeather, ModuleState
+from nightcrew.log import current_module
 from nightcrew.modules.console._api import build_app
 from nightcrew.modules.console._auth import Account, LoginLimiter, Sessions, accounts_from_config
 from nightcrew.modules.console._describe import to_json
@@ -185,11 +187,16 @@ class WebConsole(Module):
     async def _start_server(self) -> None:
         runner = web.AppRunner(build_app(self, STATIC_DIR), access_log=None)
         await runner.setup()
+        # The server's tasks inherit the context it starts in: in the console's, so that what a
+        # request handler logs is the console's (log pane, bus) like its other tasks' records.
+        token = current_module.set(self.name)
         try:
             await web.TCPSite(runner, self._host, self._port).start()
         except OSError as exc:
             await runner.cleanup()
             raise ConfigError(f"cannot listen on {self._host}:{self._port}: {exc}", key="port") from exc
+        finally:
+            current_module.reset(token)
         self._runner = runner
         self._port = runner.addresses[0][1]
         log.info("%s: the console is at %s", self.name, self.url)
@@ -264,6 +271,13 @@ class WebConsole(Module):
         }
         self.log_records.append(message)
         self.relay.send(message)
+
+    def _forward_log(self, record: logging.LogRecord) -> None:
+        """The console's own records go to the bus like any module's, and to its own log pane."""
+        super()._forward_log(record)
+        created = datetime.fromtimestamp(record.created, UTC)
+        own = LogEvent(time=created, level=record.levelname, logger=record.name, message=record.getMessage())
+        self._log_record(own, self.name)
 
     # --- frames --------------------------------------------------------------------------------
 
