@@ -15,7 +15,7 @@ from typing import Any
 
 from nightcrew.comm.base import Comm
 from nightcrew.errors import NightcrewError
-from nightcrew.interfaces import IModule
+from nightcrew.interfaces import IModule, ModuleState
 from nightcrew.interfaces.base import Interface, interface_by_name
 from nightcrew.modules.console._describe import describe_methods
 
@@ -134,9 +134,11 @@ class ModuleDirectory:
         """(state, error, label, version) of ``name``; label and version empty unless asked for."""
         try:
             module = await self._comm.proxy(name, IModule)
-            state, error = str(await module.get_state()), await module.get_error_string()
+            state = await module.get_state()
+            # Only an error state has an error string: one call per module and poll, not two.
+            error = await module.get_error_string() if state is ModuleState.ERROR else ""
             if not with_identity:
-                return state, error, "", ""
-            return state, error, await module.get_label(), await module.get_version()
+                return str(state), error, "", ""
+            return str(state), error, await module.get_label(), await module.get_version()
         except NightcrewError:
             return None
