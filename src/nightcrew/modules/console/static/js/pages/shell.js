@@ -81,7 +81,7 @@ export function shellPage(container) {
       Object.entries(m.methods || {}).sort().map(([n, meth]) => h("code", { title: meth.doc }, `${n}${signature(meth)}`)).flatMap((c) => [c, " "])))));
   container.append(h("section.shell",
     h("h2", "Shell"),
-    h("p.hint", state.role === "viewer" ? "As a viewer you may call read methods only (get_…, is_…, list_…)." : "Arguments are positional Python literals: 2.5, 'object', True, [1, 2]."),
+    h("p.hint", state.role === "viewer" ? "As a viewer you may call read methods only (get_…, is_…, list_…, …_status)." : "Arguments are positional Python literals: 2.5, 'object', True, [1, 2]."),
     output,
     h("form.shell-line", { onsubmit: (e) => { e.preventDefault(); run(); } }, h("span.prompt", ">"), input, h("button#shell-run", { type: "submit" }, "Run")),
     hint, suggestions, methodsHelp));
