@@ -34,6 +34,8 @@ async def shoot(page: Page, out: Path, name: str) -> None:
 async def main(out: Path, tmp: Path) -> None:
     async with sim_night(tmp, start="17:30", hours=8, speed=30) as url, launch_chromium() as browser:
         page = await browser.new_page(viewport={"width": WIDTH, "height": HEIGHT})
+        errors: list[str] = []
+        page.on("pageerror", lambda error: errors.append(str(error)))
         await page.goto(url)
         await page.fill("#login-user", "operator")
         await shoot(page, out, "login")
@@ -87,10 +89,20 @@ async def main(out: Path, tmp: Path) -> None:
         await page.click("#nav-status")
         await shoot(page, out, "status")
 
+        # Every other module page once, for script errors (the tests' observatory lacks some).
+        names = await page.locator("#module-list li").evaluate_all("(li) => li.map((l) => l.dataset.module)")
+        for name in names:
+            await page.goto(f"{url}#/modules/{name}")
+            await expect(page.locator(".module-head h2")).to_contain_text(name)
+            await page.wait_for_timeout(1200)
+        await page.goto(f"{url}#/modules/guiding")
+        await shoot(page, out, "guiding")
+
         await page.set_viewport_size({"width": 390, "height": 844})  # a phone
         await page.goto(url + "#/modules/camera")
         await expect(page.locator("#last-image")).to_have_attribute("data-image-id", re.compile(r"\d+"))
         await shoot(page, out, "phone")
+        assert not errors, f"script errors in the console: {errors}"
 
 
 if __name__ == "__main__":
