@@ -44,9 +44,12 @@ async def test_the_simulated_night_is_watched_live(
         stdout=asyncio.subprocess.DEVNULL,
         stderr=asyncio.subprocess.PIPE,
     )
+    drain: asyncio.Task[bytes] | None = None
     try:
         async with asyncio.timeout(NIGHT_PATIENCE):
             url = await _welcome(process)
+            assert process.stderr is not None
+            drain = asyncio.create_task(process.stderr.read())  # a full pipe would stall the night
             client = clients(url)
             assert (await client.login("operator", "watch-the-night"))[0] == 200
             socket = Socket(await client.http.ws_connect(client.base + "/api/ws"))
@@ -60,6 +63,8 @@ async def test_the_simulated_night_is_watched_live(
         if process.returncode is None:
             process.kill()
             await process.wait()
+        if drain is not None:
+            await drain
     assert process.returncode == 130  # "night stopped early", after parking and closing
     robotic = seen["robotic"]
     assert robotic["mastermind"]["status"]["running"] is True
