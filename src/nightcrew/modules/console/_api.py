@@ -159,20 +159,14 @@ class _Routes:
         return web.json_response({"modules": self._module_list()})
 
     def _module_list(self) -> list[dict[str, Any]]:
-        directory = self.console.directory
-        return [entry.describe() for entry in directory.entries] if directory is not None else []
+        return [entry.describe() for entry in self.console.directory.entries]
 
     async def module(self, request: web.Request) -> web.Response:
         require_session(request)
-        entry = self._directory().get(request.match_info["name"])
+        entry = self.console.directory.get(request.match_info["name"])
         if entry is None:
             raise ApiError(404, "RemoteError", f"module '{request.match_info['name']}' is not online")
         return web.json_response(entry.describe())
-
-    def _directory(self) -> Any:
-        if self.console.directory is None:
-            raise ApiError(503, "ModuleError", "the console is starting")
-        return self.console.directory
 
     async def call(self, request: web.Request) -> web.Response:
         session = require_session(request)
@@ -203,7 +197,7 @@ class _Routes:
     async def _call(self, session: Session, module: str, method: str, args: Any) -> Any:
         if not is_read_method(method):  # who changed what, for the record
             log.info("%s: %s calls %s.%s()", self.console.name, session.user, module, method)
-        return await call_json(self.console.comm, self._directory(), module, method, args)
+        return await call_json(self.console.comm, self.console.directory, module, method, args)
 
     async def read(self, request: web.Request) -> web.Response:
         require_session(request)
@@ -220,7 +214,7 @@ class _Routes:
                 raise ApiError(400, "InvalidArgumentError", f"calls[{index}] needs a method and args")
             if not is_read_method(method):
                 raise ApiError(403, "ForbiddenError", f"/api/read takes read methods only, not {method}()")
-        results = await call_many(self.console.comm, self._directory(), calls)
+        results = await call_many(self.console.comm, self.console.directory, calls)
         return web.json_response({"results": results})
 
     # --- events and log ------------------------------------------------------------------------
@@ -344,7 +338,6 @@ class _Routes:
 
     async def robotic(self, request: web.Request) -> web.Response:
         require_session(request)
-        self._directory()
         return web.json_response(await self.console.robotic())
 
     async def sky(self, request: web.Request) -> web.Response:

@@ -146,7 +146,7 @@ class WebConsole(Module):
         self._next_frame: dict[str, str | None] = {}  # module -> frame to load next, while loading
         self._status_interval, self._weather_interval = float(status_interval), float(weather_interval)
         self._runner: web.AppRunner | None = None
-        self.directory: ModuleDirectory | None = None
+        self.directory = ModuleDirectory(self.comm)
         self.add_background_task(self._status_loop, name="status loop")
         self.add_background_task(self._weather_loop, name="weather loop")
 
@@ -164,7 +164,6 @@ class WebConsole(Module):
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
             return
-        self.directory = ModuleDirectory(self.comm)
         await self._start_server()
         try:
             await super().open()
@@ -210,13 +209,11 @@ class WebConsole(Module):
     # --- modules coming and going --------------------------------------------------------------
 
     async def on_module_opened(self, event: ModuleOpenedEvent, sender: str) -> None:
-        assert self.directory is not None
         entry = await self.directory.add(sender)
         if entry is not None:
             self.relay.send({"type": "module_joined", "module": entry.describe()})
 
     async def on_module_closed(self, event: ModuleClosedEvent, sender: str) -> None:
-        assert self.directory is not None
         if self.directory.remove(sender):
             self.relay.send({"type": "module_left", "name": sender})
 
@@ -250,7 +247,7 @@ class WebConsole(Module):
 
     def _state_heard(self, sender: str, event: ModuleStateChangedEvent) -> None:
         """A module said its state changed: shown at once (the poll would find it later)."""
-        entry = self.directory.get(sender) if self.directory is not None else None
+        entry = self.directory.get(sender)
         if entry is not None and (entry.state, entry.error) != (str(event.current), event.error):
             entry.state, entry.error = str(event.current), event.error
             self._send_state(entry)
@@ -326,15 +323,12 @@ class WebConsole(Module):
     async def _status_loop(self) -> None:
         while True:
             await asyncio.sleep(self._status_interval)  # wall time: a display's refresh
-            if self.directory is None:
-                continue
             for entry in await self.directory.refresh_states():
                 self._send_state(entry)
             if self.relay.clients:
                 self.relay.send({"type": "robotic", **await self.robotic()})
 
     async def robotic(self) -> dict[str, Any]:
-        assert self.directory is not None
         return await robotic_view(
             self.comm,
             self.directory,
@@ -346,10 +340,9 @@ class WebConsole(Module):
 
     async def _weather_loop(self) -> None:
         while True:
-            if self.directory is not None:
-                for entry in self.directory.entries:
-                    if entry.offers(IWeather):
-                        await self._poll_weather(entry.name)
+            for entry in self.directory.entries:
+                if entry.offers(IWeather):
+                    await self._poll_weather(entry.name)
             await self.clock.sleep(self._weather_interval)
 
     async def _poll_weather(self, module: str) -> None:
