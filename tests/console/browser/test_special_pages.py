@@ -97,6 +97,9 @@ async def test_events_page_receives_and_sends_events(page: Page, observatory: Ob
         if event.message == "hello from the browser":
             break
     assert sender == "console"
+    # The console's own event is in its list too (the bus does not echo it; the console adds it).
+    sent = page.locator("#events-list li[data-sender='console']")
+    await expect(sent).to_contain_text("message=hello from the browser")
 
 
 async def test_status_page_shows_and_resets_an_error(page: Page, observatory: Observatory) -> None:
