@@ -16,7 +16,8 @@ import aiohttp
 from .conftest import ApiClient, Socket
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-#: Wall seconds for the whole run: two clock hours at 320x are ~23 s, plus start-up, on a busy machine.
+#: Wall seconds for the whole run: four clock hours at 320x are ~45 s, plus start-up, on a busy machine.
+#: The test stops the night (Ctrl-C) as soon as it has seen what it wants; the hours are a margin.
 NIGHT_PATIENCE = 240.0
 
 
@@ -33,7 +34,7 @@ async def test_the_simulated_night_is_watched_live(
         "--start",
         "19:00",
         "--hours",
-        "2",
+        "4",
         "--weather",
         "clear",
         "--out",
@@ -65,7 +66,8 @@ async def test_the_simulated_night_is_watched_live(
             await process.wait()
         if drain is not None:
             await drain
-    assert process.returncode == 130  # "night stopped early", after parking and closing
+    # 130: "night stopped early" (after parking and closing); 0 if the night ended by itself first.
+    assert process.returncode in (0, 130)
     robotic = seen["robotic"]
     assert robotic["mastermind"]["status"]["running"] is True
     assert robotic["mastermind"]["status"]["action"] in (
