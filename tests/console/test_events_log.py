@@ -126,3 +126,34 @@ async def test_a_slow_browser_loses_messages_not_the_console() -> None:
     assert {"type": "dropped", "count": 6} in received  # once the queue has room again
     relay.remove(slow)
     assert relay.dropped_total == 6 and relay.clients == {quick}
+
+
+async def test_a_browser_that_stops_reading_holds_up_neither_the_console_nor_the_others(
+    observatory: Observatory, clients: Callable[[str], ApiClient]
+) -> None:
+    sender = await observatory.start(Listener, "sender")
+    console = await observatory.start_console()
+    stalled, reader = clients(console.url), clients(console.url)
+    for client in (stalled, reader):
+        await client.login(VIEWER, VIEWER_PASSWORD)
+    unread = await open_socket(stalled)  # and never read again (kept: a lost reference closes it)
+    live = await open_socket(reader)
+    received = 0
+
+    async def read_all() -> None:
+        nonlocal received
+        async for message in live.socket:
+            if json.loads(message.data)["type"] == "event":
+                received += 1
+
+    reading = asyncio.create_task(read_all())
+    count, text = 3000, "x" * 10_000  # 30 MB: more than the sockets' buffers hold
+    for number in range(count):
+        await sender.comm.send_event(TestEvent(message=f"{number} {text}"))
+        if number % 20 == 19:  # a reader that keeps up: it must get every one
+            await eventually(lambda: received == number + 1, "the reader keeping up")  # noqa: B023
+    drops = sorted(c.dropped for c in console.relay.clients)
+    reading.cancel()
+    assert drops[0] == 0 and drops[1] > 0, drops  # only the stalled browser lost messages
+    assert (await reader.get("/api/modules"))[0] == 200
+    assert not unread.socket.closed
