@@ -73,7 +73,7 @@ def test_sim_refuses_a_port_that_is_no_port() -> None:
         check=False,
     )
     assert result.returncode == 2
-    assert "--indi: must be a TCP port 1..65535, got 70000" in result.stderr
+    assert "--indi: not a port number (0..65535): 70000" in result.stderr
 
 
 def test_the_example_server_config_checks() -> None:

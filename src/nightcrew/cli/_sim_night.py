@@ -138,7 +138,7 @@ async def _run(
             seed=args.seed,
             progress=progress,
             stop=stop,
-            extra_modules=_indi(args, clock, site),
+            extra_modules=_extras(args, clock, site),
         )
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
@@ -157,6 +157,27 @@ def _indi(
     return lambda network: [
         indi_server(port, network=network, clock=clock, frames=args.out / FRAMES, site=site)
     ]
+
+
+def _console(
+    args: argparse.Namespace, clock: AcceleratedClock, site: Site
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """With ``--console [PORT]``: the web console watching the night."""
+    if args.console is None:
+        return None
+    from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
+
+    return sim_console(args.console, clock=clock, site=site, images=args.out / FRAMES)
+
+
+def _extras(
+    args: argparse.Namespace, clock: AcceleratedClock, site: Site
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """The servers the options ask for (INDI, console), built on the night's network."""
+    builders = [b for b in (_indi(args, clock, site), _console(args, clock, site)) if b is not None]
+    if not builders:
+        return None
+    return lambda network: [module for build in builders for module in build(network)]
 
 
 def _printer(stream: TextIO) -> ProgressCallback:

@@ -28,6 +28,7 @@ SUBCOMMANDS = [
     "call",
     "events",
     "shell",
+    "console",
     "server",
     "sim",
     "reduce",

@@ -112,6 +112,15 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="also serve the telescope, camera, focuser, filter wheel and roof to INDI clients "
         "(KStars/Ekos, Stellarium) on 127.0.0.1:PORT (INDI's usual port is 7624)",
     )
+    parser.add_argument(
+        "--console",
+        type=_port,
+        nargs="?",
+        const=37180,
+        default=None,
+        metavar="PORT",
+        help="serve the web console on 127.0.0.1:PORT (default 37180; 0: a free one) to watch the night live",
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
     alpaca = parser.add_argument_group("serving the devices to Alpaca clients (--alpaca)")
     alpaca.add_argument(
@@ -178,6 +187,10 @@ async def _run(
         modules.append(
             indi_server(args.indi, network=network, clock=clock, frames=args.out, site=site_of(directory))
         )
+    if args.console is not None:
+        from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
+
+        modules += sim_console(args.console, clock=clock, site=site_of(directory), images=args.out)(network)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -267,13 +280,6 @@ def _clock_time(text: str) -> time_of_day:
         raise argparse.ArgumentTypeError(f"not a time (HH:MM): {text!r}") from None
 
 
-def _port(text: str) -> int:
-    value = _count(text)
-    if value > 65535:
-        raise argparse.ArgumentTypeError(f"must be a TCP port 1..65535, got {text}")
-    return value
-
-
 def _positive(text: str) -> float:
     try:
         value = float(text)
@@ -294,12 +300,12 @@ def _count(text: str, minimum: int = 1) -> int:
     return value
 
 
+def _port(text: str) -> int:
+    port = _count(text, minimum=0)  # 0: a free one (the console prints which)
+    if port > 65535:
+        raise argparse.ArgumentTypeError(f"not a port number (0..65535): {text}")
+    return port
+
+
 def _non_negative(text: str) -> int:
     return _count(text, minimum=0)
-
-
-def _port(text: str) -> int:
-    value = _count(text, minimum=0)
-    if value > 65535:
-        raise argparse.ArgumentTypeError(f"not a port number (0..65535): {text}")
-    return value

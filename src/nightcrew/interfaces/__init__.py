@@ -43,7 +43,16 @@ from nightcrew.interfaces.pointing import (
     IPointingRaDec,
     ITelescope,
 )
-from nightcrew.interfaces.robotic import IAutonomous, IScriptRunner
+from nightcrew.interfaces.robotic import (
+    IAutonomous,
+    IRobotic,
+    IRoboticScheduler,
+    IScriptRunner,
+    Plan,
+    PlannedTask,
+    RoboticStatus,
+    RoboticTask,
+)
 from nightcrew.interfaces.roof import IDome, IRoof
 from nightcrew.interfaces.rotator import IRotator
 from nightcrew.interfaces.sensors import ITemperatures
@@ -89,6 +98,8 @@ __all__ = [
     "IPointingRaDec",
     "IPointingSeries",
     "IReady",
+    "IRobotic",
+    "IRoboticScheduler",
     "IRoof",
     "IRotator",
     "IRunnable",
@@ -107,6 +118,10 @@ __all__ = [
     "LoopState",
     "ModuleState",
     "MotionStatus",
+    "Plan",
+    "PlannedTask",
+    "RoboticStatus",
+    "RoboticTask",
     "SensorValue",
     "SwitchInfo",
     "WeatherReport",

@@ -92,7 +92,8 @@ async def run_whole_night(
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
 
-    ``extra_modules`` makes further modules on the night's network (e.g. an IndiServer).
+    ``extra_modules`` builds more modules on the night's network (e.g. an IndiServer, the web
+    console), opened after the others and closed before them.
     """
     await asyncio.to_thread(_blocking_clear_records, out_dir)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
