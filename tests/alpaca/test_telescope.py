@@ -11,6 +11,7 @@ import pytest
 
 from nightcrew.astro import altaz_to_radec
 from nightcrew.clock import RealClock
+from nightcrew.comm.rpc import RpcServer
 from nightcrew.errors import InvalidArgumentError, MoveError
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.alpaca import AlpacaTelescope
@@ -59,6 +60,7 @@ async def test_tracking_rates_sync_and_pier_side(telescope: AlpacaTelescope) -> 
     assert abs((synced_ra - ra - 0.5 + 180.0) % 360.0 - 180.0) < 0.05
     with pytest.raises(InvalidArgumentError):
         await telescope.sync_radec(400.0, 0.0)
+    assert "ISyncRaDec" in RpcServer(telescope).interface_names  # other modules can sync it
 
 
 def as_mount(server: FaultyServer, **members: Any) -> None:

@@ -41,6 +41,7 @@ from nightcrew.interfaces.pointing import (
     IOffsetsRaDec,
     IPointingAltAz,
     IPointingRaDec,
+    ISyncRaDec,
     ITelescope,
 )
 from nightcrew.interfaces.robotic import (
@@ -108,6 +109,7 @@ __all__ = [
     "ISpectrograph",
     "IStartStop",
     "ISwitch",
+    "ISyncRaDec",
     "ITelescope",
     "ITemperatures",
     "IVideo",

@@ -12,7 +12,7 @@ aberration, < 30", are left to the mount's pointing model); any other system is 
 
 Beyond ITelescope, run-time config options (IConfig) give the mount's own controls:
 ``tracking`` (on/off), ``tracking_rate`` (sidereal, lunar, solar, king), ``pier_side`` (read only),
-and :meth:`AlpacaTelescope.sync_radec` tells the mount where it points.
+and ISyncRaDec's ``sync_radec`` tells the mount where it points.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ import numpy as np
 
 from nightcrew.astro.coords import precession_matrix
 from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NotSupportedError
+from nightcrew.interfaces import ISyncRaDec
 from nightcrew.modules.alpaca.device import AlpacaModule
 from nightcrew.modules.telescope import BaseTelescope
 
@@ -40,7 +41,7 @@ _TOPOCENTRIC = 1
 PIER_SIDES = {-1: "unknown", 0: "east", 1: "west"}
 
 
-class AlpacaTelescope(AlpacaModule, BaseTelescope):
+class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
     """A telescope mount reached over ASCOM Alpaca.
 
     Args:
