@@ -15,14 +15,22 @@ option ``readout_mode`` (choices: the device's ReadoutModes).
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
 
-from nightcrew.errors import AbortedError, ConfigError, GrabImageError, InvalidArgumentError, NightcrewError
-from nightcrew.interfaces import Binning, ExposureStatus, IGain, Window
+from nightcrew.errors import (
+    AbortedError,
+    ConfigError,
+    GrabImageError,
+    InvalidArgumentError,
+    NightcrewError,
+    NotSupportedError,
+)
+from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, IGain, Window
 from nightcrew.modules.alpaca.device import LOST_DEVICE_ERRORS, AlpacaModule
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
 
@@ -112,11 +120,10 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         except LOST_DEVICE_ERRORS as exc:
             self._connection_lost(str(exc))
             raise
-        temperature = await self._get("ccdtemperature")
-        return Frame(
-            _as_uint16(data, settings.shape, self.device.name),
-            {"CCD-TEMP": (temperature, "CCD temperature [degC]")},
-        )
+        cards: dict[str, FitsCard] = {}
+        with contextlib.suppress(NotSupportedError):  # Alpaca makes the sensor optional
+            cards["CCD-TEMP"] = (await self._get("ccdtemperature"), "CCD temperature [degC]")
+        return Frame(_as_uint16(data, settings.shape, self.device.name), cards)
 
     async def _wait_for_image(self, exposure_time: float) -> None:
         async def image_ready() -> None:
