@@ -50,11 +50,3 @@ class TestIndiWeatherContract(WeatherStationContract):
     async def contract(self, indi_server: IndiServer) -> AsyncIterator[ContractSetup[Any]]:
         async for setup in _setup(indi_server, IndiWeather, "indi_simulator_weather", interval=1.0):
             yield setup
-
-    @pytest.mark.xfail(
-        strict=True,
-        reason="IndiWeather reads its sensors in _on_indi_ready, while its link does not count as ready "
-        "yet, so it reads none: it reports no sensors until its first poll, an interval after READY",
-    )
-    async def test_a_ready_station_reports_its_sensors_at_once(self, contract: ContractSetup[Any]) -> None:
-        await super().test_a_ready_station_reports_its_sensors_at_once(contract)

@@ -87,6 +87,11 @@ class IndiLink:
         return self._ready.is_set()
 
     @property
+    def readable(self) -> bool:
+        """Whether the device's vectors may be read: ready, or being set up (in ``on_ready``)."""
+        return self.ready or self._setting_up
+
+    @property
     def where(self) -> str:
         return f"INDI device '{self.device}' on {self.client.address}"
 
@@ -179,7 +184,7 @@ class IndiLink:
 
     def vector(self, name: str) -> Vector:
         """The device's vector ``name``; ModuleError while the device is not there."""
-        if not (self.ready or self._setting_up):
+        if not self.readable:
             raise ModuleError(f"{self.where} is not ready: {self._reason}")
         try:
             return self.client.vector(self.device, name)

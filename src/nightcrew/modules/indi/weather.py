@@ -58,7 +58,7 @@ class IndiWeather(IndiModule, BaseWeatherStation):
         await self.read_now()  # fresh readings right after every (re)connection
 
     async def _hw_read_sensors(self) -> dict[WeatherSensor, float | None]:
-        if not self._indi.ready:
+        if not self._indi.readable:
             return {}  # nothing known (bad weather) until the device is there; read again then
         parameters = self._indi.vector(_PARAMETERS)
         readings: dict[WeatherSensor, float | None] = {}
