@@ -73,6 +73,12 @@ async def test_weather_parameters_are_sensors_and_the_indi_state_is_an_evaluator
             )
             await control.send("Weather Simulator", "WEATHER_REFRESH", {"REFRESH": True}, wait=10)
             await wait_for(weather.is_weather_good, 30, message="good weather")
+            # The station reads at once on connection, maybe before the new temperature: wait for it.
+            await wait_for(
+                lambda: station._value(WeatherSensor.TEMPERATURE) == pytest.approx(12.5),
+                30,
+                message="12.5 °C",
+            )
             report = await station.get_current_weather()
             assert report.sensors["temperature"] == pytest.approx(12.5) and report.sensors["safe"] == 1.0
             # Rain: the driver's state goes to Alert, the Weather module closes the observatory.
