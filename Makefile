@@ -2,8 +2,8 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
-# Debian packages of the real components the tests use (XMPP servers, plate solver).
-SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2
+# Debian packages of the real components the tests use (XMPP servers, plate solver, SSH and SMB servers).
+SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2 openssh-server samba
 
 .PHONY: setup system-deps lint test sim example bench clean
 
