@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from nightcrew.testing.samba import SambaServer, samba_missing
 from nightcrew.testing.sshd import SshServer, sshd_missing
 
 
@@ -26,6 +27,18 @@ def sshd_fixture(tmp_path_factory: pytest.TempPathFactory) -> Iterator[SshServer
     """One OpenSSH server on a free 127.0.0.1 port for the session."""
     require(sshd_missing())
     server = SshServer(Path(tmp_path_factory.mktemp("sshd")))
+    server.start()
+    try:
+        yield server
+    finally:
+        server.stop()
+
+
+@pytest.fixture(scope="session", name="samba")
+def samba_fixture(tmp_path_factory: pytest.TempPathFactory) -> Iterator[SambaServer]:
+    """One Samba server on a free 127.0.0.1 port for the session."""
+    require(samba_missing())
+    server = SambaServer(Path(tmp_path_factory.mktemp("samba")))
     server.start()
     try:
         yield server
