@@ -25,7 +25,7 @@ import contextlib
 import errno
 import secrets
 import stat
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from functools import partial
 from typing import Any, TypeVar
 
@@ -175,7 +175,7 @@ class SMBFile(FileRoot):
 
     def _blocking_read(self, cache: dict[str, Any], unc: str) -> bytes:
         smbclient = _smbclient()
-        with smbclient.open_file(unc, mode="rb", **self._options(cache)) as file:
+        with _closing(smbclient.open_file(unc, mode="rb", **self._options(cache))) as file:
             data: bytes = file.read()
             return data
 
@@ -197,7 +197,7 @@ class SMBFile(FileRoot):
             smbclient.makedirs(directory, exist_ok=True, **options)
             file = smbclient.open_file(temp, mode="wb", **options)
         try:
-            with file:
+            with _closing(file):
                 file.write(data)
             smbclient.replace(temp, unc, **options)
         except BaseException:
@@ -287,7 +287,7 @@ class SMBFile(FileRoot):
     def _blocking_checksum(self, cache: dict[str, Any], unc: str, *, algorithm: str) -> str:
         smbclient = _smbclient()
         digest = new_hash(algorithm)
-        with smbclient.open_file(unc, mode="rb", **self._options(cache)) as file:
+        with _closing(smbclient.open_file(unc, mode="rb", **self._options(cache))) as file:
             while chunk := file.read(_CHUNK_BYTES):
                 digest.update(chunk)
         return digest.hexdigest()
@@ -311,6 +311,22 @@ def _smbclient() -> Any:
     import smbclient  # type: ignore[import-untyped]
 
     return smbclient
+
+
+@contextlib.contextmanager
+def _closing(file: Any) -> Iterator[Any]:
+    """Close an smbclient file; if the connection died, forget the handle (it died with it)."""
+    try:
+        yield file
+    finally:
+        try:
+            file.close()
+        except Exception:
+            with contextlib.suppress(AttributeError):
+                # smbprotocol has no public way to drop a handle whose connection is gone; without
+                # this the file warns of an unclosed handle when it is collected.
+                file.raw.fd._connected = False
+            raise
 
 
 def _file_error(exc: OSError, relative: str, server: str) -> VfsError:
