@@ -90,7 +90,8 @@ class SshServer:
                 _run("ssh-keygen", "-q", "-t", "ed25519", "-N", "", "-C", "nightcrew-test", "-f", str(key))
         (self.directory / "authorized_keys").write_text(Path(f"{user_key}.pub").read_text())
         public = Path(f"{host_key}.pub").read_text().split()
-        self.known_hosts.write_text(f"[{self.host}]:{self.port} {public[0]} {public[1]}\n")
+        name = self.host if self.port == 22 else f"[{self.host}]:{self.port}"  # known_hosts syntax
+        self.known_hosts.write_text(f"{name} {public[0]} {public[1]}\n")
         d = self.directory.resolve()
         (self.directory / "sshd_config").write_text(
             "\n".join(

@@ -139,7 +139,7 @@ class SMBFile(FileRoot):
                 return blocking(cache, unc)
 
             try:
-                return await asyncio.wait_for(asyncio.to_thread(run), self._timeout)
+                return await asyncio.wait_for(_in_thread(run), self._timeout)
             except _LoginError as exc:
                 self._abandon(cache)
                 raise VfsError(f"cannot reach SMB server {self.server}: {exc}", path=relative) from exc
@@ -297,13 +297,23 @@ class SMBFile(FileRoot):
         if not cache:
             return
         try:
-            await asyncio.wait_for(asyncio.to_thread(self._blocking_disconnect, cache), _CLOSE_TIMEOUT)
+            await asyncio.wait_for(_in_thread(partial(self._blocking_disconnect, cache)), _CLOSE_TIMEOUT)
         except Exception:  # a dead server: just drop the sockets
             self._abandon(cache)
 
     def _blocking_disconnect(self, cache: dict[str, Any]) -> None:
         smbclient = _smbclient()
         smbclient.reset_connection_cache(fail_on_error=False, connection_cache=cache)
+
+
+async def _in_thread(call: Callable[[], _T]) -> _T:
+    """Run ``call()`` in the default executor *without* the caller's context variables.
+
+    Not asyncio.to_thread: that copies the context, so smbprotocol's log records from the thread
+    would count as the module's and reach its LogEvent forwarder, which needs the event loop and
+    raises in a thread (RuntimeError: no running event loop, inside smbprotocol's logging call).
+    """
+    return await asyncio.get_running_loop().run_in_executor(None, call)
 
 
 def _smbclient() -> Any:
