@@ -155,7 +155,11 @@ async def test_frozen_mastermind_roof_closed_and_telescope_parked_within_60_cloc
     await asyncio.wait_for(cleared.wait(), 30)
     await asyncio.wait_for((await driver.comm.proxy("roof", IRoof)).open_roof(), 60)
     assert (await supervised.status())["mastermind"]["restarts"] == 0
+    # a clean stop closes the open roof first (park_on_close in the overlays)
     assert supervised.terminate() == 0
+    roof_log = (supervised.log_dir / "roof.log").read_text()
+    assert "roof: parking before closing" in roof_log
+    assert "roof: motion status parking -> parked" in roof_log.split("roof: parking before closing")[-1]
 
 
 async def _roof_is(driver: Module, status: MotionStatus) -> bool:
