@@ -187,7 +187,12 @@ class SSHFile(FileRoot):
             try:
                 async with asyncio.timeout(self._timeout):
                     return await operation(sftp, remote)
-            except (asyncssh.SFTPConnectionLost, asyncssh.SFTPNoConnection, OSError, asyncssh.Error) as exc:
+            except TimeoutError as exc:  # before OSError, its base: a silent server is not retried
+                await self._drop()
+                raise VfsError(
+                    f"SSH server {self.server} did not answer within {self._timeout:g} s", path=relative
+                ) from exc
+            except (OSError, asyncssh.Error) as exc:
                 if isinstance(exc, asyncssh.SFTPError) and not isinstance(
                     exc, asyncssh.SFTPConnectionLost | asyncssh.SFTPNoConnection
                 ):
@@ -197,11 +202,6 @@ class SSHFile(FileRoot):
                     raise VfsError(
                         f"lost the connection to SSH server {self.server}: {_why(exc)}", path=relative
                     ) from exc
-            except TimeoutError as exc:
-                await self._drop()
-                raise VfsError(
-                    f"SSH server {self.server} did not answer within {self._timeout:g} s", path=relative
-                ) from exc
         raise AssertionError("unreachable")
 
     # --- FileRoot ------------------------------------------------------------------------------
