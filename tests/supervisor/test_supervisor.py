@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from nightcrew.comm.xmpp import XmppComm
+from nightcrew.interfaces import IModule
 from nightcrew.modules import Module
 from nightcrew.supervisor import SupervisorError
 from nightcrew.testing import wait_for
@@ -182,3 +183,31 @@ def test_status_without_a_supervisor_is_one_line(tmp_path: Path) -> None:
         f"nightcrew: error: no supervisor is running (no answer on {tmp_path / 'none.sock'}; "
         "start one with nightcrew up DIR)"
     ]
+
+
+async def test_supervisor_heartbeat_on_the_bus(supervised: SupervisedDirectory, operator: Module) -> None:
+    supervised.prosody.account("supervisor")
+    comm = supervised.directory.parent / "supervisor.yaml"
+    comm.write_text(f"<<: !include {supervised.directory / 'xmpp.yaml'}\njid: supervisor@{DOMAIN}\n")
+    path = supervised.write_module("zeta")
+    supervised.up("--comm", str(comm))
+    await wait_for(
+        lambda: "supervisor" in operator.comm.clients, START_TIMEOUT, message="supervisor on the bus"
+    )
+    heartbeat = await operator.comm.proxy("supervisor", IModule)
+
+    async def state_is(state: str) -> bool:
+        return str(await heartbeat.get_state()) == state
+
+    await wait_for(lambda: state_is("ready"), START_TIMEOUT, message="supervisor ready")
+    status = await supervised.wait_for_status(running("zeta"), "zeta running")
+    path.write_text(path.read_text() + "no_such_option: 1\n")
+    os.kill(status["zeta"]["pid"], signal.SIGKILL)
+    await wait_for(lambda: state_is("error"), START_TIMEOUT, message="supervisor in error")
+    error = await heartbeat.get_error_string()
+    assert error.startswith("zeta broken: ") and "no_such_option" in error
+    path.write_text(path.read_text().replace("no_such_option: 1\n", ""))
+    await supervised.request("start", "zeta")
+    await wait_for(lambda: state_is("ready"), START_TIMEOUT, message="supervisor ready again")
+    assert supervised.terminate() == 0
+    await wait_for(lambda: "supervisor" not in operator.comm.clients, 30, message="supervisor left")

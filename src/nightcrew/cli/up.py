@@ -6,7 +6,9 @@ or crashes is restarted after a growing delay (1 s, 2 s, 4 s … up to 60 s; a m
 counts as healthy again); after 5 restarts within 5 minutes the supervisor gives up on it. A module
 whose configuration is broken (exit code 2) is not restarted; ``nightcrew status`` shows why.
 ``nightcrew status|start|stop|restart|logs`` talk to it over a Unix socket only its user can use.
-SIGTERM or Ctrl-C stops every module cleanly (each closes itself), then the supervisor.
+SIGTERM or Ctrl-C stops every module cleanly (each closes itself), then the supervisor. With
+``--comm FILE`` the supervisor joins the bus as a module (READY, or ERROR while a module is failed
+or broken), so the safety watchdog can watch it.
 """
 
 from __future__ import annotations
@@ -38,6 +40,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "--max-restarts", type=int, default=5, help="restarts within 5 minutes before giving up"
     )
+    parser.add_argument(
+        "--comm",
+        type=Path,
+        metavar="FILE",
+        help="join the bus with this comm (heartbeat for the safety watchdog)",
+    )
     parser.add_argument("--stop-timeout", type=float, default=20.0, help="seconds a module may take to close")
     parser.set_defaults(func=_up)
     return parser
@@ -51,6 +59,7 @@ def _up(args: argparse.Namespace) -> int:
         log_format=args.module_log_format,
         policy=lambda: RestartPolicy(max_restarts=args.max_restarts),
         stop_timeout=args.stop_timeout,
+        comm_file=args.comm,
     )
     asyncio.run(supervisor.run())
     return 0

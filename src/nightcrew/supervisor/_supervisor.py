@@ -18,7 +18,8 @@ from typing import Any
 from nightcrew.supervisor._control import ControlServer, SupervisorError
 from nightcrew.supervisor._discovery import module_files
 from nightcrew.supervisor._policy import RestartPolicy
-from nightcrew.supervisor._process import ModuleProcess
+from nightcrew.supervisor._presence import SupervisorPresence
+from nightcrew.supervisor._process import ModuleProcess, ModuleStatus
 
 __all__ = ["Supervisor"]
 
@@ -36,6 +37,9 @@ class Supervisor:
         log_dir: One rotating log file per module is written here (``<module>.log``).
         log_format: ``text`` or ``json`` (JSON lines) for the modules' log files.
         policy: Makes the restart policy of each module.
+        stop_timeout: Seconds a module may take to close before it is killed.
+        comm_file: A comm description: the supervisor then joins the bus as a module whose state
+            is its heartbeat (see :class:`SupervisorPresence`).
     """
 
     def __init__(
@@ -47,6 +51,7 @@ class Supervisor:
         log_format: str = "text",
         policy: Callable[[], RestartPolicy] = RestartPolicy,
         stop_timeout: float = 20.0,
+        comm_file: Path | None = None,
     ) -> None:
         self._directory = directory
         self._socket_path = socket_path
@@ -54,6 +59,7 @@ class Supervisor:
         self._log_format = log_format
         self._policy = policy
         self._stop_timeout = stop_timeout
+        self._comm_file = comm_file
         self._modules: dict[str, ModuleProcess] = {}
 
     async def run(self, stop: asyncio.Event | None = None) -> None:
@@ -62,6 +68,7 @@ class Supervisor:
         self._log_dir.mkdir(parents=True, exist_ok=True)
         for found in module_files(self._directory):
             self._modules[found.name] = self._make(found)
+        presence = SupervisorPresence(self._comm_file, self._statuses) if self._comm_file else None
         control = ControlServer(self._socket_path, self._handle)
         await control.open()
         loop = asyncio.get_running_loop()
@@ -71,6 +78,8 @@ class Supervisor:
             log.info("supervising %s; control socket %s", ", ".join(self._modules), self._socket_path)
             for module in self._modules.values():
                 module.start()
+            if presence is not None:
+                await presence.open()
             await stop.wait()
             log.info("stopping all modules")
         finally:
@@ -79,6 +88,11 @@ class Supervisor:
             await control.close()
             for module in reversed(self._modules.values()):
                 await module.stop()
+            if presence is not None:
+                await presence.close()
+
+    def _statuses(self) -> list[ModuleStatus]:
+        return [module.status() for module in self._modules.values()]
 
     def _make(self, found: Any) -> ModuleProcess:
         return ModuleProcess(
