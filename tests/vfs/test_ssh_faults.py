@@ -70,8 +70,8 @@ async def test_image_watcher_loses_nothing_while_the_server_is_down(
     watch = tmp_path / "watch"
     rng = np.random.default_rng(5)
     checksums = {}
-    for index in range(30):
-        data = rng.integers(0, 256, size=int(rng.integers(1, 3) << 20), dtype=np.uint8).tobytes()
+    for index in range(20):  # a few MB each: a copy takes long enough to be cut in the middle
+        data = rng.integers(0, 256, size=int(rng.integers(4, 9) << 20), dtype=np.uint8).tobytes()
         (watch / "night").mkdir(parents=True, exist_ok=True)
         (watch / "night" / f"img-{index:02d}.fits").write_bytes(data)
         checksums[f"night/img-{index:02d}.fits"] = hashlib.sha256(data).hexdigest()
@@ -96,8 +96,15 @@ async def test_image_watcher_loses_nothing_while_the_server_is_down(
             ImageWatcher, "watcher", watch=str(watch), destinations=["/remote/raw"],
             interval=1.0, retry_delay=2.0, max_retry_delay=8.0,
         )  # fmt: skip
-        await wait_until(lambda: watcher.moved >= 3, "the first copies")
-        server.stop()
+
+        def copy_under_way() -> bool:
+            try:
+                return watcher.moved >= 3 and any(p.stat().st_size for p in temp_files(destination / "night"))
+            except FileNotFoundError:  # renamed into place meanwhile
+                return False
+
+        await wait_until(copy_under_way, "a copy under way after the first three")
+        server.stop()  # in the middle of a copy
         moved_when_stopped = watcher.moved
         await wait_until(lambda: failures() >= 2, "two failed tries")
         copies_whole()
@@ -113,5 +120,6 @@ async def test_image_watcher_loses_nothing_while_the_server_is_down(
     orphans = temp_files(destination / "night")
     print(
         f"{moved_when_stopped} of {len(checksums)} moved when sshd stopped; {failures()} failed tries; "
-        f"all {len(checksums)} verified at the destination afterwards; {len(orphans)} orphaned temp files"
+        f"all {len(checksums)} verified at the destination afterwards; {len(orphans)} orphaned (hidden) "
+        "temporary file of the copy cut off"
     )
