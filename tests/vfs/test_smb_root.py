@@ -56,7 +56,10 @@ async def test_a_wrong_password_is_refused(samba: SambaServer, directory: str) -
         password="wrong", root=directory,
     )  # fmt: skip
     async with VirtualFileSystem({"smb": root}) as vfs:
-        refused = rf"^/smb/a\.fits: cannot reach SMB server observer@127\.0\.0\.1:{samba.port}/files: "
+        refused = (
+            rf"^/smb/a\.fits: SMB server observer@127\.0\.0\.1:{samba.port}/files refused the login: "
+            "wrong user name or password$"
+        )
         with pytest.raises(VfsError, match=refused):
             await vfs.write_bytes("/smb/a.fits", b"x")
     assert not (samba.files / directory).exists()
@@ -68,6 +71,17 @@ async def test_an_unreachable_server_is_named() -> None:
     async with VirtualFileSystem({"smb": root}) as vfs:
         unreachable = rf"^/smb/a\.fits: cannot reach SMB server u@127\.0\.0\.1:{port}/files: "
         with pytest.raises(VfsError, match=unreachable):
+            await vfs.read_bytes("/smb/a.fits")
+
+
+async def test_a_missing_share_is_named(samba: SambaServer) -> None:
+    root = SMBFile(
+        samba.host, port=samba.port, share="nope", username=samba.username, password=samba.password
+    )
+    async with VirtualFileSystem({"smb": root}) as vfs:
+        with pytest.raises(
+            VfsError, match=rf"^/smb/a\.fits: SMB server observer@.*:{samba.port}/nope: no such share$"
+        ):
             await vfs.read_bytes("/smb/a.fits")
 
 

@@ -40,10 +40,17 @@ __all__ = ["SMBFile"]
 _T = TypeVar("_T")
 _CHUNK_BYTES = 1 << 20
 _CLOSE_TIMEOUT = 5.0
+#: NT statuses smbclient reports when the share does not exist: BAD_NETWORK_NAME, and NOT_FOUND
+#: after it has looked for the name in DFS as well.
+_NO_SHARE = (0xC00000CC, 0xC0000225)
 
 
 class _LoginError(Exception):
     """Connecting or logging in failed (kept apart from a lost connection: not retried)."""
+
+    def __init__(self, message: str, *, refused: bool) -> None:
+        super().__init__(message)
+        self.refused = refused  # the server answered and refused the account
 
 
 class SMBFile(FileRoot):
@@ -121,13 +128,20 @@ class SMBFile(FileRoot):
                 self.host, connection_timeout=int(max(1, self._connect_timeout)), **self._options(cache)
             )
         except Exception as exc:
-            raise _LoginError(_why(exc)) from exc
+            from smbprotocol.exceptions import (  # type: ignore[import-untyped]
+                LogonFailure,
+                SMBAuthenticationError,
+            )
+
+            refused = isinstance(exc, LogonFailure | SMBAuthenticationError)
+            why = "wrong user name or password" if isinstance(exc, LogonFailure) else _why(exc)
+            raise _LoginError(why, refused=refused) from exc
 
     async def _call(
         self, path: str, blocking: Callable[[dict[str, Any], str], _T], *, retry: bool = True
     ) -> _T:
         """Run ``blocking(cache, unc_path)`` in a thread; translate errors; reconnect once if lost."""
-        from smbprotocol.exceptions import SMBOSError  # type: ignore[import-untyped]
+        from smbprotocol.exceptions import SMBOSError
 
         relative = normalise_relative(path)
         unc = self._unc(relative)
@@ -142,7 +156,12 @@ class SMBFile(FileRoot):
                 return await asyncio.wait_for(_in_thread(run), self._timeout)
             except _LoginError as exc:
                 self._abandon(cache)
-                raise VfsError(f"cannot reach SMB server {self.server}: {exc}", path=relative) from exc
+                reason = (
+                    f"SMB server {self.server} refused the login: {exc}"
+                    if exc.refused
+                    else f"cannot reach SMB server {self.server}: {exc}"
+                )
+                raise VfsError(reason, path=relative) from exc
             except SMBOSError as exc:
                 raise _file_error(exc, relative, self.server) from exc
             except VfsError:
@@ -341,6 +360,8 @@ def _closing(file: Any) -> Iterator[Any]:
 
 def _file_error(exc: OSError, relative: str, server: str) -> VfsError:
     """Translate an smbclient OSError about a file into the VFS error tree."""
+    if getattr(exc, "ntstatus", None) in _NO_SHARE:
+        return VfsError(f"SMB server {server}: no such share", path=relative)
     if exc.errno in (errno.ENOENT, errno.ENOTDIR):
         return VfsFileNotFoundError("no such file or directory", path=relative)
     if exc.errno == errno.EISDIR:
