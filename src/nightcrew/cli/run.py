@@ -76,7 +76,13 @@ async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) 
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
         for module in reversed(opened):
-            await module.close()
+            try:
+                await module.close()
+            except NightcrewError as exc:
+                if not fatal:
+                    raise
+                # Its comm is gone for good: a failing goodbye must not hide why we stop.
+                log.warning("%s closed with an error: %s", module.name, exc)
     if fatal:
         raise fatal[0]
 
