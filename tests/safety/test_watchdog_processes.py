@@ -7,6 +7,7 @@ plain module under that name, all on one accelerated clock (10 clock seconds per
 from __future__ import annotations
 
 import asyncio
+import logging
 import os
 import signal
 import time
@@ -27,6 +28,7 @@ from tests.comm.xmpp_servers import DOMAIN, PASSWORD
 from tests.supervisor.conftest import REPOSITORY, START_TIMEOUT, SupervisedDirectory
 
 pytestmark = pytest.mark.xmpp
+log = logging.getLogger(__name__)
 OVERLAYS = REPOSITORY / "examples" / "sim-processes"
 SPEED = 10.0
 CLOCK_START = "2026-11-10T17:50:00"
@@ -145,6 +147,7 @@ async def test_frozen_mastermind_roof_closed_and_telescope_parked_within_60_cloc
             lambda: _both_parked(driver), 60, clock=clock, message="roof closed and telescope parked"
         )
         assert took <= 60
+        log.info("roof closed and telescope parked %.1f clock s after SIGSTOP", took)
         assert alarms and alarms[0].reason.startswith("mastermind: no answer for ")
         # the alarm holds: the roof refuses to open while the mastermind is still frozen
         with pytest.raises(MoveError, match=r"safety alarm \(mastermind: no answer for "):
@@ -195,6 +198,7 @@ async def test_prosody_killed_roof_closes_by_itself_and_everything_is_back_withi
     await wait_for(lambda: all_ready(driver), 30 * SPEED, clock=clock, message="modules back")
     back = time.monotonic() - restarted
     assert back <= 10, f"modules back after {back:.1f} s"
+    log.info("every module back %.1f s after Prosody's restart", back)
     # it finishes closing (30 clock s) without being told to
     await wait_for(
         lambda: _roof_is(driver, MotionStatus.PARKED), 60, clock=clock, message="roof closed by itself"
