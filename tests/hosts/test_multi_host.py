@@ -9,6 +9,7 @@ module answers again and new frames are copied again.
 from __future__ import annotations
 
 import asyncio
+import os
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -41,7 +42,8 @@ M39 = (322.95, 48.43)
 START_TIMEOUT = 120.0  # wall seconds for every process to come up on a busy machine
 COPY_TIMEOUT = 60.0  # wall seconds for a frame's copies to land
 #: How long the office-dome link stays cut: longer than the SSH root's keepalive limit (3 x 2 s).
-CUT_SECONDS = 15.0
+#: NIGHTCREW_CUT_SECONDS=120 gives the issue's two minutes (the suite keeps it short).
+CUT_SECONDS = float(os.environ.get("NIGHTCREW_CUT_SECONDS", "15"))
 
 
 @pytest.fixture
