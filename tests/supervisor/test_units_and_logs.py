@@ -116,3 +116,33 @@ def test_configure_logging_twice_keeps_one_file_handler(tmp_path: Path) -> None:
     finally:
         configure_logging(logging.INFO)  # removes what it added
     assert root.handlers == before
+
+
+def test_module_files_lists_modules_and_broken_files_skips_others(tmp_path: Path) -> None:
+    from nightcrew.supervisor import module_files
+
+    write_modules(tmp_path)
+    (tmp_path / "typo.yaml").write_text("class: nightcrew.modules.test.StandAlonee\n")
+    (tmp_path / "secret.yaml").write_text(
+        "class: nightcrew.modules.test.StandAlone\nmessage: ${NO_SUCH_VAR_H1}\n"
+    )
+    found = {m.name: m for m in module_files(tmp_path)}
+    assert sorted(found) == [
+        "camera",
+        "roof",
+        "secret",
+        "typo",
+    ]  # clock.yaml: not a module; common.yaml: included
+    assert found["roof"].error is None and found["camera"].error is None
+    assert found["typo"].error is not None and "StandAlonee" in found["typo"].error
+    assert found["secret"].error is not None and "NO_SUCH_VAR_H1" in found["secret"].error
+
+
+def test_up_on_a_directory_without_modules_is_one_clear_error(tmp_path: Path) -> None:
+    (tmp_path / "clock.yaml").write_text("class: nightcrew.clock.RealClock\n")
+    done = subprocess.run(
+        [sys.executable, "-m", "nightcrew", "up", str(tmp_path), "--socket", str(tmp_path / "s")],
+        capture_output=True, text=True, timeout=60, cwd=REPOSITORY,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert done.stderr.splitlines()[-1] == f"nightcrew: error: no module configurations in {tmp_path}"
