@@ -5,7 +5,7 @@ INI configuration and an XML-RPC control API, not a library, so nightcrew would 
 configuration and talk to it through a second protocol; circus brings pyzmq and tornado for its
 control channel. Neither knows a module configuration: the supervisor here reads the same YAML
 files (a broken one is one clear error in ``status``, not a crash loop), restarts with backoff and
-a limit, and serves its control socket with the standard library (~500 lines in all).
+a limit, and serves its control socket with the standard library (~850 lines in all).
 """
 
 from nightcrew.supervisor._control import SupervisorError, default_socket_path, send_request

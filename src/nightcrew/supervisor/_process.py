@@ -119,7 +119,12 @@ class ModuleProcess:
             return
         while self._wanted:
             started = time.monotonic()
-            code = await self._run_once()
+            try:
+                code = await self._run_once()
+            except OSError as exc:  # cannot even start a process (no memory, no file descriptors ...)
+                self._set_state("failed", f"cannot start its process: {exc}")
+                log.error("%s: cannot start its process: %s", self.name, exc)
+                return
             if self._stopping():
                 return
             reason = _describe_exit(code)
