@@ -50,10 +50,11 @@ class ControlServer:
         self._server: asyncio.Server | None = None
 
     async def open(self) -> None:
+        # A directory we make is private; one that exists (e.g. /tmp for --socket /tmp/x.sock) is left
+        # as it is: the socket's own mode (0600, below) is what keeps others out.
         self._path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
         if self._path.parent.stat().st_uid != os.getuid():
             raise SupervisorError(f"{self._path.parent} belongs to another user")
-        os.chmod(self._path.parent, 0o700)
         if self._path.exists():
             if await _answers(self._path):
                 raise SupervisorError(f"a supervisor already listens on {self._path}")
