@@ -35,6 +35,7 @@ SUBCOMMANDS = [
     "flats",
     "report",
     "alpaca",
+    "audit",
 ]
 
 

@@ -27,6 +27,7 @@ from nightcrew.errors import InterfaceError, ModuleError, NightcrewError, Remote
 from nightcrew.events.base import Event, event_by_name
 from nightcrew.interfaces.base import Interface, interface_by_name
 from nightcrew.log import current_module, module_context
+from nightcrew.security import AuditLog, Policy, load_policy
 from nightcrew.timeout import DEFAULT_TIMEOUT
 
 __all__ = ["Comm", "EventHandler", "PendingCall"]
@@ -75,10 +76,18 @@ class Comm(ABC):
 
     Args:
         rpc_grace: Wall seconds added to every announced timeout for network latency.
+        policy: The observatory's access policy (a YAML file, see :mod:`nightcrew.security`); every
+            incoming call is checked against it. Without one, every caller may call everything.
+        audit: A JSON-lines file where every state-changing call to this module is recorded.
     """
 
-    def __init__(self, *, rpc_grace: float = 0.0) -> None:
+    def __init__(
+        self, *, rpc_grace: float = 0.0, policy: str | Policy | None = None, audit: str | None = None
+    ) -> None:
         self._rpc_grace = rpc_grace
+        # Read when built, so that `nightcrew check` reports a broken policy file with its key.
+        self._policy = load_policy(policy) if isinstance(policy, str) else policy
+        self._audit = AuditLog(audit) if audit else None
         self._clock: Clock = RealClock()
         self._server: RpcServer | None = None
         self._handlers: dict[str, list[tuple[type[Event], EventHandler[Any]]]] = {}
@@ -136,7 +145,14 @@ class Comm(ABC):
         """Serve ``obj``'s interface methods on this comm (call before :meth:`open`)."""
         if clock is not None:
             self._clock = clock
-        self._server = RpcServer(obj, guard=guard, on_error=on_error)
+        self._server = RpcServer(
+            obj, guard=guard, on_error=on_error, name=self.name, policy=self._policy, audit=self._audit
+        )
+
+    @property
+    def policy(self) -> Policy | None:
+        """The access policy this module's calls are checked against (None: everything allowed)."""
+        return self._policy
 
     @property
     def clock(self) -> Clock:
@@ -252,13 +268,15 @@ class Comm(ABC):
             self._report_error(exc)
             raise
 
-    async def _serve_call(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
-        """Run an incoming call on the attached object (for transports)."""
+    async def _serve_call(
+        self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None = None
+    ) -> Any:
+        """Run an incoming call from account ``caller`` on the attached object (for transports)."""
         if self._server is None:
             raise ModuleError(f"{self.name} serves no methods")
         token = current_module.set(self.name)  # the callee's logs are the callee's
         try:
-            return await self._server.handle(method, args, announce)
+            return await self._server.handle(method, args, announce, caller)
         finally:
             current_module.reset(token)
 

@@ -1,0 +1,125 @@
+"""Access control and audit on every transport (in-process, Prosody, ejabberd).
+
+An observer may set the camera's exposure time but is refused roof.open_roof with ForbiddenError; an
+account the policy does not know is refused everything; a safety role may always close the roof;
+the audit trail holds every state-changing attempt, refused ones included.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import pytest
+
+from nightcrew.cli.main import main
+from nightcrew.comm.base import Comm
+from nightcrew.errors import ConfigError, ForbiddenError
+from nightcrew.modules import Module
+from nightcrew.modules.sim import SimCamera, SimRoof
+from nightcrew.security import load_policy, read_audit
+
+from .conftest import Network
+from .sample import Calculator
+
+POLICY = """\
+roles:
+  observer: ["camera.*", "*.get_*", IModule]
+  operator: ["*"]
+  safety: []
+accounts:
+  observer: [observer]
+  operator: [operator]
+  weather: [safety]
+safety_roles: [safety]
+"""
+
+
+async def _start(network: Network, cls: type[Module], name: str, policy: Path, audit: Path) -> Module:
+    module = cls(comm=_secured(network, name, policy, audit))
+    network._modules.append(module)
+    await module.open()
+    return module
+
+
+def _secured(network: Network, name: str, policy: Path, audit: Path) -> Comm:
+    if network.server is not None:
+        return network.server.comm(name, room=network.room, policy=str(policy), audit=str(audit))
+    from nightcrew.comm.local import LocalComm
+
+    return LocalComm(name, network=network._local, policy=str(policy), audit=str(audit))
+
+
+async def test_observer_sets_exposure_but_may_not_open_the_roof(
+    network: Network, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    policy, audit = tmp_path / "policy.yaml", tmp_path / "audit.jsonl"
+    policy.write_text(POLICY)
+    await _start(network, SimCamera, "camera", policy, audit)
+    roof = await _start(network, SimRoof, "roof", policy, audit)
+    assert isinstance(roof, SimRoof)
+    observer = await network.start(Calculator, "observer")
+    stranger = await network.start(Calculator, "stranger")
+
+    await observer.comm.execute("camera", "set_exposure_time", [2.5])
+    assert await observer.comm.execute("camera", "get_exposure_time", []) == 2.5
+    with pytest.raises(ForbiddenError, match=r"observer may not call roof\.open_roof\(\)") as refused:
+        await observer.comm.execute("roof", "open_roof", [])
+    assert refused.value.module == "roof"
+    for module, method, args in (("camera", "set_exposure_time", [1.0]), ("roof", "get_motion_status", [])):
+        with pytest.raises(ForbiddenError, match=f"stranger may not call {module}.{method}"):
+            await stranger.comm.execute(module, method, args)
+    assert "refused open_roof() to observer" in caplog.text
+    assert roof.opened == 0.0  # nothing moved
+
+    records = list(read_audit(audit))
+    assert [(r.caller, r.module, r.method, r.arguments, r.outcome) for r in records] == [
+        ("observer", "camera", "set_exposure_time", ["2.5"], "ok"),
+        ("observer", "roof", "open_roof", [], "forbidden"),
+        ("stranger", "camera", "set_exposure_time", ["1.0"], "forbidden"),
+    ]
+
+
+async def test_safety_role_may_always_close(network: Network, tmp_path: Path) -> None:
+    policy, audit = tmp_path / "policy.yaml", tmp_path / "audit.jsonl"
+    policy.write_text(POLICY.replace("  weather: [safety]\n", "  telescope: [safety]\n"))
+    await _start(network, SimRoof, "roof", policy, audit)
+    safety = await network.start(Calculator, "telescope")
+    await safety.comm.execute("roof", "close_roof", [])
+    with pytest.raises(ForbiddenError):
+        await safety.comm.execute("roof", "open_roof", [])
+
+
+def test_audit_cli_filters(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from nightcrew.security import AuditLog
+
+    log = AuditLog(tmp_path / "audit.jsonl")
+    log.record("observer", "roof", "open_roof", [], "forbidden")
+    AuditLog(tmp_path / "audit.jsonl").record(
+        "operator", "roof", "close_roof", ["x" * 1000], "ok"
+    )  # a restart
+    assert main(["audit", str(tmp_path / "audit.jsonl"), "--outcome", "forbidden"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 1 and lines[0].endswith("observer  roof.open_roof()  forbidden")
+    assert main(["audit", str(tmp_path / "audit.jsonl"), "--method", "close_*"]) == 0
+    line = capsys.readouterr().out
+    assert "operator  roof.close_roof(" in line and "(1002 characters)" in line and len(line) < 400
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("roles: {a: [x]}\naccounts: {bob: [b]}\n", "key 'accounts.bob': unknown role 'b'"),
+        ("roles: {a: x}\n", "key 'roles.a': expected a list"),
+        ("rolez: {}\n", "key 'rolez': unknown key"),
+        ("- 1\n", "a policy is a mapping"),
+        ("roles: &a [*a]\n", "recursive alias"),
+    ],
+)
+def test_malformed_policy_one_error(tmp_path: Path, text: str, message: str) -> None:
+    path = tmp_path / "policy.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=message.replace("(", r"\(").replace(")", r"\)")) as raised:
+        load_policy(path)
+    assert str(path) in str(raised.value)
+    logging.getLogger(__name__).debug("%s", raised.value)
