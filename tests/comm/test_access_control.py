@@ -15,9 +15,11 @@ import pytest
 from nightcrew.cli.main import main
 from nightcrew.comm.base import Comm
 from nightcrew.errors import ConfigError, ForbiddenError
+from nightcrew.events import BadWeatherEvent, Event, TestEvent
 from nightcrew.modules import Module
 from nightcrew.modules.sim import SimCamera, SimRoof
 from nightcrew.security import load_policy, read_audit
+from nightcrew.testing.waiting import wait_for
 
 from .conftest import Network
 from .sample import Calculator
@@ -123,3 +125,28 @@ def test_malformed_policy_one_error(tmp_path: Path, text: str, message: str) -> 
         load_policy(path)
     assert str(path) in str(raised.value)
     logging.getLogger(__name__).debug("%s", raised.value)
+
+
+async def test_forged_weather_verdict_is_refused(
+    network: Network, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    policy, audit = tmp_path / "policy.yaml", tmp_path / "audit.jsonl"
+    policy.write_text(POLICY + "events: {BadWeatherEvent: [safety], GoodWeatherEvent: [safety]}\n")
+    roof = await _start(network, Calculator, "roof", policy, audit)
+    heard: list[tuple[str, str]] = []
+
+    async def on_event(event: Event, sender: str) -> None:
+        heard.append((type(event).__name__, sender))
+
+    await roof.comm.register_event(BadWeatherEvent, on_event)
+    await roof.comm.register_event(TestEvent, on_event)
+    forger = await network.start(Calculator, "observer")
+    weather = await network.start(Calculator, "weather")
+    await wait_for(lambda: {"observer", "weather"} <= set(roof.comm.clients), 10)
+    await forger.comm.send_event(BadWeatherEvent(reason="forged"))
+    await forger.comm.send_event(TestEvent(message="after the forgery"))  # same sender: arrives after it
+    await wait_for(lambda: ("TestEvent", "observer") in heard, 10)
+    assert ("BadWeatherEvent", "observer") not in heard
+    assert "refused BadWeatherEvent from observer" in caplog.text
+    await weather.comm.send_event(BadWeatherEvent(reason="rain"))
+    await wait_for(lambda: ("BadWeatherEvent", "weather") in heard, 10)

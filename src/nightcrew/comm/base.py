@@ -308,6 +308,10 @@ class Comm(ABC):
         handlers = self._handlers.get(name)
         if not handlers:
             return
+        if self._policy is not None and not self._policy.accepts_event(self._sender_account(sender), name):
+            # A forged verdict (a bad-weather event from an observer) must not close or open a roof.
+            log.warning("refused %s from %s: the policy does not trust it with this event", name, sender)
+            return
         event_type = event_by_name(name) or handlers[0][0]
         try:
             event = event_type.from_dict(payload)
@@ -316,6 +320,10 @@ class Comm(ABC):
             return
         for _, handler in handlers:
             self._spawn(self._run_handler(handler, event, sender), f"{name} handler")
+
+    def _sender_account(self, sender: str) -> str:
+        """The account behind the module name ``sender`` (transports with nicknames override this)."""
+        return sender
 
     async def _run_handler(self, handler: EventHandler[Any], event: Event, sender: str) -> None:
         try:

@@ -12,10 +12,14 @@ A policy file::
       weather: [safety]
     safety_roles: [safety, observer]               # may always call the safety methods
     safety_methods: [roof.close_roof, telescope.park, "*.stop_motion"]   # this is the default
+    events:                                        # event -> roles whose members may send it
+      BadWeatherEvent: [safety]
+      GoodWeatherEvent: [safety]
 
 A right with a dot is a shell-style pattern over ``module.method``; one without a dot is an
 interface name (all its methods on any module), ``*`` is everything. An account not listed, or
-listed without roles, may call nothing.
+listed without roles, may call nothing. Events named under ``events`` are accepted only from
+accounts holding one of the roles given; other events from anyone.
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ __all__ = ["DEFAULT_SAFETY_METHODS", "Policy", "load_policy", "parse_policy"]
 
 #: Methods the safety roles may always call (close and park: failing safe must never be refused).
 DEFAULT_SAFETY_METHODS = ("roof.close_roof", "telescope.park", "*.stop_motion", "*.close_roof", "*.park")
-_KEYS = ("roles", "accounts", "safety_roles", "safety_methods")
+_KEYS = ("roles", "accounts", "safety_roles", "safety_methods", "events")
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,7 @@ class Policy:
     accounts: Mapping[str, tuple[str, ...]]
     safety_roles: frozenset[str] = frozenset()
     safety_methods: tuple[str, ...] = DEFAULT_SAFETY_METHODS
+    events: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     source: str = field(default="", compare=False)
 
     def allows(self, caller: str, module: str, method: str, interface: str | None) -> bool:
@@ -61,6 +66,11 @@ class Policy:
                 if "." not in right and interface is not None and fnmatchcase(interface, right):
                     return True
         return False
+
+    def accepts_event(self, sender: str, event: str) -> bool:
+        """Whether an event called ``event`` is trusted from account ``sender``."""
+        senders = self.events.get(event)
+        return senders is None or any(role in senders for role in self.accounts.get(sender, ()))
 
     def roles_of(self, caller: str) -> tuple[str, ...]:
         return self.accounts.get(caller, ())
@@ -96,7 +106,15 @@ def parse_policy(data: Any, source: str = "") -> Policy:
             raise ConfigError(f"unknown role '{role}'", file=source or None, key="safety_roles")
     methods = data.get("safety_methods")
     safety_methods = DEFAULT_SAFETY_METHODS if methods is None else _words(methods, source, "safety_methods")
-    return Policy(roles, accounts, frozenset(safety_roles), safety_methods, source)
+    events = {
+        str(name): _words(given, source, f"events.{name}")
+        for name, given in _mapping(data, "events", source).items()
+    }
+    for name, given in events.items():
+        unknown = [role for role in given if role not in roles]
+        if unknown:
+            raise ConfigError(f"unknown role '{unknown[0]}'", file=source or None, key=f"events.{name}")
+    return Policy(roles, accounts, frozenset(safety_roles), safety_methods, events, source)
 
 
 def _mapping(data: Mapping[str, Any], key: str, source: str) -> Mapping[str, Any]:

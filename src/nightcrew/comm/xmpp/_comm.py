@@ -184,6 +184,13 @@ class XmppComm(Comm):
     ) -> Any:
         return await self._serve_call(method, args, announce, self._account_of(jid))
 
+    def _sender_account(self, sender: str) -> str:
+        # The room nickname is chosen by the occupant; its real JID is what the server authenticated.
+        try:
+            return self._account_of(self._require_room().jid_of(sender))
+        except RemoteError:
+            return f"{sender} (unknown)"
+
     def _account_of(self, jid: str) -> str:
         """The caller's account as the server authenticated it: not its room nickname."""
         bare = jid.partition("/")[0].lower()
