@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from nightcrew.cli.main import main
 from nightcrew.comm.base import Comm
+from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import ConfigError, ForbiddenError
 from nightcrew.events import BadWeatherEvent, Event, TestEvent
 from nightcrew.modules import Module
@@ -150,3 +152,45 @@ async def test_forged_weather_verdict_is_refused(
     assert "refused BadWeatherEvent from observer" in caplog.text
     await weather.comm.send_event(BadWeatherEvent(reason="rain"))
     await wait_for(lambda: ("BadWeatherEvent", "weather") in heard, 10)
+
+
+class _Squatter(XmppComm):
+    """An extra account that joins the room under another module's name (as the attacker did)."""
+
+    def __init__(self, *args: Any, squatted: str, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._squatted = squatted
+
+    @property
+    def name(self) -> str:
+        return self._squatted
+
+
+@pytest.mark.xmpp
+async def test_squatted_name_is_not_trusted(
+    prosody_network: Network, caplog: pytest.LogCaptureFixture
+) -> None:
+    network = prosody_network
+    assert network.server is not None
+    receiver = await network.start(Calculator, "listener")
+    heard: list[str] = []
+
+    async def on_event(event: Event, sender: str) -> None:
+        heard.append(sender)
+
+    await receiver.comm.register_event(BadWeatherEvent, on_event)
+    account = network.server.account("intruder")
+    squatter = _Squatter(
+        account.jid, account.password, server=network.server.address, room=network.room,
+        ca_file=network.server.ca_file, squatted="weather",
+    )  # fmt: skip
+    await squatter.open()
+    try:
+        await wait_for(lambda: "intruder@" in caplog.text, 10)
+        assert "took the name of module 'weather'" in caplog.text
+        assert "weather" not in receiver.comm.clients
+        await squatter.send_event(BadWeatherEvent(reason="forged"))
+        await wait_for(lambda: "dropped BadWeatherEvent from 'weather'" in caplog.text, 10)
+        assert heard == []
+    finally:
+        await squatter.close()

@@ -127,6 +127,7 @@ class XmppComm(Comm):
             on_online=self._client_online,
             on_offline=self._on_client_offline,
             on_event=self._deliver_event,
+            domain=self._settings.domain,
         )
         self._connection = connection
         try:
