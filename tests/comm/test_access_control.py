@@ -18,7 +18,9 @@ from nightcrew.comm.base import Comm
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import ConfigError, ForbiddenError
 from nightcrew.events import BadWeatherEvent, Event, TestEvent
+from nightcrew.interfaces import FitsCard, IFitsHeaderBefore
 from nightcrew.modules import Module
+from nightcrew.modules.camera.headers import collect_headers
 from nightcrew.modules.sim import SimCamera, SimRoof
 from nightcrew.security import load_policy, read_audit
 from nightcrew.testing.waiting import wait_for
@@ -194,3 +196,27 @@ async def test_squatted_name_is_not_trusted(
         assert heard == []
     finally:
         await squatter.close()
+
+
+class _HeaderProvider(Calculator, IFitsHeaderBefore):
+    async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        return {"OBJECT": (f"from {self.name}", "target name")}
+
+
+async def test_forged_header_reply_is_refused(
+    network: Network, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    policy, audit = tmp_path / "policy.yaml", tmp_path / "audit.jsonl"
+    policy.write_text(
+        POLICY.replace("  safety: []\n", "  safety: []\n  devices: []\n").replace(
+            "  weather: [safety]\n", "  weather: [safety]\n  telescope: [devices]\n"
+        )
+        + "header_providers: [devices]\n"
+    )
+    camera = await _start(network, Calculator, "camera", policy, audit)
+    await network.start(_HeaderProvider, "telescope")
+    await network.start(_HeaderProvider, "observer")  # a room member, but no header provider
+    await wait_for(lambda: {"telescope", "observer"} <= set(camera.comm.clients), 10)
+    cards = await collect_headers(camera.comm, "before", 5.0)
+    assert cards == {"OBJECT": ("from telescope", "target name")}
+    assert "refused FITS headers from observer" in caplog.text

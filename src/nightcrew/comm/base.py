@@ -321,6 +321,10 @@ class Comm(ABC):
         for _, handler in handlers:
             self._spawn(self._run_handler(handler, event, sender), f"{name} handler")
 
+    def trusts_headers_from(self, module: str) -> bool:
+        """Whether FITS header cards from ``module`` may be used (the policy's ``header_providers``)."""
+        return self._policy is None or self._policy.accepts_headers(self._sender_account(module))
+
     def _sender_account(self, sender: str) -> str:
         """The account behind the module name ``sender`` (transports with nicknames override this)."""
         return sender

@@ -15,11 +15,13 @@ A policy file::
     events:                                        # event -> roles whose members may send it
       BadWeatherEvent: [safety]
       GoodWeatherEvent: [safety]
+    header_providers: [devices]                    # roles whose modules may give FITS headers
 
 A right with a dot is a shell-style pattern over ``module.method``; one without a dot is an
 interface name (all its methods on any module), ``*`` is everything. An account not listed, or
 listed without roles, may call nothing. Events named under ``events`` are accepted only from
-accounts holding one of the roles given; other events from anyone.
+accounts holding one of the roles given; other events from anyone. With ``header_providers``,
+a camera takes FITS header cards only from accounts holding one of those roles.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ __all__ = ["DEFAULT_SAFETY_METHODS", "Policy", "load_policy", "parse_policy"]
 
 #: Methods the safety roles may always call (close and park: failing safe must never be refused).
 DEFAULT_SAFETY_METHODS = ("roof.close_roof", "telescope.park", "*.stop_motion", "*.close_roof", "*.park")
-_KEYS = ("roles", "accounts", "safety_roles", "safety_methods", "events")
+_KEYS = ("roles", "accounts", "safety_roles", "safety_methods", "events", "header_providers")
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,7 @@ class Policy:
     safety_roles: frozenset[str] = frozenset()
     safety_methods: tuple[str, ...] = DEFAULT_SAFETY_METHODS
     events: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    header_providers: tuple[str, ...] | None = None
     source: str = field(default="", compare=False)
 
     def allows(self, caller: str, module: str, method: str, interface: str | None) -> bool:
@@ -71,6 +74,11 @@ class Policy:
         """Whether an event called ``event`` is trusted from account ``sender``."""
         senders = self.events.get(event)
         return senders is None or any(role in senders for role in self.accounts.get(sender, ()))
+
+    def accepts_headers(self, provider: str) -> bool:
+        """Whether FITS header cards from account ``provider`` may go into a frame."""
+        roles = self.header_providers
+        return roles is None or any(role in roles for role in self.accounts.get(provider, ()))
 
     def roles_of(self, caller: str) -> tuple[str, ...]:
         return self.accounts.get(caller, ())
@@ -114,7 +122,12 @@ def parse_policy(data: Any, source: str = "") -> Policy:
         unknown = [role for role in given if role not in roles]
         if unknown:
             raise ConfigError(f"unknown role '{unknown[0]}'", file=source or None, key=f"events.{name}")
-    return Policy(roles, accounts, frozenset(safety_roles), safety_methods, events, source)
+    providers = data.get("header_providers")
+    header_providers = None if providers is None else _words(providers, source, "header_providers")
+    for role in header_providers or ():
+        if role not in roles:
+            raise ConfigError(f"unknown role '{role}'", file=source or None, key="header_providers")
+    return Policy(roles, accounts, frozenset(safety_roles), safety_methods, events, header_providers, source)
 
 
 def _mapping(data: Mapping[str, Any], key: str, source: str) -> Mapping[str, Any]:
