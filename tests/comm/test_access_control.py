@@ -16,7 +16,7 @@ import pytest
 from nightcrew.cli.main import main
 from nightcrew.comm.base import Comm
 from nightcrew.comm.xmpp import XmppComm
-from nightcrew.errors import ConfigError, ForbiddenError
+from nightcrew.errors import ConfigError, ForbiddenError, NightcrewError
 from nightcrew.events import BadWeatherEvent, Event, TestEvent
 from nightcrew.interfaces import FitsCard, IFitsHeaderBefore
 from nightcrew.modules import Module
@@ -220,3 +220,27 @@ async def test_forged_header_reply_is_refused(
     cards = await collect_headers(camera.comm, "before", 5.0)
     assert cards == {"OBJECT": ("from telescope", "target name")}
     assert "refused FITS headers from observer" in caplog.text
+
+
+@pytest.mark.xmpp
+async def test_password_never_in_logs_or_errors(
+    prosody_network: Network, caplog: pytest.LogCaptureFixture
+) -> None:
+    server = prosody_network.server
+    assert server is not None
+    caplog.set_level(logging.DEBUG)
+    wrong = "wrong-Pa55word-4711"
+    comm = XmppComm(
+        server.account("calc").jid,
+        wrong,
+        server=server.address,
+        room=prosody_network.room,
+        ca_file=server.ca_file,
+    )
+    with pytest.raises(NightcrewError) as refused:
+        await comm.open()
+    await comm.close()
+    assert "login refused" in str(refused.value)
+    right = server.account("calc").password
+    shown = str(refused.value) + repr(refused.value) + caplog.text + repr(comm._settings)
+    assert wrong not in shown and right not in shown
