@@ -36,6 +36,7 @@ SUBCOMMANDS = [
     "flats",
     "report",
     "alpaca",
+    "catalogue",
 ]
 
 
