@@ -136,7 +136,9 @@ class Comm(ABC):
         """Serve ``obj``'s interface methods on this comm (call before :meth:`open`)."""
         if clock is not None:
             self._clock = clock
-        self._server = RpcServer(obj, guard=guard, on_error=on_error)
+        self._server = RpcServer(
+            obj, guard=guard, on_error=on_error, name=self.name, clock=lambda: self._clock
+        )
 
     @property
     def clock(self) -> Clock:

@@ -11,7 +11,9 @@ import logging
 from collections.abc import Callable
 from typing import Any
 
+from nightcrew.clock import Clock, RealClock
 from nightcrew.comm.codec import decode_arguments, encode
+from nightcrew.comm.introspection import SYSTEM_PREFIX, SystemMethods
 from nightcrew.errors import (
     CodecError,
     InterfaceError,
@@ -66,16 +68,28 @@ class RpcServer:
         obj: The served object; its remotely callable methods are those its interfaces declare.
         guard: Called with the method name before each call; may raise to refuse it.
         on_error: Called with every exception a method raised.
+        name: The module's name, for its ``system.describe`` document.
+        clock: Called for the module's clock (``system.clock``); a real clock by default.
+
+    Besides the interface methods, every object answers the ``system.*`` methods of
+    :mod:`nightcrew.comm.introspection`.
     """
 
     def __init__(
-        self, obj: object, *, guard: CallGuard | None = None, on_error: ErrorHook | None = None
+        self,
+        obj: object,
+        *,
+        guard: CallGuard | None = None,
+        on_error: ErrorHook | None = None,
+        name: str = "",
+        clock: Callable[[], Clock] = RealClock,
     ) -> None:
         self._obj = obj
         self._guard = guard
         self._on_error = on_error
         self.interfaces: list[type[Interface]] = interfaces_of(type(obj))
         self._methods = interface_methods(self.interfaces)
+        self._system = SystemMethods(name or type(obj).__name__, obj, self._methods, self.interfaces, clock)
 
     @property
     def interface_names(self) -> list[str]:
@@ -107,15 +121,16 @@ class RpcServer:
             raise
 
     async def _handle(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
+        if method.startswith(SYSTEM_PREFIX):
+            return await self._handle_system(method, args)
         declaration = self._methods.get(method)
         if declaration is None:
             raise InterfaceError(f"no method '{method}' (methods: {', '.join(self.method_names)})")
         if self._guard is not None:
             self._guard(method)
-        try:
-            arguments = decode_arguments(declaration, args)
-        except CodecError as exc:
-            raise InvalidArgumentError(f"{method}(): {exc.message}") from exc
+        # Arguments are checked (types, bounds) before the timeout is announced: a refused call
+        # gets its fault at once and is never announced as a long one.
+        arguments = _decode(method, declaration, args)
         implementation = getattr(self._obj, method)
         # A timeout on the implementation overrides the interface's default.
         impl_func = getattr(implementation, "__func__", implementation)
@@ -129,6 +144,23 @@ class RpcServer:
         except CodecError as exc:
             raise RemoteError(exc.message) from exc
 
+    async def _handle_system(self, method: str, args: list[Any]) -> Any:
+        # Not guarded: a module in error state can still be asked what it is. Default timeout.
+        declaration = self._system.declarations.get(method)
+        if declaration is None:
+            known = ", ".join(sorted(self._system.declarations))
+            raise InterfaceError(f"no method '{method}' (system methods: {known})")
+        arguments = _decode(method, declaration, args)
+        result = await self._system.bound(method)(**arguments)
+        return encode(result, f"result of {method}()")
+
     def _report(self, exc: BaseException) -> None:
         if self._on_error is not None:
             self._on_error(exc)
+
+
+def _decode(method: str, declaration: Callable[..., Any], args: list[Any]) -> dict[str, Any]:
+    try:
+        return decode_arguments(declaration, args)
+    except CodecError as exc:
+        raise InvalidArgumentError(f"{method}(): {exc.message}") from exc
