@@ -129,3 +129,10 @@ def test_every_reference_resolves_inside_its_own_document(catalogue: dict[str, A
     events = catalogue["events"]
     for ref in _refs(events):
         assert ref.startswith("#/$defs/") and ref.rsplit("/", 1)[1] in events["$defs"], ref
+
+
+def test_protocol_lists_every_event_and_error(catalogue: dict[str, Any]) -> None:
+    protocol = (COMMITTED.parent / "protocol.md").read_text(encoding="utf-8")
+    section = protocol.split("## 8. Every event and every error", 1)[1].split("\n## ", 1)[0]
+    for name in [*catalogue["events"]["x-events"], *catalogue["errors"]]:
+        assert f"| `{name}` |" in section, f"docs/protocol.md section 8 does not list {name}"
