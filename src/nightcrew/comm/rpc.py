@@ -128,6 +128,8 @@ class RpcServer:
         guard: Called with the method name before each call; may raise to refuse it.
         on_error: Called with every exception a method raised.
         name: The module's name, for its ``system.describe`` document.
+        policy: Who may call what (None: everyone everything); checked in :meth:`handle`.
+        audit: Where state-changing calls are recorded (None: nowhere).
         clock: Called for the module's clock (``system.clock``); a real clock by default.
 
     Besides the interface methods, every object answers the ``system.*`` methods of
