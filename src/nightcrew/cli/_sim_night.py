@@ -12,7 +12,6 @@ from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
-from nightcrew.clock import AcceleratedClock
 from nightcrew.errors import ConfigError
 from nightcrew.modules.sim.night import bundled_observatory
 from nightcrew.modules.sim.whole_night import NightProgress, ProgressCallback, WholeNight, run_whole_night
@@ -28,7 +27,7 @@ NIGHT_CAMERA: dict[str, Any] = {"chip_width": 1024, "chip_height": 1024}
 
 
 def run_whole_night_command(args: argparse.Namespace) -> int:
-    from nightcrew.cli.sim import NIGHT_SPEED, site_of
+    from nightcrew.cli.sim import describe_pace, site_of
 
     directory: Path = args.configs or bundled_observatory()
     site = site_of(directory)
@@ -43,7 +42,7 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
             raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
     if args.hours is not None:
         end = min(end, start + timedelta(hours=args.hours))
-    speed = args.speed or NIGHT_SPEED
+    speed: float | None = args.speed
     duration = (end - start).total_seconds()
     overrides = _device_overrides(directory, args.weather, duration, args.seed)
     robotic = _robotic_overrides(directory, args.seed)
@@ -66,7 +65,8 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
     state = "night complete" if result.completed else "night stopped early"
     print(
         f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {args.weather} "
-        f"(night of {args.date}, {start:%H:%M}-{end:%H:%M} UTC at {speed:g}x; {wall:.1f} s wall time)"
+        f"(night of {args.date}, {start:%H:%M}-{end:%H:%M} UTC {describe_pace(speed)}; "
+        f"{wall:.1f} s wall time)"
     )
     print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
     print(f"  night report: {report}")
@@ -107,11 +107,13 @@ async def _run(
     site: Site,
     start: datetime,
     end: datetime,
-    speed: float,
+    speed: float | None,
     overrides: tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]],
     progress: ProgressCallback,
 ) -> WholeNight:
-    clock = AcceleratedClock(start, speed=speed)
+    from nightcrew.cli.sim import sim_clock
+
+    clock = sim_clock(start, speed)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):

@@ -3,7 +3,9 @@
 All modules of the bundled observatory (``examples/sim``: weather station, roof, telescope,
 focuser, filter wheel, camera, and in ``robotic/`` the weather verdict, scheduler, mastermind,
 focus series, flat fields, acquisition, guiding, seeing and a recorder) run in this process on one
-accelerated clock, from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
+virtual clock (it jumps ahead whenever everything waits, so the same options and ``--seed``
+give the same night on any machine under any load; ``--speed`` runs an accelerated clock instead),
+from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
 the mastermind runs them (sky flats, bias and darks, focus, science), the weather (``--weather``)
 may interrupt them, and at the end the telescope parks and the roof closes (also after an error or
 Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night report
@@ -24,7 +26,7 @@ from datetime import time as time_of_day
 from pathlib import Path
 from typing import Any, TextIO
 
-from nightcrew.clock import AcceleratedClock
+from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
 from nightcrew.comm.local import LocalNetwork
 from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
@@ -40,10 +42,8 @@ from nightcrew.modules.sim.night_plan import Step, choose_targets, night_start, 
 from nightcrew.modules.sim.whole_night_plan import WEATHER_SCENARIOS
 from nightcrew.site import Site
 
-__all__ = ["NIGHT_SPEED", "add_parser", "site_of"]
+__all__ = ["add_parser", "describe_pace", "sim_clock", "site_of"]
 
-#: Clock seconds per wall second: the short night, and the whole night (14.4 h in under 3 minutes).
-QUICK_SPEED, NIGHT_SPEED = 60.0, 320.0
 #: A moonless autumn night (new moon on 2026-11-09) with Cygnus and Cassiopeia high after dusk.
 DEFAULT_NIGHT = "2026-11-10"
 
@@ -63,7 +63,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--speed",
         type=_positive,
         default=None,
-        help=f"clock seconds per wall second (default {NIGHT_SPEED:g}; --quick: {QUICK_SPEED:g})",
+        help="run an accelerated clock at this many clock seconds per wall second instead of the "
+        "virtual clock (not repeatable: a busy machine changes the night)",
     )
     parser.add_argument("--seed", type=int, default=None, help="replace the seeds of all modules")
     parser.add_argument(
@@ -125,7 +126,6 @@ def _sim_command(args: argparse.Namespace) -> int:
         return serve_alpaca_command(args)
     if not args.quick:
         return whole_night_command(args)
-    args.speed = args.speed or QUICK_SPEED
     directory: Path = args.configs or bundled_observatory()
     site = site_of(directory)
     start = night_start(args.date, site)
@@ -154,7 +154,7 @@ def _sim_command(args: argparse.Namespace) -> int:
 async def _run(
     directory: Path, args: argparse.Namespace, start: datetime, steps: list[Step], progress: ProgressCallback
 ) -> NightReport:
-    clock = AcceleratedClock(start, speed=args.speed)
+    clock = sim_clock(start, args.speed)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
     stop = asyncio.Event()
@@ -168,6 +168,12 @@ async def _run(
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
+
+
+def sim_clock(start: datetime, speed: float | None) -> Clock:
+    """The simulation's clock: virtual (repeatable, as fast as the machine allows), or with
+    ``speed`` an accelerated one."""
+    return VirtualClock(start) if speed is None else AcceleratedClock(start, speed=speed)
 
 
 def site_of(directory: Path) -> Site:
@@ -204,10 +210,15 @@ def _print_summary(report: NightReport, args: argparse.Namespace, start: datetim
     state = "night complete" if report.completed else "night stopped early"
     print(
         f"{state}: {len(report.frames)} frames written to {args.out} "
-        f"(night of {args.date}, clock from {start:%H:%M} UTC at {args.speed:g}x; {wall:.1f} s wall time)"
+        f"(night of {args.date}, clock from {start:%H:%M} UTC {describe_pace(args.speed)}; "
+        f"{wall:.1f} s wall time)"
     )
     for path in report.files:
         print(f"  {path}")
+
+
+def describe_pace(speed: float | None) -> str:
+    return "on virtual time" if speed is None else f"at {speed:g}x"
 
 
 def _night(text: str) -> date:

@@ -242,7 +242,6 @@ def scheduler_section(night: Night, numbers: NightNumbers) -> str:
                 f"{bound:.3f}" if bound is not None else "-",
                 gap,
                 str(data.get("status", "")),
-                f"{float(data.get('wall_time_s', 0.0)):.2f}",
             )
         )
     first = plans[0].data.get("slots", [])
@@ -262,7 +261,7 @@ def scheduler_section(night: Night, numbers: NightNumbers) -> str:
         ],
         header=False,
     )
-    table = _table(("planned at", "blocks", "objective", "bound", "gap", "status", "solver wall s"), rows)
+    table = _table(("planned at", "blocks", "objective", "bound", "gap", "status"), rows)
     return summary + table
 
 

@@ -35,7 +35,7 @@ network (started first, so it hears every event)::
 
 The fixture runs for every test: leave the device in a state the suite can start from (READY; a
 telescope parked or not, a roof open or closed — each test first drives it where it needs it).
-Simulated devices use an accelerated clock (``Observatory(speed=100)``); the suites wait on
+Simulated devices use the virtual clock (``Observatory()``, the default); the suites wait on
 conditions with bounded timeouts on the module's own clock and never sleep a fixed time to
 synchronise, so they pass on a real-time device and on a loaded machine alike.
 

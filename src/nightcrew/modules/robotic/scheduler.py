@@ -136,9 +136,10 @@ class SchedulerModule(Module):
             raise ConfigError("the scheduler needs the observatory's site", key="site")
         night = night_around(self.site, start, max_sun_altitude=self._max_sun_altitude)
         exclude = frozenset(self._failed | self._done)
-        schedule = await asyncio.to_thread(
-            self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
-        )
+        async with self.clock.work("schedule"):
+            schedule = await asyncio.to_thread(
+                self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
+            )
         self.schedule = schedule
         await self._store.set_schedule(schedule.slots, now)
         log.info(

@@ -3,12 +3,12 @@
 The devices (the top-level files of the bundled observatory) and the robotic modules (its
 ``robotic/`` directory: weather verdict, scheduler, mastermind with runner and scripts, focus
 series, flat fields, acquisition, guiding, seeing, recorder) are built on one in-process network
-and one accelerated clock. The task archive is a fresh SQLite file in ``out_dir`` loaded with the
-bundled sample tasks and a low-priority survey that fills the night; the scheduler plans from it
-and the mastermind runs what it planned. Nobody
-drives the night: this function only watches (progress, the scheduler's plans into the recorder)
-until the clock reaches ``end`` or ``stop`` is set, then stops the mastermind, parks the telescope
-and closes the roof - also after an error - and closes every module.
+and one clock (virtual in ``nightcrew sim``). The task archive is a fresh SQLite file in
+``out_dir`` loaded with the bundled sample tasks and a low-priority survey that fills the night;
+the scheduler plans from it and the mastermind runs what it planned. Nobody drives the night:
+this function only watches (progress, the scheduler's plans into the recorder) until the clock
+reaches ``end`` or ``stop`` is set, then stops the mastermind, parks the telescope and closes the
+roof - also after an error - and closes every module.
 """
 
 from __future__ import annotations
@@ -47,6 +47,8 @@ log = logging.getLogger(__name__)
 EVENTS_FILE = "events.jsonl"
 #: The frames' directory in the output directory.
 FRAMES = "frames"
+#: Clock seconds between two looks of the watcher (progress line, new plans into the record).
+_WATCH_INTERVAL_S = 30.0
 #: Where the robotic modules' files are, below the observatory's directory.
 ROBOTIC = "robotic"
 
@@ -227,7 +229,8 @@ class _Watcher(Module):
                 fraction = min(1.0, (now - start).total_seconds() / total)
                 progress(NightProgress(now, sun, self.task, self.frames, fraction))
             try:
-                async with asyncio.timeout(0.5):  # wall seconds: the progress line's pace
+                # Clock seconds: on a virtual clock the night's record must not hang on wall time.
+                async with self.clock.timeout(_WATCH_INTERVAL_S):
                     await stop.wait()
                 return False
             except TimeoutError:
@@ -241,7 +244,6 @@ def _plan_record(schedule: Schedule) -> dict[str, Any]:
         "status": schedule.status,
         "objective": schedule.objective,
         "bound": schedule.bound,
-        "wall_time_s": schedule.wall_time_s,
         "slots": [
             {"task": s.block_id, "start": s.start.isoformat(), "end": s.end.isoformat()}
             for s in schedule.slots
