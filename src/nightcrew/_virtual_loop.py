@@ -29,7 +29,8 @@ import contextlib
 import functools
 import logging
 import selectors
-from collections import deque
+import time as wall
+from collections import defaultdict, deque
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -47,9 +48,12 @@ class VirtualTime:
     def __init__(self, loop: asyncio.AbstractEventLoop, origin: float) -> None:
         self.loop = loop
         self.now = origin  # the loop's time(), in virtual seconds
-        self._jobs: deque[tuple[concurrent.futures.Future[Any], asyncio.Future[Any]]] = deque()
+        self._jobs: deque[tuple[concurrent.futures.Future[Any], asyncio.Future[Any], str]] = deque()
         self._holds = 0
         self._executor: concurrent.futures.ThreadPoolExecutor | None = None
+        #: Wall seconds the loop stood waiting for thread jobs, by the job's function name, and
+        #: (key ``hold``) for the outside world during holds: where a night's wall time goes.
+        self.waited: defaultdict[str, float] = defaultdict(float)
 
     def time(self) -> float:
         return self.now
@@ -79,7 +83,7 @@ class VirtualTime:
         job = executor.submit(func, *args)
         result = self.loop.create_future()
         result.add_done_callback(functools.partial(_cancel_job, job))
-        self._jobs.append((job, result))
+        self._jobs.append((job, result, _name_of(func)))
         return result
 
     def select(self, selector: selectors.BaseSelector, timeout: float | None) -> list[Any]:
@@ -90,7 +94,9 @@ class VirtualTime:
             self._deliver_oldest()
             return selector.select(0)
         if self._holds:
+            began = wall.perf_counter()
             events = selector.select(HOLD_WARNING_S)
+            self.waited["hold"] += wall.perf_counter() - began
             if not events:
                 log.warning("virtual time held for %.0f wall seconds with nothing arriving", HOLD_WARNING_S)
             return events
@@ -101,8 +107,10 @@ class VirtualTime:
         return []
 
     def _deliver_oldest(self) -> None:
-        job, result = self._jobs[0]
+        job, result, name = self._jobs[0]
+        began = wall.perf_counter()
         concurrent.futures.wait([job])  # the loop has nothing else to do: block on the thread
+        self.waited[name] += wall.perf_counter() - began
         self._jobs.popleft()
         if result.done():  # cancelled by its awaiter meanwhile
             return
@@ -112,6 +120,13 @@ class VirtualTime:
             result.set_exception(error)
         else:
             result.set_result(job.result())
+
+
+def _name_of(func: Callable[..., Any]) -> str:
+    """``Class.method`` of a job; through the partial that ``asyncio.to_thread`` wraps it in."""
+    while isinstance(func, functools.partial):
+        func = func.args[0] if func.func.__name__ == "run" and func.args else func.func
+    return getattr(func, "__qualname__", type(func).__name__)
 
 
 def _cancel_job(job: concurrent.futures.Future[Any], result: asyncio.Future[Any]) -> None:

@@ -296,6 +296,12 @@ class VirtualClock(Clock):
         self._attached()
         await asyncio.sleep(max(0.0, seconds))
 
+    def wall_waited(self) -> dict[str, float]:
+        """Wall seconds the loop stood waiting, by thread job (``Class.method``) and ``hold``
+        (work waiting on the outside world), largest first: where the wall time of a run went."""
+        waited = self._virtual.waited if self._virtual is not None else {}
+        return dict(sorted(waited.items(), key=lambda item: -item[1]))
+
 
 def _check_kind(kind: str) -> str:
     if kind not in WORK_COSTS:

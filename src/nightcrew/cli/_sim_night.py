@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import json
 import logging
 import signal
 import sys
@@ -12,6 +13,7 @@ from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
+from nightcrew.clock import Clock, VirtualClock
 from nightcrew.errors import ConfigError
 from nightcrew.modules.sim.night import bundled_observatory
 from nightcrew.modules.sim.whole_night import NightProgress, ProgressCallback, WholeNight, run_whole_night
@@ -19,7 +21,10 @@ from nightcrew.modules.sim.whole_night_plan import night_span, weather_scenario
 from nightcrew.report import write_report
 from nightcrew.site import Site
 
-__all__ = ["NIGHT_CAMERA", "run_whole_night_command"]
+__all__ = ["NIGHT_CAMERA", "WALL_TIME_FILE", "run_whole_night_command"]
+
+#: Where the wall time of a run went (the one file in --out that differs from run to run).
+WALL_TIME_FILE = "wall-time.json"
 
 #: The camera of the whole night renders a quarter of the chip (1024 x 1024 px at 1.16"/px, a
 #: 20' field): every frame is still rendered and written, four times faster and smaller.
@@ -52,15 +57,19 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
     old_level = logger.level
     if quiet:
         logger.setLevel(logging.WARNING)
-    wall_start = time.monotonic()
+    from nightcrew.cli.sim import sim_clock
+
+    clock = sim_clock(start, speed)
+    wall_start, cpu_start = time.monotonic(), time.process_time()
     try:
-        night = _run(directory, args, site, start, end, speed, (overrides, robotic), _printer(sys.stderr))
+        night = _run(directory, args, site, clock, end, (overrides, robotic), _printer(sys.stderr))
         result = asyncio.run(night)
     finally:
         logger.setLevel(old_level)
         if sys.stderr.isatty():
             sys.stderr.write("\n")  # end the rewritten progress line
     wall = time.monotonic() - wall_start
+    _write_wall_time(args.out / WALL_TIME_FILE, clock, wall, time.process_time() - cpu_start)
     report = write_report(args.out)
     state = "night complete" if result.completed else "night stopped early"
     print(
@@ -105,15 +114,11 @@ async def _run(
     directory: Path,
     args: argparse.Namespace,
     site: Site,
-    start: datetime,
+    clock: Clock,
     end: datetime,
-    speed: float | None,
     overrides: tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]],
     progress: ProgressCallback,
 ) -> WholeNight:
-    from nightcrew.cli.sim import sim_clock
-
-    clock = sim_clock(start, speed)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -135,6 +140,13 @@ async def _run(
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
+
+
+def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:
+    """Wall and CPU seconds of the run and, on a virtual clock, what the loop waited on."""
+    waited = clock.wall_waited() if isinstance(clock, VirtualClock) else {}
+    record = {"wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "waited_s": waited}
+    path.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
 
 
 def _printer(stream: TextIO) -> ProgressCallback:
