@@ -69,9 +69,11 @@ def main() -> int:
             with both_cores_busy():
                 began = time.monotonic()
                 rerun = subprocess.run(
-                    [*command[:4], str(again), *command[5:]], capture_output=True, text=True, check=False
+                    [*command[:5], str(again), *command[6:]], capture_output=True, text=True, check=False
                 )
                 busy_wall = time.monotonic() - began
+            if rerun.returncode != 0:
+                print(rerun.stdout, rerun.stderr, sep="\n", file=sys.stderr)
             same = rerun.returncode == 0 and fingerprint(out) == fingerprint(again)
             busy = f"{'identical' if same else 'DIFFERENT'} ({busy_wall:.0f} s wall)"
         night = read_night(out)
