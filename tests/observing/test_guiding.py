@@ -1,4 +1,4 @@
-"""Auto-guiding on the simulated observatory: drift and periodic error held below 0.5" RMS."""
+"""Auto-guiding on the simulated observatory: drift and periodic error held within 0.3" RMS."""
 
 from __future__ import annotations
 
@@ -76,7 +76,8 @@ async def wait_for_state(guiding: AutoGuiding | ScienceFrameAutoGuiding, state: 
     await wait_for(reached, 10.0, interval=0.01, message=f"guiding never reached {state}")  # wall seconds
 
 
-async def test_guiding_for_thirty_minutes_keeps_the_rms_below_half_an_arcsecond(
+@pytest.mark.timeout(900)  # some 1500 guide frames rendered and measured: minutes on a busy machine
+async def test_guiding_for_thirty_minutes_keeps_the_rms_within_three_tenths_of_an_arcsecond(
     observatory_at: ObservatoryFactory,
 ) -> None:
     async with observatory_at() as obs:
@@ -104,7 +105,7 @@ async def test_guiding_for_thirty_minutes_keeps_the_rms_below_half_an_arcsecond(
             f'guiding: true RMS {rms:.3f}" over {GUIDE_MINUTES:g} min ({len(errors)} samples, max '
             f'{max(errors):.2f}"), loop RMS {header["GUIDRMS"][0]}", periodic error alone {unguided:.2f}"'
         )
-        assert rms < 0.5
+        assert rms <= 0.3
         assert header["GUIDING"][0] == "closed"
         assert await guiding.get_loop_state() is LoopState.STOPPED
         assert await guiding.get_config_value("rms") == pytest.approx(header["GUIDRMS"][0], abs=0.01)
