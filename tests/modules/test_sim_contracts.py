@@ -27,7 +27,6 @@ from nightcrew.testing import (
 
 from .devices import GradientCamera
 
-SPEED = 100.0
 #: The simulator's own devices the camera would ask for the scene: absent here.
 NO_PEERS: dict[str, Any] = {
     "telescope": None,
@@ -41,7 +40,7 @@ NO_PEERS: dict[str, Any] = {
 class TestSimTelescope(TelescopeContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimTelescope, "telescope"), probe)
 
@@ -62,7 +61,7 @@ class TestSimTelescopeInRealTime(TelescopeContract):
 class TestSimCamera(CameraContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             camera = await obs.start(
                 SimCamera,
@@ -77,7 +76,7 @@ class TestSimCamera(CameraContract):
 class TestGradientCamera(CameraContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(GradientCamera, "camera"), probe)
 
@@ -85,7 +84,7 @@ class TestGradientCamera(CameraContract):
 class TestSimRoof(RoofContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimRoof, "roof"), probe)
 
@@ -101,7 +100,7 @@ class TestSimRoofInRealTime(RoofContract):
 class TestSimDome(DomeContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimDome, "dome"), probe)
 
@@ -109,7 +108,7 @@ class TestSimDome(DomeContract):
 class TestSimFocuser(FocuserContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimFocuser, "focuser"), probe)
 
@@ -117,7 +116,7 @@ class TestSimFocuser(FocuserContract):
 class TestSimFilterWheel(FilterWheelContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             wheel = await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"])
             yield ContractSetup(wheel, probe)
