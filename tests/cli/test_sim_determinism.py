@@ -54,7 +54,7 @@ def test_the_same_seed_gives_the_same_night_on_a_quiet_and_on_a_busy_machine(tmp
         run_night(busy)
 
     events = (quiet / "events.jsonl").read_bytes()
-    assert events.count(b"\n") > 100, "the night recorded its events"
+    assert events.count(b"\n") > 50, "the night recorded its events"
     assert b'"kind": "NewImageEvent"' in events
     assert events == (busy / "events.jsonl").read_bytes()
     frames = frame_checksums(quiet)
