@@ -16,9 +16,11 @@ The loop counts as busy, and virtual time stands still, while
   in a subprocess) that the loop cannot see as a job.
 
 Only then does time move, straight to the earliest timer. Learnt from the ``looptime`` package
-(a loop whose ``time()`` is fake and whose selector is asked with a zero timeout) and from trio's
-``MockClock(autojump_threshold=0)``; neither delivers thread results in a fixed order, which is
-what makes a night repeatable here.
+(0.9: a loop whose ``time()`` is fake and whose selector is polled with a zero timeout before the
+fake time jumps) and from trio's ``MockClock(autojump_threshold=0)`` (jump when every task is
+blocked). looptime itself does not fit: while executor jobs run it moves its time on in wall-time
+steps, and thread results reach the loop in the order the threads finish, so a night would still
+depend on the machine. Here thread work costs no clock time and its results come in a fixed order.
 """
 
 from __future__ import annotations
