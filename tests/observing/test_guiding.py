@@ -212,5 +212,5 @@ async def test_a_frame_analysed_across_a_stop_does_not_move_the_telescope(
         await asyncio.wait_for(gate.holding.wait(), 30)
         await guiding.stop()
         gate.release()
-        await asyncio.sleep(0.5)  # the analysis finishes
+        await obs.clock.sleep(0.5)  # virtual time: once the analysis has finished and 0.5 s more
         assert await mount.get_offsets_radec() == pytest.approx((dra, ddec + 3.0 / 3600.0))
