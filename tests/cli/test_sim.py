@@ -14,7 +14,7 @@ from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.astro import moon_illumination, sun_altitude
 from nightcrew.cli.main import main
-from nightcrew.modules.sim.night_plan import FAMOUS_FIELDS, choose_targets, night_start, plan_night
+from nightcrew.night.fields import FAMOUS_FIELDS, choose_targets, night_start, plan_night
 from nightcrew.site import Site
 
 from ..sim.solving import offset_arcsec, solve_field

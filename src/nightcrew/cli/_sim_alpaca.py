@@ -24,7 +24,7 @@ from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca.server import AlpacaServer
-from nightcrew.modules.sim.night import (
+from nightcrew.night.build import (
     CAMERA,
     FILTERS,
     FOCUSER,
@@ -35,7 +35,7 @@ from nightcrew.modules.sim.night import (
     bundled_observatory,
     park_and_close,
 )
-from nightcrew.modules.sim.night_plan import night_start
+from nightcrew.night.fields import night_start
 
 __all__ = ["SAFETY", "serve_alpaca_command"]
 

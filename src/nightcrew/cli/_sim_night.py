@@ -15,9 +15,9 @@ from typing import Any, TextIO
 
 from nightcrew.clock import Clock, VirtualClock
 from nightcrew.errors import ConfigError
-from nightcrew.modules.sim.night import bundled_observatory
-from nightcrew.modules.sim.whole_night import NightProgress, ProgressCallback, WholeNight, run_whole_night
-from nightcrew.modules.sim.whole_night_plan import night_span, weather_scenario
+from nightcrew.night.build import bundled_observatory
+from nightcrew.night.engine import NightProgress, ProgressCallback, WholeNight, run_whole_night
+from nightcrew.night.plan import night_span, weather_scenario
 from nightcrew.report import write_report
 from nightcrew.site import Site
 

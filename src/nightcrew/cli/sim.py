@@ -30,7 +30,7 @@ from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
 from nightcrew.comm.local import LocalNetwork
 from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
-from nightcrew.modules.sim.night import (
+from nightcrew.night.build import (
     SIM_RPC_GRACE,
     NightReport,
     ProgressCallback,
@@ -38,8 +38,8 @@ from nightcrew.modules.sim.night import (
     bundled_observatory,
     run_night,
 )
-from nightcrew.modules.sim.night_plan import Step, choose_targets, night_start, plan_night
-from nightcrew.modules.sim.whole_night_plan import WEATHER_SCENARIOS
+from nightcrew.night.fields import Step, choose_targets, night_start, plan_night
+from nightcrew.night.plan import WEATHER_SCENARIOS
 from nightcrew.site import Site
 
 __all__ = ["add_parser", "describe_pace", "sim_clock", "site_of"]

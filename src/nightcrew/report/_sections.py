@@ -9,11 +9,11 @@ from html import escape
 from typing import Any
 
 from nightcrew.astro import sun_altitude
-from nightcrew.modules.sim.night_recorder import FOCUS_SERIES, SCHEDULE_RECORD
 from nightcrew.report._data import Frame, Night, bad_weather_intervals, roof_open_intervals
 from nightcrew.report._metrics import NightNumbers
 from nightcrew.report._svg import Band, Series, bands, xy_chart
 from nightcrew.report._time_budget import Acquisition
+from nightcrew.report.records import FOCUS_SERIES, SCHEDULE_RECORD
 
 __all__ = [
     "focus_section",

@@ -5,7 +5,6 @@ from __future__ import annotations
 from html import escape
 from pathlib import Path
 
-from nightcrew.modules.sim.night_recorder import NIGHT_RECORD
 from nightcrew.report._data import Night, read_night
 from nightcrew.report._metrics import night_numbers
 from nightcrew.report._sections import (
@@ -20,6 +19,7 @@ from nightcrew.report._sections import (
     timeline_section,
 )
 from nightcrew.report._time_budget import acquisitions, time_budget
+from nightcrew.report.records import NIGHT_RECORD
 
 __all__ = ["NIGHT_RECORD", "REPORT_FILE", "THUMBNAILS", "night_site", "write_report"]
 

@@ -29,10 +29,10 @@ from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, 
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.modules.sim.night import SIM_RPC_GRACE, build_observatory, park_and_close
-from nightcrew.modules.sim.night_blocks import NightBlockSource
-from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
-from nightcrew.modules.sim.whole_night_plan import one_window_each, samples_for_night, survey_groups
+from nightcrew.night.blocks import NightBlockSource
+from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, park_and_close
+from nightcrew.night.plan import one_window_each, samples_for_night, survey_groups
+from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule

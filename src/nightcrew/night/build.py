@@ -3,7 +3,7 @@
 :func:`build_observatory` builds every top-level module file of a directory (by default the
 bundled :func:`bundled_observatory`) on a private in-process network, all sharing one clock and
 one VFS whose ``images`` root is the output directory. :func:`run_night` opens them, runs the
-steps of :func:`~nightcrew.modules.sim.night_plan.plan_night` through proxies - exactly as a
+steps of :func:`~nightcrew.night.fields.plan_night` through proxies - exactly as a
 script would drive real devices - and always ends safely: telescope parked and roof closed (also
 on an error or when ``stop`` is set), then every module closed.
 """
@@ -33,7 +33,7 @@ from nightcrew.interfaces import (
 )
 from nightcrew.modules import Module
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth
-from nightcrew.modules.sim.night_plan import Step
+from nightcrew.night.fields import Step
 from nightcrew.vfs import LocalFile, VirtualFileSystem
 
 __all__ = [

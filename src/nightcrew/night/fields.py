@@ -2,7 +2,7 @@
 
 :func:`night_start` finds the end of astronomical twilight, :func:`choose_targets` picks the
 highest of some well-known star fields at that time, and :func:`plan_night` lays out the steps
-that :mod:`nightcrew.modules.sim.night` then runs against the simulated devices.
+that :mod:`nightcrew.night.build` then runs against the simulated devices.
 """
 
 from __future__ import annotations
