@@ -117,7 +117,7 @@ async def test_auto_focus_then_expose_in_one_task(sim: SimSetup) -> None:
         {
             "type": "AUTO_FOCUS",
             "target": PLEIADES,
-            "instrument_configs": [{**focus_frames, "extra_params": {"focus_range": 0.3}}],
+            "instrument_configs": [{**focus_frames, "extra_params": {"focus_range": 0.5}}],  # 25.0 inside
         },
         {"type": "EXPOSE", "target": PLEIADES, "instrument_configs": [frames(2, 1.0, "R")]},
     )
