@@ -10,16 +10,16 @@ from __future__ import annotations
 import argparse
 import ast
 import json
-import logging
 import os
-from collections.abc import AsyncIterator, Iterator
-from contextlib import asynccontextmanager, contextmanager
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
 import yaml
 
+from nightcrew.cli._running import quiet_module_logs
 from nightcrew.comm.base import Comm
 from nightcrew.comm.codec import encode
 from nightcrew.config import build_object, load_config
@@ -65,22 +65,6 @@ def load_comm(path: str | None) -> Comm:
     comm = build_object(config, Comm)
     assert isinstance(comm, Comm)
     return comm
-
-
-@contextmanager
-def quiet_module_logs(debug: bool) -> Iterator[None]:
-    """Keep the operator's own module chatter ("operator is ready") off stderr unless ``debug``.
-
-    What an operator command prints is its answer; warnings and errors still show.
-    """
-    logger = logging.getLogger("nightcrew")
-    old_level = logger.level
-    if not debug:
-        logger.setLevel(logging.WARNING)
-    try:
-        yield
-    finally:
-        logger.setLevel(old_level)
 
 
 @asynccontextmanager

@@ -1,27 +1,44 @@
-"""The whole robotic night of ``nightcrew sim`` (see :mod:`nightcrew.cli.sim` for the options)."""
+"""The robotic night of ``nightcrew sim`` (see :mod:`nightcrew.cli.sim` for the options).
+
+One engine runs every night: the scheduler plans, the mastermind runs. What differs between the
+whole night, ``--quick`` and each night of a season (``--nights``) is only the span, the task
+list and the weather, which :func:`night_setup` decides.
+"""
 
 from __future__ import annotations
 
 import argparse
 import asyncio
 import json
-import logging
-import signal
 import sys
 import time
-from datetime import UTC, datetime, timedelta
+from dataclasses import dataclass
+from datetime import UTC, date, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
-from nightcrew.clock import Clock, VirtualClock
+from nightcrew.cli._running import quiet_module_logs, stop_on_signals
+from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
+from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
-from nightcrew.night.build import bundled_observatory
+from nightcrew.night.build import bundled_observatory, observatory_site
 from nightcrew.night.engine import NightProgress, ProgressCallback, WholeNight, run_whole_night
+from nightcrew.night.fields import choose_targets, night_start, quick_groups
 from nightcrew.night.plan import night_span, weather_scenario
 from nightcrew.report import write_report
+from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
-__all__ = ["NIGHT_CAMERA", "WALL_TIME_FILE", "run_whole_night_command"]
+__all__ = [
+    "NIGHT_CAMERA",
+    "QUICK_HOURS",
+    "WALL_TIME_FILE",
+    "NightSetup",
+    "night_setup",
+    "run_night_command",
+    "run_one_night",
+    "sim_clock",
+]
 
 #: Where the wall time of a run went (the one file in --out that differs from run to run).
 WALL_TIME_FILE = "wall-time.json"
@@ -30,51 +47,36 @@ WALL_TIME_FILE = "wall-time.json"
 #: 20' field): every frame is still rendered and written, four times faster and smaller.
 NIGHT_CAMERA: dict[str, Any] = {"chip_width": 1024, "chip_height": 1024}
 
+#: Clock hours of a ``--quick`` night without ``--hours``.
+QUICK_HOURS = 1.0
 
-def run_whole_night_command(args: argparse.Namespace) -> int:
-    from nightcrew.cli.sim import describe_pace, site_of
 
+@dataclass(frozen=True)
+class NightSetup:
+    """What one night runs: its span, its tasks (None: the samples and the survey), its weather."""
+
+    night: date
+    start: datetime
+    end: datetime
+    tasks: list[RequestGroup] | None
+    weather: str
+
+
+def run_night_command(args: argparse.Namespace) -> int:
     directory: Path = args.configs or bundled_observatory()
-    site = site_of(directory)
-    try:
-        start, end = night_span(args.date, site)
-    except ValueError as exc:
-        raise ConfigError(f"--date {args.date}: {exc}") from exc
-    if args.start is not None:
-        day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
-        start = datetime.combine(day, args.start, tzinfo=UTC)
-        if not start < end:
-            raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
-    if args.hours is not None:
-        end = min(end, start + timedelta(hours=args.hours))
-    speed: float | None = args.speed
-    duration = (end - start).total_seconds()
-    overrides = _device_overrides(directory, args.weather, duration, args.seed)
-    robotic = _robotic_overrides(directory, args.seed)
+    site = observatory_site(directory)
+    if args.nights > 1:
+        from nightcrew.cli._sim_season import run_season_command
 
-    quiet = not (args.verbose or args.debug)
-    logger = logging.getLogger("nightcrew")
-    old_level = logger.level
-    if quiet:
-        logger.setLevel(logging.WARNING)
-    from nightcrew.cli.sim import sim_clock
-
-    clock = sim_clock(start, speed)
-    wall_start, cpu_start = time.monotonic(), time.process_time()
-    try:
-        night = _run(directory, args, site, clock, end, (overrides, robotic), _printer(sys.stderr))
-        result = asyncio.run(night)
-    finally:
-        logger.setLevel(old_level)
-        if sys.stderr.isatty():
-            sys.stderr.write("\n")  # end the rewritten progress line
-    wall = time.monotonic() - wall_start
-    _write_wall_time(args.out / WALL_TIME_FILE, clock, wall, time.process_time() - cpu_start)
+        return run_season_command(args, directory, site)
+    setup = night_setup(args, site, args.date)
+    with quiet_module_logs(args.verbose or args.debug):
+        result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))
     report = write_report(args.out)
     state = "night complete" if result.completed else "night stopped early"
     print(
-        f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {args.weather} "
-        f"(night of {args.date}, {start:%H:%M}-{end:%H:%M} UTC {describe_pace(speed)}; "
+        f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {setup.weather} "
+        f"(night of {setup.night}, {setup.start:%H:%M}-{setup.end:%H:%M} UTC {describe_pace(args.speed)}; "
         f"{wall:.1f} s wall time)"
     )
     print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
@@ -82,13 +84,117 @@ def run_whole_night_command(args: argparse.Namespace) -> int:
     return 0 if result.completed else 130
 
 
-def _device_overrides(
-    directory: Path, weather: str, duration: float, seed: int | None
-) -> dict[str, dict[str, Any]]:
-    from nightcrew.config import load_config, to_plain
+def night_setup(args: argparse.Namespace, site: Site, night: date) -> NightSetup:
+    """The span, tasks and weather of ``night`` under the command's options."""
+    if args.quick:
+        start = end = night_start(night, site)
+    else:
+        try:
+            start, end = night_span(night, site)
+        except ValueError as exc:
+            raise ConfigError(f"night of {night}: {exc}") from exc
+    if args.start is not None:
+        day = night if args.start.hour >= 12 else night + timedelta(days=1)
+        start = datetime.combine(day, args.start, tzinfo=UTC)
+        if not args.quick and not start < end:
+            raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
+    if args.quick:
+        end = start + timedelta(hours=args.hours or QUICK_HOURS)
+    elif args.hours is not None:
+        end = min(end, start + timedelta(hours=args.hours))
+    tasks = _quick_tasks(args, site, start, end) if args.quick else None
+    weather = args.weather or ("clear" if args.quick else "interruption")
+    return NightSetup(night=night, start=start, end=end, tasks=tasks, weather=weather)
 
+
+def _quick_tasks(args: argparse.Namespace, site: Site, start: datetime, end: datetime) -> list[RequestGroup]:
+    filters = [name.strip() for name in args.filters.split(",") if name.strip()]
+    if not filters:
+        raise ConfigError(f"--filters {args.filters!r}: name at least one filter")
+    wheel = (args.configs or bundled_observatory()) / "filters.yaml"
+    known = [str(name) for name in load_config(wheel).get("filters", [])] if wheel.is_file() else []
+    unknown = [name for name in filters if known and name not in known]
+    if unknown:
+        # Said before the night starts, not as a task failing at the telescope.
+        raise ConfigError(f"--filters: unknown filter {unknown[0]!r}; known filters: {', '.join(known)}")
+    try:
+        targets = choose_targets(site, start.timestamp(), args.targets)
+    except ValueError as exc:
+        raise ConfigError(f"--date {args.date}: {exc}") from exc
+    return quick_groups(
+        targets,
+        filters,
+        args.exposure_time,
+        start=start,
+        end=end,
+        calibration_frames=args.calibration_frames,
+    )
+
+
+def run_one_night(
+    directory: Path,
+    args: argparse.Namespace,
+    site: Site,
+    setup: NightSetup,
+    out: Path,
+    progress: ProgressCallback | None,
+    *,
+    seed: int | None = None,
+) -> tuple[WholeNight, float]:
+    """Run ``setup`` on the observatory of ``directory`` into ``out``; the result and wall seconds.
+
+    ``seed`` (default ``--seed``) seeds the devices, the weather among them.
+    """
+    seed = args.seed if seed is None else seed
+    duration = (setup.end - setup.start).total_seconds()
+    # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
+    devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
+    robotic = _robotic_overrides(directory, seed)
+    clock = sim_clock(setup.start, args.speed)
+    wall_start, cpu_start = time.monotonic(), time.process_time()
+
+    async def night() -> WholeNight:
+        async with stop_on_signals() as stop:
+            return await run_whole_night(
+                directory,
+                night=setup.night,
+                site=site,
+                clock=clock,
+                end=setup.end,
+                out_dir=out,
+                device_overrides=devices,
+                robotic_overrides=robotic,
+                seed=seed,
+                tasks=setup.tasks,
+                progress=progress,
+                stop=stop,
+            )
+
+    try:
+        result = asyncio.run(night())
+    finally:
+        if progress is not None and sys.stderr.isatty():
+            sys.stderr.write("\n")  # end the rewritten progress line
+    wall = time.monotonic() - wall_start
+    _write_wall_time(out / WALL_TIME_FILE, clock, wall, time.process_time() - cpu_start)
+    return result, wall
+
+
+def sim_clock(start: datetime, speed: float | None) -> Clock:
+    """The simulation's clock: virtual (repeatable, as fast as the machine allows), or with
+    ``speed`` an accelerated one."""
+    return VirtualClock(start) if speed is None else AcceleratedClock(start, speed=speed)
+
+
+def describe_pace(speed: float | None) -> str:
+    return "on virtual time" if speed is None else f"at {speed:g}x"
+
+
+def _device_overrides(
+    directory: Path, weather: str, duration: float, seed: int | None, *, quarter_chip: bool
+) -> dict[str, dict[str, Any]]:
     camera = load_config(directory / "camera.yaml") if (directory / "camera.yaml").is_file() else {}
-    detector = {**to_plain(camera.get("detector") or {}), **NIGHT_CAMERA}
+    detector = {**to_plain(camera.get("detector") or {}), **(NIGHT_CAMERA if quarter_chip else {})}
     station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
     if seed is not None:
         station["seed"] = seed
@@ -98,8 +204,6 @@ def _device_overrides(
 
 def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
     """With ``seed``, the acquisition's catalog follows the camera's new synthetic stars."""
-    from nightcrew.config import load_config, to_plain
-
     path = directory / "robotic" / "acquisition.yaml"
     if seed is None or not path.is_file():
         return {}
@@ -108,38 +212,6 @@ def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str,
         if isinstance(step, dict) and "catalog_seed" in step:
             step["catalog_seed"] = seed
     return {"acquisition": {"pipeline": pipeline}}
-
-
-async def _run(
-    directory: Path,
-    args: argparse.Namespace,
-    site: Site,
-    clock: Clock,
-    end: datetime,
-    overrides: tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]],
-    progress: ProgressCallback,
-) -> WholeNight:
-    stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, stop.set)
-    try:
-        return await run_whole_night(
-            directory,
-            night=args.date,
-            site=site,
-            clock=clock,
-            end=end,
-            out_dir=args.out,
-            device_overrides=overrides[0],
-            robotic_overrides=overrides[1],
-            seed=args.seed,
-            progress=progress,
-            stop=stop,
-        )
-    finally:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.remove_signal_handler(sig)
 
 
 def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:

@@ -11,10 +11,10 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
-import signal
 from pathlib import Path
 from typing import Any
 
+from nightcrew.cli._running import stop_on_signals
 from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.modules import Module
 
@@ -47,22 +47,17 @@ def build_modules(paths: list[str]) -> list[Module]:
 
 async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) -> None:
     """Open ``modules``, wait until ``stop`` is set (or a signal arrives), then close them."""
-    stop = stop or asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, stop.set)
     opened: list[Module] = []
-    try:
-        for module in modules:
-            await module.open()
-            opened.append(module)
-        await stop.wait()
-        log.info("stopping")
-    finally:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.remove_signal_handler(sig)
-        for module in reversed(opened):
-            await module.close()
+    async with stop_on_signals(stop) as stopped:
+        try:
+            for module in modules:
+                await module.open()
+                opened.append(module)
+            await stopped.wait()
+            log.info("stopping")
+        finally:
+            for module in reversed(opened):
+                await module.close()
 
 
 def _run_command(args: argparse.Namespace) -> int:

@@ -1,49 +1,35 @@
-"""Running the bundled simulated observatory through one night, in one process.
+"""Building the simulated observatory in one process, and ending its night safely.
 
 :func:`build_observatory` builds every top-level module file of a directory (by default the
 bundled :func:`bundled_observatory`) on a private in-process network, all sharing one clock and
-one VFS whose ``images`` root is the output directory. :func:`run_night` opens them, runs the
-steps of :func:`~nightcrew.night.fields.plan_night` through proxies - exactly as a
-script would drive real devices - and always ends safely: telescope parked and roof closed (also
-on an error or when ``stop`` is set), then every module closed.
+one VFS whose ``images`` root is the output directory; :func:`observatory_site` reads its site.
+:func:`park_and_close` is how every night ends: telescope parked and roof closed at once.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
-from datetime import datetime
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from nightcrew.clock import Clock
 from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.config import build_object, load_config, to_plain, validate_config
 from nightcrew.errors import ConfigError, NightcrewError
-from nightcrew.interfaces import (
-    ICamera,
-    IExposureTime,
-    IFilters,
-    IFocuser,
-    IImageType,
-    IRoof,
-    ITelescope,
-)
+from nightcrew.interfaces import IRoof, ITelescope
 from nightcrew.modules import Module
-from nightcrew.modules.sim.interfaces import ISimFocuserTruth
-from nightcrew.night.fields import Step
+from nightcrew.site import Site
 from nightcrew.vfs import LocalFile, VirtualFileSystem
 
 __all__ = [
     "IMAGES_ROOT",
     "SIM_RPC_GRACE",
-    "NightReport",
     "build_observatory",
     "bundled_observatory",
+    "observatory_site",
     "park_and_close",
-    "run_night",
 ]
 
 log = logging.getLogger(__name__)
@@ -56,22 +42,24 @@ SIM_RPC_GRACE = 1.0
 #: Module names the night needs (the file names of the bundled observatory).
 TELESCOPE, ROOF, CAMERA, FOCUSER, FILTERS = "telescope", "roof", "camera", "focuser", "filters"
 
-#: Called before each step with (step number from 1, number of steps, the step, clock time).
-ProgressCallback = Callable[[int, int, Step, datetime], None]
-
 
 def bundled_observatory() -> Path:
     """The directory of the bundled observatory's configuration files (package data)."""
     return Path(__file__).resolve().with_name("observatory")
 
 
-@dataclass
-class NightReport:
-    """What a night produced: the images' VFS paths and files, and whether it ran to its end."""
-
-    frames: list[str] = field(default_factory=list)
-    files: list[Path] = field(default_factory=list)
-    completed: bool = False
+def observatory_site(directory: Path) -> Site:
+    """The observatory's site: the one the telescope's file gives."""
+    path = directory / "telescope.yaml"
+    if not path.is_file():
+        raise ConfigError(f"no telescope.yaml in {directory}: the night needs a telescope")
+    site = load_config(path).get("site")
+    if not isinstance(site, dict):
+        raise ConfigError("the telescope needs a site (latitude, longitude, elevation)", file=str(path))
+    try:
+        return Site(**to_plain(site))
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"invalid site: {exc}", file=str(path), key="site") from exc
 
 
 def build_observatory(
@@ -110,103 +98,6 @@ def build_observatory(
         config.update(given)
         modules.append(build_object(config, Module))
     return modules
-
-
-async def run_night(
-    modules: list[Module],
-    steps: list[Step],
-    *,
-    clock: Clock,
-    network: LocalNetwork,
-    out_dir: Path,
-    progress: ProgressCallback | None = None,
-    stop: asyncio.Event | None = None,
-) -> NightReport:
-    """Open ``modules``, run ``steps`` (the last, ``shutdown``, always runs), close everything.
-
-    Raises:
-        NightcrewError: a step failed (after the safe shutdown).
-    """
-    report = NightReport()
-    driver = Module(comm=LocalComm("night", network=network), clock=clock)
-    opened: list[Module] = []
-    try:
-        for module in [*modules, driver]:
-            await module.open()
-            opened.append(module)
-        night = _Night(driver, report, out_dir)
-        total = len(steps)
-        work = asyncio.create_task(night.run([s for s in steps if s.action != "shutdown"], progress, total))
-        stopped = asyncio.create_task((stop or asyncio.Event()).wait())
-        try:
-            await asyncio.wait([work, stopped], return_when=asyncio.FIRST_COMPLETED)
-        finally:
-            for task in (work, stopped):
-                task.cancel()
-            await asyncio.gather(work, stopped, return_exceptions=True)
-            if progress is not None:
-                progress(total, total, steps[-1], clock.now())
-            await night.shutdown()
-        if not work.cancelled():
-            work.result()  # re-raise a failed step
-            report.completed = True
-        else:
-            log.warning("night stopped early after %d frames", len(report.frames))
-    finally:
-        for module in reversed(opened):
-            await module.close()
-    return report
-
-
-class _Night:
-    """Runs steps against the devices, through proxies from the ``driver`` module."""
-
-    def __init__(self, driver: Module, report: NightReport, out_dir: Path) -> None:
-        self._driver = driver
-        self._report = report
-        self._out_dir = out_dir
-
-    async def run(self, steps: list[Step], progress: ProgressCallback | None, total: int) -> None:
-        for number, step in enumerate(steps, start=1):
-            if progress is not None:
-                progress(number, total, step, self._driver.clock.now())
-            log.info("step %d/%d: %s", number, total, step.describe())
-            await self._do(step)
-
-    async def _do(self, step: Step) -> None:
-        proxy = self._driver.comm.proxy
-        if step.action == "prepare":
-            await asyncio.gather(
-                (await proxy(ROOF, IRoof)).open_roof(), (await proxy(TELESCOPE, ITelescope)).init()
-            )
-            for name, interface in ((FOCUSER, IFocuser), (FILTERS, IFilters)):
-                if await self._online(name):
-                    await (await proxy(name, interface)).init()
-        elif step.action == "focus":
-            if await self._online(FOCUSER):
-                # Stand-in for an autofocus run: the simulator tells where the best focus is.
-                best = await (await proxy(FOCUSER, ISimFocuserTruth)).get_best_focus()
-                await (await proxy(FOCUSER, IFocuser)).set_focus(round(best, 3))
-        elif step.action == "slew" and step.target is not None:
-            await (await proxy(TELESCOPE, ITelescope)).move_radec(step.target.ra, step.target.dec)
-        elif step.action == "expose":
-            await self._expose(step)
-
-    async def _expose(self, step: Step) -> None:
-        proxy = self._driver.comm.proxy
-        if step.filter_name is not None:
-            await (await proxy(FILTERS, IFilters)).set_filter(step.filter_name)
-        await (await proxy(CAMERA, IExposureTime)).set_exposure_time(step.exposure_time)
-        await (await proxy(CAMERA, IImageType)).set_image_type(step.image_type)
-        filename = await (await proxy(CAMERA, ICamera)).grab_data()
-        self._report.frames.append(filename)
-        self._report.files.append(self._out_dir / filename.removeprefix(f"/{IMAGES_ROOT}/"))
-
-    async def _online(self, name: str) -> bool:
-        return name in self._driver.comm.clients
-
-    async def shutdown(self) -> None:
-        await park_and_close(self._driver)
 
 
 async def park_and_close(driver: Module) -> None:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import date, datetime
 from pathlib import Path
@@ -37,6 +37,7 @@ from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
 from nightcrew.robotic.scheduler.adapters import as_schedule_writer
+from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
 __all__ = ["EVENTS_FILE", "FRAMES", "NightProgress", "WholeNight", "run_whole_night"]
@@ -88,15 +89,23 @@ async def run_whole_night(
     device_overrides: dict[str, dict[str, Any]],
     robotic_overrides: dict[str, dict[str, Any]] | None = None,
     seed: int | None = None,
+    tasks: Sequence[RequestGroup] | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
 ) -> WholeNight:
-    """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc)."""
+    """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
+
+    ``tasks`` replaces the night's task list (default: the samples and the survey), e.g. with the
+    short list of ``--quick``.
+    """
     await asyncio.to_thread(_blocking_clear_records, out_dir)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     # The watcher opens first, so that whatever fails later, it can still park and close.
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
-    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night, site)
+    if tasks is None:
+        samples = samples_for_night(load_samples(), night, site)
+        tasks = [*(part for group in samples for part in one_window_each(group)), *survey_groups(night)]
+    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, tasks)
     opened: list[Module] = []
     result = WholeNight()
     try:
@@ -152,12 +161,11 @@ def _blocking_clear_records(out_dir: Path) -> None:
         old.unlink(missing_ok=True)
 
 
-async def _fresh_archive(path: Path, clock: Clock, night: date, site: Site) -> SqliteTaskArchive:
-    """A new archive at ``path`` holding the sample tasks observable on ``night``."""
+async def _fresh_archive(path: Path, clock: Clock, tasks: Sequence[RequestGroup]) -> SqliteTaskArchive:
+    """A new archive at ``path`` holding ``tasks``."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    samples = [part for g in samples_for_night(load_samples(), night, site) for part in one_window_each(g)]
-    for group in [*samples, *survey_groups(night)]:
+    for group in tasks:
         await archive.add_request_group(group)
     return archive
 

@@ -1,21 +1,21 @@
-"""What a simulated night does, as pure functions: when it starts, which fields, which steps.
+"""Where a simulated night looks, as pure functions: when it starts, which fields, the quick preset.
 
 :func:`night_start` finds the end of astronomical twilight, :func:`choose_targets` picks the
-highest of some well-known star fields at that time, and :func:`plan_night` lays out the steps
-that :mod:`nightcrew.night.build` then runs against the simulated devices.
+highest of some well-known star fields at that time, and :func:`quick_groups` makes the short task
+list of ``nightcrew sim --quick``: the same scheduler and mastermind run it as the whole night.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, timedelta
-from typing import Literal
+from typing import Any
 
 from nightcrew.astro import astronomical_dusk, local_noon, radec_to_altaz
-from nightcrew.interfaces import ImageType
+from nightcrew.robotic.tasks import RequestGroup, parse_request_group
 from nightcrew.site import Site
 
-__all__ = ["FAMOUS_FIELDS", "Step", "Target", "choose_targets", "night_start", "plan_night"]
+__all__ = ["FAMOUS_FIELDS", "Target", "choose_targets", "night_start", "quick_groups"]
 
 
 @dataclass(frozen=True)
@@ -45,37 +45,6 @@ FAMOUS_FIELDS: tuple[Target, ...] = (
     Target("M27", 299.90, 22.72),
     Target("M11", 282.77, -6.27),
 )
-
-StepAction = Literal["prepare", "focus", "slew", "expose", "shutdown"]
-
-
-@dataclass(frozen=True)
-class Step:
-    """One step of the night; ``target``/``filter_name``/``exposure_time``/``image_type`` where
-    they apply (a bias or dark is an ``expose`` step without a target)."""
-
-    action: StepAction
-    target: Target | None = None
-    filter_name: str | None = None
-    exposure_time: float = 0.0
-    image_type: ImageType = ImageType.OBJECT
-
-    def describe(self) -> str:
-        """A short text for progress lines."""
-        if self.action == "prepare":
-            return "open roof, initialise devices"
-        if self.action == "focus":
-            return "focus"
-        if self.action == "shutdown":
-            return "park telescope, close roof"
-        if self.image_type is ImageType.BIAS:
-            return "bias"
-        if self.image_type is ImageType.DARK:
-            return f"dark {self.exposure_time:g} s"
-        name = self.target.name if self.target is not None else "?"
-        if self.action == "slew":
-            return f"slew to {name}"
-        return f"{name}: {self.exposure_time:g} s in {self.filter_name or 'no filter'}"
 
 
 def night_start(night: date, site: Site, after_dusk: timedelta = timedelta(minutes=15)) -> datetime:
@@ -113,22 +82,74 @@ def choose_targets(
     return [t for _, _, t in sorted(chosen, key=lambda x: x[1])]
 
 
-def plan_night(
-    targets: list[Target], filters: list[str | None], exposure_time: float, calibration_frames: int = 0
-) -> list[Step]:
-    """Calibration frames, prepare, focus, per target a slew and an exposure per filter, shut down.
+def quick_groups(
+    targets: list[Target],
+    filters: list[str],
+    exposure_time: float,
+    *,
+    start: datetime,
+    end: datetime,
+    calibration_frames: int = 0,
+) -> list[RequestGroup]:
+    """The ``--quick`` task list: biases and darks (``calibration_frames`` each), then one exposure
+    per filter of each target, all to be done between ``start`` and ``end``.
 
-    ``calibration_frames`` biases and as many darks of ``exposure_time`` come first, while the
-    roof is still closed (as observers take them), so that the night can be reduced.
+    The calibration frames come first in priority, so that the night can be reduced; the scheduler
+    decides when each task runs, as on any night.
     """
-    steps = [Step("expose", image_type=ImageType.BIAS) for _ in range(calibration_frames)]
-    steps += [
-        Step("expose", exposure_time=exposure_time, image_type=ImageType.DARK)
-        for _ in range(calibration_frames)
-    ]
-    steps += [Step("prepare"), Step("focus")]
+    window = [{"start": start.isoformat(), "end": end.isoformat()}]
+    groups: list[dict[str, Any]] = []
+    if calibration_frames > 0:
+        groups.append(
+            {
+                "name": "Quick bias and darks",
+                "proposal": "sim-quick",
+                "priority": 10.0,
+                "requests": [
+                    {
+                        "location": {"telescope_class": "0m4"},
+                        "windows": window,
+                        "configurations": [
+                            {
+                                "type": kind,
+                                "constraints": {"max_sun_altitude": 90},
+                                "instrument_configs": [
+                                    {"exposure_time": seconds, "exposure_count": calibration_frames}
+                                ],
+                            }
+                            for kind, seconds in (("BIAS", 0.0), ("DARK", exposure_time))
+                        ],
+                    }
+                ],
+            }
+        )
     for target in targets:
-        steps.append(Step("slew", target))
-        steps.extend(Step("expose", target, name, exposure_time) for name in filters)
-    steps.append(Step("shutdown"))
-    return steps
+        groups.append(
+            {
+                "name": f"Quick {target.name}",
+                "proposal": "sim-quick",
+                "priority": 5.0,
+                "requests": [
+                    {
+                        "location": {"telescope_class": "0m4"},
+                        "windows": window,
+                        "configurations": [
+                            {
+                                "type": "EXPOSE",
+                                "target": {"name": target.name, "ra": target.ra, "dec": target.dec},
+                                "constraints": {"max_airmass": 3.0},
+                                "instrument_configs": [
+                                    {
+                                        "exposure_time": exposure_time,
+                                        "exposure_count": 1,
+                                        "optical_elements": {"filter": name},
+                                    }
+                                    for name in filters
+                                ],
+                            }
+                        ],
+                    }
+                ],
+            }
+        )
+    return [parse_request_group(group) for group in groups]
