@@ -65,10 +65,6 @@ class NightSetup:
 def run_night_command(args: argparse.Namespace) -> int:
     directory: Path = args.configs or bundled_observatory()
     site = observatory_site(directory)
-    if args.nights > 1:
-        from nightcrew.cli._sim_season import run_season_command
-
-        return run_season_command(args, directory, site)
     setup = night_setup(args, site, args.date)
     with quiet_module_logs(args.verbose or args.debug):
         result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))

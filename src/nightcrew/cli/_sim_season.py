@@ -17,9 +17,9 @@ from pathlib import Path
 
 from nightcrew.cli._running import quiet_module_logs
 from nightcrew.cli._sim_night import night_setup, run_one_night
+from nightcrew.night.build import bundled_observatory, observatory_site
 from nightcrew.night.engine import FRAMES
 from nightcrew.report import SeasonNight, read_night, season_night, season_summary, season_table, write_report
-from nightcrew.site import Site
 
 __all__ = ["SEASON_JSON", "SEASON_TABLE", "run_season_command"]
 
@@ -27,7 +27,9 @@ SEASON_TABLE = "season.md"
 SEASON_JSON = "season.json"
 
 
-def run_season_command(args: argparse.Namespace, directory: Path, site: Site) -> int:
+def run_season_command(args: argparse.Namespace) -> int:
+    directory: Path = args.configs or bundled_observatory()
+    site = observatory_site(directory)
     base_seed = 0 if args.seed is None else args.seed
     rows: list[SeasonNight] = []
     wall_total = 0.0

@@ -119,6 +119,10 @@ def _sim_command(args: argparse.Namespace) -> int:
         from nightcrew.cli._sim_alpaca import serve_alpaca_command
 
         return serve_alpaca_command(args)
+    if args.nights > 1:
+        from nightcrew.cli._sim_season import run_season_command
+
+        return run_season_command(args)
     from nightcrew.cli._sim_night import run_night_command
 
     return run_night_command(args)
