@@ -2,8 +2,11 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
-# Debian packages of the real components the tests use (XMPP servers, plate solver).
-SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2
+# Debian packages of the real components the tests use (XMPP servers, plate solver, INDI simulators,
+# browser, SSH and SMB servers; iproute2 for the private network namespaces of servers that listen on
+# every interface and of the multi-host tests).
+SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2 indi-bin chromium \
+	openssh-server samba
 
 .PHONY: setup system-deps lint test sim example bench clean
 
@@ -37,11 +40,13 @@ example: setup
 	$(VENV)/bin/nightcrew run examples/standalone.yaml
 
 # Every benchmark that needs no options; bench/rpc.py starts its own Prosody (system-deps) and
-# compares with pyobs-core only when given --pyobs-venv PATH.
+# compares with pyobs-core only when given --pyobs-venv PATH; bench/console.py drives Debian's chromium
+# (system-deps) for 0.5 min of events by default (--minutes 5 for the issue's run).
 bench: setup
 	$(PY) bench/local_rpc.py
 	$(PY) bench/render.py
 	$(PY) bench/rpc.py
+	$(PY) bench/console.py
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache

@@ -36,7 +36,7 @@ from nightcrew.clock import RealClock  # noqa: E402
 from nightcrew.modules.alpaca import AlpacaCamera  # noqa: E402
 from nightcrew.modules.alpaca.camera import _as_uint16  # noqa: E402
 from nightcrew.testing import Observatory  # noqa: E402
-from nightcrew.testing.alpaca import SIMULATOR_SITE, TEST_OVERRIDES, _merged, start_simulator  # noqa: E402
+from nightcrew.testing.alpaca import SIMULATOR_SITE, TEST_OVERRIDES, merge_config, start_simulator  # noqa: E402
 
 SIZE = 4096
 _BIG_CAMERA = {
@@ -67,7 +67,7 @@ async def main(runs: int) -> None:
     from alpaca.camera import Camera  # type: ignore[import-untyped]
 
     with tempfile.TemporaryDirectory() as tmp:
-        simulator = start_simulator(Path(tmp), overrides=_merged(TEST_OVERRIDES, _BIG_CAMERA))
+        simulator = start_simulator(Path(tmp), overrides=merge_config(TEST_OVERRIDES, _BIG_CAMERA))
         try:
             async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
                 camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, readout_timeout=300.0)

@@ -13,6 +13,7 @@ Every error nightcrew raises on purpose derives from :class:`NightcrewError`::
     ├── MotionError
     │   ├── InitError, ParkError, MoveError
     ├── GrabImageError          an exposure failed
+    ├── CalibratorError         a flat-field light did not come on (or go off)
     ├── AbortedError            an action was aborted on request
     ├── DeviceBusyError         the device is doing something else
     ├── NotSupportedError       the device cannot do this
@@ -28,6 +29,7 @@ from __future__ import annotations
 
 __all__ = [
     "AbortedError",
+    "CalibratorError",
     "CodecError",
     "ConfigError",
     "DeviceBusyError",
@@ -154,6 +156,10 @@ class MoveError(MotionError):
 
 class GrabImageError(NightcrewError):
     """Taking an image failed."""
+
+
+class CalibratorError(NightcrewError):
+    """A flat-field light did not reach the state asked for (on and stable, or off)."""
 
 
 class AbortedError(NightcrewError):

@@ -10,13 +10,15 @@ from __future__ import annotations
 
 import importlib.util
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import AsyncIterator, Callable, Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from nightcrew.testing.alpaca import AlpacaSimulator, build_star_table, start_simulator
+
+from .faulty_server import FaultyServer
 
 
 def _require_simulators() -> None:
@@ -64,3 +66,14 @@ def start_alpaca_simulator(
     finally:
         for simulator in started:
             simulator.stop()
+
+
+@pytest.fixture
+async def faulty() -> AsyncIterator[FaultyServer]:
+    """A misbehaving Alpaca server on 127.0.0.1: each test sets its replies (``true`` otherwise)."""
+    server = FaultyServer()
+    await server.start()
+    try:
+        yield server
+    finally:
+        await server.stop()

@@ -95,7 +95,13 @@ async def served_observatory(
             min_good_time=0.0,
             interval=1.0,
         )
-        options: dict[str, Any] = {"devices": DEVICES, "port": 0, "discovery_port": 0, **server_options}
+        options: dict[str, Any] = {
+            "devices": DEVICES,
+            "port": 0,
+            "discovery_port": 0,
+            "pixel_sizes": {"camera": 9.0},
+            **server_options,
+        }
         server = await obs.start(AlpacaServer, "alpaca", **options)
         yield Served(obs, server)
 

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
-
 import numpy as np
 import pytest
 
@@ -17,16 +15,6 @@ from nightcrew.bridges.alpaca import (
 from nightcrew.errors import InvalidArgumentError, NotSupportedError, RemoteTimeoutError
 from nightcrew.testing.alpaca import AlpacaSimulator, free_port
 from tests.alpaca.faulty_server import FaultyServer, alpaca_error, image_bytes, json_image, raw, value
-
-
-@pytest.fixture
-async def faulty() -> AsyncIterator[FaultyServer]:
-    server = FaultyServer()
-    await server.start()
-    try:
-        yield server
-    finally:
-        await server.stop()
 
 
 async def test_get_put_and_connect_on_alpaca_simulators(alpaca_simulator: AlpacaSimulator) -> None:

@@ -17,6 +17,7 @@ import pytest
 import yaml
 
 from nightcrew.bridges.alpaca.discovery import DiscoveredServer, describe_server, discover_servers
+from nightcrew.bridges.alpaca.errors import AlpacaConnectionError
 from nightcrew.cli.main import main
 from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.modules import Module
@@ -137,3 +138,16 @@ def test_cli_finds_the_devices_of_alpaca_simulators(
         "server": alpaca_simulator.url,
         "device_number": 0,
     }
+
+
+async def test_a_server_that_is_not_there(capsys: pytest.CaptureFixture[str]) -> None:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+        sock.bind(("127.0.0.1", 0))  # bound, not listening: connections are refused
+        url = f"http://127.0.0.1:{sock.getsockname()[1]}"
+        with pytest.raises(AlpacaConnectionError, match=f"{url}/management/v1/description"):
+            await describe_server(url)
+        code = await asyncio.to_thread(main, ["alpaca", "discover", "--server", url])
+    assert code == 1
+    err = capsys.readouterr().err
+    assert f"{url}: {url}/management/v1/description: ClientConnectorError" in err
+    assert f"no Alpaca server answered ({url})" in err

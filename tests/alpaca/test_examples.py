@@ -6,6 +6,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -48,7 +49,7 @@ async def test_client_example_builds_and_connects(
     config = load_config(EXAMPLES / file)
     validate_config(config, Module)
     # The examples name the usual port 11111; the session's simulator stands in for it.
-    overrides = {"name": file.removesuffix(".yaml"), "server": alpaca_simulator.url}
+    overrides: dict[str, Any] = {"name": file.removesuffix(".yaml"), "server": alpaca_simulator.url}
     if "vfs" in config:
         overrides["vfs"] = {"class": "nightcrew.vfs.VirtualFileSystem", "roots": {}}
     module = build_object({**config, **overrides}, Module)

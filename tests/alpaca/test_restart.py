@@ -85,7 +85,11 @@ async def test_a_camera_losing_its_server_mid_exposure_writes_no_file(
 
 
 def camera_exposing(camera: AlpacaCamera) -> Callable[[], Awaitable[bool]]:
+    """The device itself exposes (CameraState 2), not just the module (which says so before it asks)."""
+
     async def exposing() -> bool:
-        return await camera.get_exposure_status() is ExposureStatus.EXPOSING
+        return await camera.get_exposure_status() is ExposureStatus.EXPOSING and (
+            await camera.device.get("camerastate") == 2
+        )
 
     return exposing

@@ -9,24 +9,31 @@ verdict as a safety monitor.
 from __future__ import annotations
 
 import asyncio
+from pathlib import Path
 
 import aiohttp
 import numpy as np
 import pytest
 from alpaca.camera import Camera  # type: ignore[import-untyped]
 from alpaca.dome import Dome, ShutterState  # type: ignore[import-untyped]
+from alpaca.exceptions import NotImplementedException  # type: ignore[import-untyped]
 from alpaca.filterwheel import FilterWheel  # type: ignore[import-untyped]
 from alpaca.focuser import Focuser  # type: ignore[import-untyped]
+from alpaca.observingconditions import ObservingConditions  # type: ignore[import-untyped]
 from alpaca.safetymonitor import SafetyMonitor  # type: ignore[import-untyped]
 from alpaca.telescope import Telescope  # type: ignore[import-untyped]
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from alpaca import management  # type: ignore[import-untyped]
+from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.interfaces import MotionStatus
-from nightcrew.modules.sim import SimTelescope
+from nightcrew.modules import Module
+from nightcrew.modules.alpaca import AlpacaServer
+from nightcrew.modules.sim import SimTelescope, SimWeatherStation
+from nightcrew.testing import Observatory
 from nightcrew.vfs import VirtualFileSystem
 
-from .served import MILKY_WAY, Served, served_observatory, wait_in_thread
+from .served import DARK_NIGHT, MILKY_WAY, Served, served_observatory, wait_in_thread
 
 
 @pytest.fixture
@@ -73,13 +80,10 @@ async def test_alpyca_slews_the_telescope_and_parks_it(served: Served) -> None:
 
     ra, dec = MILKY_WAY
     await asyncio.to_thread(telescope.SlewToCoordinatesAsync, ra / 15.0, dec)
-    # Slewing is true while the nightcrew move runs (90°/s: a few tenths of a second)...
+    # Slewing is true while the nightcrew move runs (see test_abortslew_stops_a_running_slew);
+    # afterwards the mount tracks the target it was sent to.
     sim = served.observatory.module("telescope", SimTelescope)
-    assert await asyncio.to_thread(lambda: telescope.Slewing) == (
-        await sim.get_motion_status() is MotionStatus.SLEWING
-    )
     await wait_in_thread(lambda: not telescope.Slewing, 10.0, "slew finished")
-    # ... and then the mount tracks the target it was sent to.
     assert await asyncio.to_thread(lambda: telescope.Tracking)
     got_ra = await asyncio.to_thread(lambda: telescope.RightAscension)
     got_dec = await asyncio.to_thread(lambda: telescope.Declination)
@@ -113,7 +117,8 @@ async def _abort_a_slew(served: Served) -> None:
     telescope = Telescope(served.address, 0)
     await asyncio.to_thread(setattr, telescope, "Connected", True)
     await asyncio.to_thread(telescope.SlewToAltAzAsync, 180.0, 20.0)
-    assert await asyncio.to_thread(lambda: telescope.Slewing)
+    assert await asyncio.to_thread(lambda: telescope.Slewing)  # a minute-long slew has begun
+    assert await sim.get_motion_status() is MotionStatus.SLEWING
     await asyncio.to_thread(telescope.AbortSlew)
     await wait_in_thread(lambda: not telescope.Slewing, 10.0, "slew aborted")
     assert await sim.get_motion_status() is MotionStatus.IDLE
@@ -127,6 +132,7 @@ async def test_alpyca_gets_the_frame_the_camera_wrote(served: Served) -> None:
     await asyncio.to_thread(setattr, camera, "Connected", True)
     assert await asyncio.to_thread(lambda: (camera.CameraXSize, camera.CameraYSize)) == (512, 512)
     assert await asyncio.to_thread(lambda: camera.MaxBinX) == 4
+    assert await asyncio.to_thread(lambda: (camera.PixelSizeX, camera.PixelSizeY)) == (9.0, 9.0)
 
     await asyncio.to_thread(camera.StartExposure, 0.5, True)
     await wait_in_thread(lambda: camera.ImageReady, 60.0, "image ready")
@@ -181,7 +187,7 @@ async def test_abortexposure_leaves_no_image(served: Served) -> None:
     camera = Camera(served.address, 0)
     await asyncio.to_thread(setattr, camera, "Connected", True)
     await asyncio.to_thread(camera.StartExposure, 60.0, True)
-    assert await asyncio.to_thread(lambda: camera.CameraState) == 2  # exposing
+    await wait_in_thread(lambda: camera.CameraState == 2, 10.0, "exposing")
     await asyncio.to_thread(camera.AbortExposure)
     assert await asyncio.to_thread(lambda: camera.CameraState) == 0
     assert not await asyncio.to_thread(lambda: camera.ImageReady)
@@ -233,3 +239,42 @@ async def _last_path(vfs: VirtualFileSystem) -> str:
     paths = sorted(await vfs.find("/cache/*.fits"))
     assert len(paths) == 1, paths
     return paths[0]
+
+
+def test_the_example_configuration_builds() -> None:
+    path = Path(__file__).resolve().parents[2] / "examples" / "alpaca" / "server.yaml"
+    config = load_config(path)
+    validate_config(config, Module)
+    server = build_object({**config, "name": "alpaca"}, Module)
+    assert isinstance(server, AlpacaServer)
+    assert [d.describe() for d in server.devices] == [
+        "telescope 0 (module telescope)",
+        "camera 0 (module camera)",
+        "dome 0 (module roof)",
+        "focuser 0 (module focuser)",
+        "filterwheel 0 (module filters)",
+        "safetymonitor 0 (module safety)",
+        "observingconditions 0 (module weather)",
+    ]
+
+
+async def test_a_weather_station_as_observing_conditions() -> None:
+    scenario = [{"at": 0, "temperature": 8.0, "humidity": 55, "wind_speed": 18.0, "clouds": 0.05}]
+    async with Observatory(speed=1.0, epoch=DARK_NIGHT) as obs:
+        await obs.start(SimWeatherStation, "station", scenario=scenario)
+        server = await obs.start(
+            AlpacaServer, "alpaca", devices={"observingconditions": "station"}, port=0, discovery_port=None
+        )
+        conditions = ObservingConditions(f"127.0.0.1:{server.port}", 0)
+        await asyncio.to_thread(setattr, conditions, "Connected", True)
+        read = await asyncio.to_thread(
+            lambda: (conditions.Temperature, conditions.Humidity, conditions.WindSpeed)
+        )
+        assert read == pytest.approx((8.0, 55.0, 5.0))  # wind in m/s
+        assert "temperature of nightcrew module station" in await asyncio.to_thread(
+            conditions.SensorDescription, "Temperature"
+        )
+        assert await asyncio.to_thread(conditions.TimeSinceLastUpdate, "") >= 0.0
+        assert await asyncio.to_thread(lambda: conditions.AveragePeriod) == 0.0
+        with pytest.raises(NotImplementedException, match="observingconditions member cloudcover"):
+            await asyncio.to_thread(lambda: conditions.CloudCover)

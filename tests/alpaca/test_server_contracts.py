@@ -13,7 +13,6 @@ from typing import Any
 
 import pytest
 
-from nightcrew.clock import RealClock
 from nightcrew.modules.alpaca import AlpacaFilterWheel, AlpacaFocuser, AlpacaTelescope
 from nightcrew.modules.alpaca.dome import AlpacaDome
 from nightcrew.testing import (
@@ -35,7 +34,9 @@ async def _client(module_class: type[Any], name: str, **options: Any) -> AsyncIt
     served_devices = served_observatory(
         slew_rate=10.0, focuser_speed=2.0, filter_change_time=2.0, dome_time=4.0
     )
-    async with served_devices as served, Observatory(clock=RealClock(), site=SITE) as obs:
+    # The client's clock is the simulator's (real-time rate, a dark night): both sides must agree
+    # on the sky, or a target the suite picks high up may be below the simulated horizon.
+    async with served_devices as served, Observatory(clock=served.observatory.clock, site=SITE) as obs:
         probe = await obs.start(ContractProbe, "probe")
         module = await obs.start(module_class, name, server=served.url, **options)
         yield ContractSetup(module, probe)

@@ -87,6 +87,7 @@ async def test_unknown_devices_are_bad_requests_naming_what_is_served(client: Cl
             "parameter Declination='inf' is not a finite number",
         ),
         ({"RightAscension": "12"}, "slewtocoordinatesasync: missing parameter Declination"),
+        ({"RightAscension": "١٢", "Declination": "10"}, "parameter RightAscension='١٢' is not a number"),
     ],
 )
 async def test_malformed_parameters_are_bad_requests(
@@ -146,6 +147,8 @@ async def test_refusals_of_the_module_reach_the_client(client: Client) -> None:
     status, body = await client.call(
         "PUT", "telescope/0/slewtocoordinatesasync", RightAscension="17.963", Declination="4.7"
     )
+    if body["ErrorNumber"] == 0:  # refused after the request returned: the next poll says so
+        status, body = await client.call("GET", "telescope/0/slewing")
     assert (status, body["ErrorNumber"]) == (200, INVALID_OPERATION)
     assert "telescope is parked; call init() first" in body["ErrorMessage"]
     _, body = await client.call("GET", "telescope/0/slewing")
@@ -180,6 +183,8 @@ async def test_parameter_names_ignore_case_and_transaction_ids_are_echoed(client
         assert body["ClientTransactionID"] == 0
     _, body = await client.call("PUT", "focuser/0/move", POSITION="1000")
     assert body["ErrorNumber"] == 0
+    _, body = await client.call("GET", "focuser/0/position", ClientID="x" * 5000)  # ignored
+    assert body["ErrorNumber"] == 0
 
 
 async def test_a_module_that_is_not_online_is_a_clear_error() -> None:
@@ -207,6 +212,10 @@ async def test_bad_configurations_name_the_key() -> None:
         AlpacaServer(name="alpaca", devices={"focuser": "focuser"}, port=70000)
     with pytest.raises(ConfigError, match=r"key 'devices\.camera': give a module name"):
         AlpacaServer(name="alpaca", devices={"camera": []})
+    with pytest.raises(ConfigError, match=r"key 'pixel_sizes\.guider': guider is not a served camera"):
+        AlpacaServer(name="alpaca", devices={"camera": "camera"}, pixel_sizes={"guider": 5.0})
+    with pytest.raises(ConfigError, match=r"key 'pixel_sizes\.camera': must be > 0 µm, got -1"):
+        AlpacaServer(name="alpaca", devices={"camera": "camera"}, pixel_sizes={"camera": -1})
 
 
 async def test_a_busy_port_is_a_config_error(served: Served) -> None:
@@ -259,3 +268,37 @@ async def _value(client: Client, path: str, expected: object) -> bool:
     _, body = await client.call("GET", path)
     assert body["ErrorNumber"] == 0, body
     return bool(body["Value"] == expected)
+
+
+@pytest.mark.parametrize(
+    ("method", "path", "params"),
+    [
+        ("GET", "telescope/0/__init__", {}),
+        ("GET", "telescope/0/Get_Proxy", {}),
+        ("GET", "telescope/-1/connected", {}),
+        ("GET", "telescope/99999999999999999999/connected", {}),
+        ("PUT", "telescope/0/slewtoaltazasync", {"Altitude": "1e400", "Azimuth": "0"}),
+        ("PUT", "telescope/0/slewtoaltazasync", {"Altitude": "١٢", "Azimuth": "0"}),
+        ("PUT", "telescope/0/targetdeclination", {"TargetDeclination": ""}),
+        ("PUT", "camera/0/numx", {"NumX": "2.5"}),
+        ("PUT", "camera/0/numx", {"NumX": "-3"}),
+        ("PUT", "camera/0/startexposure", {"Duration": "1", "Light": ""}),
+        ("PUT", "focuser/0/move", {"Position": "99999999999999999999999"}),
+        ("PUT", "filterwheel/0/position", {"Position": "-1"}),
+        ("PUT", "dome/0/slewtoazimuth", {"Azimuth": "nan"}),
+    ],
+)
+async def test_odd_requests_get_an_answer_and_never_stop_the_server(
+    client: Client, method: str, path: str, params: dict[str, str]
+) -> None:
+    device = path.rsplit("/", 1)[0]
+    if device.split("/")[1] == "0":
+        await client.connect(device)
+    status, body = await client.call(method, path, **params)
+    assert status in (200, 400)
+    if status == 200:
+        assert body["ErrorNumber"] != 0 and body["ErrorMessage"], body
+    else:
+        assert isinstance(body, str) and body
+    status, body = await client.call("GET", "telescope/0/name")
+    assert (status, body["Value"]) == (200, "telescope")

@@ -63,6 +63,7 @@ async def test_sim_serves_its_devices_to_alpyca(sim_server: tuple[subprocess.Pop
         ("Focuser", "focuser"),
         ("FilterWheel", "filters"),
         ("SafetyMonitor", "safety"),
+        ("ObservingConditions", "weather"),
     }
 
     dome, telescope, camera = Dome(address, 0), Telescope(address, 0), Camera(address, 0)
@@ -80,6 +81,7 @@ async def test_sim_serves_its_devices_to_alpyca(sim_server: tuple[subprocess.Pop
     raw = await asyncio.to_thread(lambda: camera.ImageArrayRaw)
     info = await asyncio.to_thread(lambda: camera.ImageArrayInfo)
     assert (info.Dimension1, info.Dimension2) == (2048, 2048)
+    assert await asyncio.to_thread(lambda: camera.PixelSizeX) == 9.0  # from camera.yaml
     assert np.array(raw, dtype=np.uint16).std() > 0
 
     os.kill(process.pid, signal.SIGTERM)

@@ -12,17 +12,33 @@ from typing import Any
 import pytest
 
 from nightcrew.clock import RealClock
-from nightcrew.modules.sim import SimCamera, SimDome, SimFilterWheel, SimFocuser, SimRoof, SimTelescope
+from nightcrew.interfaces import WeatherSensor
+from nightcrew.modules.sim import (
+    SimCamera,
+    SimCoverCalibrator,
+    SimDome,
+    SimFilterWheel,
+    SimFocuser,
+    SimRoof,
+    SimRotator,
+    SimSwitch,
+    SimTelescope,
+    SimWeatherStation,
+)
 from nightcrew.testing import (
     CameraContract,
     ContractProbe,
     ContractSetup,
+    CoverCalibratorContract,
     DomeContract,
     FilterWheelContract,
     FocuserContract,
     Observatory,
     RoofContract,
+    RotatorContract,
+    SwitchContract,
     TelescopeContract,
+    WeatherStationContract,
 )
 
 from .devices import GradientCamera
@@ -120,3 +136,52 @@ class TestSimFilterWheel(FilterWheelContract):
             probe = await obs.start(ContractProbe, "probe")
             wheel = await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"])
             yield ContractSetup(wheel, probe)
+
+
+class TestSimRotator(RotatorContract):
+    @pytest.fixture
+    async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
+        async with Observatory() as obs:
+            probe = await obs.start(ContractProbe, "probe")
+            yield ContractSetup(await obs.start(SimRotator, "rotator", sky_offset=30.0), probe)
+
+
+class TestSimSwitch(SwitchContract):
+    @pytest.fixture
+    async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
+        switches = [
+            {"name": "outlet", "value": 1.0},
+            {"name": "dew heater", "min_value": 0.0, "max_value": 100.0, "step": 5.0, "value": 20.0},
+            {"name": "voltage", "can_write": False, "max_value": 24.0, "step": 0.0, "value": 12.3},
+        ]
+        async with Observatory() as obs:
+            probe = await obs.start(ContractProbe, "probe")
+            yield ContractSetup(await obs.start(SimSwitch, "switch", switches=switches), probe)
+
+
+class TestSimCoverCalibrator(CoverCalibratorContract):
+    @pytest.fixture
+    async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
+        async with Observatory() as obs:
+            probe = await obs.start(ContractProbe, "probe")
+            yield ContractSetup(await obs.start(SimCoverCalibrator, "flats"), probe)
+
+
+class TestSimFlatPanel(CoverCalibratorContract):
+    """A panel on the dome wall: a light and no cover."""
+
+    @pytest.fixture
+    async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
+        async with Observatory() as obs:
+            probe = await obs.start(ContractProbe, "probe")
+            yield ContractSetup(await obs.start(SimCoverCalibrator, "panel", cover=False), probe)
+
+
+class TestSimWeatherStation(WeatherStationContract):
+    required_sensors = (WeatherSensor.TEMPERATURE, WeatherSensor.HUMIDITY, WeatherSensor.RAIN)
+
+    @pytest.fixture
+    async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
+        async with Observatory() as obs:
+            probe = await obs.start(ContractProbe, "probe")
+            yield ContractSetup(await obs.start(SimWeatherStation, "weather", seed=3), probe)

@@ -14,6 +14,7 @@ def test_exported_members() -> None:
             "Condition",
             "ContractProbe",
             "ContractSetup",
+            "CoverCalibratorContract",
             "DeviceContract",
             "DomeContract",
             "EventRecorder",
@@ -21,7 +22,10 @@ def test_exported_members() -> None:
             "FocuserContract",
             "Observatory",
             "RoofContract",
+            "RotatorContract",
+            "SwitchContract",
             "TelescopeContract",
+            "WeatherStationContract",
             "timed_call",
             "wait_for",
         ]

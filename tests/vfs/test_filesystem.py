@@ -28,6 +28,8 @@ def test_public_surface_is_curated() -> None:
         "HttpFile",
         "LocalFile",
         "MemoryFile",
+        "SMBFile",
+        "SSHFile",
         "TempFile",
         "UnknownRootError",
         "VfsError",

@@ -30,6 +30,8 @@ __all__ = [
     "format_dec",
     "format_ra",
     "from_unit_vector",
+    "j2000_to_of_date",
+    "of_date_to_j2000",
     "precess",
     "precession_matrix",
     "radec_to_altaz",
@@ -139,6 +141,17 @@ def altaz_to_radec(
     dec_date, hour_angle = _rotate_sphere(alt, az, latitude, xp)
     ra_date = local_sidereal_time(unix_time, longitude) - hour_angle
     return from_unit_vector(precess(unit_vector(ra_date, dec_date, xp), unix_time, xp, inverse=True), xp)
+
+
+def j2000_to_of_date(ra: float, dec: float, unix_time: float) -> tuple[float, float]:
+    """(ra, dec) on the mean equator and equinox of date (INDI's "JNow") of J2000/ICRS (ra, dec)."""
+    return from_unit_vector(precess(unit_vector(ra, dec, SCALAR), unix_time, SCALAR), SCALAR)
+
+
+def of_date_to_j2000(ra: float, dec: float, unix_time: float) -> tuple[float, float]:
+    """J2000/ICRS (ra, dec) of a position on the mean equator of date; inverse of j2000_to_of_date."""
+    v = precess(unit_vector(ra, dec, SCALAR), unix_time, SCALAR, inverse=True)
+    return from_unit_vector(v, SCALAR)
 
 
 def ecliptic_to_equatorial(

@@ -8,7 +8,6 @@ here take that module's comm, so they are the same for any transport.
 from __future__ import annotations
 
 import argparse
-import ast
 import json
 import os
 from collections.abc import AsyncIterator
@@ -21,6 +20,7 @@ import yaml
 
 from nightcrew.cli._running import quiet_module_logs
 from nightcrew.comm.base import Comm
+from nightcrew.comm.calls import parse_shell_call
 from nightcrew.comm.codec import encode
 from nightcrew.config import build_object, load_config
 from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
@@ -130,28 +130,6 @@ def parse_cli_arguments(texts: list[str]) -> list[Any]:
         except yaml.YAMLError as exc:
             raise InvalidArgumentError(f"cannot read argument {text!r}: {exc}") from exc
     return values
-
-
-def parse_shell_call(line: str) -> tuple[str, list[Any]]:
-    """``camera.set_filter("R")`` → (``camera.set_filter``, ``["R"]``); arguments are Python literals."""
-    try:
-        tree = ast.parse(line.strip(), mode="eval")
-    except SyntaxError as exc:
-        raise InvalidArgumentError(f"not a call: {line.strip()!r} ({exc.msg})") from exc
-    call = tree.body
-    if (
-        not isinstance(call, ast.Call)
-        or not isinstance(call.func, ast.Attribute)
-        or not isinstance(call.func.value, ast.Name)
-    ):
-        raise InvalidArgumentError(f"expected module.method(arguments), got {line.strip()!r}")
-    if call.keywords:
-        raise InvalidArgumentError("keyword arguments are not supported; give all arguments in order")
-    try:
-        args = [ast.literal_eval(arg) for arg in call.args]
-    except ValueError as exc:
-        raise InvalidArgumentError(f"arguments must be literals (numbers, strings, lists …): {exc}") from exc
-    return f"{call.func.value.id}.{call.func.attr}", args
 
 
 def format_value(value: Any) -> str:

@@ -3,7 +3,8 @@
 Instead of running a night, the bundled (or ``--configs``) devices run on a clock at real speed
 (``--speed`` to change it) that starts at dusk of ``--date`` (or ``--start``), and an AlpacaServer
 serves them on 127.0.0.1:PORT: telescope, camera (frames are also written to ``--out``), roof as
-Dome, focuser, filter wheel, and the weather verdict of ``robotic/safety.yaml`` as SafetyMonitor.
+Dome, focuser, filter wheel, the weather station as ObservingConditions and the weather verdict
+of ``robotic/safety.yaml`` as SafetyMonitor.
 Any Alpaca client (N.I.N.A., SharpCap, alpyca scripts) can then drive the simulated sky; it finds
 the server by Alpaca discovery on loopback (``--alpaca-discovery-port``). On Ctrl-C or SIGTERM the
 telescope parks, the roof closes and everything stops.
@@ -20,7 +21,7 @@ from pathlib import Path
 from nightcrew.cli._running import quiet_module_logs, stop_on_signals
 from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.config import build_object, load_config, to_plain, validate_config
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca.server import AlpacaServer
 from nightcrew.night.build import (
@@ -36,11 +37,14 @@ from nightcrew.night.build import (
     park_and_close,
 )
 from nightcrew.night.fields import night_start
+from nightcrew.sim.render import CameraModel
 
-__all__ = ["SAFETY", "serve_alpaca_command"]
+__all__ = ["SAFETY", "STATION", "serve_alpaca_command"]
 
 #: The weather verdict module (robotic/safety.yaml) served as the SafetyMonitor.
 SAFETY = "safety"
+#: The weather station (weather.yaml) served as ObservingConditions.
+STATION = "weather"
 
 
 def serve_alpaca_command(args: argparse.Namespace) -> int:
@@ -67,6 +71,8 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         "focuser": FOCUSER,
         "filterwheel": FILTERS,
     }
+    if any(module.name == STATION for module in modules):
+        devices["observingconditions"] = STATION
     safety = directory / "robotic" / f"{SAFETY}.yaml"
     if safety.is_file():
         config = load_config(safety)
@@ -80,6 +86,7 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         vfs=vfs,
         site=next((m.site for m in modules if m.site is not None), None),
         devices=devices,
+        pixel_sizes={CAMERA: _pixel_size(directory)},
         port=args.alpaca,
         discovery_port=args.alpaca_discovery_port,
     )
@@ -105,3 +112,11 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         finally:
             for module in reversed(opened):
                 await module.close()
+
+
+def _pixel_size(directory: Path) -> float:
+    """The simulated camera's pixel size in µm (its detector's pixel_size_um)."""
+    path = directory / f"{CAMERA}.yaml"
+    detector = to_plain(load_config(path).get("detector") or {}) if path.is_file() else {}
+    size = detector.get("pixel_size_um") if isinstance(detector, dict) else None
+    return float(size) if isinstance(size, int | float) else CameraModel().pixel_size_um

@@ -12,6 +12,7 @@ import asyncio
 import json
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, timedelta
 from pathlib import Path
@@ -19,22 +20,42 @@ from typing import Any, TextIO
 
 from nightcrew.cli._running import quiet_module_logs, stop_on_signals
 from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
+from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
-from nightcrew.night.build import bundled_observatory, observatory_site
-from nightcrew.night.engine import NightProgress, ProgressCallback, WholeNight, run_whole_night
+from nightcrew.modules import Module
+from nightcrew.night.build import (
+    CAMERA,
+    FILTERS,
+    FOCUSER,
+    IMAGES_ROOT,
+    ROOF,
+    TELESCOPE,
+    bundled_observatory,
+    observatory_site,
+)
+from nightcrew.night.engine import (
+    FRAMES,
+    NightProgress,
+    ProgressCallback,
+    WholeNight,
+    run_whole_night,
+)
 from nightcrew.night.fields import choose_targets, night_start, quick_groups
 from nightcrew.night.plan import night_span, weather_scenario
 from nightcrew.report import write_report
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
+from nightcrew.vfs import LocalFile, VirtualFileSystem
 
 __all__ = [
     "NIGHT_CAMERA",
     "QUICK_HOURS",
     "WALL_TIME_FILE",
     "NightSetup",
+    "indi_server",
     "night_setup",
+    "night_speed",
     "run_night_command",
     "run_one_night",
     "sim_clock",
@@ -46,6 +67,10 @@ WALL_TIME_FILE = "wall-time.json"
 #: The camera of the whole night renders a quarter of the chip (1024 x 1024 px at 1.16"/px, a
 #: 20' field): every frame is still rendered and written, four times faster and smaller.
 NIGHT_CAMERA: dict[str, Any] = {"chip_width": 1024, "chip_height": 1024}
+
+#: Clock seconds per wall second of a night watched live without ``--speed``: the quick night, and
+#: the whole night (14.4 h in under 3 minutes).
+QUICK_WATCH_SPEED, NIGHT_WATCH_SPEED = 60.0, 320.0
 
 #: Clock hours of a ``--quick`` night without ``--hours``.
 QUICK_HOURS = 1.0
@@ -69,10 +94,11 @@ def run_night_command(args: argparse.Namespace) -> int:
     with quiet_module_logs(args.verbose or args.debug):
         result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))
     report = write_report(args.out)
+    pace = describe_pace(night_speed(args))
     state = "night complete" if result.completed else "night stopped early"
     print(
         f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {setup.weather} "
-        f"(night of {setup.night}, {setup.start:%H:%M}-{setup.end:%H:%M} UTC {describe_pace(args.speed)}; "
+        f"(night of {setup.night}, {setup.start:%H:%M}-{setup.end:%H:%M} UTC {pace}; "
         f"{wall:.1f} s wall time)"
     )
     print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
@@ -146,7 +172,7 @@ def run_one_night(
     # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
     devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
     robotic = _robotic_overrides(directory, seed)
-    clock = sim_clock(setup.start, args.speed)
+    clock = sim_clock(setup.start, night_speed(args))
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
     async def night() -> WholeNight:
@@ -164,6 +190,7 @@ def run_one_night(
                 tasks=setup.tasks,
                 progress=progress,
                 stop=stop,
+                extra_modules=_extras(args, clock, site, out / FRAMES),
             )
 
     try:
@@ -174,6 +201,15 @@ def run_one_night(
     wall = time.monotonic() - wall_start
     _write_wall_time(out / WALL_TIME_FILE, clock, wall, time.process_time() - cpu_start)
     return result, wall
+
+
+def night_speed(args: argparse.Namespace) -> float | None:
+    """``--speed``; None: the virtual clock. A night watched live (``--indi``, ``--console``) runs
+    an accelerated clock by default, as a virtual one would be over before a client looked."""
+    speed: float | None = args.speed
+    if speed is not None or (args.indi is None and args.console is None):
+        return speed
+    return QUICK_WATCH_SPEED if args.quick else NIGHT_WATCH_SPEED
 
 
 def sim_clock(start: datetime, speed: float | None) -> Clock:
@@ -215,6 +251,60 @@ def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:
     waited = clock.wall_waited() if isinstance(clock, VirtualClock) else {}
     record = {"wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "waited_s": waited}
     path.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
+
+
+def _indi(
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """With ``--indi PORT``: the IndiServer serving the night's devices."""
+    if args.indi is None:
+        return None
+    port: int = args.indi
+    return lambda network: [indi_server(port, network=network, clock=clock, frames=frames, site=site)]
+
+
+def indi_server(port: int, *, network: LocalNetwork, clock: Clock, frames: Path, site: Site) -> Module:
+    """An IndiServer for the simulated observatory's devices, on ``network``, loopback ``port``.
+
+    ``frames`` is the directory the camera writes to (its VFS root ``images``), from which the
+    server reads the FITS files it sends as BLOBs.
+    """
+    from nightcrew.modules.indi.server import IndiServer
+
+    return IndiServer(
+        port=port,
+        telescope=TELESCOPE,
+        camera=CAMERA,
+        focuser=FOCUSER,
+        filters=FILTERS,
+        dome=ROOF,
+        comm=LocalComm("indi", network=network),
+        clock=clock,
+        site=site,
+        vfs=VirtualFileSystem({IMAGES_ROOT: LocalFile(str(frames))}),
+    )
+
+
+def _console(
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """With ``--console [PORT]``: the web console watching the night."""
+    if args.console is None:
+        return None
+    from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
+
+    return sim_console(args.console, clock=clock, site=site, images=frames)
+
+
+def _extras(
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """The servers the options ask for (INDI, console), built on the night's network."""
+    wanted = (_indi(args, clock, site, frames), _console(args, clock, site, frames))
+    builders = [build for build in wanted if build is not None]
+    if not builders:
+        return None
+    return lambda network: [module for build in builders for module in build(network)]
 
 
 def _printer(stream: TextIO) -> ProgressCallback:

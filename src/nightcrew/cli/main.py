@@ -14,6 +14,7 @@ import importlib
 import logging
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from nightcrew import __version__
 from nightcrew.errors import ConfigError, NightcrewError
@@ -28,6 +29,7 @@ SUBCOMMANDS = [
     "call",
     "events",
     "shell",
+    "console",
     "server",
     "sim",
     "reduce",
@@ -35,7 +37,18 @@ SUBCOMMANDS = [
     "flats",
     "report",
     "alpaca",
+    "up",
+    "status",
+    "start",
+    "stop",
+    "restart",
+    "logs",
+    "systemd",
 ]
+
+
+#: Global options that take a value.
+_VALUED = frozenset({"--log-format", "--log-file", "--log-file-format"})
 
 
 def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
@@ -47,9 +60,21 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="nightcrew", description="Observatory control system.")
     parser.add_argument("--version", action="version", version=f"nightcrew {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
+    parser.add_argument(
+        "--log-format",
+        choices=("text", "json", "systemd"),
+        default="text",
+        help="stderr log lines: text, JSON lines, or with journald's level prefixes (systemd)",
+    )
+    parser.add_argument("--log-file", metavar="FILE", help="also log to FILE, rotated at 10 MB (5 kept)")
+    parser.add_argument("--log-file-format", choices=("text", "json"), default="text", help="format of FILE")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    # Global options take no values, so the first other word is the subcommand.
-    command = next((word for word in argv or () if not word.startswith("-")), None)
+    # The first word that is neither a global option nor its value is the subcommand.
+    words = list(argv or ())
+    command = next(
+        (w for i, w in enumerate(words) if not w.startswith("-") and (i == 0 or words[i - 1] not in _VALUED)),
+        None,
+    )
     for name in [command] if command in SUBCOMMANDS else SUBCOMMANDS:
         module = importlib.import_module(f"nightcrew.cli.{name}")
         module.add_parser(subparsers)
@@ -60,9 +85,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     words = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(words)
     args = parser.parse_args(words)
-    logging.basicConfig(
-        level=logging.DEBUG if args.debug else logging.INFO,
-        format="%(asctime)s %(levelname)-7s %(name)s: %(message)s",
+    from nightcrew.supervisor import configure_logging
+
+    configure_logging(
+        logging.DEBUG if args.debug else logging.INFO,
+        console_format=args.log_format,
+        log_file=Path(args.log_file) if args.log_file else None,
+        file_format=args.log_file_format,
     )
     try:
         code: int = args.func(args)

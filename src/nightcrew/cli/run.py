@@ -3,7 +3,9 @@
 Every file is validated before any module is built, and every module is built before any is
 opened, so a bad configuration stops the start with one message and nothing half-started.
 A module without a ``comm`` is named after its file (``camera.yaml`` → ``camera``) and reaches
-the other modules of this process. SIGINT (Ctrl-C) and SIGTERM close all modules cleanly.
+the other modules of this process. SIGINT (Ctrl-C) and SIGTERM close all modules cleanly. A module
+whose comm is lost for good (another process logged in with its account) closes all modules and
+ends the command with that error (exit 1), so that a supervisor sees it and nothing stays offline.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from typing import Any
 
 from nightcrew.cli._running import stop_on_signals
 from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.errors import NightcrewError
 from nightcrew.modules import Module
 
 __all__ = ["add_parser", "build_modules", "run_modules"]
@@ -46,9 +49,20 @@ def build_modules(paths: list[str]) -> list[Module]:
 
 
 async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) -> None:
-    """Open ``modules``, wait until ``stop`` is set (or a signal arrives), then close them."""
+    """Open ``modules``, wait until ``stop`` is set (or a signal arrives), then close them.
+
+    Raises the error of a comm lost for good (after closing every module).
+    """
+    fatal: list[NightcrewError] = []
     opened: list[Module] = []
     async with stop_on_signals(stop) as stopped:
+
+        def on_fatal(error: NightcrewError) -> None:
+            fatal.append(error)
+            stopped.set()
+
+        for module in modules:
+            module.comm.on_fatal = on_fatal
         try:
             for module in modules:
                 await module.open()
@@ -57,7 +71,15 @@ async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) 
             log.info("stopping")
         finally:
             for module in reversed(opened):
-                await module.close()
+                try:
+                    await module.close()
+                except NightcrewError as exc:
+                    if not fatal:
+                        raise
+                    # Its comm is gone for good: a failing goodbye must not hide why we stop.
+                    log.warning("%s closed with an error: %s", module.name, exc)
+    if fatal:
+        raise fatal[0]
 
 
 def _run_command(args: argparse.Namespace) -> int:

@@ -10,7 +10,10 @@ the mastermind runs them (sky flats, bias and darks, focus, science), the weathe
 may interrupt them, and at the end the telescope parks and the roof closes (also after an error or
 Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night report
 (report.html) go to ``--out``. ``--quick`` runs the same engine on a short task list (biases and
-darks, a few fields) for an hour after dusk. Progress is shown on stderr, a summary on stdout.
+darks, a few fields) for an hour after dusk. ``--indi PORT`` also serves the devices to INDI
+clients (KStars/Ekos, Stellarium) on 127.0.0.1:PORT and ``--console [PORT]`` the web console while
+the night runs (on an accelerated clock unless ``--speed`` says otherwise: 320x, ``--quick`` 60x).
+Progress is shown on stderr, a summary on stdout.
 """
 
 from __future__ import annotations
@@ -96,6 +99,23 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "--configs", type=Path, default=None, help="directory of module files (default: the bundled ones)"
     )
+    parser.add_argument(
+        "--indi",
+        type=_port,
+        default=None,
+        metavar="PORT",
+        help="also serve the telescope, camera, focuser, filter wheel and roof to INDI clients "
+        "(KStars/Ekos, Stellarium) on 127.0.0.1:PORT (INDI's usual port is 7624)",
+    )
+    parser.add_argument(
+        "--console",
+        type=_port,
+        nargs="?",
+        const=37180,
+        default=None,
+        metavar="PORT",
+        help="serve the web console on 127.0.0.1:PORT (default 37180; 0: a free one) to watch the night live",
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
     alpaca = parser.add_argument_group("serving the devices to Alpaca clients (--alpaca)")
     alpaca.add_argument(
@@ -162,12 +182,12 @@ def _count(text: str, minimum: int = 1) -> int:
     return value
 
 
+def _port(text: str) -> int:
+    port = _count(text, minimum=0)  # 0: a free one (the console prints which)
+    if port > 65535:
+        raise argparse.ArgumentTypeError(f"not a port number (0..65535): {text}")
+    return port
+
+
 def _non_negative(text: str) -> int:
     return _count(text, minimum=0)
-
-
-def _port(text: str) -> int:
-    value = _count(text, minimum=0)
-    if value > 65535:
-        raise argparse.ArgumentTypeError(f"not a port number (0..65535): {text}")
-    return value

@@ -87,6 +87,9 @@ class Comm(ABC):
         self._tasks: set[asyncio.Task[Any]] = set()
         #: Called with every exception a call made through this comm raised (for error limits).
         self.error_hook: ErrorHook | None = None
+        #: Called when the transport is lost for good (e.g. another process took over the account);
+        #: ``nightcrew run`` then stops with that error, so a supervisor sees the module end.
+        self.on_fatal: Callable[[NightcrewError], None] | None = None
         self._is_open = False
 
     # --- what a transport provides -------------------------------------------------------------
@@ -150,6 +153,15 @@ class Comm(ABC):
         the clock's timeout plus the transport's allowance for the network (``rpc_grace`` wall
         seconds, which do not speed up with a simulated clock)."""
         return self._clock.timeout(seconds, grace=self._rpc_grace)
+
+    @property
+    def connected(self) -> bool:
+        """Whether the transport reaches the others now; a transport that can lose them overrides it."""
+        return self._is_open
+
+    def _report_fatal(self, error: NightcrewError) -> None:
+        if self.on_fatal is not None:
+            self.on_fatal(error)
 
     @property
     def is_open(self) -> bool:

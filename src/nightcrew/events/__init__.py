@@ -11,6 +11,7 @@ from nightcrew.events.module import ModuleClosedEvent, ModuleOpenedEvent, Module
 from nightcrew.events.motion import FilterChangedEvent, MotionStatusChangedEvent
 from nightcrew.events.pointing import MoveAltAzEvent, MoveRaDecEvent, OffsetsAltAzEvent, OffsetsRaDecEvent
 from nightcrew.events.roof import RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent
+from nightcrew.events.safety import SafetyAlarmEvent, SafetyClearedEvent
 from nightcrew.events.task import TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.events.test import TestEvent
 from nightcrew.events.weather import BadWeatherEvent, GoodWeatherEvent
@@ -37,6 +38,8 @@ __all__ = [
     "RoofClosedEvent",
     "RoofClosingEvent",
     "RoofOpenedEvent",
+    "SafetyAlarmEvent",
+    "SafetyClearedEvent",
     "TaskFailedEvent",
     "TaskFinishedEvent",
     "TaskStartedEvent",

@@ -41,9 +41,19 @@ from nightcrew.interfaces.pointing import (
     IOffsetsRaDec,
     IPointingAltAz,
     IPointingRaDec,
+    ISyncRaDec,
     ITelescope,
 )
-from nightcrew.interfaces.robotic import IAutonomous, IScriptRunner
+from nightcrew.interfaces.robotic import (
+    IAutonomous,
+    IRobotic,
+    IRoboticScheduler,
+    IScriptRunner,
+    Plan,
+    PlannedTask,
+    RoboticStatus,
+    RoboticTask,
+)
 from nightcrew.interfaces.roof import IDome, IRoof
 from nightcrew.interfaces.rotator import IRotator
 from nightcrew.interfaces.sensors import ITemperatures
@@ -89,6 +99,8 @@ __all__ = [
     "IPointingRaDec",
     "IPointingSeries",
     "IReady",
+    "IRobotic",
+    "IRoboticScheduler",
     "IRoof",
     "IRotator",
     "IRunnable",
@@ -97,6 +109,7 @@ __all__ = [
     "ISpectrograph",
     "IStartStop",
     "ISwitch",
+    "ISyncRaDec",
     "ITelescope",
     "ITemperatures",
     "IVideo",
@@ -107,6 +120,10 @@ __all__ = [
     "LoopState",
     "ModuleState",
     "MotionStatus",
+    "Plan",
+    "PlannedTask",
+    "RoboticStatus",
+    "RoboticTask",
     "SensorValue",
     "SwitchInfo",
     "WeatherReport",

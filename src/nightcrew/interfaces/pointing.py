@@ -8,7 +8,7 @@ from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.motion import IMotion
 from nightcrew.timeout import timeout
 
-__all__ = ["IOffsetsAltAz", "IOffsetsRaDec", "IPointingAltAz", "IPointingRaDec", "ITelescope"]
+__all__ = ["IOffsetsAltAz", "IOffsetsRaDec", "IPointingAltAz", "IPointingRaDec", "ISyncRaDec", "ITelescope"]
 
 
 class IPointingRaDec(Interface):
@@ -65,3 +65,11 @@ class IOffsetsAltAz(Interface):
 
 class ITelescope(IMotion, IPointingRaDec, IPointingAltAz):
     """A telescope mount: a moving device that points in both coordinate systems."""
+
+
+class ISyncRaDec(Interface):
+    """Telling a mount where it really points (e.g. after a plate solve), so it corrects itself."""
+
+    @abstractmethod
+    async def sync_radec(self, ra: float, dec: float) -> None:
+        """The mount points at ICRS (``ra``, ``dec``) degrees now; it must be tracking."""

@@ -105,3 +105,7 @@ class NightBlockSource(BlockSource):
             block = block_of(task)
             blocks.append(block if block is not None else calibration_block(task, self.site))
         return blocks
+
+    async def block_names(self) -> dict[str, str]:
+        """Block id → task name (a block's id is its task's)."""
+        return {task.id: task.name for task in await self.archive.get_schedulable_tasks()}

@@ -92,11 +92,15 @@ async def run_whole_night(
     tasks: Sequence[RequestGroup] | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
+    extra_modules: Callable[[LocalNetwork], list[Module]] | None = None,
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
 
     ``tasks`` replaces the night's task list (default: the samples and the survey), e.g. with the
     short list of ``--quick``.
+
+    ``extra_modules`` builds more modules on the night's network (e.g. an IndiServer, the web
+    console), opened after the others and closed before them.
     """
     await asyncio.to_thread(_blocking_clear_records, out_dir)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
@@ -127,6 +131,7 @@ async def run_whole_night(
         modules = [
             *build_observatory(directory, overrides=device_overrides, **common),
             *build_observatory(directory / ROBOTIC, overrides=robotic, **common),
+            *(extra_modules(network) if extra_modules is not None else []),
         ]
         recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
         for module in [watcher, *modules]:

@@ -1,17 +1,18 @@
 """nightcrew's test kit: device contract suites and the helpers tests share.
 
-Every telescope, camera, roof, dome, focuser and filter-wheel module — simulated, Alpaca, INDI or a
-user's own driver — proves the same behaviour by subclassing a contract suite. Needs pytest and
-pytest-asyncio (``pip install nightcrew[testing]``).
+Every telescope, camera, roof, dome, focuser, filter-wheel, rotator, switch, cover-calibrator and
+weather-station module — simulated, Alpaca, INDI or a user's own driver — proves the same behaviour
+by subclassing a contract suite. Needs pytest and pytest-asyncio (``pip install nightcrew[testing]``).
 
 Contract suites
 ---------------
 :class:`TelescopeContract`, :class:`CameraContract`, :class:`RoofContract`, :class:`DomeContract`,
-:class:`FocuserContract`, :class:`FilterWheelContract` are pytest classes full of ``test_*``
-methods. They are not collected themselves (their names do not start with ``Test``); a subclass
-called ``Test...`` is, and it provides one thing: an async fixture named ``contract`` that yields a
-:class:`ContractSetup` — the started device module and a :class:`ContractProbe` on the same
-network (started first, so it hears every event)::
+:class:`FocuserContract`, :class:`FilterWheelContract`, :class:`RotatorContract`,
+:class:`SwitchContract`, :class:`CoverCalibratorContract`, :class:`WeatherStationContract` are
+pytest classes full of ``test_*`` methods. They are not collected themselves (their names do not
+start with ``Test``); a subclass called ``Test...`` is, and it provides one thing: an async fixture
+named ``contract`` that yields a :class:`ContractSetup` — the started device module and a
+:class:`ContractProbe` on the same network (started first, so it hears every event)::
 
     from collections.abc import AsyncIterator
     from typing import Any
@@ -66,12 +67,16 @@ from nightcrew.testing.contracts import (
     CameraContract,
     ContractProbe,
     ContractSetup,
+    CoverCalibratorContract,
     DeviceContract,
     DomeContract,
     FilterWheelContract,
     FocuserContract,
     RoofContract,
+    RotatorContract,
+    SwitchContract,
     TelescopeContract,
+    WeatherStationContract,
     timed_call,
 )
 from nightcrew.testing.observatory import EPOCH, SITE, Observatory
@@ -85,6 +90,7 @@ __all__ = [
     "Condition",
     "ContractProbe",
     "ContractSetup",
+    "CoverCalibratorContract",
     "DeviceContract",
     "DomeContract",
     "EventRecorder",
@@ -92,7 +98,10 @@ __all__ = [
     "FocuserContract",
     "Observatory",
     "RoofContract",
+    "RotatorContract",
+    "SwitchContract",
     "TelescopeContract",
+    "WeatherStationContract",
     "timed_call",
     "wait_for",
 ]

@@ -38,6 +38,7 @@ __all__ = [
     "AlpacaSimulator",
     "build_star_table",
     "free_port",
+    "merge_config",
     "start_simulator",
 ]
 
@@ -92,11 +93,12 @@ def build_star_table(path: Path) -> Path:
     return path
 
 
-def _merged(base: dict[Any, Any], changes: dict[Any, Any]) -> dict[Any, Any]:
+def merge_config(base: dict[Any, Any], changes: dict[Any, Any]) -> dict[Any, Any]:
+    """A deep copy of ``base`` with ``changes`` merged in (nested mappings merged key by key)."""
     out = copy.deepcopy(base)
     for key, value in changes.items():
         if isinstance(value, dict) and isinstance(out.get(key), dict):
-            out[key] = _merged(out[key], value)
+            out[key] = merge_config(out[key], value)
         else:
             out[key] = copy.deepcopy(value)
     return out
@@ -209,7 +211,7 @@ def start_simulator(
     if star_table is None:
         star_table = build_star_table(directory / "gaia_sources.db")
     template = resources.files("alpaca_simulators").joinpath("config/template.yaml").read_text()
-    config = _merged(yaml.safe_load(template), TEST_OVERRIDES if overrides is None else overrides)
+    config = merge_config(yaml.safe_load(template), TEST_OVERRIDES if overrides is None else overrides)
     config["tap_source"] = os.fspath(star_table)
     config_path = directory / "config.yaml"
     config_path.write_text(yaml.safe_dump(config, sort_keys=False))

@@ -54,6 +54,7 @@ DEVICE_TYPES = frozenset(
         "telescope",
     }
 )
+_READ_BUFFER = 16 * 1024 * 1024
 _IMAGE_ACCEPT = "application/imagebytes, application/json;q=0.9"
 # A dropped keep-alive connection (typically: the server restarted) fails the first reuse; an
 # idempotent GET is then worth one retry on a fresh connection.
@@ -111,7 +112,9 @@ class AlpacaClient:
 
     async def open(self) -> None:
         if self._session is None:
-            self._session = aiohttp.ClientSession()
+            # A large read buffer: with aiohttp's 64 KiB the transport pauses and resumes hundreds of
+            # times per image download (~17 % slower for a 32 MB ImageBytes reply, measured).
+            self._session = aiohttp.ClientSession(read_bufsize=_READ_BUFFER)
 
     async def close(self) -> None:
         session, self._session = self._session, None

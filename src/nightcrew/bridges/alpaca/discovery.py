@@ -26,8 +26,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from nightcrew.bridges.alpaca.client import DEVICE_TYPES, AlpacaClient, _json_reply
-from nightcrew.bridges.alpaca.errors import AlpacaReplyError
-from nightcrew.errors import NightcrewError
+from nightcrew.bridges.alpaca.errors import AlpacaConnectionError, AlpacaReplyError
+from nightcrew.errors import NightcrewError, RemoteTimeoutError
 
 __all__ = [
     "DISCOVERY_PORT",
@@ -275,6 +275,8 @@ async def _probe_devices(client: AlpacaClient) -> tuple[ConfiguredDevice, ...]:
                 name = await client.device(device_type, number).get("name")
             except AlpacaReplyError:
                 break  # HTTP 400/404: no such device
+            except (AlpacaConnectionError, RemoteTimeoutError):
+                raise  # the server, not the device, is the problem
             except NightcrewError:
                 name = ""  # the device exists but will not say its name (e.g. not connected)
             found.append(ConfiguredDevice(str(name), _TYPE_NAMES[device_type], number, ""))

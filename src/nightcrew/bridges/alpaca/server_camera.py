@@ -46,7 +46,7 @@ from nightcrew.interfaces import (
 __all__ = ["ImageArray", "ServedCamera"]
 
 #: CameraStates.
-_IDLE, _WAITING, _EXPOSING, _READING, _DOWNLOAD, _ERROR = range(6)
+_IDLE, _WAITING, _EXPOSING, _READING, _ERROR = 0, 1, 2, 3, 5
 _STATES = {ExposureStatus.EXPOSING: _EXPOSING, ExposureStatus.READOUT: _READING, ExposureStatus.ERROR: _ERROR}
 _MAX_EXPOSURE = 3600.0
 
@@ -69,15 +69,20 @@ class _Exposure:
 
 
 class ServedCamera(ServedDevice):
-    """Alpaca Camera (ICameraV3 members) on a nightcrew ICamera module."""
+    """Alpaca Camera (ICameraV3 members) on a nightcrew ICamera module.
+
+    Args:
+        pixel_size: Pixel size in µm (the interface does not tell it).
+    """
 
     device_type = "camera"
     type_name = "Camera"
     interface_version = 3
     interface = ICamera
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
+    def __init__(self, *args: Any, pixel_size: float | None = None, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        self._pixel_size = pixel_size
         self._bin = Binning(1, 1)
         self._subframe: tuple[int, int, int, int] | None = None  # start x, y, num x, y (binned)
         self._last: _Exposure | None = None
@@ -111,6 +116,13 @@ class ServedCamera(ServedDevice):
 
     async def get_canasymmetricbin(self, request: AlpacaRequest) -> bool:
         return any(b.x != b.y for b in await self._binnings())
+
+    async def get_pixelsizex(self, request: AlpacaRequest) -> float:
+        if self._pixel_size is None:
+            raise NotSupportedError(f"pixelsize: no pixel size configured for {self.module} (pixel_sizes)")
+        return self._pixel_size
+
+    get_pixelsizey = get_pixelsizex
 
     async def get_maxadu(self, request: AlpacaRequest) -> int:
         return 65535
@@ -267,7 +279,7 @@ class ServedCamera(ServedDevice):
         if not self.action.running:
             return _IDLE
         status = await (await self._camera()).get_exposure_status()
-        return _STATES.get(status, _DOWNLOAD)
+        return _STATES.get(status, _WAITING)  # idle while the module prepares the exposure
 
     async def get_imageready(self, request: AlpacaRequest) -> bool:
         self.action.raise_failure()

@@ -14,7 +14,9 @@ members answer; the others give NotConnected (0x407).
 Alpaca's asynchronous operations (SlewToCoordinatesAsync, Move, OpenShutter, ...) start the
 nightcrew call in a :class:`BackgroundAction` and return at once; the device reports it as moving
 until the call returns. A call that fails in the background is reported with its own error by the
-next request that asks whether the device is still moving, so a client learns of it.
+next request that asks whether the device is still moving, so a client learns of it. A second
+operation while one runs is refused (InvalidOperation), except those that must always win (Park,
+CloseShutter), which the nightcrew module lets preempt the running motion.
 """
 
 from __future__ import annotations

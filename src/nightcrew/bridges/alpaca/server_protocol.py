@@ -73,6 +73,8 @@ class AlpacaRequest:
         """A finite number; BadRequest for a missing parameter, text, NaN or infinity."""
         text = self.string(name)
         try:
+            if not text.isascii():  # Python reads other scripts' digits; Alpaca sends ASCII
+                raise ValueError(text)
             value = float(text)
         except ValueError:
             raise BadRequest(f"{self.member}: parameter {name}={text!r} is not a number") from None
@@ -84,6 +86,8 @@ class AlpacaRequest:
         """A whole number; BadRequest for a missing parameter or anything else."""
         text = self.string(name)
         try:
+            if not text.isascii():
+                raise ValueError(text)
             return int(text.strip())
         except ValueError:
             raise BadRequest(f"{self.member}: parameter {name}={text!r} is not a whole number") from None

@@ -96,6 +96,11 @@ class XmppComm(Comm):
     def clients(self) -> list[str]:
         return self._room.occupants if self._room is not None else []
 
+    @property
+    def connected(self) -> bool:
+        """Whether a session with the server is up now (False while reconnecting)."""
+        return self._connection is not None and self._connection.online
+
     def advertise_state(self, state: str) -> None:
         """Publish the module's state in its room presence (``<status>`` and ``<module state=…>``)."""
         if self._room is not None:
@@ -110,7 +115,11 @@ class XmppComm(Comm):
         from nightcrew.comm.xmpp._rpc import RpcChannel
 
         connection = XmppConnection(
-            self._settings, on_session=self._on_session, on_lost=self._on_lost, features=self._features()
+            self._settings,
+            on_session=self._on_session,
+            on_lost=self._on_lost,
+            features=self._features(),
+            on_fatal=self._report_fatal,
         )
         self._rpc = RpcChannel(connection, serve=self._serve_call, spawn=self._spawn)
         self._room = Room(

@@ -4,7 +4,9 @@ This is the only file that knows slixmpp's life cycle. Its failures become night
 a refused login is :class:`XmppAuthError` (no retry: a wrong password does not get better), an
 unreachable server :class:`~nightcrew.errors.RemoteError`. After the first session, a lost
 connection is retried every second or so until :meth:`close`; ``on_session`` runs after every
-session start (join the room again), ``on_lost`` after every loss (fail calls in flight).
+session start (join the room again), ``on_lost`` after every loss (fail calls in flight),
+``on_fatal`` when the connection is lost for good (another session took over the account, or the
+login is refused on a reconnect): the process should then end, not stay alive and offline.
 """
 
 from __future__ import annotations
@@ -53,10 +55,12 @@ class XmppConnection:
         on_session: Callable[[], Awaitable[None]],
         on_lost: Callable[[], None],
         features: list[str],
+        on_fatal: Callable[[NightcrewError], None] | None = None,
     ) -> None:
         self._settings = settings
         self._on_session = on_session
         self._on_lost = on_lost
+        self._on_fatal = on_fatal
         self._features = features
         self._handlers: list[tuple[str, _TagMatcher, StanzaHandler]] = []
         self._client: slixmpp.ClientXMPP | None = None
@@ -260,8 +264,7 @@ class XmppConnection:
         if self._session is not None:
             self._fail_session(error)
         else:
-            log.error("%s", error)
-            self._closing = True  # a refused login does not get better by retrying
+            self._give_up(error)  # a refused login does not get better by retrying
 
     def _on_connection_failed(self, error: Any) -> None:
         s = self._settings
@@ -271,8 +274,19 @@ class XmppConnection:
     def _on_stream_error(self, error: Any) -> None:
         condition = error["condition"] if error is not None else "?"
         if condition == "conflict":
-            log.error("%s: another session took over this account; not reconnecting", self._settings.bare_jid)
-            self._closing = True
+            self._give_up(
+                RemoteError(
+                    f"{self._settings.bare_jid}: another session took over this account "
+                    "(a second process with the same account?); not reconnecting"
+                )
+            )
+
+    def _give_up(self, error: NightcrewError) -> None:
+        """The connection is lost for good: no more reconnects; the owner hears of it (on_fatal)."""
+        log.error("%s", error)
+        self._closing = True
+        if self._on_fatal is not None:
+            self._on_fatal(error)
 
     def _on_disconnected(self, reason: Any) -> None:
         was_online, self._online = self._online, False
@@ -291,7 +305,7 @@ class XmppConnection:
                 try:
                     await self._connect_once()
                 except XmppAuthError as exc:
-                    log.error("%s", exc)
+                    self._give_up(exc)
                     return
                 except RemoteError as exc:
                     log.debug("reconnect attempt %d failed: %s", attempt, exc)

@@ -15,15 +15,23 @@ option ``readout_mode`` (choices: the device's ReadoutModes).
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
 
-from nightcrew.errors import AbortedError, ConfigError, GrabImageError, InvalidArgumentError, NightcrewError
-from nightcrew.interfaces import Binning, ExposureStatus, IGain, Window
-from nightcrew.modules.alpaca.device import AlpacaModule
+from nightcrew.errors import (
+    AbortedError,
+    ConfigError,
+    GrabImageError,
+    InvalidArgumentError,
+    NightcrewError,
+    NotSupportedError,
+)
+from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, IGain, Window
+from nightcrew.modules.alpaca.device import LOST_DEVICE_ERRORS, AlpacaModule
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
 
 __all__ = ["AlpacaCamera"]
@@ -105,14 +113,17 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         try:
             await self._wait_for_image(settings.exposure_time)
         except asyncio.CancelledError:
-            await asyncio.shield(self._abort_exposure())
+            await asyncio.shield(self._put_best_effort("abortexposure"))
             raise
-        data = await self.device.image_array(time_limit=self._readout_timeout)
-        temperature = await self._get("ccdtemperature")
-        return Frame(
-            _as_uint16(data, settings.shape, self.device.name),
-            {"CCD-TEMP": (temperature, "CCD temperature [degC]")},
-        )
+        try:
+            data = await self.device.image_array(time_limit=self._readout_timeout)
+        except LOST_DEVICE_ERRORS as exc:
+            self._connection_lost(str(exc))
+            raise
+        cards: dict[str, FitsCard] = {}
+        with contextlib.suppress(NotSupportedError):  # Alpaca makes the sensor optional
+            cards["CCD-TEMP"] = (await self._get("ccdtemperature"), "CCD temperature [degC]")
+        return Frame(_as_uint16(data, settings.shape, self.device.name), cards)
 
     async def _wait_for_image(self, exposure_time: float) -> None:
         async def image_ready() -> None:
@@ -133,12 +144,6 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         except TimeoutError:
             raise GrabImageError(f"{self.device.name}: no image within {limit:g} s") from None
         await self._set_exposure_status(ExposureStatus.READOUT)
-
-    async def _abort_exposure(self) -> None:
-        try:
-            await self.device.put("abortexposure")
-        except Exception as exc:
-            log.warning("%s: AbortExposure failed: %s", self.name, exc)
 
     async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
         if enabled:

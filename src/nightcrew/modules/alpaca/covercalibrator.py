@@ -1,10 +1,10 @@
 """A telescope cover and flat-field light on an Alpaca CoverCalibrator device.
 
-``OpenCover``/``CloseCover`` start the cover, ``CoverState`` is polled until it arrives;
-``CalibratorOn``/``CalibratorOff`` switch the light, ``CalibratorState`` is polled until it is
-Ready (stable, take flats now) or Off. ASCOM numbers both states 0 NotPresent, 1 Closed/Off,
-2 Moving/NotReady, 3 Open/Ready, 4 Unknown, 5 Error. A part the device lacks (NotPresent) is
-refused with NotSupportedError before a call reaches the device.
+``OpenCover``/``CloseCover`` start the cover, ``CoverState`` is polled until it stops moving;
+``CalibratorOn``/``CalibratorOff`` switch the light, ``CalibratorState`` is polled until it is no
+longer NotReady (warming up). ASCOM numbers both states 0 NotPresent, 1 Closed/Off, 2 Moving/
+NotReady, 3 Open/Ready, 4 Unknown, 5 Error. :class:`BaseCoverCalibrator` refuses parts the device
+lacks and checks where each part ended up.
 
 Example (``examples/alpaca/covercalibrator.yaml``)::
 
@@ -19,15 +19,10 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, Generic, TypeVar
 
-from nightcrew.errors import (
-    InvalidArgumentError,
-    MoveError,
-    NightcrewError,
-    NotSupportedError,
-    RemoteError,
-)
-from nightcrew.interfaces import CalibratorState, CoverState, ICoverCalibrator
+from nightcrew.errors import CalibratorError, MoveError, NightcrewError
+from nightcrew.interfaces import CalibratorState, CoverState
 from nightcrew.modules.alpaca.checked import CheckedGets
+from nightcrew.modules.calibrator import BaseCoverCalibrator
 
 __all__ = ["AlpacaCoverCalibrator"]
 
@@ -36,17 +31,11 @@ S = TypeVar("S", bound=StrEnum)
 
 @dataclass(frozen=True)
 class _Part(Generic[S]):
-    """The cover or the light: its state member, its states in ASCOM order, and how it fails."""
+    """The cover or the light: its state member, its states in ASCOM order, its moving state."""
 
     member: str
     states: list[S]
-    name: str
     moving: S
-    error: type[NightcrewError]
-
-    @property
-    def not_present(self) -> S:
-        return self.states[0]
 
 
 #: ASCOM CoverStatus and CalibratorStatus, numbered 0..5 in this order.
@@ -60,9 +49,7 @@ _COVER = _Part(
         CoverState.UNKNOWN,
         CoverState.ERROR,
     ],
-    "cover",
     CoverState.MOVING,
-    MoveError,
 )
 _LIGHT = _Part(
     "calibratorstate",
@@ -74,14 +61,12 @@ _LIGHT = _Part(
         CalibratorState.UNKNOWN,
         CalibratorState.ERROR,
     ],
-    "flat-field light",
     CalibratorState.NOT_READY,
-    RemoteError,
 )
 
 
-class AlpacaCoverCalibrator(CheckedGets, ICoverCalibrator):
-    """A cover and/or flat-field panel.
+class AlpacaCoverCalibrator(CheckedGets, BaseCoverCalibrator):
+    """A cover and/or flat-field panel on an Alpaca server.
 
     Args:
         cover_timeout: Wall seconds opening or closing the cover may take (below the interface's 120 s).
@@ -99,67 +84,46 @@ class AlpacaCoverCalibrator(CheckedGets, ICoverCalibrator):
         self._cover_timeout = self._checked_wait("cover_timeout", cover_timeout)
         self._calibrator_timeout = self._checked_wait("calibrator_timeout", calibrator_timeout)
 
+    @property
+    def calibrator_device(self) -> str:
+        return self.device.name
+
     async def _part_state(self, part: _Part[S]) -> S:
         value = await self._get_integer(part.member)
         if not 0 <= value < len(part.states):
             raise self._bad_value(part.member, value, "an ASCOM state (0..5)")
         return part.states[value]
 
-    async def _present(self, part: _Part[S]) -> None:
-        if await self._part_state(part) is part.not_present:
-            raise NotSupportedError(f"{self.device.name} has no {part.name} ({part.member} NotPresent)")
-
-    async def _drive(self, part: _Part[S], method: str, target: S, within: float, **params: Any) -> None:
-        """``PUT method`` and wait until the part has left its moving state; it must be at ``target``."""
+    async def _drive(
+        self, part: _Part[S], method: str, within: float, error: type[NightcrewError], **params: Any
+    ) -> None:
+        """``PUT method`` and wait until the part has left its moving state."""
         await self._put(method, **params)
         moving = part.states.index(part.moving)
-        await self._poll_until(part.member, lambda value: value != moving, within, method, part.error)
-        state = await self._part_state(part)
-        if state is not target:
-            raise part.error(
-                f"{self.device.name}: {method}: the {part.name} is {state.value}, not {target.value}"
-            )
+        await self._poll_until(part.member, lambda value: value != moving, within, method, error)
 
-    # --- cover ---------------------------------------------------------------------------------
-
-    async def open_cover(self) -> None:
-        await self._present(_COVER)
-        await self._drive(_COVER, "opencover", CoverState.OPEN, self._cover_timeout)
-
-    async def close_cover(self) -> None:
-        await self._present(_COVER)
-        await self._drive(_COVER, "closecover", CoverState.CLOSED, self._cover_timeout)
-
-    async def halt_cover(self) -> None:
-        await self._present(_COVER)
-        await self._put("haltcover")
-
-    async def get_cover_state(self) -> CoverState:
+    async def _hw_get_cover_state(self) -> CoverState:
         return await self._part_state(_COVER)
 
-    # --- calibrator ----------------------------------------------------------------------------
+    async def _hw_move_cover(self, open_: bool) -> None:
+        await self._drive(_COVER, "opencover" if open_ else "closecover", self._cover_timeout, MoveError)
 
-    async def calibrator_on(self, brightness: int) -> None:
-        maximum = await self.get_max_brightness()
-        if isinstance(brightness, bool) or not isinstance(brightness, int) or not 0 <= brightness <= maximum:
-            raise InvalidArgumentError(
-                f"{self.device.name}: brightness must be an integer within 0..{maximum}, got {brightness!r}"
-            )
-        await self._drive(
-            _LIGHT, "calibratoron", CalibratorState.READY, self._calibrator_timeout, Brightness=brightness
-        )
+    async def _hw_halt_cover(self) -> None:
+        await self._put("haltcover")
 
-    async def calibrator_off(self) -> None:
-        await self._present(_LIGHT)
-        await self._drive(_LIGHT, "calibratoroff", CalibratorState.OFF, self._calibrator_timeout)
-
-    async def get_calibrator_state(self) -> CalibratorState:
+    async def _hw_get_calibrator_state(self) -> CalibratorState:
         return await self._part_state(_LIGHT)
 
-    async def get_brightness(self) -> int:
-        await self._present(_LIGHT)
+    async def _hw_calibrator_on(self, brightness: int) -> None:
+        await self._drive(
+            _LIGHT, "calibratoron", self._calibrator_timeout, CalibratorError, Brightness=brightness
+        )
+
+    async def _hw_calibrator_off(self) -> None:
+        await self._drive(_LIGHT, "calibratoroff", self._calibrator_timeout, CalibratorError)
+
+    async def _hw_get_brightness(self) -> int:
         return await self._get_integer("brightness")
 
-    async def get_max_brightness(self) -> int:
-        await self._present(_LIGHT)
+    async def _hw_get_max_brightness(self) -> int:
         return await self._get_integer("maxbrightness")

@@ -29,12 +29,12 @@ from nightcrew.errors import ConfigError, NightcrewError, RemoteTimeoutError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
 
-__all__ = ["AlpacaModule"]
+__all__ = ["LOST_DEVICE_ERRORS", "AlpacaModule"]
 
 log = logging.getLogger(__name__)
 
 #: Errors meaning the device is gone (not that it refused one call).
-_LOST = (AlpacaConnectionError, AlpacaNotConnectedError, RemoteTimeoutError)
+LOST_DEVICE_ERRORS = _LOST = (AlpacaConnectionError, AlpacaNotConnectedError, RemoteTimeoutError)
 
 
 class AlpacaModule(Module):
@@ -173,6 +173,14 @@ class AlpacaModule(Module):
         except _LOST as exc:
             self._connection_lost(str(exc))
             raise
+
+    async def _put_best_effort(self, member: str) -> None:
+        """``PUT member`` (AbortSlew, Halt, ...) while a motion is being cancelled: a failure is logged,
+        not raised, so that the cancellation goes on."""
+        try:
+            await self.device.put(member)
+        except Exception as exc:
+            log.warning("%s: %s on %s failed: %s", self.name, member, self.device.name, exc)
 
     async def _poll_until(
         self,

@@ -79,7 +79,7 @@ class AlpacaFocuser(AlpacaModule, BaseFocuser, ITemperatures):
                     await self._wait_stopped(target)
                     self._steps += step
         except asyncio.CancelledError:
-            await asyncio.shield(self._halt())
+            await asyncio.shield(self._put_best_effort("halt"))
             raise
         if self._absolute:
             self._steps = int(await self._get("position"))
@@ -93,14 +93,8 @@ class AlpacaFocuser(AlpacaModule, BaseFocuser, ITemperatures):
             MoveError,
         )
 
-    async def _halt(self) -> None:
-        try:
-            await self.device.put("halt")
-        except Exception as exc:
-            log.warning("%s: Halt failed: %s", self.name, exc)
-
     async def _hw_stop(self) -> None:
-        await self._halt()
+        await self._put_best_effort("halt")
         if self._absolute:
             self._steps = int(await self._get("position"))
 

@@ -11,6 +11,7 @@ Example (see ``examples/alpaca/server.yaml``)::
       focuser: focuser
       filterwheel: filters
       safetymonitor: weather      # the weather module's good/bad verdict
+      observingconditions: station  # a weather station's (or the weather module's) sensors
     vfs: ...                      # must reach the camera's file roots (ImageArray reads the frame)
 
 The devices are reached through proxies on the module's comm, so the observatory may run in this
@@ -35,6 +36,7 @@ from nightcrew.bridges.alpaca.server_devices import (
     ServedDome,
     ServedFilterWheel,
     ServedFocuser,
+    ServedObservingConditions,
     ServedSafetyMonitor,
 )
 from nightcrew.bridges.alpaca.server_telescope import ServedTelescope
@@ -56,6 +58,7 @@ SERVED_TYPES: dict[str, type[ServedDevice]] = {
         ServedFocuser,
         ServedFilterWheel,
         ServedSafetyMonitor,
+        ServedObservingConditions,
     )
 }
 
@@ -65,7 +68,8 @@ class AlpacaServer(Module):
 
     Args:
         devices: Alpaca device type → module name, or a list of names (device numbers 0, 1, ...).
-            Types: telescope, camera, dome, focuser, filterwheel, safetymonitor.
+            Types: telescope, camera, dome, focuser, filterwheel, safetymonitor,
+            observingconditions.
         host: Address the HTTP server listens on.
         port: HTTP port (11111 is customary; 0 picks a free port, see :attr:`port`).
         discovery_host: Address of the discovery responder; ``host`` when None.
@@ -74,6 +78,7 @@ class AlpacaServer(Module):
         location: Location in the management API.
         focuser_step: Millimetres per Alpaca focuser step.
         focuser_max_step: Largest Alpaca focuser position.
+        pixel_sizes: Camera module → pixel size in µm (PixelSizeX/Y; NotImplemented without).
         settle_time: Wall seconds an asynchronous operation (a slew, ...) may take to be refused
             before the request that started it returns; later failures are reported on the next
             poll (Slewing, ImageReady, ...).
@@ -93,6 +98,7 @@ class AlpacaServer(Module):
         location: str = "",
         focuser_step: float = 0.001,
         focuser_max_step: int = 100_000,
+        pixel_sizes: dict[str, float] | None = None,
         settle_time: float = 0.2,
         **kwargs: Any,
     ) -> None:
@@ -105,7 +111,11 @@ class AlpacaServer(Module):
         self._host, self._requested_port = host, port
         self._description = ServerDescription(server_name, location)
         self._devices = _served_devices(
-            self, devices, settle_time=float(settle_time), focuser=(focuser_step, focuser_max_step)
+            self,
+            devices,
+            settle_time=float(settle_time),
+            focuser=(focuser_step, focuser_max_step),
+            pixel_sizes=dict(pixel_sizes or {}),
         )
         self._runner: web.AppRunner | None = None
         self._port = 0
@@ -184,6 +194,7 @@ def _served_devices(
     *,
     settle_time: float,
     focuser: tuple[float, int],
+    pixel_sizes: dict[str, float],
 ) -> list[ServedDevice]:
     if not isinstance(devices, dict) or not devices:
         raise ConfigError(
@@ -199,13 +210,16 @@ def _served_devices(
         if not modules or not all(isinstance(m, str) and m for m in modules):
             raise ConfigError("give a module name or a list of module names", key=f"devices.{device_type}")
         for number, module in enumerate(modules):
+            options: dict[str, Any] = {"settle_time": settle_time}
             if cls is ServedFocuser:
-                step, max_step = focuser
-                served.append(
-                    ServedFocuser(
-                        owner, module, number, settle_time=settle_time, step=step, max_step=max_step
-                    )
-                )
-            else:
-                served.append(cls(owner, module, number, settle_time=settle_time))
+                options.update(step=focuser[0], max_step=focuser[1])
+            elif cls is ServedCamera:
+                options["pixel_size"] = pixel_sizes.get(module)
+            served.append(cls(owner, module, number, **options))
+    cameras = {d.module for d in served if isinstance(d, ServedCamera)}
+    for module, size in pixel_sizes.items():
+        if module not in cameras:
+            raise ConfigError(f"{module} is not a served camera", key=f"pixel_sizes.{module}")
+        if not size > 0:
+            raise ConfigError(f"must be > 0 µm, got {size}", key=f"pixel_sizes.{module}")
     return served

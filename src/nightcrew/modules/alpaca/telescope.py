@@ -6,9 +6,13 @@ stop_motion) sends ``AbortSlew``. Alpaca right ascension is in hours, nightcrew'
 RA/Dec slews switch tracking on first and Alt/Az slews switch it off (the Alpaca spec refuses
 RA/Dec slews without tracking and Alt/Az slews with it).
 
+Coordinates: nightcrew's are ICRS. A mount whose ``EquatorialSystem`` is 1 (topocentric, "JNow")
+gets and reports positions on the mean equator of date (IAU 1976 precession; nutation and
+aberration, < 30", are left to the mount's pointing model); any other system is taken as J2000.
+
 Beyond ITelescope, run-time config options (IConfig) give the mount's own controls:
 ``tracking`` (on/off), ``tracking_rate`` (sidereal, lunar, solar, king), ``pier_side`` (read only),
-and :meth:`AlpacaTelescope.sync_radec` tells the mount where it points.
+and ISyncRaDec's ``sync_radec`` tells the mount where it points.
 """
 
 from __future__ import annotations
@@ -17,7 +21,11 @@ import asyncio
 import logging
 from typing import Any
 
+import numpy as np
+
+from nightcrew.astro.coords import precession_matrix
 from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NotSupportedError
+from nightcrew.interfaces import ISyncRaDec
 from nightcrew.modules.alpaca.device import AlpacaModule
 from nightcrew.modules.telescope import BaseTelescope
 
@@ -27,31 +35,39 @@ log = logging.getLogger(__name__)
 
 #: Alpaca DriveRates, by the names nightcrew uses.
 TRACKING_RATES = {"sidereal": 0, "lunar": 1, "solar": 2, "king": 3}
+#: Alpaca EquatorialCoordinateType of a mount on the equator of date.
+_TOPOCENTRIC = 1
 #: Alpaca PierSide values.
 PIER_SIDES = {-1: "unknown", 0: "east", 1: "west"}
 
 
-class AlpacaTelescope(AlpacaModule, BaseTelescope):
+class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
     """A telescope mount reached over ASCOM Alpaca.
 
     Args:
-        slew_timeout: Wall seconds a slew, park or unpark may take before it fails.
+        slew_timeout: Wall seconds a slew, park or unpark may take before it fails (below the 300 s
+            the interfaces announce).
         **kwargs: ``server``, ``device_number`` and the other Alpaca options (AlpacaModule), and
             the telescope's (``min_altitude``, ``site``, ...).
     """
 
     device_type = "telescope"
 
-    def __init__(self, *, slew_timeout: float = 300.0, **kwargs: Any) -> None:
+    def __init__(self, *, slew_timeout: float = 240.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         if not slew_timeout > 0:
             raise ConfigError(f"must be > 0 seconds, got {slew_timeout}", key="slew_timeout")
         self._slew_timeout = float(slew_timeout)
         self._can: dict[str, bool] = {}
+        self._of_date = False  # the mount works on the equator of date (EquatorialSystem 1)
 
     async def _on_connected(self) -> None:
         for capability in ("canpark", "canunpark", "cansettracking", "cansync", "canslewasync"):
             self._can[capability] = bool(await self._get(capability))
+        try:
+            self._of_date = await self._get("equatorialsystem") == _TOPOCENTRIC
+        except NotSupportedError:
+            self._of_date = False
         site = self.observatory
         latitude, longitude = await self._get("sitelatitude"), await self._get("sitelongitude")
         if abs(latitude - site.latitude) > 0.01 or abs((longitude - site.longitude + 180) % 360 - 180) > 0.01:
@@ -73,14 +89,8 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
             )
         except asyncio.CancelledError:
             # Aborted (park, stop_motion, pre-emption): the mount must not finish the slew on its own.
-            await asyncio.shield(self._abort_slew())
+            await asyncio.shield(self._put_best_effort("abortslew"))
             raise
-
-    async def _abort_slew(self) -> None:
-        try:
-            await self.device.put("abortslew")
-        except Exception as exc:
-            log.warning("%s: AbortSlew failed: %s", self.name, exc)
 
     async def _hw_init(self) -> None:
         if await self._get("atpark"):
@@ -96,7 +106,6 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
             raise NotSupportedError(f"{self.device.name} cannot park")
         await self._put("park")
         await self._poll_until("atpark", lambda parked: parked is True, self._slew_timeout, "park", MoveError)
-        await self._wait_slewing_done("park")
 
     async def _set_tracking(self, on: bool) -> None:
         if self._can.get("cansettracking", True) and await self._get("tracking") is not on:
@@ -104,7 +113,8 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
 
     async def _hw_move_radec(self, ra: float, dec: float) -> None:
         await self._set_tracking(True)
-        await self._put("slewtocoordinatesasync", RightAscension=ra / 15.0, Declination=dec)
+        mount_ra, mount_dec = self._to_mount(ra, dec)
+        await self._put("slewtocoordinatesasync", RightAscension=mount_ra / 15.0, Declination=mount_dec)
         await self._wait_slewing_done(f"slew to RA {ra:.4f}°, Dec {dec:.4f}°")
 
     async def _hw_move_altaz(self, alt: float, az: float) -> None:
@@ -113,11 +123,17 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
         await self._wait_slewing_done(f"slew to Alt {alt:.4f}°, Az {az:.4f}°")
 
     async def _hw_stop(self) -> None:
-        await self._abort_slew()
+        await self._put_best_effort("abortslew")
 
     async def _hw_get_radec(self) -> tuple[float, float]:
         ra_hours, dec = await self._get("rightascension"), await self._get("declination")
-        return (float(ra_hours) * 15.0) % 360.0, float(dec)
+        return self._from_mount((float(ra_hours) * 15.0) % 360.0, float(dec))
+
+    def _to_mount(self, ra: float, dec: float) -> tuple[float, float]:
+        return of_date(ra, dec, self.clock.time()) if self._of_date else (ra, dec)
+
+    def _from_mount(self, ra: float, dec: float) -> tuple[float, float]:
+        return of_date(ra, dec, self.clock.time(), inverse=True) if self._of_date else (ra, dec)
 
     async def _hw_get_altaz(self) -> tuple[float, float]:
         return float(await self._get("altitude")), float(await self._get("azimuth")) % 360.0
@@ -133,7 +149,8 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
         if not self._can.get("cansync", True):
             raise NotSupportedError(f"{self.device.name} cannot sync")
         self._motion.check_idle()
-        await self._put("synctocoordinates", RightAscension=ra / 15.0, Declination=dec)
+        mount_ra, mount_dec = self._to_mount(ra, dec)
+        await self._put("synctocoordinates", RightAscension=mount_ra / 15.0, Declination=mount_dec)
 
     async def _get_config_tracking(self) -> bool:
         return bool(await self._get("tracking"))
@@ -158,3 +175,12 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope):
 
     async def _get_config_pier_side(self) -> str:
         return PIER_SIDES.get(int(await self._get("sideofpier")), "unknown")
+
+
+def of_date(ra: float, dec: float, unix_time: float, *, inverse: bool = False) -> tuple[float, float]:
+    """J2000 (ra, dec) degrees on the mean equator of date at ``unix_time``, or back with ``inverse``."""
+    r, d = np.radians(ra), np.radians(dec)
+    vector = np.array([np.cos(d) * np.cos(r), np.cos(d) * np.sin(r), np.sin(d)])
+    matrix = precession_matrix(unix_time)
+    x, y, z = (matrix.T if inverse else matrix) @ vector
+    return float(np.degrees(np.arctan2(y, x)) % 360.0), float(np.degrees(np.arcsin(np.clip(z, -1.0, 1.0))))

@@ -23,6 +23,10 @@ T = TypeVar("T")
 _NOT_READY = frozenset({MotionStatus.PARKED, MotionStatus.ERROR, MotionStatus.UNKNOWN})
 
 
+#: Clock seconds a module with ``park_on_close`` may take to park while closing.
+PARK_ON_CLOSE_TIMEOUT = 300.0
+
+
 class BaseMotion(Module, IMotion):
     """A module driving one moving device.
 
@@ -30,13 +34,19 @@ class BaseMotion(Module, IMotion):
     :meth:`_set_motion_status`, which sends MotionStatusChangedEvent only when the status changes.
     ``stop_motion`` cancels the running motion (its caller gets AbortedError) and then calls the
     :meth:`_hw_stop` hook.
+
+    Args:
+        park_on_close: Park (a roof: close) before the module closes, e.g. when ``nightcrew up``
+            or systemd stops it; bounded by :data:`PARK_ON_CLOSE_TIMEOUT` clock seconds.
+        **kwargs: Module options.
     """
 
     #: Status before the first change; a parked telescope, a closed roof, an idle focuser.
     initial_status: MotionStatus = MotionStatus.IDLE
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, *, park_on_close: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        self._park_on_close = park_on_close
         self._motion_status = self.initial_status
         self._motion = MotionRunner(type(self).__name__)
 
@@ -49,8 +59,20 @@ class BaseMotion(Module, IMotion):
         await self.comm.send_event(MotionStatusChangedEvent(status=self._motion_status))
 
     async def close(self) -> None:
+        if self._park_on_close and self.state in (ModuleState.READY, ModuleState.ERROR):
+            await self._park_before_closing()
         await self._motion.stop("module closing")
         await super().close()
+
+    async def _park_before_closing(self) -> None:
+        if self._motion_status is MotionStatus.PARKED and not self._motion.busy:
+            return
+        log.info("%s: parking before closing", self.name)
+        try:
+            async with self.clock.timeout(PARK_ON_CLOSE_TIMEOUT):
+                await self.park()
+        except Exception as exc:  # closing goes on: a stop must not hang on a broken device
+            log.error("%s: could not park before closing: %s", self.name, exc or type(exc).__name__)
 
     # --- helpers for subclasses ----------------------------------------------------------------
 

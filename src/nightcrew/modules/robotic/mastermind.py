@@ -61,17 +61,20 @@ from nightcrew.interfaces import (
     IAutoFocus,
     IAutonomous,
     IFitsHeaderBefore,
+    IRobotic,
     IRoof,
     IStartStop,
     ITelescope,
     ITemperatures,
     IWeather,
+    RoboticStatus,
 )
 from nightcrew.modules.module import Module
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
     CloseAndPark,
+    Conditions,
     EarlyStarts,
     Focus,
     FocusKeeper,
@@ -85,6 +88,7 @@ from nightcrew.robotic.mastermind import (
     decide,
     focus_field,
     interruption_reason,
+    robotic_status,
     run_watched,
     task_cards,
     time_left,
@@ -98,7 +102,7 @@ __all__ = ["Mastermind"]
 log = logging.getLogger(__name__)
 
 
-class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
+class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     """Runs the schedule unattended: the task due now, whenever weather, roof and Sun allow.
 
     Args:
@@ -220,6 +224,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         self._wake = asyncio.Event()
         self._safe_since_stop = False
         self._last_action: Action | None = None
+        self._conditions: Conditions | None = None  # of the last look at the world
+        self._task_times: tuple[datetime, datetime] | None = None  # (start, eta) of the running task
         self._unfit_logged: set[tuple[str, datetime]] = set()  # (task, slot start) said not to fit
         self.add_background_task(self._robotic_loop, name="robotic loop")
 
@@ -274,6 +280,19 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
         task = self._recorder.current
         return task_cards(task) if task is not None else {}
 
+    async def get_robotic_status(self) -> RoboticStatus:
+        started, eta = self._task_times or (None, None)
+        return robotic_status(
+            self.clock.now(),
+            running=self._running,
+            action=self._last_action,
+            conditions=self._conditions,
+            task=self._recorder.current,
+            progress=self._recorder.progress,
+            task_started=started,
+            task_eta=eta,
+        )
+
     # --- the loop ------------------------------------------------------------------------------
 
     async def _robotic_loop(self) -> None:
@@ -296,7 +315,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
 
     async def _step(self) -> float:
         """Decide and act once; returns the clock seconds to wait before the next step."""
-        conditions = await self._observatory.observe()
+        conditions = self._conditions = await self._observatory.observe()
         slots, tasks = await self._schedule.read(conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
@@ -383,6 +402,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             return
         recorder = self._recorder
         task = await recorder.started(task, eta=slot.end)
+        self._task_times = (self.clock.now(), slot.end)
         reason: str | None = None
         interrupted = True  # from outside (weather, roof, Sun, shutdown): it may run again later
         try:
@@ -406,6 +426,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore):
             if not isinstance(exc, NightcrewError):
                 raise  # a bug: the loop's fail-safe closes and parks
         finally:
+            self._task_times = None
             await recorder.ended(task, reason, retryable=interrupted)
 
     async def _can_run(self, task: Task) -> bool:

@@ -18,10 +18,17 @@ from typing import Any, TypeVar
 
 from nightcrew.errors import ConfigError
 from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
+from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask
 from nightcrew.modules.module import Module
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
 from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_writer
-from nightcrew.robotic.scheduler.ports import BlockSource, MemoryScheduleStore, ScheduleWriter, night_around
+from nightcrew.robotic.scheduler.ports import (
+    BlockSource,
+    MemoryScheduleStore,
+    NamedBlockSource,
+    ScheduleWriter,
+    night_around,
+)
 from nightcrew.robotic.scheduler.scheduler import SolverName
 
 __all__ = ["SchedulerModule"]
@@ -31,7 +38,7 @@ log = logging.getLogger(__name__)
 T = TypeVar("T")
 
 
-class SchedulerModule(Module):
+class SchedulerModule(Module, IRoboticScheduler):
     """Plans the night from a task archive into a schedule store.
 
     Args:
@@ -79,6 +86,7 @@ class SchedulerModule(Module):
         self._last_blocks: tuple[SchedulableBlock, ...] | None = None
         #: The last schedule made (for status displays and tests).
         self.schedule: Schedule | None = None
+        self._plan: Plan | None = None
         self.add_background_task(self._replan_loop, name="replan loop")
 
     async def open(self) -> None:
@@ -159,6 +167,8 @@ class SchedulerModule(Module):
                 self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
             )
         self.schedule = schedule
+        names = await self._archive.block_names() if isinstance(self._archive, NamedBlockSource) else {}
+        self._plan = plan_of(schedule, blocks, night, now, names)
         await self._store.set_schedule(schedule.slots, now)
         log.info(
             "planned %d blocks from %s (%s, objective %.2f, %.1f s)",
@@ -170,6 +180,9 @@ class SchedulerModule(Module):
         )
         return schedule
 
+    async def get_plan(self) -> Plan | None:
+        return self._plan
+
     def _blocking_solve(
         self,
         blocks: list[SchedulableBlock],
@@ -179,6 +192,39 @@ class SchedulerModule(Module):
         in_progress: ScheduledSlot | None,
     ) -> Schedule:
         return self._scheduler.schedule(blocks, night, now=start, exclude=exclude, in_progress=in_progress)
+
+
+def plan_of(
+    schedule: Schedule,
+    blocks: Sequence[SchedulableBlock],
+    night: Night,
+    planned_at: datetime,
+    names: dict[str, str] | None = None,
+) -> Plan:
+    """The plan as IRoboticScheduler shows it (``names``: block id → task name, where known)."""
+    names = names or {}
+    priorities = {block.id: block.priority for block in blocks}
+    return Plan(
+        planned_at=planned_at,
+        night_start=night.start,
+        night_end=night.end,
+        solver=schedule.solver,
+        status=schedule.status,
+        objective=schedule.objective,
+        bound=schedule.bound,
+        gap=schedule.gap,
+        wall_time_s=schedule.wall_time_s,
+        slots=tuple(
+            PlannedTask(
+                task_id=s.block_id,
+                start=s.start,
+                end=s.end,
+                priority=priorities.get(s.block_id),
+                name=names.get(s.block_id),
+            )
+            for s in schedule.slots
+        ),
+    )
 
 
 def _built(value: Any, key: str) -> Any:

@@ -3,7 +3,12 @@
 A roof's motion status: PARKED when closed, IDLE when open (or stopped halfway), MOVING while
 opening, PARKING while closing. ``init()`` opens and ``park()`` closes, so a roof can be driven
 like any other IMotion device. Closing always wins: it aborts an opening roof. After a
-BadWeatherEvent the roof refuses to open (MoveError) until a GoodWeatherEvent.
+BadWeatherEvent the roof refuses to open (MoveError) until a GoodWeatherEvent; after a
+SafetyAlarmEvent (the safety watchdog's) until a SafetyClearedEvent.
+
+Without the message server nobody could tell the roof to close (not the weather module, not the
+watchdog), so the roof decides alone: when its comm has been disconnected for ``close_when_offline``
+clock seconds (default 300), it closes by itself. It may open again once it is back and asked to.
 """
 
 from __future__ import annotations
@@ -12,13 +17,15 @@ import logging
 from abc import abstractmethod
 from typing import Any
 
-from nightcrew.errors import MoveError
+from nightcrew.errors import ConfigError, MoveError
 from nightcrew.events import (
     BadWeatherEvent,
     GoodWeatherEvent,
     RoofClosedEvent,
     RoofClosingEvent,
     RoofOpenedEvent,
+    SafetyAlarmEvent,
+    SafetyClearedEvent,
 )
 from nightcrew.interfaces import IRoof, ModuleState, MotionStatus
 from nightcrew.modules.motion import BaseMotion
@@ -29,13 +36,27 @@ log = logging.getLogger(__name__)
 
 
 class BaseRoof(BaseMotion, IRoof):
-    """A roof or shutter; a driver implements ``_hw_open``, ``_hw_close`` and ``_hw_stop``."""
+    """A roof or shutter; a driver implements ``_hw_open``, ``_hw_close`` and ``_hw_stop``.
+
+    Args:
+        close_when_offline: Clock seconds without a connection to the other modules (the XMPP
+            server) after which the roof closes by itself; None: never.
+        **kwargs: Module options.
+    """
 
     initial_status = MotionStatus.PARKED
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, *, close_when_offline: float | None = 300.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        if close_when_offline is not None and not close_when_offline > 0:
+            raise ConfigError(
+                f"must be > 0 seconds or null, got {close_when_offline}", key="close_when_offline"
+            )
+        self._close_when_offline = close_when_offline
         self._bad_weather: str | None = None
+        self._alarm: str | None = None
+        if close_when_offline is not None:
+            self.add_background_task(self._offline_watch_loop)
 
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
@@ -43,6 +64,8 @@ class BaseRoof(BaseMotion, IRoof):
         await super().open()
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
+        await self.comm.register_event(SafetyAlarmEvent, self.on_safety_alarm)
+        await self.comm.register_event(SafetyClearedEvent, self.on_safety_cleared)
 
     # --- hooks ---------------------------------------------------------------------------------
 
@@ -59,6 +82,8 @@ class BaseRoof(BaseMotion, IRoof):
     async def open_roof(self) -> None:
         if self._bad_weather is not None:
             raise MoveError(f"weather is bad ({self._bad_weather}); the roof stays closed until it is good")
+        if self._alarm is not None:
+            raise MoveError(f"safety alarm ({self._alarm}); the roof stays closed until it is cleared")
         if self._motion_status is MotionStatus.IDLE and not self._motion.busy:
             return
         self._motion.check_idle()
@@ -105,3 +130,38 @@ class BaseRoof(BaseMotion, IRoof):
     async def on_good_weather(self, event: GoodWeatherEvent, sender: str) -> None:
         """Allow opening again (opening itself is the mastermind's decision)."""
         self._bad_weather = None
+
+    async def on_safety_alarm(self, event: SafetyAlarmEvent, sender: str) -> None:
+        """Close and refuse to open until the watchdog clears the alarm."""
+        self._alarm = event.reason or f"raised by {sender}"
+        if self._motion_status is not MotionStatus.PARKED or self._motion.busy:
+            log.warning("%s: safety alarm (%s): closing", self.name, self._alarm)
+        await self.close_roof()
+
+    async def on_safety_cleared(self, event: SafetyClearedEvent, sender: str) -> None:
+        self._alarm = None
+
+    async def _offline_watch_loop(self) -> None:
+        """Close when the comm stayed disconnected for ``close_when_offline`` clock seconds."""
+        limit = self._close_when_offline
+        assert limit is not None
+        step = min(5.0, limit / 5)
+        offline_since: float | None = None
+        while True:
+            now = self.clock.time()
+            if self.comm.connected:
+                offline_since = None
+            elif offline_since is None:
+                offline_since = now
+            elif (
+                now - offline_since >= limit
+                and (self._motion_status is not MotionStatus.PARKED or self._motion.busy)
+                and self._motion.action != "closing"
+            ):
+                log.warning(
+                    "%s: no connection to the other modules for %.0f s: closing",
+                    self.name,
+                    now - offline_since,
+                )
+                await self.close_roof()
+            await self.clock.sleep(step)

@@ -1,5 +1,6 @@
 """The simulated observatory's devices: ordinary modules built on the device bases."""
 
+from nightcrew.modules.sim.calibrator import SimCoverCalibrator
 from nightcrew.modules.sim.camera import SimCamera
 from nightcrew.modules.sim.filters import SimFilterWheel
 from nightcrew.modules.sim.focuser import SimFocuser
@@ -15,6 +16,7 @@ __all__ = [
     "ISimTelescopeTruth",
     "ISimWeatherTruth",
     "SimCamera",
+    "SimCoverCalibrator",
     "SimDome",
     "SimFilterWheel",
     "SimFocuser",

@@ -8,7 +8,8 @@ Decisions (documented for drivers and callers):
 * Targets below ``min_altitude`` are refused with MoveError before anything moves.
 * Offsets: RA/Dec offsets apply while tracking an RA/Dec target, Alt/Az offsets while pointing at an
   Alt/Az position; a new move resets both.
-* On BadWeatherEvent the telescope parks by itself (aborting any slew).
+* On BadWeatherEvent and on SafetyAlarmEvent (the safety watchdog's) the telescope parks by itself
+  (aborting any slew).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from nightcrew.events import (
     MoveRaDecEvent,
     OffsetsAltAzEvent,
     OffsetsRaDecEvent,
+    SafetyAlarmEvent,
 )
 from nightcrew.interfaces import (
     FitsCard,
@@ -90,6 +92,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
             return
         await super().open()
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
+        await self.comm.register_event(SafetyAlarmEvent, self.on_safety_alarm)
 
     # --- hooks for drivers ---------------------------------------------------------------------
 
@@ -286,4 +289,11 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         if self._motion_status is MotionStatus.PARKED and not self._motion.busy:
             return
         log.warning("%s: bad weather (%s): parking", self.name, event.reason or "no reason given")
+        await self.park()
+
+    async def on_safety_alarm(self, event: SafetyAlarmEvent, sender: str) -> None:
+        """Park by ourselves: the watchdog acts when the mastermind may not."""
+        if self._motion_status is MotionStatus.PARKED and not self._motion.busy:
+            return
+        log.warning("%s: safety alarm (%s): parking", self.name, event.reason or f"raised by {sender}")
         await self.park()

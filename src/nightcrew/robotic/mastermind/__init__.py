@@ -33,6 +33,7 @@ from nightcrew.robotic.mastermind._focusing import FocusField, FocusKeeper, focu
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
+from nightcrew.robotic.mastermind._status import robotic_status
 from nightcrew.robotic.mastermind._supervision import all_done, run_watched
 from nightcrew.robotic.mastermind._tasks import (
     focus_due,
@@ -80,6 +81,7 @@ __all__ = [
     "needs_sky",
     "observable_since",
     "planned_exposures",
+    "robotic_status",
     "run_watched",
     "slot_for",
     "startable_from",

@@ -17,7 +17,7 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
 from nightcrew.site import Site
 
-__all__ = ["BlockSource", "MemoryScheduleStore", "ScheduleWriter", "night_around"]
+__all__ = ["BlockSource", "MemoryScheduleStore", "NamedBlockSource", "ScheduleWriter", "night_around"]
 
 
 @runtime_checkable
@@ -30,6 +30,15 @@ class BlockSource(Protocol):
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
         """The blocks that may still be observed."""
+        ...
+
+
+@runtime_checkable
+class NamedBlockSource(BlockSource, Protocol):
+    """A block source that also knows the names of its blocks' tasks (for displays of the plan)."""
+
+    async def block_names(self) -> dict[str, str]:
+        """Block id → the name of its task, for the blocks that may still be observed."""
         ...
 
 

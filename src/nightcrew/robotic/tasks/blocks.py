@@ -98,3 +98,7 @@ class ArchiveBlockSource:
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
         """Blocks of the archive's schedulable tasks that have a target."""
         return list(blocks_of(await self.archive.get_schedulable_tasks(), self.overheads).blocks)
+
+    async def block_names(self) -> dict[str, str]:
+        """Block id → task name (a block's id is its task's)."""
+        return {task.id: task.name for task in await self.archive.get_schedulable_tasks()}

@@ -1,0 +1,6 @@
+"""The browser console: :class:`WebConsole` serves the observatory's pages and their API."""
+
+from nightcrew.modules.console._auth import Role, hash_password, verify_password
+from nightcrew.modules.console.console import STATIC_DIR, WebConsole
+
+__all__ = ["STATIC_DIR", "Role", "WebConsole", "hash_password", "verify_password"]

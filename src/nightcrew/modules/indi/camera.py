@@ -1,0 +1,229 @@
+"""A CCD behind an INDI driver: exposure, binning, frame, frame type, temperature, gain; the image
+arrives as a FITS BLOB (``CCD1``) and becomes nightcrew's FITS file with nightcrew's headers.
+
+An exposure sets ``CCD_FRAME``, ``CCD_BINNING`` and ``CCD_FRAME_TYPE``, starts ``CCD_EXPOSURE``
+and waits for the vector to leave Busy and for a new ``CCD1`` BLOB (``UPLOAD_MODE`` is set to
+client upload, ``CCD_TRANSFER_FORMAT`` to FITS). The driver's FITS is read for its pixels and a
+few camera cards (:data:`DRIVER_CARDS`); the file nightcrew writes is built by the camera base,
+so its headers are nightcrew's (telescope, filter, focus, weather ... from the header providers)
+and nothing is half-written when the BLOB is bad. ``compress: true`` asks the driver for
+zlib-compressed BLOBs (``CCD_COMPRESSION``), which the client inflates.
+
+Example (``examples/indi/camera.yaml``)::
+
+    class: nightcrew.modules.indi.IndiCamera
+    host: 192.168.1.20
+    device: CCD Simulator
+    gain: 90
+"""
+
+from __future__ import annotations
+
+import asyncio
+import io
+import logging
+from typing import Any
+
+import numpy as np
+
+from nightcrew.bridges.indi import Blob, IndiError, Vector
+from nightcrew.errors import ConfigError, GrabImageError, NotSupportedError
+from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, ImageType, Window
+from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
+from nightcrew.modules.indi.link import IndiModule
+
+__all__ = ["DRIVER_CARDS", "IndiCamera", "blocking_read_fits"]
+
+log = logging.getLogger(__name__)
+
+#: Cards of the driver's FITS header that describe the camera and go into nightcrew's file.
+DRIVER_CARDS = ("INSTRUME", "CCD-TEMP", "PIXSIZE1", "PIXSIZE2", "XPIXSZ", "YPIXSZ", "GAIN", "OFFSET")
+
+_FRAME_TYPES = {
+    ImageType.BIAS: "FRAME_BIAS",
+    ImageType.DARK: "FRAME_DARK",
+    ImageType.SKYFLAT: "FRAME_FLAT",
+    ImageType.DOMEFLAT: "FRAME_FLAT",
+}
+#: Until the device told its chip size (the base asks for it at construction).
+_NO_CHIP = Window(0, 0, 1, 1)
+
+
+def blocking_read_fits(blob: Blob, device: str) -> Frame:
+    """Pixels (uint16) and camera cards of a FITS BLOB; parsing takes milliseconds: run in a thread."""
+    from astropy.io import fits  # type: ignore[import-untyped]
+
+    if blob.format.lower() not in (".fits", ".fit", ".fts", ".fits.fz"):
+        raise IndiError(
+            f"BLOB format {blob.format!r} is not FITS (set CCD_TRANSFER_FORMAT to FITS)",
+            device=device,
+            name="CCD1",
+        )
+    try:
+        with fits.open(io.BytesIO(blob.data)) as hdus:
+            # fpack (.fits.fz, what CCD_COMPRESSION gives) keeps the image in the first extension.
+            hdu = next((h for h in hdus if h.data is not None), hdus[0])
+            data = np.asarray(hdu.data)
+            header = hdu.header
+            cards: dict[str, FitsCard] = {
+                key: (header[key], header.comments[key]) for key in DRIVER_CARDS if key in header
+            }
+    except (OSError, ValueError, TypeError, IndexError) as exc:
+        raise IndiError(f"BLOB is not a readable FITS file: {exc}", device=device, name="CCD1") from exc
+    if data.ndim != 2:
+        raise IndiError(f"expected a 2-D image, got shape {data.shape}", device=device, name="CCD1")
+    if data.dtype != np.uint16:
+        if data.size and (data.min() < 0 or data.max() > 65535):
+            raise IndiError(f"pixels outside 0..65535 ({data.dtype})", device=device, name="CCD1")
+        data = data.astype(np.uint16)
+    return Frame(data, cards)
+
+
+class IndiCamera(IndiModule, BaseCamera):
+    """An INDI CCD.
+
+    Args:
+        gain: Gain to set on every connection (CCD_GAIN); None leaves the driver's.
+        compress: Ask for compressed BLOBs (CCD_COMPRESSION).
+        readout_timeout: Wall seconds from the end of the exposure to the image's arrival.
+        **kwargs: INDI options (``host``, ``port``, ``device`` ...) and camera options.
+    """
+
+    indi_needs = ("CCD_EXPOSURE", "CCD1", "CCD_INFO", "CCD_FRAME", "CCD_BINNING")
+    indi_blobs = True
+    _chip = _NO_CHIP
+
+    def __init__(
+        self,
+        *,
+        gain: float | None = None,
+        compress: bool = False,
+        readout_timeout: float = 60.0,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(**kwargs)
+        if not readout_timeout > 0:
+            raise ConfigError(f"must be > 0 seconds, got {readout_timeout}", key="readout_timeout")
+        self._gain = gain
+        self._compress = bool(compress)
+        self._readout_timeout = float(readout_timeout)
+        self._max_binning = 1
+
+    # --- connection ----------------------------------------------------------------------------
+
+    async def _on_indi_ready(self) -> None:
+        indi, wait = self._indi, self._indi.connect_timeout
+        # Drivers fill in the chip size only after CONNECT: wait for a real one.
+        info = await indi.client.wait(
+            indi.device,
+            "CCD_INFO",
+            lambda v: v.number("CCD_MAX_X") >= 1 and v.number("CCD_MAX_Y") >= 1,
+            wait,
+            "a chip size",
+        )
+        chip = Window(0, 0, round(info.number("CCD_MAX_X")), round(info.number("CCD_MAX_Y")))
+        if self._window in (_NO_CHIP, self._chip) or chip != self._chip:
+            self._window = chip
+        self._chip = chip
+        binning = indi.vector("CCD_BINNING")
+        self._max_binning = max(1, round(binning.limits.get("HOR_BIN", (1, 1, 1))[1]))
+        if indi.has("UPLOAD_MODE"):
+            await indi.switch("UPLOAD_MODE", "UPLOAD_CLIENT", wait=wait)
+        if indi.has("CCD_TRANSFER_FORMAT"):
+            await indi.switch("CCD_TRANSFER_FORMAT", "FORMAT_FITS", wait=wait)
+        if indi.has("CCD_COMPRESSION"):
+            await indi.switch(
+                "CCD_COMPRESSION", "INDI_ENABLED" if self._compress else "INDI_DISABLED", wait=wait
+            )
+        if self._gain is not None:
+            await self._send_gain(self._gain)
+
+    async def _send_gain(self, gain: float) -> None:
+        if not self._indi.has("CCD_GAIN"):
+            raise NotSupportedError(f"{self._indi.where} has no gain (CCD_GAIN)")
+        await self._indi.send("CCD_GAIN", {"GAIN": gain}, wait=self._indi.connect_timeout)
+
+    # --- hooks ---------------------------------------------------------------------------------
+
+    def _hw_full_frame(self) -> Window:
+        return self._chip
+
+    def _hw_binnings(self) -> list[Binning]:
+        return [Binning(n, n) for n in range(1, self._max_binning + 1)]
+
+    async def _hw_expose(self, settings: ExposureSettings) -> Frame:
+        indi, wait = self._indi, self._indi.connect_timeout
+        window, binning = settings.window, settings.binning
+        await indi.send(
+            "CCD_FRAME",
+            {"X": window.left, "Y": window.top, "WIDTH": window.width, "HEIGHT": window.height},
+            wait=wait,
+        )
+        await indi.send("CCD_BINNING", {"HOR_BIN": binning.x, "VER_BIN": binning.y}, wait=wait)
+        if indi.has("CCD_FRAME_TYPE"):
+            await indi.switch(
+                "CCD_FRAME_TYPE", _FRAME_TYPES.get(settings.image_type, "FRAME_LIGHT"), wait=wait
+            )
+        blob_before = indi.vector("CCD1").generation
+        self._start_integration()
+        try:
+            await indi.send(
+                "CCD_EXPOSURE",
+                {"CCD_EXPOSURE_VALUE": settings.exposure_time},
+                wait=settings.exposure_time + self._readout_timeout,
+            )
+            await self._set_exposure_status(ExposureStatus.READOUT)
+            image = await indi.client.wait(
+                indi.device,
+                "CCD1",
+                lambda v: v.generation > blob_before,
+                self._readout_timeout,
+                "a new image",
+            )
+        except asyncio.CancelledError:
+            await self._abort_exposure()
+            raise
+        frame = await asyncio.to_thread(blocking_read_fits, _first_blob(image), indi.device)
+        if frame.data.shape != settings.shape:
+            raise GrabImageError(
+                f"{indi.where}: CCD1 holds a {frame.data.shape} image, expected {settings.shape}"
+            )
+        return frame
+
+    async def _abort_exposure(self) -> None:
+        if self._indi.ready and self._indi.has("CCD_ABORT_EXPOSURE"):
+            try:
+                await self._indi.send("CCD_ABORT_EXPOSURE", {"ABORT": True})
+            except IndiError as exc:
+                log.warning("%s: aborting the exposure failed: %s", self.name, exc)
+
+    async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
+        if not self._indi.has("CCD_TEMPERATURE"):
+            raise NotSupportedError(f"{self._indi.where} has no cooling (CCD_TEMPERATURE)")
+        if self._indi.has("CCD_COOLER"):
+            await self._indi.switch("CCD_COOLER", "COOLER_ON" if enabled else "COOLER_OFF", wait=30.0)
+        if enabled:
+            # The driver ramps to the setpoint (Busy until there): do not wait for that.
+            await self._indi.send("CCD_TEMPERATURE", {"CCD_TEMPERATURE_VALUE": setpoint})
+
+    async def _hw_cooling_power(self) -> float:
+        if self._indi.has("CCD_COOLER_POWER"):
+            vector = self._indi.vector("CCD_COOLER_POWER")
+            return next(iter(v for v in vector.members.values() if isinstance(v, float)), 0.0)
+        return 0.0
+
+    # --- run-time configuration ----------------------------------------------------------------
+
+    def _get_config_gain(self) -> float:
+        return self._indi.vector("CCD_GAIN").number("GAIN")
+
+    async def _set_config_gain(self, value: float) -> None:
+        await self._send_gain(float(value))
+        self._gain = float(value)
+
+
+def _first_blob(vector: Vector) -> Blob:
+    for value in vector.members.values():
+        if isinstance(value, Blob):
+            return value
+    raise IndiError("holds no BLOB", device=vector.device, name=vector.name)

@@ -1,0 +1,190 @@
+"""Nightcrew focusers, filter wheels and domes as INDI devices.
+
+==========================  ======================================================================
+property                    nightcrew
+==========================  ======================================================================
+ABS_FOCUS_POSITION          focuser get_focus()/set_focus(), in steps of 1 µm (nightcrew: mm)
+FOCUS_ABORT_MOTION          focuser stop_motion()
+FILTER_SLOT                 filter wheel get_filter()/set_filter(), slots 1..N in list_filters() order
+FILTER_NAME (ro)            list_filters()
+DOME_SHUTTER                roof/dome open_roof() / close_roof(); Busy while it moves
+ABS_DOME_POSITION           dome get_azimuth()/move_azimuth(), degrees (IDome only)
+DOME_ABORT_MOTION           roof/dome stop_motion()
+==========================  ======================================================================
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from nightcrew.bridges.indi.server_vectors import (
+    NumberMember,
+    Permission,
+    Property,
+    PropertyState,
+    SwitchMember,
+    SwitchRule,
+    TextMember,
+)
+from nightcrew.errors import InvalidArgumentError
+from nightcrew.interfaces import IDome, IFilters, IFocuser, IRoof, MotionStatus
+from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
+
+__all__ = ["ServedDome", "ServedFilterWheel", "ServedFocuser"]
+
+#: INDI focuser steps per nightcrew millimetre: a step is a micrometre.
+STEPS_PER_MM = 1000.0
+#: Range offered to clients; the focuser refuses what lies outside its own range (Alert).
+_FOCUS_STEPS = 100_000.0
+#: The dome's rotation, as nightcrew's BaseDome names it in get_motion_status(device).
+_AZIMUTH = "azimuth"
+
+
+def _abort_vector(device: str, name: str) -> Property[SwitchMember]:
+    vector = Property(device, name, "Abort Motion", MAIN_GROUP, [SwitchMember("ABORT", "Abort")])
+    vector.rule = SwitchRule.AT_MOST_ONE
+    return vector
+
+
+class ServedFocuser(ServedDevice[IFocuser]):
+    """An IFocuser module as an INDI focuser with an absolute position."""
+
+    interface = IFocuser
+    driver_interface = 8
+
+    async def _build(self) -> list[Property[Any]]:
+        self.position = Property(
+            self.name,
+            "ABS_FOCUS_POSITION",
+            "Absolute Position",
+            MAIN_GROUP,
+            [NumberMember("FOCUS_ABSOLUTE_POSITION", "Steps (µm)", 0.0, 0.0, _FOCUS_STEPS, 1.0, "%6.0f")],
+            timeout=300.0,
+        )
+        self.abort = _abort_vector(self.name, "FOCUS_ABORT_MOTION")
+        return [self.position, self.abort]
+
+    async def _update(self) -> None:
+        focuser = self.device
+        status = await focuser.get_motion_status()
+        self.position.by_name["FOCUS_ABSOLUTE_POSITION"].value = round(
+            await focuser.get_focus() * STEPS_PER_MM, 3
+        )
+        self._follow(self.position, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
+
+    async def _request(self, vector: Property[Any], values: Values) -> None:
+        if vector is self.position:
+            steps = float(values["FOCUS_ABSOLUTE_POSITION"])
+            self._start(self.position, self.device.set_focus(steps / STEPS_PER_MM))
+        elif vector is self.abort:
+            if values.get("ABORT"):
+                self._start(self.abort, self.device.stop_motion())
+        else:
+            raise InvalidArgumentError(f"{vector.where} cannot be set")
+
+
+class ServedFilterWheel(ServedDevice[IFilters]):
+    """An IFilters module as an INDI filter wheel."""
+
+    interface = IFilters
+    driver_interface = 16
+
+    async def _build(self) -> list[Property[Any]]:
+        self.filters = await self.device.list_filters()
+        count = float(len(self.filters))
+        self.slot = Property(
+            self.name,
+            "FILTER_SLOT",
+            "Filter Slot",
+            MAIN_GROUP,
+            [NumberMember("FILTER_SLOT_VALUE", "Filter", 1.0, 1.0, count, 1.0, "%3.0f")],
+            timeout=120.0,
+        )
+        self.names = Property(
+            self.name,
+            "FILTER_NAME",
+            "Filter",
+            MAIN_GROUP,
+            [
+                TextMember(f"FILTER_SLOT_NAME_{i}", f"Filter #{i}", name)
+                for i, name in enumerate(self.filters, 1)
+            ],
+            perm=Permission.READ_ONLY,
+            state=PropertyState.OK,
+        )
+        return [self.slot, self.names]
+
+    async def _update(self) -> None:
+        wheel = self.device
+        status = await wheel.get_motion_status()
+        current = await wheel.get_filter()
+        if current in self.filters:
+            self.slot.by_name["FILTER_SLOT_VALUE"].value = float(self.filters.index(current) + 1)
+        self._follow(self.slot, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
+
+    async def _request(self, vector: Property[Any], values: Values) -> None:
+        if vector is not self.slot:
+            raise InvalidArgumentError(f"{vector.where} cannot be set")
+        slot = float(values["FILTER_SLOT_VALUE"])
+        if slot != int(slot):
+            raise InvalidArgumentError(
+                f"{vector.where}: a filter slot is a whole number 1..{len(self.filters)}, got {slot:g}"
+            )
+        self._start(self.slot, self.device.set_filter(self.filters[int(slot) - 1]))
+
+
+class ServedDome(ServedDevice[IRoof]):
+    """An IRoof module (its shutter) or IDome module (shutter and azimuth) as an INDI dome."""
+
+    interface = IRoof
+    driver_interface = 32
+
+    async def _build(self) -> list[Property[Any]]:
+        self.shutter = Property(
+            self.name,
+            "DOME_SHUTTER",
+            "Shutter",
+            MAIN_GROUP,
+            [SwitchMember("SHUTTER_OPEN", "Open"), SwitchMember("SHUTTER_CLOSE", "Close", True)],
+            timeout=300.0,
+        )
+        self.abort = _abort_vector(self.name, "DOME_ABORT_MOTION")
+        vectors: list[Property[Any]] = [self.shutter, self.abort]
+        self.azimuth: Property[NumberMember] | None = None
+        if isinstance(self.device, IDome):
+            self.azimuth = Property(
+                self.name,
+                "ABS_DOME_POSITION",
+                "Absolute Position",
+                MAIN_GROUP,
+                [NumberMember("DOME_ABSOLUTE_POSITION", "Degrees", 0.0, 0.0, 360.0, 0.0, "%6.2f")],
+                timeout=300.0,
+            )
+            vectors.append(self.azimuth)
+        return vectors
+
+    async def _update(self) -> None:
+        roof = self.device
+        status = await roof.get_motion_status()
+        closed = status in (MotionStatus.PARKED, MotionStatus.PARKING)
+        switch_on(self.shutter, "SHUTTER_CLOSE" if closed else "SHUTTER_OPEN")
+        moving = status in (MotionStatus.MOVING, MotionStatus.PARKING)
+        self._follow(self.shutter, busy=moving, failed=status is MotionStatus.ERROR)
+        if self.azimuth is not None and isinstance(roof, IDome):
+            self.azimuth.by_name["DOME_ABSOLUTE_POSITION"].value = round(await roof.get_azimuth(), 6)
+            turning = await roof.get_motion_status(_AZIMUTH) is MotionStatus.MOVING
+            self._follow(self.azimuth, busy=turning)
+
+    async def _request(self, vector: Property[Any], values: Values) -> None:
+        roof = self.device
+        if vector is self.shutter:
+            opening = bool(values.get("SHUTTER_OPEN"))
+            # Closing always wins (it pre-empts an opening roof); opening waits its turn.
+            self._start(self.shutter, roof.open_roof() if opening else roof.close_roof(), replace=not opening)
+        elif vector is self.abort:
+            if values.get("ABORT"):
+                self._start(self.abort, roof.stop_motion())
+        elif vector is self.azimuth and isinstance(roof, IDome):
+            self._start(vector, roof.move_azimuth(float(values["DOME_ABSOLUTE_POSITION"]) % 360.0))
+        else:
+            raise InvalidArgumentError(f"{vector.where} cannot be set")

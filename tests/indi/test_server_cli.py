@@ -1,0 +1,107 @@
+"""``nightcrew sim --indi PORT`` serves the simulated night to INDI clients; the example config checks."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.indi.server_clients import PATIENCE, getprop, require_clients
+
+REPOSITORY = Path(__file__).resolve().parents[2]
+NIGHTCREW = [sys.executable, "-m", "nightcrew"]
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+async def test_sim_serves_its_devices_over_indi_while_the_night_runs(tmp_path: Path) -> None:
+    require_clients()
+    port = free_port()
+    night = await asyncio.create_subprocess_exec(
+        *NIGHTCREW,
+        "sim",
+        "--quick",
+        "--targets=1",
+        "--filters=V",
+        "--exposure-time=5",
+        "--calibration-frames=0",
+        f"--indi={port}",
+        f"--out={tmp_path / 'night'}",
+        stdout=asyncio.subprocess.PIPE,
+        stderr=asyncio.subprocess.PIPE,
+    )
+    specs = [
+        "telescope.EQUATORIAL_EOD_COORD.RA",
+        "telescope.EQUATORIAL_EOD_COORD.DEC",
+        "camera.DRIVER_INFO.DRIVER_INTERFACE",
+        "roof.DOME_SHUTTER.SHUTTER_OPEN",
+        "filters.FILTER_NAME.FILTER_SLOT_NAME_1",
+    ]
+    try:
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + PATIENCE
+        values: dict[str, str] = {}
+        while night.returncode is None and loop.time() < deadline and not all(s in values for s in specs):
+            values = await getprop(str(port), *specs)
+        assert all(s in values for s in specs), f"not served while the night ran: {values}"
+        assert 0.0 <= float(values["telescope.EQUATORIAL_EOD_COORD.RA"]) < 24.0
+        assert values["camera.DRIVER_INFO.DRIVER_INTERFACE"] == "2"
+        out, err = await asyncio.wait_for(night.communicate(), 10 * PATIENCE)
+    finally:
+        if night.returncode is None:
+            night.kill()
+            await night.wait()
+    assert night.returncode == 0, err.decode()[-2000:]
+    assert b"night complete: 1 frames" in out
+
+
+def test_sim_refuses_a_port_that_is_no_port() -> None:
+    result = subprocess.run(
+        [*NIGHTCREW, "sim", "--quick", "--indi=70000"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.returncode == 2
+    assert "--indi: not a port number (0..65535): 70000" in result.stderr
+
+
+def test_the_example_server_config_checks() -> None:
+    env = {**os.environ, "SIM_XMPP_PASSWORD": "example"}  # the tutorial's accounts share one password
+    path = REPOSITORY / "examples" / "indi" / "server.yaml"
+    result = subprocess.run(
+        [*NIGHTCREW, "check", str(path)], capture_output=True, text=True, env=env, timeout=120, check=False
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == f"OK {path}"
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"port": 70000}, "key 'port': must be a TCP port 0..65535, got 70000"),
+        ({"poll_interval": 0}, "key 'poll_interval': must be > 0 seconds, got 0"),
+        (
+            {"telescope": None, "camera": None, "focuser": None, "filters": None, "dome": None},
+            "nothing to serve",
+        ),
+        ({"dome": "telescope"}, "key 'dome': module 'telescope' is already served as another device"),
+    ],
+)
+def test_bad_server_options_are_named(change: dict[str, object], message: str) -> None:
+    from nightcrew.errors import ConfigError
+    from nightcrew.modules.indi.server import IndiServer
+
+    options: dict[str, object] = {"name": "indi", "telescope": "telescope", "dome": "roof", **change}
+    with pytest.raises(ConfigError, match=message):
+        IndiServer(**options)  # type: ignore[arg-type]

@@ -1,0 +1,104 @@
+"""``nightcrew up examples/sim-processes``: the simulated observatory as supervised processes on Prosody."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import subprocess
+import sys
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import pytest
+
+from nightcrew.comm.xmpp import XmppComm
+from nightcrew.interfaces import IModule
+from nightcrew.modules import Module
+from nightcrew.testing import wait_for
+from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+
+from .conftest import REPOSITORY, START_TIMEOUT, Prosody
+
+pytestmark = pytest.mark.xmpp
+EXAMPLE = REPOSITORY / "examples" / "sim-processes"
+MODULES = {"camera", "filters", "focuser", "roof", "telescope", "weather", "watchdog"}
+
+
+@pytest.fixture
+async def operator(prosody: Prosody) -> AsyncIterator[Module]:
+    prosody.account("operator")
+    comm = XmppComm(
+        f"operator@{DOMAIN}", PASSWORD, server=prosody.address, room="simproc", ca_file=str(prosody.ca_file)
+    )
+    module = Module(comm=comm)
+    await module.open()
+    try:
+        yield module
+    finally:
+        await module.close()
+
+
+async def ready(operator: Module, names: set[str]) -> bool:
+    if not names <= set(operator.comm.clients):
+        return False
+    states = [await (await operator.comm.proxy(n, IModule)).get_state() for n in names]
+    return all(str(s) == "ready" for s in states)
+
+
+async def nightcrew(*args: str, env: dict[str, str]) -> tuple[int, str]:
+    process = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "nightcrew", *args, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT
+    )
+    output, _ = await asyncio.wait_for(process.communicate(), 60)
+    assert process.returncode is not None
+    return process.returncode, output.decode()
+
+
+async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Module, tmp_path: Path) -> None:
+    for name in MODULES:
+        prosody.account(name)
+    socket = Path(os.environ.get("TMPDIR", "/tmp")) / f"nc-sim-{os.getpid()}.sock"
+    env = {
+        **os.environ,
+        "SIM_XMPP_PASSWORD": PASSWORD,
+        "SIM_XMPP_SERVER": prosody.address,
+        "SIM_XMPP_DOMAIN": DOMAIN,
+        "SIM_XMPP_ROOM": "simproc",
+        "SIM_XMPP_CA_FILE": str(prosody.ca_file),
+        "SIM_IMAGES": str(tmp_path / "images"),
+        "NIGHTCREW_SUPERVISOR_SOCKET": str(socket),
+    }
+    log = tmp_path / "supervisor.log"
+    stderr = os.open(log, os.O_WRONLY | os.O_CREAT, 0o600)
+    try:
+        up = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "nightcrew", "up", str(EXAMPLE), "--log-dir", str(tmp_path / "logs"),
+            env=env, cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=stderr,
+        )  # fmt: skip
+    finally:
+        os.close(stderr)
+    try:
+        await wait_for(lambda: ready(operator, MODULES), START_TIMEOUT * 2, message="all modules ready")
+        code, shown = await nightcrew("status", env=env)
+        assert code == 0, shown
+        rows = {line.split()[0]: line.split() for line in shown.splitlines()[1:]}
+        assert set(rows) == MODULES  # operator.yaml is not a module; xmpp.yaml and clock.yaml are fragments
+        assert all(row[1] == "running" for row in rows.values())
+
+        os.kill(int(rows["filters"][2]), signal.SIGKILL)
+        await wait_for(lambda: "filters" not in operator.comm.clients, 30, message="filters gone")
+        await wait_for(lambda: ready(operator, {"filters"}), START_TIMEOUT, message="filters back")
+        code, shown = await nightcrew("status", "filters", env=env)
+        row = shown.splitlines()[1].split()
+        assert (row[0], row[1], row[3]) == ("filters", "running", "1"), shown
+        assert row[2] != rows["filters"][2] and shown.rstrip().endswith("killed by SIGKILL"), shown
+
+        code, logs = await nightcrew("logs", "weather", "-n", "200", env=env)
+        assert code == 0 and "weather is ready" in logs
+    finally:
+        if up.returncode is None:
+            up.send_signal(signal.SIGTERM)
+        await asyncio.wait_for(up.wait(), 90)
+    assert up.returncode == 0, log.read_text()
+    await wait_for(lambda: not set(operator.comm.clients) & MODULES, 30, message="all modules left")
