@@ -247,8 +247,12 @@ def test_public_api() -> None:
         "Location",
         "build_object",
         "config_files",
+        "is_secret_key",
         "load_and_build",
         "load_config",
+        "load_data_file",
+        "parse_data",
+        "parse_yaml",
         "to_plain",
         "validate_config",
     ]

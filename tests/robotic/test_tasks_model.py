@@ -234,9 +234,9 @@ def test_files_name_themselves_in_the_message(tmp_path: Any) -> None:
         load_request_group_file(bad)
     broken = tmp_path / "broken.yaml"
     broken.write_text("name: [unclosed\n")
-    with pytest.raises(InvalidTaskError, match="not valid YAML/JSON"):
+    with pytest.raises(InvalidTaskError, match="line 2: invalid YAML"):
         load_request_group_file(broken)
-    with pytest.raises(InvalidTaskError, match="cannot read the file"):
+    with pytest.raises(InvalidTaskError, match="file not found"):
         load_request_group_file(tmp_path / "missing.yaml")
     listed = tmp_path / "list.yaml"
     listed.write_text("- 1\n")

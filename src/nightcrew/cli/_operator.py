@@ -16,13 +16,11 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-import yaml
-
 from nightcrew.cli._running import quiet_module_logs
 from nightcrew.comm.base import Comm
 from nightcrew.comm.calls import parse_shell_call
 from nightcrew.comm.codec import encode
-from nightcrew.config import build_object, load_config
+from nightcrew.config import build_object, load_config, parse_yaml
 from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
 from nightcrew.interfaces import IModule
 from nightcrew.interfaces.base import interface_methods
@@ -126,9 +124,9 @@ def parse_cli_arguments(texts: list[str]) -> list[Any]:
     values = []
     for text in texts:
         try:
-            values.append(yaml.safe_load(text) if text else "")
-        except yaml.YAMLError as exc:
-            raise InvalidArgumentError(f"cannot read argument {text!r}: {exc}") from exc
+            values.append(parse_yaml(text, "argument") if text else "")
+        except ConfigError as exc:
+            raise InvalidArgumentError(f"cannot read argument {_shorten(text)!r}: {exc.message}") from None
     return values
 
 
@@ -143,3 +141,7 @@ def format_value(value: Any) -> str:
         raise TypeError(type(obj).__name__)
 
     return json.dumps(value, default=default, ensure_ascii=False)
+
+
+def _shorten(text: str, limit: int = 60) -> str:
+    return text if len(text) <= limit else text[: limit - 3] + "..."

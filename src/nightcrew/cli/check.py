@@ -1,6 +1,8 @@
 """``nightcrew check PATH ...``: validate configuration files without starting anything.
 
-Prints ``OK FILE`` for every valid file and one ``FILE:LINE: key 'x': message`` line (on stderr)
+Every file is loaded, validated and built exactly as ``run`` builds it (constructor checks
+included; nothing is opened or connected), so the two agree on every file. Prints ``OK FILE`` for
+every valid file and one ``FILE:LINE: key 'x': message`` line (on stderr)
 for every invalid one; exits 0 when all are valid, else 2. A directory stands for every
 ``*.yaml``/``*.yml`` below it (recursively), except files that other files there include: those
 fragments are checked as part of the files that include them.
@@ -14,7 +16,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from nightcrew.config import config_files, load_config, validate_config
+from nightcrew.cli.run import build_file
+from nightcrew.config import config_files
 from nightcrew.errors import ConfigError
 
 __all__ = ["add_parser", "check_file", "run_check"]
@@ -32,8 +35,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def check_file(path: Path) -> None:
-    """Load and validate one file. Raises :class:`ConfigError` for its first problem."""
-    validate_config(load_config(path))
+    """Load, validate and build (without opening) what one file describes, exactly as ``run`` does.
+
+    Building runs the constructors' own checks (ranges, combinations of keys), so a file ``check``
+    calls OK is one ``run`` accepts. Raises :class:`ConfigError` for the first problem.
+    """
+    build_file(path, expected=None)
 
 
 def run_check(args: argparse.Namespace) -> int:

@@ -44,6 +44,7 @@ SUBCOMMANDS = [
     "restart",
     "logs",
     "systemd",
+    "audit",
 ]
 
 

@@ -13,15 +13,17 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
+import os
 from pathlib import Path
 from typing import Any
 
 from nightcrew.cli._running import stop_on_signals
-from nightcrew.config import build_object, load_config, validate_config
+from nightcrew.config import ConfigNode, build_object, load_config, validate_config
+from nightcrew.config._classes import import_class
 from nightcrew.errors import NightcrewError
 from nightcrew.modules import Module
 
-__all__ = ["add_parser", "build_modules", "run_modules"]
+__all__ = ["add_parser", "build_described", "build_file", "build_modules", "run_modules"]
 
 log = logging.getLogger(__name__)
 
@@ -40,12 +42,24 @@ def build_modules(paths: list[str]) -> list[Module]:
     configs = [load_config(path) for path in paths]
     for config in configs:
         validate_config(config, Module)
-    modules = []
-    for path, config in zip(paths, configs, strict=True):
-        if "name" not in config and "comm" not in config:
-            config["name"] = Path(path).stem
-        modules.append(build_object(config, Module))
-    return modules
+    return [build_described(path, config, Module) for path, config in zip(paths, configs, strict=True)]
+
+
+def build_file(path: str | os.PathLike[str], expected: type | None = Module) -> Any:
+    """Load, validate and build the object one file describes, as ``run`` does; nothing is opened.
+
+    ``nightcrew check`` calls this, so its verdict includes the constructors' own checks.
+    """
+    config = load_config(path)
+    validate_config(config, expected)
+    return build_described(path, config, expected)
+
+
+def build_described(path: str | os.PathLike[str], config: ConfigNode, expected: type | None) -> Any:
+    """Build a validated description; a module without ``name`` or ``comm`` is named after its file."""
+    if "name" not in config and "comm" not in config and issubclass(import_class(config["class"]), Module):
+        config["name"] = Path(path).stem
+    return build_object(config, expected)
 
 
 async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) -> None:

@@ -27,6 +27,7 @@ from nightcrew.errors import InterfaceError, ModuleError, NightcrewError, Remote
 from nightcrew.events.base import Event, event_by_name
 from nightcrew.interfaces.base import Interface, interface_by_name
 from nightcrew.log import current_module, module_context
+from nightcrew.security import AuditLog, Policy, load_policy
 from nightcrew.timeout import DEFAULT_TIMEOUT
 
 __all__ = ["Comm", "EventHandler", "PendingCall"]
@@ -75,10 +76,18 @@ class Comm(ABC):
 
     Args:
         rpc_grace: Wall seconds added to every announced timeout for network latency.
+        policy: The observatory's access policy (a YAML file, see :mod:`nightcrew.security`); every
+            incoming call is checked against it. Without one, every caller may call everything.
+        audit: A JSON-lines file where every state-changing call to this module is recorded.
     """
 
-    def __init__(self, *, rpc_grace: float = 0.0) -> None:
+    def __init__(
+        self, *, rpc_grace: float = 0.0, policy: str | Policy | None = None, audit: str | None = None
+    ) -> None:
         self._rpc_grace = rpc_grace
+        # Read when built, so that `nightcrew check` reports a broken policy file with its key.
+        self._policy = load_policy(policy) if isinstance(policy, str) else policy
+        self._audit = AuditLog(audit) if audit else None
         self._clock: Clock = RealClock()
         self._server: RpcServer | None = None
         self._handlers: dict[str, list[tuple[type[Event], EventHandler[Any]]]] = {}
@@ -139,7 +148,14 @@ class Comm(ABC):
         """Serve ``obj``'s interface methods on this comm (call before :meth:`open`)."""
         if clock is not None:
             self._clock = clock
-        self._server = RpcServer(obj, guard=guard, on_error=on_error)
+        self._server = RpcServer(
+            obj, guard=guard, on_error=on_error, name=self.name, policy=self._policy, audit=self._audit
+        )
+
+    @property
+    def policy(self) -> Policy | None:
+        """The access policy this module's calls are checked against (None: everything allowed)."""
+        return self._policy
 
     @property
     def clock(self) -> Clock:
@@ -264,13 +280,15 @@ class Comm(ABC):
             self._report_error(exc)
             raise
 
-    async def _serve_call(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
-        """Run an incoming call on the attached object (for transports)."""
+    async def _serve_call(
+        self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None = None
+    ) -> Any:
+        """Run an incoming call from account ``caller`` on the attached object (for transports)."""
         if self._server is None:
             raise ModuleError(f"{self.name} serves no methods")
         token = current_module.set(self.name)  # the callee's logs are the callee's
         try:
-            return await self._server.handle(method, args, announce)
+            return await self._server.handle(method, args, announce, caller)
         finally:
             current_module.reset(token)
 
@@ -302,6 +320,10 @@ class Comm(ABC):
         handlers = self._handlers.get(name)
         if not handlers:
             return
+        if self._policy is not None and not self._policy.accepts_event(self._sender_account(sender), name):
+            # A forged verdict (a bad-weather event from an observer) must not close or open a roof.
+            log.warning("refused %s from %s: the policy does not trust it with this event", name, sender)
+            return
         event_type = event_by_name(name) or handlers[0][0]
         try:
             event = event_type.from_dict(payload)
@@ -310,6 +332,14 @@ class Comm(ABC):
             return
         for _, handler in handlers:
             self._spawn(self._run_handler(handler, event, sender), f"{name} handler")
+
+    def trusts_headers_from(self, module: str) -> bool:
+        """Whether FITS header cards from ``module`` may be used (the policy's ``header_providers``)."""
+        return self._policy is None or self._policy.accepts_headers(self._sender_account(module))
+
+    def _sender_account(self, sender: str) -> str:
+        """The account behind the module name ``sender`` (transports with nicknames override this)."""
+        return sender
 
     async def _run_handler(self, handler: EventHandler[Any], event: Event, sender: str) -> None:
         try:

@@ -13,6 +13,7 @@ from typing import Any
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.rpc import fault_from_exception
 from nightcrew.errors import ConfigError, RemoteError
+from nightcrew.security import Policy
 
 __all__ = ["LocalComm", "LocalNetwork"]
 
@@ -86,13 +87,22 @@ class LocalComm(Comm):
     """Comm for modules in one process.
 
     Args:
-        name: Module name, unique in the network.
+        name: Module name, unique in the network (and its account in the access policy).
         network: The network to join; the process-wide one by default.
+        policy: The access policy file (see :class:`~nightcrew.comm.base.Comm`).
+        audit: The audit trail file (see :class:`~nightcrew.comm.base.Comm`).
     """
 
-    def __init__(self, name: str, *, network: LocalNetwork | None = None) -> None:
+    def __init__(
+        self,
+        name: str,
+        *,
+        network: LocalNetwork | None = None,
+        policy: str | Policy | None = None,
+        audit: str | None = None,
+    ) -> None:
         self._network = network or LocalNetwork.default()
-        super().__init__(rpc_grace=self._network.rpc_grace)
+        super().__init__(rpc_grace=self._network.rpc_grace, policy=policy, audit=audit)
         if not name:
             raise ConfigError("a LocalComm needs a module name")
         self._name = name
@@ -117,7 +127,7 @@ class LocalComm(Comm):
     async def _send_call(self, client: str, method: str, args: list[Any], call: PendingCall) -> None:
         callee = self._network.get(client)
         try:
-            result = await callee._serve_call(method, args, call.announce)
+            result = await callee._serve_call(method, args, call.announce, self._name)
         except Exception as exc:
             call.set_fault(fault_from_exception(exc))
         else:

@@ -8,12 +8,14 @@ fault with :func:`fault_from_exception`; every caller turns a fault back into a 
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable
 from typing import Any
 
 from nightcrew.comm.codec import decode_arguments, encode
 from nightcrew.errors import (
     CodecError,
+    ForbiddenError,
     InterfaceError,
     InvalidArgumentError,
     NightcrewError,
@@ -21,11 +23,32 @@ from nightcrew.errors import (
     error_class,
 )
 from nightcrew.interfaces.base import Interface, interface_methods, interfaces_of
+from nightcrew.security import AuditLog, Policy, is_state_changing
 from nightcrew.timeout import DEFAULT_TIMEOUT, has_timeout, method_timeout
 
-__all__ = ["Fault", "RpcServer", "exception_from_fault", "fault_from_exception"]
+__all__ = [
+    "MAX_ARGUMENT_BYTES",
+    "MAX_ARGUMENT_DEPTH",
+    "MAX_FAULT_CHARS",
+    "Fault",
+    "RpcServer",
+    "check_wire_arguments",
+    "exception_from_fault",
+    "fault_from_exception",
+    "shorten",
+]
 
 log = logging.getLogger(__name__)
+
+#: Largest size of a call's arguments (bytes of text and binary, plus 8 per value). Images never
+#: travel in calls (only VFS paths do), so a megabyte is far beyond any honest call.
+MAX_ARGUMENT_BYTES = 1_000_000
+#: Deepest nesting of lists and structs in arguments.
+MAX_ARGUMENT_DEPTH = 32
+#: Longest fault message sent back (the rest is cut, with a note of how much).
+MAX_FAULT_CHARS = 1_000
+#: Longest method name or value shown in a log line.
+MAX_SHOWN_CHARS = 200
 
 #: Called with the method name before a call runs; raises to refuse it (e.g. module in error state).
 CallGuard = Callable[[str], None]
@@ -47,11 +70,47 @@ class Fault:
 
 
 def fault_from_exception(exc: BaseException) -> Fault:
-    """The fault to send for an exception raised by a served method."""
+    """The fault to send for an exception raised by a served method (message cut to a bound)."""
     if isinstance(exc, NightcrewError):
-        return Fault(type(exc).__name__, exc.message)
+        return Fault(type(exc).__name__, shorten(exc.message, MAX_FAULT_CHARS))
     # An unexpected error is a bug in the callee; its class may not exist at the caller.
-    return Fault(type(exc).__name__, f"{type(exc).__name__}: {exc}")
+    return Fault(type(exc).__name__, shorten(f"{type(exc).__name__}: {exc}", MAX_FAULT_CHARS))
+
+
+def shorten(text: str, limit: int = MAX_SHOWN_CHARS) -> str:
+    """``text`` cut to ``limit`` characters, saying how much was left out (arguments are never
+    echoed whole into a fault or a log line: an 8-MB argument would be 8 MB of log)."""
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit]}... ({len(text) - limit} more characters)"
+
+
+def check_wire_arguments(method: str, args: list[Any]) -> None:
+    """Refuse arguments beyond :data:`MAX_ARGUMENT_DEPTH` / :data:`MAX_ARGUMENT_BYTES`, or holding
+    NaN or infinity (no setting nightcrew has means anything with them), before decoding them."""
+    size = 0
+    stack: list[tuple[Any, int, str]] = [(arg, 1, f"argument {i + 1}") for i, arg in enumerate(args)]
+    while stack:
+        value, depth, where = stack.pop()
+        size += 8
+        if isinstance(value, str | bytes):
+            size += len(value)
+        elif isinstance(value, float) and not math.isfinite(value):
+            raise InvalidArgumentError(f"{shorten(method, 60)}(): {where} is {value}, not a finite number")
+        elif isinstance(value, list | dict):
+            if depth >= MAX_ARGUMENT_DEPTH:
+                raise InvalidArgumentError(
+                    f"{shorten(method, 60)}(): {where} nests deeper than {MAX_ARGUMENT_DEPTH} levels"
+                )
+            if isinstance(value, dict):
+                size += sum(len(key) for key in value)
+                stack.extend((item, depth + 1, where) for item in value.values())
+            else:
+                stack.extend((item, depth + 1, where) for item in value)
+        if size > MAX_ARGUMENT_BYTES:
+            raise InvalidArgumentError(
+                f"{shorten(method, 60)}(): arguments larger than {MAX_ARGUMENT_BYTES} bytes"
+            )
 
 
 def exception_from_fault(fault: Fault, module: str) -> NightcrewError:
@@ -69,13 +128,28 @@ class RpcServer:
     """
 
     def __init__(
-        self, obj: object, *, guard: CallGuard | None = None, on_error: ErrorHook | None = None
+        self,
+        obj: object,
+        *,
+        guard: CallGuard | None = None,
+        on_error: ErrorHook | None = None,
+        name: str = "",
+        policy: Policy | None = None,
+        audit: AuditLog | None = None,
     ) -> None:
         self._obj = obj
         self._guard = guard
         self._on_error = on_error
+        self._name = name
+        self._policy = policy
+        self._audit = audit
         self.interfaces: list[type[Interface]] = interfaces_of(type(obj))
         self._methods = interface_methods(self.interfaces)
+        self._interface_of = {
+            method: iface.__name__
+            for iface in reversed(self.interfaces)
+            for method in interface_methods([iface])
+        }
 
     @property
     def interface_names(self) -> list[str]:
@@ -86,7 +160,36 @@ class RpcServer:
     def method_names(self) -> list[str]:
         return sorted(self._methods)
 
-    async def handle(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
+    def may_call(self, caller: str | None, method: str) -> bool:
+        """Whether ``caller`` may call ``method`` here (always, without a policy or a known caller)."""
+        if self._policy is None or caller is None:
+            return True
+        return self._policy.allows(caller, self._name, method, self._interface_of.get(method))
+
+    def methods_for(self, caller: str | None) -> list[str]:
+        """The methods ``caller`` may call (what listings show it)."""
+        return [method for method in self.method_names if self.may_call(caller, method)]
+
+    async def handle(
+        self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None = None
+    ) -> Any:
+        """Like :meth:`_dispatch`, after the access check, recorded in the audit trail if it changes state."""
+        outcome = "ok"
+        try:
+            if not self.may_call(caller, method):
+                outcome = "forbidden"
+                log.warning("refused %s() to %s: not allowed by the policy", shorten(method), caller)
+                raise ForbiddenError(f"{caller} may not call {self._name}.{shorten(method, 60)}()")
+            return await self._dispatch(method, args, announce)
+        except BaseException as exc:
+            if outcome == "ok":
+                outcome = type(exc).__name__
+            raise
+        finally:
+            if self._audit is not None and is_state_changing(method):
+                self._audit.record(caller or "?", self._name, method, args, outcome)
+
+    async def _dispatch(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
         """Run ``method`` with wire ``args``; call ``announce(timeout)`` as soon as it is known.
 
         Only a timeout other than :data:`~nightcrew.timeout.DEFAULT_TIMEOUT` is announced: callers
@@ -98,20 +201,23 @@ class RpcServer:
             return await self._handle(method, args, announce)
         except NightcrewError as exc:
             # Expected failures are reported, not dumped: the caller receives the message anyway.
-            log.info("call %s() failed: %s: %s", method, type(exc).__name__, exc.message)
+            log.info("call %s() failed: %s: %s", shorten(method), type(exc).__name__, shorten(exc.message))
             self._report(exc)
             raise
         except Exception as exc:
-            log.exception("call %s() failed unexpectedly", method)
+            log.exception("call %s() failed unexpectedly", shorten(method))
             self._report(exc)
             raise
 
     async def _handle(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
         declaration = self._methods.get(method)
         if declaration is None:
-            raise InterfaceError(f"no method '{method}' (methods: {', '.join(self.method_names)})")
+            raise InterfaceError(
+                f"no method '{shorten(method, 60)}' (methods: {', '.join(self.method_names)})"
+            )
         if self._guard is not None:
             self._guard(method)
+        check_wire_arguments(method, args)
         try:
             arguments = decode_arguments(declaration, args)
         except CodecError as exc:

@@ -16,6 +16,10 @@ Typical use::
     validate_config(config)                   # raises ConfigError naming file, line and key
     module = build_object(config)             # validates, then builds recursively
 
+Every YAML text (configurations, task files, the access policy) is read through the one limited
+reader in :mod:`~nightcrew.config._yaml` (:func:`parse_yaml`, :func:`load_data_file`): size,
+nesting depth and alias expansion are bounded, so a hostile file gets a ConfigError, not a hang.
+
 Every problem is reported as one :class:`~nightcrew.errors.ConfigError` whose text reads
 ``file:line: key 'comm.jid': message``.
 """
@@ -31,7 +35,8 @@ from nightcrew.config._discovery import config_files
 from nightcrew.config._hints import describe_value
 from nightcrew.config._loader import load_file
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location
-from nightcrew.config._validator import iter_problems
+from nightcrew.config._validator import is_secret_key, iter_problems
+from nightcrew.config._yaml import load_data_file, parse_data, parse_yaml
 from nightcrew.errors import ConfigError
 
 __all__ = [
@@ -40,8 +45,12 @@ __all__ = [
     "Location",
     "build_object",
     "config_files",
+    "is_secret_key",
     "load_and_build",
     "load_config",
+    "load_data_file",
+    "parse_data",
+    "parse_yaml",
     "to_plain",
     "validate_config",
 ]

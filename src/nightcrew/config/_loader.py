@@ -19,7 +19,6 @@ and ``1e3`` is a float (YAML 1.1 would read it as a string).
 from __future__ import annotations
 
 import os
-import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +30,8 @@ from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from nightcrew.config._env import EnvSubstitutionError, substitute_env
 from nightcrew.config._hints import describe_value
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location, join_key
+from nightcrew.config._validator import is_secret_key
+from nightcrew.config._yaml import MAX_NODES, LimitedLoader, compose_yaml, read_limited_text
 from nightcrew.errors import ConfigError
 
 __all__ = ["LoadedFile", "load_file"]
@@ -41,17 +42,6 @@ _STR_TAG = "tag:yaml.org,2002:str"
 _MAP_TAG = "tag:yaml.org,2002:map"
 _SEQ_TAG = "tag:yaml.org,2002:seq"
 _SCALAR_TAGS = {"tag:yaml.org,2002:" + name for name in ("str", "int", "float", "bool", "null", "timestamp")}
-
-
-class _Loader(yaml.SafeLoader):
-    """SafeLoader that also reads exponent floats without a dot (``1e3``)."""
-
-
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?[0-9][0-9_]*[eE][-+]?[0-9]+$"),
-    list("-+0123456789"),
-)
 
 
 @dataclass
@@ -89,27 +79,14 @@ class _FileReader:
     def __init__(self, environ: Mapping[str, str]) -> None:
         self._environ = environ
         # Builds scalars from their tag and text, exactly as yaml.safe_load would.
-        self._scalars = _Loader("")
+        self._scalars = LimitedLoader("")
         self.included: set[Path] = set()
         self._converting: set[int] = set()
+        # Aliases and includes are expanded here: count what they stand for (see _yaml.MAX_NODES).
+        self._converted = 0
 
     def read(self, path: Path, display: str, stack: tuple[Path, ...], key: str) -> Any:
-        try:
-            text = path.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise ConfigError("file not found", file=display) from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise ConfigError(f"cannot read file: {exc}", file=display) from exc
-        try:
-            root = yaml.compose(text, Loader=_Loader)
-        except yaml.MarkedYAMLError as exc:
-            mark = exc.problem_mark or exc.context_mark
-            context = f" ({exc.context})" if exc.context else ""
-            raise ConfigError(
-                f"invalid YAML: {exc.problem}{context}", file=display, line=mark.line + 1 if mark else None
-            ) from exc
-        except yaml.YAMLError as exc:
-            raise ConfigError(f"invalid YAML: {exc}", file=display) from exc
+        root = compose_yaml(read_limited_text(path, display), display)
         if root is None:
             return None
         return self._convert(root, display, (*stack, path.resolve()), key)
@@ -120,6 +97,13 @@ class _FileReader:
         # An alias is the same node object again; one inside itself would recurse forever.
         if id(node) in self._converting:
             raise ConfigError("recursive alias", file=file, line=node.start_mark.line + 1, key=key or None)
+        self._converted += 1
+        if self._converted > MAX_NODES:
+            raise ConfigError(
+                f"aliases and includes expand to more than {MAX_NODES} values",
+                file=file,
+                line=node.start_mark.line + 1,
+            )
         self._converting.add(id(node))
         try:
             if isinstance(node, MappingNode):
@@ -213,9 +197,12 @@ class _FileReader:
             node = ScalarNode(tag, text, node.start_mark, node.end_mark)
         try:
             return self._scalars.construct_object(node, deep=True)
-        except (yaml.YAMLError, ValueError) as exc:
+        except (yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:
+            shown = node.value if len(node.value) <= 40 else node.value[:37] + "..."
+            if is_secret_key(key):
+                shown = "(not shown)"
             raise ConfigError(
-                f"invalid value {node.value!r}: {exc}",
+                f"invalid value {shown!r}: {exc}",
                 file=file,
                 line=node.start_mark.line + 1,
                 key=key or None,

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import difflib
 import inspect
+import math
+import re
 import typing
 from collections.abc import Iterator, Mapping
 from enum import Enum
@@ -39,7 +41,15 @@ from nightcrew.config._nodes import ConfigNode, Location, join_key, location_in
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces.base import is_interface
 
-__all__ = ["accepts", "check_object", "check_value", "enum_member", "iter_problems", "preferred_member"]
+__all__ = [
+    "accepts",
+    "check_object",
+    "check_value",
+    "enum_member",
+    "is_secret_key",
+    "iter_problems",
+    "preferred_member",
+]
 
 
 def iter_problems(config: object, expected: type | None = None) -> Iterator[ConfigError]:
@@ -232,6 +242,10 @@ def _check_class(value: object, hint: type, key: str, location: Location | None)
         ok = isinstance(value, int) and not isinstance(value, bool)
     elif hint is float:
         ok = isinstance(value, int | float) and not isinstance(value, bool)
+        if ok and not math.isfinite(value):  # type: ignore[arg-type]
+            # NaN never compares, infinity never arrives: a move or a wait would never end.
+            yield _problem(f"expected a finite number, got {value}", location, key)
+            return
     elif hint in (tuple, set, frozenset):
         ok = isinstance(value, list | hint)
     elif issubclass(hint, Enum):
@@ -269,8 +283,18 @@ def _is_subclass(cls: type, expected: tuple[type, ...]) -> bool:
         return True
 
 
+#: Keys whose values are never shown in a message (a numeric password is still a password).
+_SECRET_KEY = re.compile(r"(password|passwd|secret|token|credential|api_?key|private_?key)", re.IGNORECASE)
+
+
 def _mismatch(hint: Any, value: object, key: str, location: Location | None) -> ConfigError:
-    return _problem(f"expected {describe_hint(hint)}, got {describe_value(value)}", location, key)
+    shown = f"{type(value).__name__} (value not shown)" if is_secret_key(key) else describe_value(value)
+    return _problem(f"expected {describe_hint(hint)}, got {shown}", location, key)
+
+
+def is_secret_key(key: str) -> bool:
+    """Whether the (dotted) key names a secret whose value must never be printed."""
+    return _SECRET_KEY.search(key.rsplit(".", 1)[-1]) is not None
 
 
 def _problem(message: str, location: Location | None, key: str) -> ConfigError:

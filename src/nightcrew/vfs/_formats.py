@@ -15,6 +15,8 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
+from nightcrew.config import parse_yaml
+from nightcrew.errors import ConfigError
 from nightcrew.vfs._errors import VfsFormatError
 
 if TYPE_CHECKING:
@@ -65,9 +67,11 @@ def encode_fits(hdul: HDUList) -> bytes:
 def decode_yaml(data: bytes) -> Any:
     """Return the value of a UTF-8 YAML document (plain types only: safe loader)."""
     try:
-        return yaml.safe_load(data.decode("utf-8"))
-    except (UnicodeDecodeError, yaml.YAMLError) as exc:
+        return parse_yaml(data.decode("utf-8"), "YAML document")
+    except UnicodeDecodeError as exc:
         raise VfsFormatError(f"not valid YAML: {exc}") from exc
+    except ConfigError as exc:
+        raise VfsFormatError(f"not valid YAML: {exc}") from None
 
 
 def encode_yaml(value: Any) -> bytes:

@@ -9,12 +9,14 @@ The protocol is documented in docs/protocol.md; this class only wires the pieces
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings, is_loopback, parse_jid, parse_server
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.interfaces.base import interface_by_name
+from nightcrew.security import Policy
 
 if TYPE_CHECKING:
     from nightcrew.comm.xmpp._connection import XmppConnection
@@ -44,6 +46,9 @@ class XmppComm(Comm):
         ca_file: A CA or self-signed certificate to trust (``nightcrew server init`` writes one).
         connect_timeout: Seconds to wait for the first session before giving up.
         rpc_grace: Wall seconds added to every announced timeout for network latency.
+        policy: The access policy file; callers are identified by their authenticated account
+            (the JID's local part on this domain, the bare JID otherwise).
+        audit: The audit trail file.
     """
 
     def __init__(
@@ -58,8 +63,10 @@ class XmppComm(Comm):
         ca_file: str | None = None,
         connect_timeout: float = 10.0,
         rpc_grace: float = 1.0,
+        policy: str | Policy | None = None,
+        audit: str | None = None,
     ) -> None:
-        super().__init__(rpc_grace=rpc_grace)
+        super().__init__(rpc_grace=rpc_grace, policy=policy, audit=audit)
         local, domain, resource = parse_jid(jid)
         host, port = parse_server(server, domain)
         if not password:
@@ -121,7 +128,7 @@ class XmppComm(Comm):
             features=self._features(),
             on_fatal=self._report_fatal,
         )
-        self._rpc = RpcChannel(connection, serve=self._serve_call, spawn=self._spawn)
+        self._rpc = RpcChannel(connection, serve=self._serve_remote, spawn=self._spawn)
         self._room = Room(
             connection,
             self._settings.room_jid,
@@ -129,6 +136,7 @@ class XmppComm(Comm):
             on_online=self._client_online,
             on_offline=self._on_client_offline,
             on_event=self._deliver_event,
+            domain=self._settings.domain,
         )
         self._connection = connection
         try:
@@ -180,6 +188,24 @@ class XmppComm(Comm):
 
     async def _on_session(self) -> None:
         await self._require_room().join()
+
+    async def _serve_remote(
+        self, method: str, args: list[Any], announce: Callable[[float], None], jid: str
+    ) -> Any:
+        return await self._serve_call(method, args, announce, self._account_of(jid))
+
+    def _sender_account(self, sender: str) -> str:
+        # The room nickname is chosen by the occupant; its real JID is what the server authenticated.
+        try:
+            return self._account_of(self._require_room().jid_of(sender))
+        except RemoteError:
+            return f"{sender} (unknown)"
+
+    def _account_of(self, jid: str) -> str:
+        """The caller's account as the server authenticated it: not its room nickname."""
+        bare = jid.partition("/")[0].lower()
+        local, _, domain = bare.rpartition("@")
+        return local if local and domain == self._settings.domain else bare
 
     def _on_lost(self) -> None:
         log.warning("%s lost its connection to the XMPP server; reconnecting", self.name)

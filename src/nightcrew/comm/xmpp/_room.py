@@ -47,14 +47,18 @@ class Room:
         on_online: Callable[[str], None],
         on_offline: Callable[[str], None],
         on_event: Callable[[str, dict[str, Any], str], None],
+        domain: str | None = None,
     ) -> None:
         self._connection = connection
+        # Occupants whose nickname is not their account here are squatters (see _is_squatter).
+        self._domain = domain
         self._room_jid = room_jid
         self._nick = nick
         self._on_online = on_online
         self._on_offline = on_offline
         self._on_event = on_event
         self._occupants: dict[str, str] = {}  # nick → real full JID
+        self._squatters: set[str] = set()  # nicknames held by another account (reported once)
         self._previous: dict[str, str] | None = None  # occupants before a reconnect
         self._joined: asyncio.Future[None] | None = None
         self._state = "starting"
@@ -131,6 +135,7 @@ class Room:
                 self._complete_join()
             return
         if kind == "unavailable":
+            self._squatters.discard(nick)
             if self._occupants.pop(nick, None) is not None and self._joined is None:
                 self._on_offline(nick)
             return
@@ -139,10 +144,24 @@ class Room:
         if not jid:
             log.warning("room %s hides real JIDs; module '%s' cannot be called", self._room_jid, nick)
             return
+        if self._is_squatter(nick, jid):
+            if nick not in self._squatters:
+                self._squatters.add(nick)
+                log.warning("%s took the name of module '%s' in room %s: ignored", jid, nick, self._room_jid)
+            return
         known = nick in self._occupants
         self._occupants[nick] = jid
         if not known and self._joined is None:
             self._on_online(nick)
+
+    def _is_squatter(self, nick: str, jid: str) -> bool:
+        """Whether an occupant uses a module name that is not its own account (e.g. an extra account
+        joined as ``weather`` while the weather module was down): its events and replies are not that
+        module's. Only checked when the observatory's domain is known."""
+        if self._domain is None:
+            return False
+        local, _, domain = jid.partition("/")[0].rpartition("@")
+        return local.lower() != nick.lower() or domain.lower() != self._domain
 
     def _complete_join(self) -> None:
         if self._previous is not None:  # after a reconnect: report who came and went meanwhile
@@ -187,6 +206,11 @@ class Room:
         element = stanza.find(f"{{{NS_EVENT}}}event")
         if element is None or nick == self._nick:
             return True  # our own event, echoed by the room
+        if nick in self._squatters:
+            log.warning(
+                "dropped %s from '%s': sent by an account that is not that module", element.get("name"), nick
+            )
+            return True
         name = element.get("name", "")
         try:
             payload = json.loads(element.text or "{}")

@@ -37,7 +37,8 @@ NS_TIMEOUT = "urn:nightcrew:rpc:timeout"
 NS_HINTS = "urn:xmpp:hints"
 _C = "{jabber:client}"
 
-Serve = Callable[[str, list[Any], Callable[[float], None]], Awaitable[Any]]
+#: Serves ``method(args)``; the last argument is the caller's full JID (for the access check).
+Serve = Callable[[str, list[Any], Callable[[float], None], str], Awaitable[Any]]
 Spawn = Callable[[Coroutine[Any, Any, Any], str], None]
 
 
@@ -171,7 +172,7 @@ class RpcChannel:
                 log.debug("could not announce the timeout of %s() to %s", method, caller)
 
         try:
-            result = await self._serve(method, args, announce)
+            result = await self._serve(method, args, announce, caller)
             payload = build_response(result)
         except Exception as exc:
             # Every failure becomes a fault: the one place (nightcrew.comm.rpc) decides its content.

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import ipaddress
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from nightcrew.errors import ConfigError
 
@@ -56,7 +56,7 @@ class XmppSettings:
     local: str
     domain: str
     resource: str
-    password: str
+    password: str = field(repr=False)  # never in a log line or a traceback's locals
     host: str
     port: int
     room_jid: str

@@ -30,7 +30,7 @@ import xml.etree.ElementTree as ET
 from datetime import UTC, datetime
 from typing import Any
 
-from nightcrew.comm.rpc import Fault
+from nightcrew.comm.rpc import MAX_ARGUMENT_DEPTH, Fault
 from nightcrew.comm.xmpp._xmltext import escape_text
 from nightcrew.errors import CodecError
 
@@ -102,8 +102,11 @@ def _format_datetime(value: datetime) -> str:
     return f"{text}.{utc.microsecond:06d}" if utc.microsecond else text
 
 
-def decode_value(holder: ET.Element) -> Any:
-    """The wire value of a ``<value>`` element (any namespace); CodecError if malformed."""
+def decode_value(holder: ET.Element, depth: int = 0) -> Any:
+    """The wire value of a ``<value>`` element (any namespace); CodecError if malformed or nested
+    deeper than :data:`~nightcrew.comm.rpc.MAX_ARGUMENT_DEPTH` (a stanza cannot exhaust the stack)."""
+    if depth > MAX_ARGUMENT_DEPTH:
+        raise CodecError(f"XML-RPC value nested deeper than {MAX_ARGUMENT_DEPTH} levels")
     typed = next(iter(holder), None)
     if typed is None:
         return holder.text or ""  # a bare <value>text</value> is a string
@@ -128,9 +131,13 @@ def decode_value(holder: ET.Element) -> Any:
             return _parse_datetime(text)
         if tag == "array":
             data = _child(typed, "data")
-            return [decode_value(v) for v in data if _local(v) == "value"]
+            return [decode_value(v, depth + 1) for v in data if _local(v) == "value"]
         if tag == "struct":
-            return {_member_name(m): decode_value(_child(m, "value")) for m in typed if _local(m) == "member"}
+            return {
+                _member_name(m): decode_value(_child(m, "value"), depth + 1)
+                for m in typed
+                if _local(m) == "member"
+            }
     except (ValueError, TypeError) as exc:
         raise CodecError(f"malformed XML-RPC <{tag}>: {text[:40]!r}") from exc
     raise CodecError(f"unknown XML-RPC value type <{tag}>")

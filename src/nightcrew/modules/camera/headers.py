@@ -30,7 +30,11 @@ async def collect_headers(
     last wins (deterministic).
     """
     interface = IFitsHeaderBefore if when == "before" else IFitsHeaderAfter
-    names = sorted(n for n in await comm.clients_with_interface(interface) if n != comm.name)
+    offered = sorted(n for n in await comm.clients_with_interface(interface) if n != comm.name)
+    names = [name for name in offered if comm.trusts_headers_from(name)]
+    for name in sorted(set(offered) - set(names)):
+        # A forged OBJECT/RA/DEC in a frame is worse than a missing one.
+        log.warning("refused FITS headers from %s: not a header provider in the access policy", name)
     results = await asyncio.gather(*(_ask(comm, name, when, wait_limit, namespaces) for name in names))
     merged: dict[str, FitsCard] = {}
     for cards in results:

@@ -18,9 +18,9 @@ from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
 
-import yaml
-
 from nightcrew.clock import Clock
+from nightcrew.config import parse_yaml
+from nightcrew.errors import ConfigError
 from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
 from nightcrew.robotic.tasks import (
@@ -171,9 +171,10 @@ def _blocking_read_if_changed(
 def _parse(text: str, source: str) -> dict[str, Task]:
     """All tasks of the file, or InvalidTaskError naming every problem."""
     try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise InvalidTaskError([TaskProblem("", f"not valid YAML: {exc}")], source=source) from exc
+        data = parse_yaml(text, source)
+    except ConfigError as exc:
+        where = f"line {exc.line}: " if exc.line else ""
+        raise InvalidTaskError([TaskProblem("", where + exc.message)], source=source) from None
     if isinstance(data, dict) and set(data) == {"request_groups"}:
         data = data["request_groups"]
     if data is None:

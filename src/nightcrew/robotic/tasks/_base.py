@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 from datetime import UTC, datetime
 from typing import Annotated, Any
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Strict
+from pydantic import AfterValidator, AllowInfNan, BaseModel, ConfigDict, Strict
 
 __all__ = ["ExtraParams", "FieldError", "Integer", "Number", "TaskModel", "UtcDatetime", "raise_problems"]
 
@@ -53,8 +53,8 @@ def _as_utc(value: datetime) -> datetime:
 
 #: A date and time, always aware and in UTC.
 UtcDatetime = Annotated[datetime, AfterValidator(_as_utc)]
-#: A real number: an int or a float, not a string or a bool.
-Number = Annotated[float, Strict()]
+#: A real number: an int or a float, not a string or a bool, and finite (``.inf`` is no priority).
+Number = Annotated[float, Strict(), AllowInfNan(False)]
 #: A whole number (not a bool, not a float).
 Integer = Annotated[int, Strict()]
 #: Free parameters for the scripts that run a configuration.

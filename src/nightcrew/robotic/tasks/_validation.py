@@ -8,16 +8,15 @@ between fields. Nothing is built unless everything is valid.
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Iterator, Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
-import yaml
 from pydantic import ValidationError
 from pydantic_core import ErrorDetails
 
+from nightcrew.config import load_data_file
+from nightcrew.errors import ConfigError
 from nightcrew.robotic.tasks._base import FieldError
 from nightcrew.robotic.tasks._errors import InvalidTaskError, TaskProblem
 from nightcrew.robotic.tasks._request import RequestGroup
@@ -54,15 +53,10 @@ def load_request_group_file(path: str | os.PathLike[str]) -> RequestGroup:
     """
     source = os.fspath(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InvalidTaskError(
-            [TaskProblem("", f"cannot read the file: {exc.strerror}")], source=source
-        ) from exc
-    try:
-        data = json.loads(text) if source.endswith(".json") else yaml.safe_load(text)
-    except (json.JSONDecodeError, yaml.YAMLError) as exc:
-        raise InvalidTaskError([TaskProblem("", f"not valid YAML/JSON: {exc}")], source=source) from exc
+        data = load_data_file(path)  # size, depth, alias, encoding and date limits: one loader
+    except ConfigError as exc:
+        where = f"line {exc.line}: " if exc.line else ""
+        raise InvalidTaskError([TaskProblem("", where + exc.message)], source=source) from None
     return parse_request_group(data, source=source)
 
 

@@ -1,0 +1,20 @@
+"""Who may do what: the observatory-wide access policy and the audit trail of state-changing calls.
+
+One YAML file (:func:`load_policy`) gives roles to accounts and rights to roles; every module's comm
+names it (``comm: {policy: policy.yaml, audit: audit.jsonl}``) and the RPC server, the one place
+where calls are dispatched, enforces it for every transport. See docs/security.md.
+"""
+
+from nightcrew.security._audit import AuditLog, AuditRecord, is_state_changing, read_audit
+from nightcrew.security._policy import DEFAULT_SAFETY_METHODS, Policy, load_policy, parse_policy
+
+__all__ = [
+    "DEFAULT_SAFETY_METHODS",
+    "AuditLog",
+    "AuditRecord",
+    "Policy",
+    "is_state_changing",
+    "load_policy",
+    "parse_policy",
+    "read_audit",
+]

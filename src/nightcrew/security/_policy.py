@@ -1,0 +1,143 @@
+"""The access policy: roles for accounts, rights for roles, safety methods for safety roles.
+
+A policy file::
+
+    roles:
+      observer: ["camera.*", "*.get_*", IModule]   # module.method patterns or interface names
+      operator: ["*"]
+      safety: []
+    accounts:                                      # account (module or person) -> roles
+      alice: [observer]
+      mastermind: [operator]
+      weather: [safety]
+    safety_roles: [safety, observer]               # may always call the safety methods
+    safety_methods: [roof.close_roof, telescope.park, "*.stop_motion"]   # this is the default
+    events:                                        # event -> roles whose members may send it
+      BadWeatherEvent: [safety]
+      GoodWeatherEvent: [safety]
+    header_providers: [devices]                    # roles whose modules may give FITS headers
+
+A right with a dot is a shell-style pattern over ``module.method``; one without a dot is an
+interface name (all its methods on any module), ``*`` is everything. An account not listed, or
+listed without roles, may call nothing. Events named under ``events`` are accepted only from
+accounts holding one of the roles given; other events from anyone. With ``header_providers``,
+a camera takes FITS header cards only from accounts holding one of those roles.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
+from typing import Any
+
+from nightcrew.config import load_data_file
+from nightcrew.errors import ConfigError
+
+__all__ = ["DEFAULT_SAFETY_METHODS", "Policy", "load_policy", "parse_policy"]
+
+#: Methods the safety roles may always call (close and park: failing safe must never be refused).
+DEFAULT_SAFETY_METHODS = ("roof.close_roof", "telescope.park", "*.stop_motion", "*.close_roof", "*.park")
+_KEYS = ("roles", "accounts", "safety_roles", "safety_methods", "events", "header_providers")
+
+
+@dataclass(frozen=True)
+class Policy:
+    """Rights of accounts; :meth:`allows` answers one call."""
+
+    roles: Mapping[str, tuple[str, ...]]
+    accounts: Mapping[str, tuple[str, ...]]
+    safety_roles: frozenset[str] = frozenset()
+    safety_methods: tuple[str, ...] = DEFAULT_SAFETY_METHODS
+    events: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    header_providers: tuple[str, ...] | None = None
+    source: str = field(default="", compare=False)
+
+    def allows(self, caller: str, module: str, method: str, interface: str | None) -> bool:
+        """Whether account ``caller`` may call ``method`` (of ``interface``) on ``module``."""
+        roles = self.accounts.get(caller, ())
+        target = f"{module}.{method}"
+        if any(role in self.safety_roles for role in roles) and any(
+            fnmatchcase(target, pattern) for pattern in self.safety_methods
+        ):
+            return True
+        for role in roles:
+            for right in self.roles.get(role, ()):
+                if right == "*" or ("." in right and fnmatchcase(target, right)):
+                    return True
+                if "." not in right and interface is not None and fnmatchcase(interface, right):
+                    return True
+        return False
+
+    def accepts_event(self, sender: str, event: str) -> bool:
+        """Whether an event called ``event`` is trusted from account ``sender``."""
+        senders = self.events.get(event)
+        return senders is None or any(role in senders for role in self.accounts.get(sender, ()))
+
+    def accepts_headers(self, provider: str) -> bool:
+        """Whether FITS header cards from account ``provider`` may go into a frame."""
+        roles = self.header_providers
+        return roles is None or any(role in roles for role in self.accounts.get(provider, ()))
+
+    def roles_of(self, caller: str) -> tuple[str, ...]:
+        return self.accounts.get(caller, ())
+
+
+def load_policy(path: str | os.PathLike[str]) -> Policy:
+    """The policy in the YAML file ``path``; ConfigError naming file and key for any problem."""
+    name = os.fspath(path)
+    return parse_policy(load_data_file(path), name)
+
+
+def parse_policy(data: Any, source: str = "") -> Policy:
+    """A policy from plain data (as read from its file)."""
+    if not isinstance(data, Mapping):
+        raise ConfigError("a policy is a mapping with 'roles' and 'accounts'", file=source or None)
+    for key in data:
+        if key not in _KEYS:
+            raise ConfigError(f"unknown key (one of {', '.join(_KEYS)})", file=source or None, key=str(key))
+    roles = {
+        name: _words(rights, source, f"roles.{name}")
+        for name, rights in _mapping(data, "roles", source).items()
+    }
+    accounts = {}
+    for account, given in _mapping(data, "accounts", source).items():
+        names = _words(given, source, f"accounts.{account}")
+        unknown = [role for role in names if role not in roles]
+        if unknown:
+            raise ConfigError(f"unknown role '{unknown[0]}'", file=source or None, key=f"accounts.{account}")
+        accounts[str(account)] = names
+    safety_roles = _words(data.get("safety_roles", []), source, "safety_roles")
+    for role in safety_roles:
+        if role not in roles:
+            raise ConfigError(f"unknown role '{role}'", file=source or None, key="safety_roles")
+    methods = data.get("safety_methods")
+    safety_methods = DEFAULT_SAFETY_METHODS if methods is None else _words(methods, source, "safety_methods")
+    events = {
+        str(name): _words(given, source, f"events.{name}")
+        for name, given in _mapping(data, "events", source).items()
+    }
+    for name, given in events.items():
+        unknown = [role for role in given if role not in roles]
+        if unknown:
+            raise ConfigError(f"unknown role '{unknown[0]}'", file=source or None, key=f"events.{name}")
+    providers = data.get("header_providers")
+    header_providers = None if providers is None else _words(providers, source, "header_providers")
+    for role in header_providers or ():
+        if role not in roles:
+            raise ConfigError(f"unknown role '{role}'", file=source or None, key="header_providers")
+    return Policy(roles, accounts, frozenset(safety_roles), safety_methods, events, header_providers, source)
+
+
+def _mapping(data: Mapping[str, Any], key: str, source: str) -> Mapping[str, Any]:
+    value = data.get(key, {})
+    if not isinstance(value, Mapping):
+        raise ConfigError("expected a mapping", file=source or None, key=key)
+    return value
+
+
+def _words(value: Any, source: str, key: str) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(item, str) and item for item in value):
+        raise ConfigError("expected a list of names or patterns", file=source or None, key=key)
+    return tuple(value)
