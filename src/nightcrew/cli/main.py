@@ -45,6 +45,7 @@ SUBCOMMANDS = [
     "logs",
     "systemd",
     "audit",
+    "catalogue",
 ]
 
 

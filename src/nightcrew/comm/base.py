@@ -149,7 +149,13 @@ class Comm(ABC):
         if clock is not None:
             self._clock = clock
         self._server = RpcServer(
-            obj, guard=guard, on_error=on_error, name=self.name, policy=self._policy, audit=self._audit
+            obj,
+            guard=guard,
+            on_error=on_error,
+            name=self.name,
+            policy=self._policy,
+            audit=self._audit,
+            clock=lambda: self._clock,
         )
 
     @property

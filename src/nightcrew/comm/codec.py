@@ -34,6 +34,8 @@ from collections.abc import Callable, Mapping
 from datetime import UTC, datetime
 from typing import Any
 
+import annotated_types
+
 from nightcrew.errors import CodecError
 
 __all__ = [
@@ -136,8 +138,33 @@ def decode(value: Any, hint: Any, path: str = "value") -> Any:
         vhint = args[1] if len(args) == 2 else Any
         return {k: decode(v, vhint, f"{path}.{k}") for k, v in value.items()}
     if origin is typing.Annotated:
-        return decode(value, args[0], path)
+        decoded = decode(value, args[0], path)
+        _check_constraints(decoded, hint.__metadata__, path)
+        return decoded
     return value
+
+
+# annotated-types bounds (``Annotated[float, Interval(ge=0, lt=360)]``) the codec enforces.
+_BOUNDS: tuple[tuple[type[Any], str, str, Callable[[Any, Any], bool]], ...] = (
+    (annotated_types.Ge, "ge", ">=", lambda v, b: v >= b),
+    (annotated_types.Gt, "gt", ">", lambda v, b: v > b),
+    (annotated_types.Le, "le", "<=", lambda v, b: v <= b),
+    (annotated_types.Lt, "lt", "<", lambda v, b: v < b),
+)
+
+
+def _check_constraints(value: Any, metadata: tuple[Any, ...], path: str) -> None:
+    """Refuse ``value`` when it breaks a bound declared with annotated-types (NaN breaks every one)."""
+    if value is None:
+        return  # an optional argument left out; bounds apply to values only
+    for item in metadata:
+        parts = list(item) if isinstance(item, annotated_types.GroupedMetadata) else [item]
+        for part in parts:
+            for kind, attribute, symbol, holds in _BOUNDS:
+                if isinstance(part, kind):
+                    bound = getattr(part, attribute)
+                    if not holds(value, bound):
+                        raise CodecError(f"{path}: {value!r} is out of range (must be {symbol} {bound!r})")
 
 
 def _decode_plain(value: Any, hint: Any, path: str) -> Any:
@@ -214,7 +241,8 @@ def method_parameters(func: Callable[..., Any]) -> tuple[tuple[Parameter, ...], 
     Remote calls carry arguments positionally, so ``*args``/``**kwargs`` are not allowed.
     """
     signature = inspect.signature(func)
-    hints = typing.get_type_hints(func)
+    # With extras: bounds and units declared with Annotated are part of the method's contract.
+    hints = typing.get_type_hints(func, include_extras=True)
     params = []
     for param in list(signature.parameters.values())[1:]:
         if param.kind in (inspect.Parameter.VAR_POSITIONAL, inspect.Parameter.VAR_KEYWORD):
@@ -249,15 +277,16 @@ def bind_arguments(func: Callable[..., Any], args: tuple[Any, ...], kwargs: dict
 def decode_arguments(func: Callable[..., Any], args: list[Any]) -> dict[str, Any]:
     """Decode positional wire ``args`` of a call to ``func`` by its type hints, name → value.
 
-    Missing trailing arguments take their defaults. Raises CodecError naming the argument.
+    Missing trailing arguments take their defaults. Raises CodecError naming the argument (not the
+    method: the caller of this function says which call it was).
     """
     params, _ = method_parameters(func)
     if len(args) > len(params):
-        raise CodecError(f"{func.__name__}() takes {len(params)} arguments, got {len(args)}")
+        raise CodecError(f"takes {len(params)} arguments, got {len(args)}")
     decoded = {p.name: decode(v, p.hint, f"argument '{p.name}'") for p, v in zip(params, args, strict=False)}
     for param in params[len(args) :]:
         if param.default is inspect.Parameter.empty:
-            raise CodecError(f"{func.__name__}(): missing argument '{param.name}'")
+            raise CodecError(f"missing argument '{param.name}'")
         decoded[param.name] = param.default
     return decoded
 

@@ -12,7 +12,9 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from nightcrew.clock import Clock, RealClock
 from nightcrew.comm.codec import decode_arguments, encode
+from nightcrew.comm.introspection import SYSTEM_PREFIX, SystemMethods
 from nightcrew.errors import (
     CodecError,
     ForbiddenError,
@@ -125,6 +127,11 @@ class RpcServer:
         obj: The served object; its remotely callable methods are those its interfaces declare.
         guard: Called with the method name before each call; may raise to refuse it.
         on_error: Called with every exception a method raised.
+        name: The module's name, for its ``system.describe`` document.
+        clock: Called for the module's clock (``system.clock``); a real clock by default.
+
+    Besides the interface methods, every object answers the ``system.*`` methods of
+    :mod:`nightcrew.comm.introspection`.
     """
 
     def __init__(
@@ -136,6 +143,7 @@ class RpcServer:
         name: str = "",
         policy: Policy | None = None,
         audit: AuditLog | None = None,
+        clock: Callable[[], Clock] = RealClock,
     ) -> None:
         self._obj = obj
         self._guard = guard
@@ -150,6 +158,7 @@ class RpcServer:
             for iface in reversed(self.interfaces)
             for method in interface_methods([iface])
         }
+        self._system = SystemMethods(name or type(obj).__name__, obj, self._methods, self.interfaces, clock)
 
     @property
     def interface_names(self) -> list[str]:
@@ -176,7 +185,8 @@ class RpcServer:
         """Like :meth:`_dispatch`, after the access check, recorded in the audit trail if it changes state."""
         outcome = "ok"
         try:
-            if not self.may_call(caller, method):
+            # system.* (introspection, clock) reads only: open to every caller, never audited.
+            if not method.startswith(SYSTEM_PREFIX) and not self.may_call(caller, method):
                 outcome = "forbidden"
                 log.warning("refused %s() to %s: not allowed by the policy", shorten(method), caller)
                 raise ForbiddenError(f"{caller} may not call {self._name}.{shorten(method, 60)}()")
@@ -186,7 +196,7 @@ class RpcServer:
                 outcome = type(exc).__name__
             raise
         finally:
-            if self._audit is not None and is_state_changing(method):
+            if self._audit is not None and is_state_changing(method) and not method.startswith(SYSTEM_PREFIX):
                 self._audit.record(caller or "?", self._name, method, args, outcome)
 
     async def _dispatch(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
@@ -210,6 +220,8 @@ class RpcServer:
             raise
 
     async def _handle(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
+        if method.startswith(SYSTEM_PREFIX):
+            return await self._handle_system(method, args)
         declaration = self._methods.get(method)
         if declaration is None:
             raise InterfaceError(
@@ -218,10 +230,9 @@ class RpcServer:
         if self._guard is not None:
             self._guard(method)
         check_wire_arguments(method, args)
-        try:
-            arguments = decode_arguments(declaration, args)
-        except CodecError as exc:
-            raise InvalidArgumentError(f"{method}(): {exc.message}") from exc
+        # Arguments are checked (types, bounds) before the timeout is announced: a refused call
+        # gets its fault at once and is never announced as a long one.
+        arguments = _decode(method, declaration, args)
         implementation = getattr(self._obj, method)
         # A timeout on the implementation overrides the interface's default.
         impl_func = getattr(implementation, "__func__", implementation)
@@ -235,6 +246,23 @@ class RpcServer:
         except CodecError as exc:
             raise RemoteError(exc.message) from exc
 
+    async def _handle_system(self, method: str, args: list[Any]) -> Any:
+        # Not guarded: a module in error state can still be asked what it is. Default timeout.
+        declaration = self._system.declarations.get(method)
+        if declaration is None:
+            known = ", ".join(sorted(self._system.declarations))
+            raise InterfaceError(f"no method '{method}' (system methods: {known})")
+        arguments = _decode(method, declaration, args)
+        result = await self._system.bound(method)(**arguments)
+        return encode(result, f"result of {method}()")
+
     def _report(self, exc: BaseException) -> None:
         if self._on_error is not None:
             self._on_error(exc)
+
+
+def _decode(method: str, declaration: Callable[..., Any], args: list[Any]) -> dict[str, Any]:
+    try:
+        return decode_arguments(declaration, args)
+    except CodecError as exc:
+        raise InvalidArgumentError(f"{method}(): {exc.message}") from exc

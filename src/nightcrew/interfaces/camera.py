@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.control import IAbortable
 from nightcrew.interfaces.enums import ExposureStatus, ImageType
+from nightcrew.interfaces.quantities import Seconds
 from nightcrew.timeout import timeout
 
 __all__ = [
@@ -89,7 +90,7 @@ class IExposureTime(Interface):
     """A settable exposure time."""
 
     @abstractmethod
-    async def set_exposure_time(self, exposure_time: float) -> None:
+    async def set_exposure_time(self, exposure_time: Seconds) -> None:
         """Set the exposure time in seconds for the next frames."""
 
     @abstractmethod

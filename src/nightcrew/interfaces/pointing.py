@@ -6,6 +6,7 @@ from abc import abstractmethod
 
 from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.motion import IMotion
+from nightcrew.interfaces.quantities import Altitude, Azimuth, Declination, Degrees, RightAscension
 from nightcrew.timeout import timeout
 
 __all__ = ["IOffsetsAltAz", "IOffsetsRaDec", "IPointingAltAz", "IPointingRaDec", "ISyncRaDec", "ITelescope"]
@@ -16,7 +17,7 @@ class IPointingRaDec(Interface):
 
     @timeout(300)
     @abstractmethod
-    async def move_radec(self, ra: float, dec: float) -> None:
+    async def move_radec(self, ra: RightAscension, dec: Declination) -> None:
         """Slew to right ascension ``ra`` and declination ``dec`` (degrees) and track."""
 
     @abstractmethod
@@ -29,7 +30,7 @@ class IPointingAltAz(Interface):
 
     @timeout(300)
     @abstractmethod
-    async def move_altaz(self, alt: float, az: float) -> None:
+    async def move_altaz(self, alt: Altitude, az: Azimuth) -> None:
         """Move to altitude ``alt`` and azimuth ``az`` (degrees, azimuth east of north)."""
 
     @abstractmethod
@@ -42,7 +43,7 @@ class IOffsetsRaDec(Interface):
 
     @timeout(60)
     @abstractmethod
-    async def set_offsets_radec(self, dra: float, ddec: float) -> None:
+    async def set_offsets_radec(self, dra: Degrees, ddec: Degrees) -> None:
         """Set the offsets along the RA axis (not scaled by cos dec) and Dec axis, in degrees."""
 
     @abstractmethod
@@ -55,7 +56,7 @@ class IOffsetsAltAz(Interface):
 
     @timeout(60)
     @abstractmethod
-    async def set_offsets_altaz(self, dalt: float, daz: float) -> None:
+    async def set_offsets_altaz(self, dalt: Degrees, daz: Degrees) -> None:
         """Set the offsets along the altitude and azimuth axes, in degrees."""
 
     @abstractmethod
@@ -71,5 +72,5 @@ class ISyncRaDec(Interface):
     """Telling a mount where it really points (e.g. after a plate solve), so it corrects itself."""
 
     @abstractmethod
-    async def sync_radec(self, ra: float, dec: float) -> None:
+    async def sync_radec(self, ra: RightAscension, dec: Declination) -> None:
         """The mount points at ICRS (``ra``, ``dec``) degrees now; it must be tracking."""

@@ -51,6 +51,8 @@ def type_text(hint: Any) -> str:
     """A type hint as a person writes it: ``float``, ``ImageType | None``, ``list[str]``."""
     if hint is inspect.Parameter.empty or hint is Any:
         return "Any"
+    if typing.get_origin(hint) is typing.Annotated:  # units and bounds are not part of the type's name
+        return type_text(typing.get_args(hint)[0])
     if hint is None or hint is type(None):
         return "None"
     if isinstance(hint, type) and not typing.get_args(hint):
