@@ -26,11 +26,13 @@ lint: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/mypy
+	$(VENV)/bin/lint-imports
 
 test: setup system-deps lint
 	$(PY) -m pytest -q
 
-# The simulated observatory through a whole robotic night in ~3 minutes; frames and report.html go to sim-output/.
+# The simulated observatory through a whole robotic night on virtual time (a minute or two); frames and
+# report.html go to sim-output/.
 sim: setup
 	$(VENV)/bin/nightcrew sim --out sim-output
 

@@ -36,7 +36,7 @@ from nightcrew.astro import (
     radec_to_altaz,
     sun_altitude,
 )
-from nightcrew.modules.sim.night_blocks import _twilight_seconds
+from nightcrew.night.blocks import _twilight_seconds
 from nightcrew.robotic.scheduler import Night
 from nightcrew.robotic.scheduler.ports import night_around
 from nightcrew.robotic.scheduler.sky import SkyGrid, TimeGrid

@@ -1,4 +1,4 @@
-"""Fixtures all test directories share: in-process observatories (nightcrew.testing) on a fast clock."""
+"""Fixtures all test directories share: in-process observatories (nightcrew.testing) on virtual time."""
 
 from __future__ import annotations
 
@@ -12,15 +12,15 @@ from nightcrew.vfs import MemoryFile
 
 @pytest.fixture
 async def observatory() -> AsyncIterator[Observatory]:
-    """Clock at 100x: a 60 s roof closing takes 0.6 s of wall time."""
-    async with Observatory(speed=100.0) as obs:
+    """On a virtual clock: a 60 s roof closing takes no wall time to speak of."""
+    async with Observatory() as obs:
         yield obs
 
 
 @pytest.fixture
 async def fast_observatory() -> AsyncIterator[Observatory]:
-    """Clock at 200x for the automation tests: a simulated quarter of an hour passes in about 5 s."""
-    obs = Observatory(speed=200.0)  # modest: event-loop latency under load counts x speed
+    """On a virtual clock, for the automation tests (with the shared in-memory files cleared after)."""
+    obs = Observatory()
     try:
         yield obs
     finally:

@@ -1,12 +1,13 @@
-"""``nightcrew sim --quick``: the bundled observatory runs a short night and writes complete, solvable frames.
+"""``nightcrew sim --quick``: the one night engine runs a short task list; its frames are complete and solve.
 
-The whole robotic night (the default) is tested in ``test_sim_night.py``.
+The scheduler and the mastermind run it as any night (the focus is a real focus series); the
+whole robotic night (the default) is tested in ``test_sim_night.py``.
 """
 
 from __future__ import annotations
 
 import shutil
-from datetime import UTC, date, datetime
+from datetime import UTC, date, datetime, timedelta
 from pathlib import Path
 
 import pytest
@@ -14,7 +15,7 @@ from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.astro import moon_illumination, sun_altitude
 from nightcrew.cli.main import main
-from nightcrew.modules.sim.night_plan import FAMOUS_FIELDS, choose_targets, night_start, plan_night
+from nightcrew.night.fields import FAMOUS_FIELDS, choose_targets, night_start, quick_groups
 from nightcrew.site import Site
 
 from ..sim.solving import offset_arcsec, solve_field
@@ -48,8 +49,6 @@ def night(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
             "--quick",
             "--out",
             str(out),
-            "--speed",
-            "100",
             "--targets",
             "2",
             "--filters",
@@ -64,7 +63,7 @@ def night(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path]:
 def test_the_night_exits_cleanly_and_writes_one_file_per_exposure(night: tuple[int, Path]) -> None:
     code, out = night
     assert code == 0
-    files = sorted(out.glob("*-object-*.fits"))
+    files = sorted((out / "frames").glob("*-object-*.fits"))
     assert len(files) == 4
     filters = []
     for path in files:
@@ -80,17 +79,18 @@ def test_the_night_exits_cleanly_and_writes_one_file_per_exposure(night: tuple[i
 
 def test_calibration_frames_come_first_with_the_roof_closed(night: tuple[int, Path]) -> None:
     _, out = night
-    headers = [fits.getheader(path) for path in sorted(out.glob("*.fits"))]
+    headers = [fits.getheader(path) for path in sorted((out / "frames").glob("*.fits"))]
     kinds = [(h["IMAGETYP"], h["EXPTIME"]) for h in sorted(headers, key=lambda h: h["DATE-OBS"])]
     assert kinds[:4] == [("bias", 0.0), ("bias", 0.0), ("dark", 30.0), ("dark", 30.0)]
-    assert {kind for kind, _ in kinds[4:]} == {"object"}
+    # Then the mastermind's own focus series, then the fields.
+    assert {kind for kind, _ in kinds[4:]} == {"focus", "object"}
 
 
 def test_the_night_can_be_reduced(
     night: tuple[int, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     _, out = night
-    assert main(["reduce", str(out), str(tmp_path)]) == 0
+    assert main(["reduce", str(out / "frames"), str(tmp_path)]) == 0
     summary = capsys.readouterr().out
     assert "4 reduced (4 plate-solved)" in summary and "0 failed" in summary
     assert "no master flat" in summary  # the simulated night takes no flats yet: said, not fatal
@@ -107,25 +107,21 @@ def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]
             "--quick",
             "--out",
             str(tmp_path),
-            "--speed",
-            "200",
             "--targets",
             "1",
             "--filters",
             "V",
             "--calibration-frames",
-            "0",
+            "1",
         ]
     )
     out, err = capsys.readouterr()
     assert code == 0
-    assert "1/5" in err and "5/5" in err and "park telescope, close roof" in err
-    assert "night complete: 1 frames written to" in out
-    assert len(list(tmp_path.glob("*.fits"))) == 1
-    # Without calibration frames the night is still solved and measured, and says so.
-    assert main(["reduce", str(tmp_path), str(tmp_path / "reduced")]) == 0
-    out = capsys.readouterr().out
-    assert "1 reduced (1 plate-solved)" in out and "not calibrated: no master bias" in out
+    assert "17:49 UTC" in err and "Sun -20.4°" in err
+    assert "night complete:" in out and "2 tasks started, weather clear" in out
+    assert "17:49-18:49 UTC on virtual time" in out
+    assert len(list((tmp_path / "frames").glob("*-object-V.fits"))) == 1
+    assert (tmp_path / "report.html").is_file()
 
 
 @pytest.mark.parametrize(
@@ -148,23 +144,21 @@ def test_bad_arguments_are_one_clear_error(
     assert message in capsys.readouterr().err
 
 
-def test_unknown_filter_fails_after_a_safe_shutdown(
+def test_an_unknown_filter_is_refused_before_the_night(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = main(
-        ["sim", "--quick", "--out", str(tmp_path), "--speed", "200", "--targets", "1", "--filters", "Halpha"]
-    )
+    code = main(["sim", "--quick", "--out", str(tmp_path), "--targets", "1", "--filters", "Halpha"])
     _, err = capsys.readouterr()
-    assert code == 1
-    assert "unknown filter 'Halpha'; known filters: B, V, R, I, clear" in err
-    assert "park telescope, close roof" in err
+    assert code == 2
+    assert "--filters: unknown filter 'Halpha'; known filters: B, V, R, I, clear" in err
+    assert not (tmp_path / "events.jsonl").exists()
 
 
 @pytest.mark.solver
 def test_a_frame_solves_to_the_true_pointing(night: tuple[int, Path], tmp_path: Path) -> None:
     _, out = night
     image = tmp_path / "frame.fits"
-    shutil.copy(sorted(out.glob("*-V.fits"))[0], image)
+    shutil.copy(sorted((out / "frames").glob("*-V.fits"))[0], image)
     header = fits.getheader(image)
     wcs = solve_field(
         image, scale_arcsec=header["PIXSCALE"], workdir=tmp_path, hint=(header["RA"], header["DEC"])
@@ -180,10 +174,16 @@ def test_the_default_night_is_dark_and_its_fields_are_high() -> None:
     assert moon_illumination(t) < 0.05
     targets = choose_targets(SITE, t, 3)
     assert [target.name for target in targets] == ["M52", "M39", "Sadr"]  # ordered by azimuth
-    steps = plan_night(targets, ["V", "R"], 30.0, calibration_frames=3)
-    assert [s.action for s in steps].count("expose") == 12
-    assert [s.image_type for s in steps[:6]] == ["bias"] * 3 + ["dark"] * 3
-    assert (steps[6].action, steps[-1].action) == ("prepare", "shutdown")
+    end = start + timedelta(hours=1)
+    groups = quick_groups(targets, ["V", "R"], 30.0, start=start, end=end, calibration_frames=3)
+    assert [g.name for g in groups] == ["Quick bias and darks", "Quick M52", "Quick M39", "Quick Sadr"]
+    calibration = groups[0].requests[0].configurations
+    assert [(c.type, c.instrument_configs[0].exposure_count) for c in calibration] == [
+        ("BIAS", 3),
+        ("DARK", 3),
+    ]
+    fields = [c for g in groups[1:] for c in g.requests[0].configurations]
+    assert sum(len(c.instrument_configs) for c in fields) == 6
 
 
 def test_without_astronomical_night_the_start_is_solar_midnight() -> None:

@@ -17,6 +17,8 @@ from nightcrew.cli.main import main
 from nightcrew.report import NightNumbers, night_numbers, read_night, write_report
 
 HOURS = 2.5
+#: The night runs in the first test's fixture: a minute or two of wall time, more on a busy machine.
+pytestmark = pytest.mark.timeout(900)
 
 
 @pytest.fixture(scope="module")
@@ -61,10 +63,12 @@ def test_the_roof_is_open_most_of_the_good_dark_time(night: tuple[int, Path, Nig
     _, _, numbers = night
     assert numbers.good_dark_s > 2400.0
     assert numbers.roof_open_fraction >= 0.9, f"{100 * numbers.roof_open_fraction:.1f} %"
-    # The camera's shutter: exposures cover most of it (81-87 % on a quiet machine); the rest is
-    # slews, read-outs, the focus series at the start and the task starts. Image analysis runs in
-    # Clock.computing(), so a slow machine costs wall time, not much clock time.
-    assert numbers.shutter_open_fraction >= 0.7, f"{100 * numbers.shutter_open_fraction:.1f} %"
+    # The camera's shutter: exposures cover most of it; the rest is slews, read-outs, the focus
+    # series at the start, the roof opening twice, and the two exposures cut short (by the rain and
+    # by the end of the run: only written frames count). On the virtual clock image analysis costs
+    # its declared clock time whatever the machine's load: 87.3 % on every machine (the whole
+    # 10-hour night of bench/night.py: 96.6 %).
+    assert numbers.shutter_open_fraction >= 0.85, f"{100 * numbers.shutter_open_fraction:.1f} %"
 
 
 def test_the_report_has_every_section(night: tuple[int, Path, NightNumbers]) -> None:

@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from nightcrew.clock import AcceleratedClock
+from nightcrew.clock import VirtualClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.errors import ConfigError, InvalidArgumentError, ModuleError
 from nightcrew.interfaces import IConfig, ModuleState
@@ -36,7 +36,7 @@ class Flaky(Module):
 async def test_crashed_background_task_is_restarted_with_growing_delays(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    clock = AcceleratedClock("2026-11-22T18:00:00", speed=50)
+    clock = VirtualClock("2026-11-22T18:00:00")  # the delays in clock seconds, whatever the load
     module = Flaky(name="flaky", clock=clock, comm=LocalComm("flaky", network=LocalNetwork()))
     await module.open()
     try:

@@ -1,7 +1,7 @@
 """A small simulated observatory at twilight for the flat-field tests.
 
-Frames are 128x128 (a 256² chip binned 2x2) so that rendering stays in the milliseconds; the clock
-runs 200x, so the ~30 minutes of useful twilight pass in about ten seconds of wall time at most.
+Frames are 128x128 (a 256² chip binned 2x2) so that rendering stays in the milliseconds; on the
+virtual clock the ~30 minutes of useful twilight cost only the wall time of those renders.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from nightcrew.clock import AcceleratedClock
+from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
 from nightcrew.interfaces import Binning
 from nightcrew.modules.flatfield import FlatField, FlatFieldPointing
 from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimRoof, SimTelescope, SimWeatherStation
@@ -22,7 +22,6 @@ from nightcrew.vfs import LocalFile, VirtualFileSystem
 #: 2024-01-15 at Göttingen: the Sun is at -4.9° at 16:12 UTC (dusk) and -9.5° at 06:17 UTC (dawn).
 DUSK = datetime(2024, 1, 15, 16, 12, tzinfo=UTC)
 DAWN = datetime(2024, 1, 16, 6, 17, tzinfo=UTC)
-SPEED = 200.0
 TARGET, BIAS = 30000.0, 1000.0
 BINNING = Binning(2, 2)
 DETECTOR = {"chip_width": 256, "chip_height": 256, "cosmic_rays_per_s": 0.0}
@@ -38,12 +37,12 @@ FUNCTIONS = {
 
 
 class TwilightObservatory(Observatory):
-    """The modules' test observatory, but at a chosen twilight and with files on disk."""
+    """The modules' test observatory, but at a chosen twilight and with files on disk; on a virtual
+    clock, or with ``speed`` an accelerated one."""
 
-    def __init__(self, start: datetime, directory: Path, speed: float = SPEED) -> None:
-        super().__init__(speed=speed)
+    def __init__(self, start: datetime, directory: Path, speed: float | None = None) -> None:
+        super().__init__(epoch=start, speed=speed)
         self.start_time, self.speed = start, speed
-        self.clock = AcceleratedClock(start, speed=speed)
         self.vfs = VirtualFileSystem({"cache": LocalFile(str(directory))})
         self.directory = directory
 
@@ -51,7 +50,7 @@ class TwilightObservatory(Observatory):
         """Load the star catalog (seconds of wall time: many minutes of twilight on a fast clock),
         then start the clock at the chosen time; before any module is started."""
         await asyncio.to_thread(load_reference_stars)
-        self.clock = AcceleratedClock(self.start_time, speed=self.speed)
+        self.clock = _clock(self.start_time, self.speed)
 
 
 async def start_flat_observatory(obs: TwilightObservatory, **flat_options: Any) -> FlatField:
@@ -82,3 +81,7 @@ async def start_flat_observatory(obs: TwilightObservatory, **flat_options: Any) 
         **flat_options,
     }
     return await obs.start(FlatField, "flatfield", **options)
+
+
+def _clock(start: datetime, speed: float | None) -> Clock:
+    return VirtualClock(start) if speed is None else AcceleratedClock(start, speed=speed)

@@ -52,8 +52,8 @@ def test_fit_needs_a_range_of_altitudes() -> None:
 async def test_flats_fit_recovers_the_simulated_twilight_and_plots_it(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    # A long dusk series in V (T_max 6 s: about 2° of solar altitude), on a 600x clock.
-    obs = TwilightObservatory(DUSK, tmp_path / "night", speed=600.0)
+    # A long dusk series in V (T_max 6 s: about 2° of solar altitude), on the virtual clock.
+    obs = TwilightObservatory(DUSK, tmp_path / "night")
     try:
         flatfield = await start_flat_observatory(obs, max_exposure=6.0)
         count, _ = await flatfield.flat_field(500, BINNING, "V")

@@ -96,7 +96,7 @@ async def test_dusk_stops_when_the_sky_is_too_dark(dusk: TwilightObservatory) ->
 async def test_abort_stops_a_running_series(dusk: TwilightObservatory) -> None:
     flatfield = await start_flat_observatory(dusk)
     running = asyncio.create_task(flatfield.flat_field(50, BINNING, "V"))
-    await asyncio.sleep(0.5)
+    await dusk.wait_for(lambda: bool(frames(dusk.directory)), 600.0, message="a first flat")
     await flatfield.abort()
     with pytest.raises(AbortedError, match="flat fields aborted"):
         await running

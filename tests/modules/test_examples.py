@@ -1,6 +1,6 @@
 """Every example of the simulated observatory is a valid configuration that builds a module.
 
-The files ship inside the package (``nightcrew/modules/sim/observatory/``); ``examples/sim`` is a
+The files ship inside the package (``nightcrew/night/observatory/``); ``examples/sim`` is a
 link to that directory, so the examples and what ``nightcrew sim`` runs are the same files.
 """
 
@@ -12,7 +12,7 @@ import pytest
 
 from nightcrew.config import build_object, config_files, load_config, validate_config
 from nightcrew.modules import Module
-from nightcrew.modules.sim.night import bundled_observatory
+from nightcrew.night.build import bundled_observatory
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 EXAMPLES = config_files([bundled_observatory()])

@@ -43,7 +43,6 @@ from nightcrew.testing import (
 
 from .devices import GradientCamera
 
-SPEED = 100.0
 #: The simulator's own devices the camera would ask for the scene: absent here.
 NO_PEERS: dict[str, Any] = {
     "telescope": None,
@@ -57,7 +56,7 @@ NO_PEERS: dict[str, Any] = {
 class TestSimTelescope(TelescopeContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimTelescope, "telescope"), probe)
 
@@ -78,7 +77,7 @@ class TestSimTelescopeInRealTime(TelescopeContract):
 class TestSimCamera(CameraContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             camera = await obs.start(
                 SimCamera,
@@ -93,7 +92,7 @@ class TestSimCamera(CameraContract):
 class TestGradientCamera(CameraContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(GradientCamera, "camera"), probe)
 
@@ -101,7 +100,7 @@ class TestGradientCamera(CameraContract):
 class TestSimRoof(RoofContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimRoof, "roof"), probe)
 
@@ -117,7 +116,7 @@ class TestSimRoofInRealTime(RoofContract):
 class TestSimDome(DomeContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimDome, "dome"), probe)
 
@@ -125,7 +124,7 @@ class TestSimDome(DomeContract):
 class TestSimFocuser(FocuserContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimFocuser, "focuser"), probe)
 
@@ -133,7 +132,7 @@ class TestSimFocuser(FocuserContract):
 class TestSimFilterWheel(FilterWheelContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             wheel = await obs.start(SimFilterWheel, "filters", filters=["B", "V", "R"])
             yield ContractSetup(wheel, probe)
@@ -142,7 +141,7 @@ class TestSimFilterWheel(FilterWheelContract):
 class TestSimRotator(RotatorContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimRotator, "rotator", sky_offset=30.0), probe)
 
@@ -155,7 +154,7 @@ class TestSimSwitch(SwitchContract):
             {"name": "dew heater", "min_value": 0.0, "max_value": 100.0, "step": 5.0, "value": 20.0},
             {"name": "voltage", "can_write": False, "max_value": 24.0, "step": 0.0, "value": 12.3},
         ]
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimSwitch, "switch", switches=switches), probe)
 
@@ -163,7 +162,7 @@ class TestSimSwitch(SwitchContract):
 class TestSimCoverCalibrator(CoverCalibratorContract):
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimCoverCalibrator, "flats"), probe)
 
@@ -173,7 +172,7 @@ class TestSimFlatPanel(CoverCalibratorContract):
 
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimCoverCalibrator, "panel", cover=False), probe)
 
@@ -183,6 +182,6 @@ class TestSimWeatherStation(WeatherStationContract):
 
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
-        async with Observatory(speed=SPEED) as obs:
+        async with Observatory() as obs:
             probe = await obs.start(ContractProbe, "probe")
             yield ContractSetup(await obs.start(SimWeatherStation, "weather", seed=3), probe)

@@ -1,4 +1,4 @@
-"""Focus series, acquisition, guiding and seeing on simulated observatories at chosen clock speeds."""
+"""Focus series, acquisition, guiding and seeing on simulated observatories on virtual time."""
 
 from __future__ import annotations
 
@@ -12,16 +12,17 @@ from nightcrew.vfs import MemoryFile
 
 __all__ = ["ObservatoryFactory", "observatory_at"]
 
-ObservatoryFactory = Callable[[float], AbstractAsyncContextManager[Observatory]]
+ObservatoryFactory = Callable[[], AbstractAsyncContextManager[Observatory]]
 
 
 @pytest.fixture
 def observatory_at() -> ObservatoryFactory:
-    """``async with observatory_at(speed) as obs``: an observatory whose clock runs ``speed`` times fast."""
+    """``async with observatory_at() as obs``: an observatory on a virtual clock (shared in-memory
+    files cleared after)."""
 
     @asynccontextmanager
-    async def make(speed: float) -> AsyncIterator[Observatory]:
-        obs = Observatory(speed=speed)
+    async def make() -> AsyncIterator[Observatory]:
+        obs = Observatory()
         try:
             yield obs
         finally:

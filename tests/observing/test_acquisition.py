@@ -21,7 +21,6 @@ from .conftest import ObservatoryFactory
 from .pointing_sim import start_pointing_observatory
 
 #: 100x: three 2 s exposures and small offsets take a few seconds of wall time at most.
-SPEED = 100.0
 #: Tracking errors off: they are the guider's job, and the ~1 s of wall time a plate solve takes
 #: is 100 s on this clock, in which the periodic error alone moves the field by up to 6".
 STEADY = {"drift_rate": 0.0, "periodic_amplitude": 0.0}
@@ -42,7 +41,7 @@ def acquisition_pipeline() -> Pipeline:
 async def test_acquisition_converges_from_a_large_miss(
     observatory_at: ObservatoryFactory, pointing_error: float, seed: int
 ) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, mount = await start_pointing_observatory(
             obs, mount={"pointing_error": pointing_error, "seed": seed, **STEADY}
         )
@@ -64,7 +63,7 @@ async def test_acquisition_converges_from_a_large_miss(
 
 
 async def test_acquisition_refuses_an_offset_above_the_maximum(observatory_at: ObservatoryFactory) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, mount = await start_pointing_observatory(obs, mount={"pointing_error": 7.0, "seed": 15, **STEADY})
         await obs.start(
             Acquisition,

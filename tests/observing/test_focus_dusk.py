@@ -14,7 +14,6 @@ from itertools import pairwise
 
 import pytest
 
-from nightcrew.clock import AcceleratedClock
 from nightcrew.events import FocusFoundEvent
 from nightcrew.modules.focus.series import AutoFocusSeries
 from nightcrew.modules.sim import SimFilterWheel, SimFocuser
@@ -31,8 +30,7 @@ TOLERANCE_MM = 0.05
 
 @pytest.fixture
 async def dusk() -> AsyncIterator[Observatory]:
-    obs = Observatory(speed=100.0)
-    obs.clock = AcceleratedClock(DUSK, speed=100.0)
+    obs = Observatory(epoch=DUSK)
     try:
         yield obs
     finally:

@@ -24,7 +24,6 @@ from tests.modules.sim_observatory import start_observatory
 from .conftest import ObservatoryFactory
 
 #: 100x: a 9-frame series of 2 s exposures takes ~25 s of clock time, well under a second of wall time.
-SPEED = 100.0
 
 
 async def focus_setup(
@@ -88,7 +87,7 @@ def test_projection_width_follows_the_star_width_of_a_field() -> None:
 async def test_nine_frames_find_the_true_focus_within_two_percent_of_the_range(
     observatory_at: ObservatoryFactory,
 ) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, focuser = await focus_setup(obs, 25.07)
         found: list[FocusFoundEvent] = []
 
@@ -119,7 +118,7 @@ async def test_nine_frames_find_the_true_focus_within_two_percent_of_the_range(
 
 
 async def test_projection_measure_finds_focus_too(observatory_at: ObservatoryFactory) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, focuser = await focus_setup(obs, 24.95, measure=ProjectionFocusMeasure())
         autofocus = obs.module("autofocus", AutoFocusSeries)
         focus, _ = await autofocus.auto_focus(9, 0.04, 2.0)
@@ -131,7 +130,7 @@ async def test_projection_measure_finds_focus_too(observatory_at: ObservatoryFac
 async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
     observatory_at: ObservatoryFactory,
 ) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, focuser = await focus_setup(obs, 25.3)
         autofocus = obs.module("autofocus", AutoFocusSeries)
         # The far frames of 1 s show too few stars to measure: the usable series ends before 25.38.
@@ -141,7 +140,7 @@ async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
 
 
 async def test_abort_ends_the_series_and_restores_the_focus(observatory_at: ObservatoryFactory) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, focuser = await focus_setup(obs, 25.05)
         autofocus = obs.module("autofocus", AutoFocusSeries)
         series = asyncio.ensure_future(autofocus.auto_focus(9, 0.04, 5.0))

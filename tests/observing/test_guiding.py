@@ -1,4 +1,4 @@
-"""Auto-guiding on the simulated observatory: drift and periodic error held below 0.5" RMS."""
+"""Auto-guiding on the simulated observatory: drift and periodic error held within 0.3" RMS."""
 
 from __future__ import annotations
 
@@ -19,10 +19,6 @@ from tests.modules.sim_observatory import CATALOG_DEPTH, SEED
 from .conftest import ObservatoryFactory
 from .pointing_sim import start_pointing_observatory
 
-#: Clock speed of the 30-minute run: 50x makes it ~36 s of wall time. A guide cycle is a 0.5 s
-#: exposure, 0.2 s readout, 0.5 s settling, plus processing whose wall time (~50-100 ms on a busy
-#: machine) the clock multiplies by its speed: faster clocks add latency a real loop would not have.
-SPEED = 50.0
 GUIDE_MINUTES = 30.0
 
 
@@ -80,10 +76,11 @@ async def wait_for_state(guiding: AutoGuiding | ScienceFrameAutoGuiding, state: 
     await wait_for(reached, 10.0, interval=0.01, message=f"guiding never reached {state}")  # wall seconds
 
 
-async def test_guiding_for_thirty_minutes_keeps_the_rms_below_half_an_arcsecond(
+@pytest.mark.timeout(900)  # some 1500 guide frames rendered and measured: minutes on a busy machine
+async def test_guiding_for_thirty_minutes_keeps_the_rms_within_three_tenths_of_an_arcsecond(
     observatory_at: ObservatoryFactory,
 ) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         # The mount's default imperfections: 1"/min drift and a 5" periodic error of 8 minutes.
         _, mount = await start_pointing_observatory(obs, mount={"seed": 4})
         await start_guider(obs)
@@ -108,14 +105,14 @@ async def test_guiding_for_thirty_minutes_keeps_the_rms_below_half_an_arcsecond(
             f'guiding: true RMS {rms:.3f}" over {GUIDE_MINUTES:g} min ({len(errors)} samples, max '
             f'{max(errors):.2f}"), loop RMS {header["GUIDRMS"][0]}", periodic error alone {unguided:.2f}"'
         )
-        assert rms < 0.5
+        assert rms <= 0.3
         assert header["GUIDING"][0] == "closed"
         assert await guiding.get_loop_state() is LoopState.STOPPED
         assert await guiding.get_config_value("rms") == pytest.approx(header["GUIDRMS"][0], abs=0.01)
 
 
 async def test_a_new_target_takes_a_new_reference(observatory_at: ObservatoryFactory) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         _, mount = await start_pointing_observatory(obs, mount={"seed": 4})
         await start_guider(obs)
         probe = TrueReference()
@@ -139,7 +136,7 @@ async def test_a_new_target_takes_a_new_reference(observatory_at: ObservatoryFac
 
 
 async def test_science_frames_guide_and_bad_frames_are_skipped(observatory_at: ObservatoryFactory) -> None:
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         camera, mount = await start_pointing_observatory(obs, mount={"seed": 4})
         await camera.set_window(256, 256, 512, 512)
         guiding = await obs.start(
@@ -192,7 +189,7 @@ async def test_a_frame_analysed_across_a_stop_does_not_move_the_telescope(
 ) -> None:
     # The science-frame guider may still analyse a task's last frame when the script stops guiding
     # and slews on; that stale correction must be dropped, not sent to a telescope on its way.
-    async with observatory_at(SPEED) as obs:
+    async with observatory_at() as obs:
         camera, mount = await start_pointing_observatory(obs, mount={"seed": 4})
         await camera.set_window(256, 256, 512, 512)
         gate = Gate()
@@ -215,5 +212,5 @@ async def test_a_frame_analysed_across_a_stop_does_not_move_the_telescope(
         await asyncio.wait_for(gate.holding.wait(), 30)
         await guiding.stop()
         gate.release()
-        await asyncio.sleep(0.5)  # the analysis finishes
+        await obs.clock.sleep(0.5)  # virtual time: once the analysis has finished and 0.5 s more
         assert await mount.get_offsets_radec() == pytest.approx((dra, ddec + 3.0 / 3600.0))

@@ -19,7 +19,7 @@ OPTICS_FWHM = 0.8  # the SimCamera's default optics_fwhm_arcsec
 async def test_seeing_matches_the_simulated_seeing(
     observatory_at: ObservatoryFactory, sim_seeing: float
 ) -> None:
-    async with observatory_at(100.0) as obs:
+    async with observatory_at() as obs:
         seeing = await obs.start(Seeing, "seeing", optics_fwhm=OPTICS_FWHM)
         camera = await start_observatory(obs, seeing=sim_seeing)
         await camera.set_window(256, 256, 512, 512)  # enough stars, a quarter of the pixels

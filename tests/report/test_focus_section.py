@@ -6,9 +6,9 @@ import math
 from datetime import UTC, datetime
 from typing import Any
 
-from nightcrew.modules.sim.night_recorder import FOCUS_SERIES
 from nightcrew.report import Night, Record
 from nightcrew.report._sections import focus_section
+from nightcrew.report.records import FOCUS_SERIES
 
 #: 16:50 UTC on the sample night: the dusk focus.
 T0 = datetime(2026, 11, 10, 16, 50, tzinfo=UTC).timestamp()

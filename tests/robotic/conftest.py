@@ -11,13 +11,13 @@ from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.testing import Observatory
 from nightcrew.vfs import MemoryFile
 
-from .mastermind_night import SPEED, Parts
+from .mastermind_night import Parts
 
 
 @pytest.fixture
 async def parts(tmp_path: Path) -> AsyncIterator[Parts]:
-    """A fast observatory and an open SQLite archive on its clock; closed in that order."""
-    obs = Observatory(speed=SPEED)
+    """A virtual-time observatory and an open SQLite archive on its clock; closed in that order."""
+    obs = Observatory()
     archive = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=obs.clock, poll_interval=0)
     await archive.open()
     try:

@@ -40,7 +40,6 @@ from nightcrew.robotic.tasks import Task, TaskState, parse_request_group
 from nightcrew.testing import Observatory
 from nightcrew.weather import Boolean, Valid
 
-SPEED = 200.0
 DETECTOR = {"chip_width": 128, "chip_height": 128, "cosmic_rays_per_s": 0.0}
 PLEIADES = {"name": "Pleiades", "ra": 56.75, "dec": 24.12}
 ORION = {"name": "M42", "ra": 83.82, "dec": -5.39}

@@ -23,7 +23,6 @@ __all__ = ["PLEIADES", "ProgressLog", "SimSetup", "make_task", "request_group", 
 PLEIADES = {"name": "Pleiades", "ra": 56.75, "dec": 24.12}  # high in the sky at the conftest epoch
 #: A 256² chip: frames render in milliseconds; binned 2x2 they are 128².
 DETECTOR = {"chip_width": 256, "chip_height": 256, "cosmic_rays_per_s": 0.0}
-SPEED = 200.0
 
 
 class ProgressLog:
@@ -100,7 +99,7 @@ async def start_sim(obs: Observatory, *, roof_open: bool = True, **camera: Any) 
 
 @pytest.fixture
 async def sim() -> AsyncIterator[SimSetup]:
-    obs = Observatory(speed=SPEED)
+    obs = Observatory()
     try:
         yield await start_sim(obs)
     finally:

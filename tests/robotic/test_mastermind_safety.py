@@ -9,7 +9,7 @@ from datetime import UTC, datetime, timedelta
 import pytest
 
 from nightcrew.astro import sun_altitude
-from nightcrew.clock import AcceleratedClock
+from nightcrew.clock import VirtualClock
 from nightcrew.events import (
     GoodWeatherEvent,
     NewImageEvent,
@@ -23,7 +23,7 @@ from nightcrew.robotic.archives import ScheduleEntry, ScheduleStore
 from nightcrew.robotic.tasks import TaskState
 from nightcrew.testing import SITE
 
-from .mastermind_night import PLEIADES, SPEED, Night, Parts, group, start_mastermind, start_night
+from .mastermind_night import PLEIADES, Night, Parts, group, start_mastermind, start_night
 
 ARCTURUS = {"name": "Arcturus", "ra": 213.915, "dec": 19.182}  # high in the south-east before dawn
 
@@ -43,7 +43,7 @@ async def test_without_weather_information_the_roof_stays_closed_then_stop_and_d
     parts: Parts,
 ) -> None:
     obs, archive = parts
-    obs.clock = archive.clock = AcceleratedClock("2024-01-16T05:45:00+00:00", speed=SPEED)
+    obs.clock = archive.clock = VirtualClock("2024-01-16T05:45:00+00:00")
     # The Sun reaches -12° at 05:58. The mastermind starts a task only if its estimate ends before
     # that; a camera far slower than estimated (120 s read-outs, 2 s assumed) runs it into dawn.
     groups = [group(ARCTURUS, count=8, exposure_time=30.0)]
@@ -102,7 +102,7 @@ async def test_a_task_that_would_run_into_dawn_is_not_started_and_stays_in_the_p
     parts: Parts, caplog: pytest.LogCaptureFixture
 ) -> None:
     obs, archive = parts
-    obs.clock = archive.clock = AcceleratedClock("2024-01-16T05:45:00+00:00", speed=SPEED)
+    obs.clock = archive.clock = VirtualClock("2024-01-16T05:45:00+00:00")
     night = await start_night(parts, [group(ARCTURUS, count=40, exposure_time=30.0)])  # 24 min
     (task,) = night.tasks
     now = obs.clock.now()

@@ -117,7 +117,7 @@ async def test_auto_focus_then_expose_in_one_task(sim: SimSetup) -> None:
         {
             "type": "AUTO_FOCUS",
             "target": PLEIADES,
-            "instrument_configs": [{**focus_frames, "extra_params": {"focus_range": 0.3}}],
+            "instrument_configs": [{**focus_frames, "extra_params": {"focus_range": 0.5}}],  # 25.0 inside
         },
         {"type": "EXPOSE", "target": PLEIADES, "instrument_configs": [frames(2, 1.0, "R")]},
     )
@@ -151,10 +151,11 @@ async def test_abort_mid_task_aborts_the_exposure_and_stops_guiding(sim: SimSetu
     assert await runner.can_run(task)
     progress = ProgressLog()
     running = asyncio.create_task(runner.run_task(task, progress))
-    for _ in range(2000):  # until the second frame is being exposed
-        if progress.reports and await sim.camera.get_exposure_status() is ExposureStatus.EXPOSING:
-            break
-        await asyncio.sleep(0.005)
+
+    async def second_frame_exposing() -> bool:
+        return bool(progress.reports) and await sim.camera.get_exposure_status() is ExposureStatus.EXPOSING
+
+    await sim.obs.wait_for(second_frame_exposing, 300.0, interval=0.1, message="second frame")
     assert await guiding.is_running()
     running.cancel()
     with pytest.raises(asyncio.CancelledError):

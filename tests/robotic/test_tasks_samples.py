@@ -13,7 +13,7 @@ from nightcrew.robotic.samples import load_samples, sample_paths
 from nightcrew.robotic.tasks import ConfigurationType, Request, estimate_duration
 from nightcrew.site import Site
 
-SITE_FILE = Path(__file__).parents[2] / "src/nightcrew/modules/sim/observatory/shared/site.yaml"
+SITE_FILE = Path(__file__).parents[2] / "src/nightcrew/night/observatory/shared/site.yaml"
 
 
 def _site() -> Site:

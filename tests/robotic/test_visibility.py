@@ -13,7 +13,7 @@ from datetime import date, datetime, timedelta
 import pytest
 
 from nightcrew.astro import radec_to_altaz, sun_altitude
-from nightcrew.modules.sim.whole_night_plan import SAMPLE_NIGHT, night_span, samples_for_night, shifted_group
+from nightcrew.night.plan import SAMPLE_NIGHT, night_span, samples_for_night, shifted_group
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler.constraints import altitude_for_airmass
 from nightcrew.robotic.tasks import ConfigurationType, Request, estimate_duration, parse_request_group

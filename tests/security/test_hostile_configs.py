@@ -13,13 +13,13 @@ from pathlib import Path
 
 import pytest
 
-import nightcrew.modules.sim
 from nightcrew.cli.check import check_file
 from nightcrew.cli.main import main
 from nightcrew.cli.run import build_modules
 from nightcrew.errors import ConfigError
+from nightcrew.night.build import bundled_observatory
 
-OBSERVATORY = Path(nightcrew.modules.sim.__file__).parent / "observatory"
+OBSERVATORY = bundled_observatory()
 MUTATED_FILES = ("camera.yaml", "roof.yaml", "telescope.yaml", "weather.yaml", "focuser.yaml", "filters.yaml")
 
 ALIAS_BOMB = "".join(

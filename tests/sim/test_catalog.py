@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
+from astropy.io import fits  # type: ignore[import-untyped]
 from astropy.time import Time  # type: ignore[import-untyped]
+from scipy.spatial import cKDTree  # type: ignore[import-untyped]
 
-from nightcrew.sim.catalog import StarCatalog, epoch_jyear
+from nightcrew.sim.catalog import StarCatalog, cell_mag_limit, epoch_jyear
 from nightcrew.sim.catalog_data import MAS_PER_RAD, load_reference_stars, propagate, unit_vectors
+from nightcrew.sim.real_stars import TYCHO2_ID_OFFSET, load_real_stars
 from nightcrew.sim.sky_cells import SkyGrid
+from nightcrew.sim.tycho2 import read_tycho2_index
 
 BARNARD_GAIA_ID = 4472832130942575872
 BARNARD_J2016 = (269.44850253, 4.73942005)
@@ -69,7 +75,7 @@ def test_query_is_a_cone_sorted_by_magnitude(catalog: StarCatalog) -> None:
     )
     assert sep.max() <= 0.4
     assert set(stars["synthetic"][stars["mag"] < 10.0]) == {False}
-    assert set(stars["synthetic"][stars["mag"] >= 10.0]) == {True}
+    assert stars["mag"][stars["synthetic"]].min() >= 10.0
     assert np.all(stars["source_id"][stars["synthetic"]] == 0)
 
 
@@ -106,17 +112,21 @@ def test_synthetic_stars_are_deterministic_per_seed() -> None:
 
 
 def test_synthetic_number_counts_grow_by_the_configured_factor() -> None:
-    stars = StarCatalog(depth=15.0, count_growth_per_mag=2.5, seed=0).query(200.0, 30.0, 3.0)
-    counts, _ = np.histogram(stars["mag"], bins=[11.0, 12.0, 13.0, 14.0, 15.0])
+    stars = StarCatalog(depth=16.0, count_growth_per_mag=2.5, seed=0).query(200.0, 30.0, 3.0)
+    # Below ~12.5 the real Tycho-2 stars count, not the model.
+    counts, _ = np.histogram(stars["mag"], bins=[13.0, 14.0, 15.0, 16.0])
     ratios = counts[1:] / counts[:-1]
     np.testing.assert_allclose(ratios, 2.5, rtol=0.1)
 
 
 def test_synthetic_density_follows_the_real_stars() -> None:
-    catalog = StarCatalog(depth=13.0)
+    catalog = StarCatalog(depth=14.0)
     plane = catalog.query(280.0, -5.0, 2.0)  # Milky Way in Aquila/Scutum
     pole = catalog.query(192.9, 27.1, 2.0)  # north galactic pole
-    assert np.count_nonzero(plane["synthetic"]) > 3 * np.count_nonzero(pole["synthetic"])
+    # Fainter than 13 both fields are synthetic (their real limits differ: ~11 and 12).
+    faint_plane = np.count_nonzero(plane["synthetic"] & (plane["mag"] >= 13.0))
+    faint_pole = np.count_nonzero(pole["synthetic"] & (pole["mag"] >= 13.0))
+    assert faint_plane > 3 * faint_pole > 0
 
 
 def test_epoch_accepts_time_or_julian_year() -> None:
@@ -148,3 +158,43 @@ def test_invalid_catalog_options_are_refused(kwargs: dict[str, float], message: 
 def test_invalid_query_is_refused(catalog: StarCatalog) -> None:
     with pytest.raises(ValueError, match="radius_deg must be within"):
         catalog.query(0.0, 0.0, 0.0)
+
+
+def test_tycho2_index_stars_fill_the_sky_to_magnitude_12() -> None:
+    ref = load_real_stars()
+    tycho = ref.source_id <= -TYCHO2_ID_OFFSET
+    # index-tycho2-07 holds 1.87 million stars, ~1.4 million of them fainter than Gaia's G = 10.
+    assert 1_300_000 < np.count_nonzero(tycho) < 1_871_011
+    assert np.median(ref.mag[tycho]) == pytest.approx(11.2, abs=0.3)
+    # At the north galactic pole a 0.33 deg cone now holds real stars to G ~ 12, not only 10.
+    stars = StarCatalog(depth=12.0).query(192.9, 27.1, 0.33)
+    real = stars[~stars["synthetic"]]
+    assert np.count_nonzero(real["mag"] > 10.0) > 3 * np.count_nonzero(real["mag"] <= 10.0)
+
+
+def test_tycho2_stars_are_not_counted_twice_where_gaia_has_them() -> None:
+    ref = load_real_stars()
+    xyz = unit_vectors(ref.ra, ref.dec)
+    pairs = cKDTree(xyz).query_pairs(np.radians(1.0 / 3600.0), output_type="ndarray")
+    tycho = ref.source_id <= -TYCHO2_ID_OFFSET
+    # A handful remain: fast movers that Gaia holds without a Hipparcos motion (> 3" since J2000).
+    assert np.count_nonzero(tycho[pairs[:, 0]] != tycho[pairs[:, 1]]) < 20
+
+
+def test_cell_limit_is_shallower_where_the_index_kept_only_the_brightest() -> None:
+    ref = load_real_stars()
+    grid = SkyGrid(1.0)
+    ids = grid.cell_ids(ref.ra, ref.dec)
+    plane = ref.mag[ids == grid.cell_ids(np.array([280.0]), np.array([-5.0]))[0]]
+    pole = ref.mag[ids == grid.cell_ids(np.array([192.9]), np.array([27.1]))[0]]
+    assert cell_mag_limit(plane) < cell_mag_limit(pole) == pytest.approx(12.0, abs=0.3)
+    assert cell_mag_limit(np.zeros(0, np.float32)) == 12.0
+
+
+def test_a_missing_index_file_is_named(tmp_path: Path) -> None:
+    with pytest.raises(FileNotFoundError, match=r"index-tycho2-99\.fits: Tycho-2 index missing"):
+        read_tycho2_index(tmp_path / "index-tycho2-99.fits")
+    not_an_index = tmp_path / "plain.fits"
+    fits.writeto(not_an_index, np.zeros((2, 2)))
+    with pytest.raises(ValueError, match=r"plain\.fits: expected a little-endian index file"):
+        read_tycho2_index(not_an_index)

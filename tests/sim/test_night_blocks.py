@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from nightcrew.modules.sim.night_blocks import CALIBRATION_WEIGHT, SKY_FLAT_SECONDS, calibration_block
-from nightcrew.modules.sim.whole_night_plan import one_window_each
+from nightcrew.night.blocks import CALIBRATION_WEIGHT, SKY_FLAT_SECONDS, calibration_block
+from nightcrew.night.plan import one_window_each
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.tasks import RequestGroup, Task, TaskProgress, TaskState, TaskStatus
 from nightcrew.site import Site

@@ -7,7 +7,7 @@ from datetime import UTC, date, datetime
 import pytest
 
 from nightcrew.astro import sun_altitude
-from nightcrew.modules.sim.whole_night_plan import (
+from nightcrew.night.plan import (
     night_span,
     one_window_each,
     shifted_group,

@@ -64,7 +64,7 @@ class CarelessRoof(SimRoof):
 
 @asynccontextmanager
 async def setup(cls: type[Module], name: str, **kwargs: Any) -> AsyncIterator[ContractSetup[Any]]:
-    async with Observatory(speed=100.0) as obs:
+    async with Observatory() as obs:
         probe = await obs.start(ContractProbe, "probe")
         yield ContractSetup(await obs.start(cls, name, **kwargs), probe)
 

@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import os
-from collections.abc import AsyncIterator, Iterator
-from contextlib import asynccontextmanager, contextmanager
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
+from nightcrew.cli._running import quiet_module_logs
 from nightcrew.comm.base import Comm
 from nightcrew.comm.calls import parse_shell_call
 from nightcrew.comm.codec import encode
@@ -63,22 +63,6 @@ def load_comm(path: str | None) -> Comm:
     comm = build_object(config, Comm)
     assert isinstance(comm, Comm)
     return comm
-
-
-@contextmanager
-def quiet_module_logs(debug: bool) -> Iterator[None]:
-    """Keep the operator's own module chatter ("operator is ready") off stderr unless ``debug``.
-
-    What an operator command prints is its answer; warnings and errors still show.
-    """
-    logger = logging.getLogger("nightcrew")
-    old_level = logger.level
-    if not debug:
-        logger.setLevel(logging.WARNING)
-    try:
-        yield
-    finally:
-        logger.setLevel(old_level)
 
 
 @asynccontextmanager

@@ -14,18 +14,17 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import logging
-import signal
 import sys
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
+from nightcrew.cli._running import quiet_module_logs, stop_on_signals
 from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import build_object, load_config, to_plain, validate_config
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca.server import AlpacaServer
-from nightcrew.modules.sim.night import (
+from nightcrew.night.build import (
     CAMERA,
     FILTERS,
     FOCUSER,
@@ -34,9 +33,10 @@ from nightcrew.modules.sim.night import (
     TELESCOPE,
     build_observatory,
     bundled_observatory,
+    observatory_site,
     park_and_close,
 )
-from nightcrew.modules.sim.night_plan import night_start
+from nightcrew.night.fields import night_start
 from nightcrew.sim.render import CameraModel
 
 __all__ = ["SAFETY", "STATION", "serve_alpaca_command"]
@@ -48,24 +48,15 @@ STATION = "weather"
 
 
 def serve_alpaca_command(args: argparse.Namespace) -> int:
-    from nightcrew.cli.sim import site_of
-
     directory: Path = args.configs or bundled_observatory()
-    site = site_of(directory)
+    site = observatory_site(directory)
     start = night_start(args.date, site)
     if args.start is not None:
         day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
         start = datetime.combine(day, args.start, tzinfo=UTC)
     clock = AcceleratedClock(start, speed=args.speed or 1.0)
-    # Module chatter would bury the banner; -v (or --debug) shows it.
-    logger = logging.getLogger("nightcrew")
-    old_level = logger.level
-    if not (args.verbose or args.debug):
-        logger.setLevel(logging.WARNING)
-    try:
+    with quiet_module_logs(args.verbose or args.debug):
         asyncio.run(_serve(directory, args, clock))
-    finally:
-        logger.setLevel(old_level)
     return 0
 
 
@@ -99,33 +90,28 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         port=args.alpaca,
         discovery_port=args.alpaca_discovery_port,
     )
-    stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, stop.set)
     driver = Module(comm=LocalComm("sim-alpaca", network=network), clock=clock)
     opened: list[Module] = []
-    try:
-        for module in [*modules, server, driver]:
-            await module.open()
-            opened.append(module)
-        discovery = server.discovery_port
-        print(
-            f"serving the simulated observatory as Alpaca devices at {server.url}"
-            + (f" (discovery on UDP port {discovery})" if discovery is not None else "")
-            + f"; clock from {clock.now():%Y-%m-%d %H:%M} UTC at {clock.speed:g}x; Ctrl-C stops",
-            flush=True,
-        )
-        for device in server.devices:
-            print(f"  {device.type_name} {device.number}: module {device.module}", flush=True)
-        await stop.wait()
-        print("stopping: parking the telescope and closing the roof", file=sys.stderr, flush=True)
-        await park_and_close(driver)
-    finally:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.remove_signal_handler(sig)
-        for module in reversed(opened):
-            await module.close()
+    async with stop_on_signals() as stop:
+        try:
+            for module in [*modules, server, driver]:
+                await module.open()
+                opened.append(module)
+            discovery = server.discovery_port
+            print(
+                f"serving the simulated observatory as Alpaca devices at {server.url}"
+                + (f" (discovery on UDP port {discovery})" if discovery is not None else "")
+                + f"; clock from {clock.now():%Y-%m-%d %H:%M} UTC at {clock.speed:g}x; Ctrl-C stops",
+                flush=True,
+            )
+            for device in server.devices:
+                print(f"  {device.type_name} {device.number}: module {device.module}", flush=True)
+            await stop.wait()
+            print("stopping: parking the telescope and closing the roof", file=sys.stderr, flush=True)
+            await park_and_close(driver)
+        finally:
+            for module in reversed(opened):
+                await module.close()
 
 
 def _pixel_size(directory: Path) -> float:

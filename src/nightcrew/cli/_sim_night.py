@@ -1,94 +1,232 @@
-"""The whole robotic night of ``nightcrew sim`` (see :mod:`nightcrew.cli.sim` for the options)."""
+"""The robotic night of ``nightcrew sim`` (see :mod:`nightcrew.cli.sim` for the options).
+
+One engine runs every night: the scheduler plans, the mastermind runs. What differs between the
+whole night, ``--quick`` and each night of a season (``--nights``) is only the span, the task
+list and the weather, which :func:`night_setup` decides.
+"""
 
 from __future__ import annotations
 
 import argparse
 import asyncio
-import logging
-import signal
+import json
 import sys
 import time
 from collections.abc import Callable
-from datetime import UTC, datetime, timedelta
+from dataclasses import dataclass
+from datetime import UTC, date, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
-from nightcrew.clock import AcceleratedClock
-from nightcrew.comm.local import LocalNetwork
+from nightcrew.cli._running import quiet_module_logs, stop_on_signals
+from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
+from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
 from nightcrew.modules import Module
-from nightcrew.modules.sim.night import bundled_observatory
-from nightcrew.modules.sim.whole_night import (
+from nightcrew.night.build import (
+    CAMERA,
+    FILTERS,
+    FOCUSER,
+    IMAGES_ROOT,
+    ROOF,
+    TELESCOPE,
+    bundled_observatory,
+    observatory_site,
+)
+from nightcrew.night.engine import (
     FRAMES,
     NightProgress,
     ProgressCallback,
     WholeNight,
     run_whole_night,
 )
-from nightcrew.modules.sim.whole_night_plan import night_span, weather_scenario
+from nightcrew.night.fields import choose_targets, night_start, quick_groups
+from nightcrew.night.plan import night_span, weather_scenario
 from nightcrew.report import write_report
+from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
+from nightcrew.vfs import LocalFile, VirtualFileSystem
 
-__all__ = ["NIGHT_CAMERA", "run_whole_night_command"]
+__all__ = [
+    "NIGHT_CAMERA",
+    "QUICK_HOURS",
+    "WALL_TIME_FILE",
+    "NightSetup",
+    "indi_server",
+    "night_setup",
+    "night_speed",
+    "run_night_command",
+    "run_one_night",
+    "sim_clock",
+]
+
+#: Where the wall time of a run went (the one file in --out that differs from run to run).
+WALL_TIME_FILE = "wall-time.json"
 
 #: The camera of the whole night renders a quarter of the chip (1024 x 1024 px at 1.16"/px, a
 #: 20' field): every frame is still rendered and written, four times faster and smaller.
 NIGHT_CAMERA: dict[str, Any] = {"chip_width": 1024, "chip_height": 1024}
 
+#: Clock seconds per wall second of a night watched live without ``--speed``: the quick night, and
+#: the whole night (14.4 h in under 3 minutes).
+QUICK_WATCH_SPEED, NIGHT_WATCH_SPEED = 60.0, 320.0
 
-def run_whole_night_command(args: argparse.Namespace) -> int:
-    from nightcrew.cli.sim import NIGHT_SPEED, site_of
+#: Clock hours of a ``--quick`` night without ``--hours``.
+QUICK_HOURS = 1.0
 
+
+@dataclass(frozen=True)
+class NightSetup:
+    """What one night runs: its span, its tasks (None: the samples and the survey), its weather."""
+
+    night: date
+    start: datetime
+    end: datetime
+    tasks: list[RequestGroup] | None
+    weather: str
+
+
+def run_night_command(args: argparse.Namespace) -> int:
     directory: Path = args.configs or bundled_observatory()
-    site = site_of(directory)
-    try:
-        start, end = night_span(args.date, site)
-    except ValueError as exc:
-        raise ConfigError(f"--date {args.date}: {exc}") from exc
-    if args.start is not None:
-        day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
-        start = datetime.combine(day, args.start, tzinfo=UTC)
-        if not start < end:
-            raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
-    if args.hours is not None:
-        end = min(end, start + timedelta(hours=args.hours))
-    speed = args.speed or NIGHT_SPEED
-    duration = (end - start).total_seconds()
-    overrides = _device_overrides(directory, args.weather, duration, args.seed)
-    robotic = _robotic_overrides(directory, args.seed)
-
-    quiet = not (args.verbose or args.debug)
-    logger = logging.getLogger("nightcrew")
-    old_level = logger.level
-    if quiet:
-        logger.setLevel(logging.WARNING)
-    wall_start = time.monotonic()
-    try:
-        night = _run(directory, args, site, start, end, speed, (overrides, robotic), _printer(sys.stderr))
-        result = asyncio.run(night)
-    finally:
-        logger.setLevel(old_level)
-        if sys.stderr.isatty():
-            sys.stderr.write("\n")  # end the rewritten progress line
-    wall = time.monotonic() - wall_start
+    site = observatory_site(directory)
+    setup = night_setup(args, site, args.date)
+    with quiet_module_logs(args.verbose or args.debug):
+        result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))
     report = write_report(args.out)
+    pace = describe_pace(night_speed(args))
     state = "night complete" if result.completed else "night stopped early"
     print(
-        f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {args.weather} "
-        f"(night of {args.date}, {start:%H:%M}-{end:%H:%M} UTC at {speed:g}x; {wall:.1f} s wall time)"
+        f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {setup.weather} "
+        f"(night of {setup.night}, {setup.start:%H:%M}-{setup.end:%H:%M} UTC {pace}; "
+        f"{wall:.1f} s wall time)"
     )
     print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
     print(f"  night report: {report}")
     return 0 if result.completed else 130
 
 
-def _device_overrides(
-    directory: Path, weather: str, duration: float, seed: int | None
-) -> dict[str, dict[str, Any]]:
-    from nightcrew.config import load_config, to_plain
+def night_setup(args: argparse.Namespace, site: Site, night: date) -> NightSetup:
+    """The span, tasks and weather of ``night`` under the command's options."""
+    if args.quick:
+        start = end = night_start(night, site)
+    else:
+        try:
+            start, end = night_span(night, site)
+        except ValueError as exc:
+            raise ConfigError(f"night of {night}: {exc}") from exc
+    if args.start is not None:
+        day = night if args.start.hour >= 12 else night + timedelta(days=1)
+        start = datetime.combine(day, args.start, tzinfo=UTC)
+        if not args.quick and not start < end:
+            raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
+    if args.quick:
+        end = start + timedelta(hours=args.hours or QUICK_HOURS)
+    elif args.hours is not None:
+        end = min(end, start + timedelta(hours=args.hours))
+    tasks = _quick_tasks(args, site, start, end) if args.quick else None
+    weather = args.weather or ("clear" if args.quick else "interruption")
+    return NightSetup(night=night, start=start, end=end, tasks=tasks, weather=weather)
 
+
+def _quick_tasks(args: argparse.Namespace, site: Site, start: datetime, end: datetime) -> list[RequestGroup]:
+    filters = [name.strip() for name in args.filters.split(",") if name.strip()]
+    if not filters:
+        raise ConfigError(f"--filters {args.filters!r}: name at least one filter")
+    wheel = (args.configs or bundled_observatory()) / "filters.yaml"
+    known = [str(name) for name in load_config(wheel).get("filters", [])] if wheel.is_file() else []
+    unknown = [name for name in filters if known and name not in known]
+    if unknown:
+        # Said before the night starts, not as a task failing at the telescope.
+        raise ConfigError(f"--filters: unknown filter {unknown[0]!r}; known filters: {', '.join(known)}")
+    try:
+        targets = choose_targets(site, start.timestamp(), args.targets)
+    except ValueError as exc:
+        raise ConfigError(f"--date {args.date}: {exc}") from exc
+    return quick_groups(
+        targets,
+        filters,
+        args.exposure_time,
+        start=start,
+        end=end,
+        calibration_frames=args.calibration_frames,
+    )
+
+
+def run_one_night(
+    directory: Path,
+    args: argparse.Namespace,
+    site: Site,
+    setup: NightSetup,
+    out: Path,
+    progress: ProgressCallback | None,
+    *,
+    seed: int | None = None,
+) -> tuple[WholeNight, float]:
+    """Run ``setup`` on the observatory of ``directory`` into ``out``; the result and wall seconds.
+
+    ``seed`` (default ``--seed``) seeds the devices, the weather among them.
+    """
+    seed = args.seed if seed is None else seed
+    duration = (setup.end - setup.start).total_seconds()
+    # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
+    devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
+    robotic = _robotic_overrides(directory, seed)
+    clock = sim_clock(setup.start, night_speed(args))
+    wall_start, cpu_start = time.monotonic(), time.process_time()
+
+    async def night() -> WholeNight:
+        async with stop_on_signals() as stop:
+            return await run_whole_night(
+                directory,
+                night=setup.night,
+                site=site,
+                clock=clock,
+                end=setup.end,
+                out_dir=out,
+                device_overrides=devices,
+                robotic_overrides=robotic,
+                seed=seed,
+                tasks=setup.tasks,
+                progress=progress,
+                stop=stop,
+                extra_modules=_extras(args, clock, site, out / FRAMES),
+            )
+
+    try:
+        result = asyncio.run(night())
+    finally:
+        if progress is not None and sys.stderr.isatty():
+            sys.stderr.write("\n")  # end the rewritten progress line
+    wall = time.monotonic() - wall_start
+    _write_wall_time(out / WALL_TIME_FILE, clock, wall, time.process_time() - cpu_start)
+    return result, wall
+
+
+def night_speed(args: argparse.Namespace) -> float | None:
+    """``--speed``; None: the virtual clock. A night watched live (``--indi``, ``--console``) runs
+    an accelerated clock by default, as a virtual one would be over before a client looked."""
+    speed: float | None = args.speed
+    if speed is not None or (args.indi is None and args.console is None):
+        return speed
+    return QUICK_WATCH_SPEED if args.quick else NIGHT_WATCH_SPEED
+
+
+def sim_clock(start: datetime, speed: float | None) -> Clock:
+    """The simulation's clock: virtual (repeatable, as fast as the machine allows), or with
+    ``speed`` an accelerated one."""
+    return VirtualClock(start) if speed is None else AcceleratedClock(start, speed=speed)
+
+
+def describe_pace(speed: float | None) -> str:
+    return "on virtual time" if speed is None else f"at {speed:g}x"
+
+
+def _device_overrides(
+    directory: Path, weather: str, duration: float, seed: int | None, *, quarter_chip: bool
+) -> dict[str, dict[str, Any]]:
     camera = load_config(directory / "camera.yaml") if (directory / "camera.yaml").is_file() else {}
-    detector = {**to_plain(camera.get("detector") or {}), **NIGHT_CAMERA}
+    detector = {**to_plain(camera.get("detector") or {}), **(NIGHT_CAMERA if quarter_chip else {})}
     station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
     if seed is not None:
         station["seed"] = seed
@@ -98,8 +236,6 @@ def _device_overrides(
 
 def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
     """With ``seed``, the acquisition's catalog follows the camera's new synthetic stars."""
-    from nightcrew.config import load_config, to_plain
-
     path = directory / "robotic" / "acquisition.yaml"
     if seed is None or not path.is_file():
         return {}
@@ -110,71 +246,62 @@ def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str,
     return {"acquisition": {"pipeline": pipeline}}
 
 
-async def _run(
-    directory: Path,
-    args: argparse.Namespace,
-    site: Site,
-    start: datetime,
-    end: datetime,
-    speed: float,
-    overrides: tuple[dict[str, dict[str, Any]], dict[str, dict[str, Any]]],
-    progress: ProgressCallback,
-) -> WholeNight:
-    clock = AcceleratedClock(start, speed=speed)
-    stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, stop.set)
-    try:
-        return await run_whole_night(
-            directory,
-            night=args.date,
-            site=site,
-            clock=clock,
-            end=end,
-            out_dir=args.out,
-            device_overrides=overrides[0],
-            robotic_overrides=overrides[1],
-            seed=args.seed,
-            progress=progress,
-            stop=stop,
-            extra_modules=_extras(args, clock, site),
-        )
-    finally:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.remove_signal_handler(sig)
+def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:
+    """Wall and CPU seconds of the run and, on a virtual clock, what the loop waited on."""
+    waited = clock.wall_waited() if isinstance(clock, VirtualClock) else {}
+    record = {"wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "waited_s": waited}
+    path.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
 
 
 def _indi(
-    args: argparse.Namespace, clock: AcceleratedClock, site: Site
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--indi PORT``: the IndiServer serving the night's devices."""
     if args.indi is None:
         return None
-    from nightcrew.cli.sim import indi_server
-
     port: int = args.indi
-    return lambda network: [
-        indi_server(port, network=network, clock=clock, frames=args.out / FRAMES, site=site)
-    ]
+    return lambda network: [indi_server(port, network=network, clock=clock, frames=frames, site=site)]
+
+
+def indi_server(port: int, *, network: LocalNetwork, clock: Clock, frames: Path, site: Site) -> Module:
+    """An IndiServer for the simulated observatory's devices, on ``network``, loopback ``port``.
+
+    ``frames`` is the directory the camera writes to (its VFS root ``images``), from which the
+    server reads the FITS files it sends as BLOBs.
+    """
+    from nightcrew.modules.indi.server import IndiServer
+
+    return IndiServer(
+        port=port,
+        telescope=TELESCOPE,
+        camera=CAMERA,
+        focuser=FOCUSER,
+        filters=FILTERS,
+        dome=ROOF,
+        comm=LocalComm("indi", network=network),
+        clock=clock,
+        site=site,
+        vfs=VirtualFileSystem({IMAGES_ROOT: LocalFile(str(frames))}),
+    )
 
 
 def _console(
-    args: argparse.Namespace, clock: AcceleratedClock, site: Site
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--console [PORT]``: the web console watching the night."""
     if args.console is None:
         return None
     from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
 
-    return sim_console(args.console, clock=clock, site=site, images=args.out / FRAMES)
+    return sim_console(args.console, clock=clock, site=site, images=frames)
 
 
 def _extras(
-    args: argparse.Namespace, clock: AcceleratedClock, site: Site
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """The servers the options ask for (INDI, console), built on the night's network."""
-    builders = [b for b in (_indi(args, clock, site), _console(args, clock, site)) if b is not None]
+    wanted = (_indi(args, clock, site, frames), _console(args, clock, site, frames))
+    builders = [build for build in wanted if build is not None]
     if not builders:
         return None
     return lambda network: [module for build in builders for module in build(network)]

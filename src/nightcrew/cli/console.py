@@ -29,7 +29,7 @@ from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole, hash_password
-from nightcrew.modules.sim.night import IMAGES_ROOT
+from nightcrew.night.build import IMAGES_ROOT
 from nightcrew.site import Site
 from nightcrew.vfs import LocalFile, VirtualFileSystem
 

@@ -14,10 +14,10 @@ import argparse
 import asyncio
 import logging
 import os
-import signal
 from pathlib import Path
 from typing import Any
 
+from nightcrew.cli._running import stop_on_signals
 from nightcrew.config import ConfigNode, build_object, load_config, validate_config
 from nightcrew.config._classes import import_class
 from nightcrew.errors import NightcrewError
@@ -67,36 +67,31 @@ async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) 
 
     Raises the error of a comm lost for good (after closing every module).
     """
-    stop = stop or asyncio.Event()
     fatal: list[NightcrewError] = []
-
-    def on_fatal(error: NightcrewError) -> None:
-        fatal.append(error)
-        stop.set()
-
-    for module in modules:
-        module.comm.on_fatal = on_fatal
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, stop.set)
     opened: list[Module] = []
-    try:
+    async with stop_on_signals(stop) as stopped:
+
+        def on_fatal(error: NightcrewError) -> None:
+            fatal.append(error)
+            stopped.set()
+
         for module in modules:
-            await module.open()
-            opened.append(module)
-        await stop.wait()
-        log.info("stopping")
-    finally:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.remove_signal_handler(sig)
-        for module in reversed(opened):
-            try:
-                await module.close()
-            except NightcrewError as exc:
-                if not fatal:
-                    raise
-                # Its comm is gone for good: a failing goodbye must not hide why we stop.
-                log.warning("%s closed with an error: %s", module.name, exc)
+            module.comm.on_fatal = on_fatal
+        try:
+            for module in modules:
+                await module.open()
+                opened.append(module)
+            await stopped.wait()
+            log.info("stopping")
+        finally:
+            for module in reversed(opened):
+                try:
+                    await module.close()
+                except NightcrewError as exc:
+                    if not fatal:
+                        raise
+                    # Its comm is gone for good: a failing goodbye must not hide why we stop.
+                    log.warning("%s closed with an error: %s", module.name, exc)
     if fatal:
         raise fatal[0]
 

@@ -3,56 +3,31 @@
 All modules of the bundled observatory (``examples/sim``: weather station, roof, telescope,
 focuser, filter wheel, camera, and in ``robotic/`` the weather verdict, scheduler, mastermind,
 focus series, flat fields, acquisition, guiding, seeing and a recorder) run in this process on one
-accelerated clock, from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
+virtual clock (it jumps ahead whenever everything waits, so the same options and ``--seed``
+give the same night on any machine under any load; ``--speed`` runs an accelerated clock instead),
+from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
 the mastermind runs them (sky flats, bias and darks, focus, science), the weather (``--weather``)
 may interrupt them, and at the end the telescope parks and the roof closes (also after an error or
 Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night report
-(report.html) go to ``--out``. ``--quick`` runs the short scripted night instead (a few fields, no
-scheduler). ``--indi PORT`` also serves the devices to INDI clients (KStars/Ekos, Stellarium) on
-127.0.0.1:PORT while the night runs. Progress is shown on stderr, a summary on stdout.
+(report.html) go to ``--out``. ``--quick`` runs the same engine on a short task list (biases and
+darks, a few fields) for an hour after dusk. ``--indi PORT`` also serves the devices to INDI
+clients (KStars/Ekos, Stellarium) on 127.0.0.1:PORT and ``--console [PORT]`` the web console while
+the night runs (on an accelerated clock unless ``--speed`` says otherwise: 320x, ``--quick`` 60x).
+Progress is shown on stderr, a summary on stdout.
 """
 
 from __future__ import annotations
 
 import argparse
-import asyncio
-import logging
-import signal
-import sys
-import time
-from datetime import date, datetime
+from datetime import date
 from datetime import time as time_of_day
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any
 
-from nightcrew.clock import AcceleratedClock, Clock
-from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.config import load_config, to_plain
-from nightcrew.errors import ConfigError
-from nightcrew.modules import Module
-from nightcrew.modules.sim.night import (
-    CAMERA,
-    FILTERS,
-    FOCUSER,
-    IMAGES_ROOT,
-    ROOF,
-    SIM_RPC_GRACE,
-    TELESCOPE,
-    NightReport,
-    ProgressCallback,
-    build_observatory,
-    bundled_observatory,
-    run_night,
-)
-from nightcrew.modules.sim.night_plan import Step, choose_targets, night_start, plan_night
-from nightcrew.modules.sim.whole_night_plan import WEATHER_SCENARIOS
-from nightcrew.site import Site
-from nightcrew.vfs import LocalFile, VirtualFileSystem
+from nightcrew.night.plan import WEATHER_SCENARIOS
 
-__all__ = ["NIGHT_SPEED", "add_parser", "indi_server", "site_of"]
+__all__ = ["DEFAULT_NIGHT", "add_parser"]
 
-#: Clock seconds per wall second: the short night, and the whole night (14.4 h in under 3 minutes).
-QUICK_SPEED, NIGHT_SPEED = 60.0, 320.0
 #: A moonless autumn night (new moon on 2026-11-09) with Cygnus and Cassiopeia high after dusk.
 DEFAULT_NIGHT = "2026-11-10"
 
@@ -72,14 +47,16 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--speed",
         type=_positive,
         default=None,
-        help=f"clock seconds per wall second (default {NIGHT_SPEED:g}; --quick: {QUICK_SPEED:g})",
+        help="run an accelerated clock at this many clock seconds per wall second instead of the "
+        "virtual clock (not repeatable: a busy machine changes the night)",
     )
     parser.add_argument("--seed", type=int, default=None, help="replace the seeds of all modules")
     parser.add_argument(
         "--weather",
         choices=WEATHER_SCENARIOS,
-        default="interruption",
-        help="clear; interruption: an hour of rain mid-night (default); random: from --seed",
+        default=None,
+        help="clear (--quick's default); interruption: an hour of rain mid-night (the default); "
+        "random: from --seed",
     )
     parser.add_argument(
         "--start",
@@ -88,9 +65,27 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="UTC time (HH:MM) to start at instead of dusk; before noon: the morning after --date",
     )
     parser.add_argument(
-        "--hours", type=_positive, default=None, help="stop after this many clock hours (default: at dawn)"
+        "--hours",
+        type=_positive,
+        default=None,
+        help="stop after this many clock hours (default: at dawn; --quick: 1)",
     )
-    parser.add_argument("--quick", action="store_true", help="the short scripted night (no scheduler)")
+    season = parser.add_argument_group("a season of nights (--nights)")
+    season.add_argument(
+        "--nights",
+        type=_count,
+        default=1,
+        help="run this many consecutive nights from --date (each in --out/night-YYYY-MM-DD) and write "
+        "a season report (season.md, season.json); try --weather random",
+    )
+    season.add_argument(
+        "--frames",
+        action="store_true",
+        help="with --nights > 1: keep every night's frames (default: drop them)",
+    )
+    parser.add_argument(
+        "--quick", action="store_true", help="a short task list after dusk instead of the sample tasks"
+    )
     quick = parser.add_argument_group("the short night (--quick)")
     quick.add_argument("--targets", type=_count, default=3, help="number of star fields")
     quick.add_argument("--filters", default="V,R", help="comma-separated filters, one exposure each")
@@ -138,132 +133,19 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     return parser
 
 
-def whole_night_command(args: argparse.Namespace) -> int:
-    from nightcrew.cli._sim_night import run_whole_night_command  # the heavier imports only here
-
-    return run_whole_night_command(args)
-
-
 def _sim_command(args: argparse.Namespace) -> int:
+    # The heavier imports (the observatory, the engine) only for the mode that runs.
     if args.alpaca is not None:
         from nightcrew.cli._sim_alpaca import serve_alpaca_command
 
         return serve_alpaca_command(args)
-    if not args.quick:
-        return whole_night_command(args)
-    args.speed = args.speed or QUICK_SPEED
-    directory: Path = args.configs or bundled_observatory()
-    site = site_of(directory)
-    start = night_start(args.date, site)
-    try:
-        targets = choose_targets(site, start.timestamp(), args.targets)
-    except ValueError as exc:
-        raise ConfigError(f"--date {args.date}: {exc}") from exc
-    filters = [name.strip() for name in args.filters.split(",") if name.strip()]
-    steps = plan_night(targets, list(filters) or [None], args.exposure_time, args.calibration_frames)
+    if args.nights > 1:
+        from nightcrew.cli._sim_season import run_season_command
 
-    # Module chatter would bury the progress line; -v (or --debug) shows it.
-    quiet = not (args.verbose or args.debug)
-    logger = logging.getLogger("nightcrew")
-    old_level = logger.level
-    if quiet:
-        logger.setLevel(logging.WARNING)
-    wall_start = time.monotonic()
-    try:
-        report = asyncio.run(_run(directory, args, start, steps, _progress_printer(sys.stderr)))
-    finally:
-        logger.setLevel(old_level)
-    _print_summary(report, args, start, time.monotonic() - wall_start)
-    return 0 if report.completed else 130
+        return run_season_command(args)
+    from nightcrew.cli._sim_night import run_night_command
 
-
-async def _run(
-    directory: Path, args: argparse.Namespace, start: datetime, steps: list[Step], progress: ProgressCallback
-) -> NightReport:
-    clock = AcceleratedClock(start, speed=args.speed)
-    network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
-    modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
-    if args.indi is not None:
-        modules.append(
-            indi_server(args.indi, network=network, clock=clock, frames=args.out, site=site_of(directory))
-        )
-    if args.console is not None:
-        from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
-
-        modules += sim_console(args.console, clock=clock, site=site_of(directory), images=args.out)(network)
-    stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, stop.set)
-    try:
-        return await run_night(
-            modules, steps, clock=clock, network=network, out_dir=args.out, progress=progress, stop=stop
-        )
-    finally:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.remove_signal_handler(sig)
-
-
-def indi_server(port: int, *, network: LocalNetwork, clock: Clock, frames: Path, site: Site) -> Module:
-    """An IndiServer for the simulated observatory's devices, on ``network``, loopback ``port``.
-
-    ``frames`` is the directory the camera writes to (its VFS root ``images``), from which the
-    server reads the FITS files it sends as BLOBs.
-    """
-    from nightcrew.modules.indi.server import IndiServer
-
-    return IndiServer(
-        port=port,
-        telescope=TELESCOPE,
-        camera=CAMERA,
-        focuser=FOCUSER,
-        filters=FILTERS,
-        dome=ROOF,
-        comm=LocalComm("indi", network=network),
-        clock=clock,
-        site=site,
-        vfs=VirtualFileSystem({IMAGES_ROOT: LocalFile(str(frames))}),
-    )
-
-
-def site_of(directory: Path) -> Site:
-    """The observatory's site: the one the telescope's file gives."""
-    path = directory / "telescope.yaml"
-    if not path.is_file():
-        raise ConfigError(f"no telescope.yaml in {directory}: the night needs a telescope")
-    site = load_config(path).get("site")
-    if not isinstance(site, dict):
-        raise ConfigError("the telescope needs a site (latitude, longitude, elevation)", file=str(path))
-    try:
-        return Site(**to_plain(site))
-    except (TypeError, ValueError) as exc:
-        raise ConfigError(f"invalid site: {exc}", file=str(path), key="site") from exc
-
-
-def _progress_printer(stream: TextIO) -> ProgressCallback:
-    """Progress as one rewritten line on a terminal, one line per step elsewhere."""
-    tty = stream.isatty()
-
-    def show(number: int, total: int, step: Step, now: datetime) -> None:
-        done = round(20 * (number - 1) / max(1, total - 1))
-        line = f"[{'#' * done}{'.' * (20 - done)}] {number}/{total} {now:%H:%M:%S} UTC  {step.describe()}"
-        if tty:
-            stream.write("\r\033[K" + line + ("\n" if number == total else ""))
-        else:
-            stream.write(line + "\n")
-        stream.flush()
-
-    return show
-
-
-def _print_summary(report: NightReport, args: argparse.Namespace, start: datetime, wall: float) -> None:
-    state = "night complete" if report.completed else "night stopped early"
-    print(
-        f"{state}: {len(report.frames)} frames written to {args.out} "
-        f"(night of {args.date}, clock from {start:%H:%M} UTC at {args.speed:g}x; {wall:.1f} s wall time)"
-    )
-    for path in report.files:
-        print(f"  {path}")
+    return run_night_command(args)
 
 
 def _night(text: str) -> date:

@@ -35,7 +35,9 @@ class LocalNetwork:
             raise ConfigError(f"must be >= 0 wall seconds, got {rpc_grace}", key="rpc_grace")
         self.rpc_grace = float(rpc_grace)
         self._comms: dict[str, LocalComm] = {}
-        self._subscribers: dict[str, set[str]] = {}
+        # Subscribers in the order they subscribed (a dict, not a set: a set of names is ordered by
+        # their hashes, which change from run to run, and the order of delivery must not)
+        self._subscribers: dict[str, dict[str, None]] = {}
 
     @classmethod
     def default(cls) -> LocalNetwork:
@@ -61,7 +63,7 @@ class LocalNetwork:
             return
         del self._comms[comm.name]
         for subscribers in self._subscribers.values():
-            subscribers.discard(comm.name)
+            subscribers.pop(comm.name, None)
         for other in list(self._comms.values()):
             other._client_offline(comm.name)
 
@@ -72,7 +74,7 @@ class LocalNetwork:
         return comm
 
     def subscribe(self, name: str, event: str) -> None:
-        self._subscribers.setdefault(event, set()).add(name)
+        self._subscribers.setdefault(event, {})[name] = None
 
     def publish(self, sender: str, event: str, payload: dict[str, Any]) -> None:
         for name in self._subscribers.get(event, ()):

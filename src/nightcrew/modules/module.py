@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import inspect
 import logging
-from datetime import UTC, datetime
 from typing import Any
 
 from nightcrew import __version__
@@ -150,7 +149,7 @@ class Module(Object, IModule, IConfig):
         from nightcrew.events import LogEvent
 
         event = LogEvent(
-            time=datetime.fromtimestamp(record.created, tz=UTC),
+            time=self.clock.now(),  # clock time: a simulated night's record holds no wall time
             level=record.levelname,
             logger=record.name,
             message=record.getMessage(),

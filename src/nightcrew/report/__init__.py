@@ -8,6 +8,7 @@ files. The data extraction (:mod:`nightcrew.report._data`), the numbers
 
 from nightcrew.report._data import Frame, Night, Record, TaskRun, read_night
 from nightcrew.report._metrics import NightNumbers, night_numbers
+from nightcrew.report._season import SeasonNight, season_night, season_summary, season_table
 from nightcrew.report._time_budget import Acquisition, acquisitions, time_budget
 from nightcrew.report._write import NIGHT_RECORD, REPORT_FILE, night_site, write_report
 
@@ -19,11 +20,15 @@ __all__ = [
     "Night",
     "NightNumbers",
     "Record",
+    "SeasonNight",
     "TaskRun",
     "acquisitions",
     "night_numbers",
     "night_site",
     "read_night",
+    "season_night",
+    "season_summary",
+    "season_table",
     "time_budget",
     "write_report",
 ]

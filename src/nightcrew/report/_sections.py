@@ -9,11 +9,11 @@ from html import escape
 from typing import Any
 
 from nightcrew.astro import sun_altitude
-from nightcrew.modules.sim.night_recorder import FOCUS_SERIES, SCHEDULE_RECORD
 from nightcrew.report._data import Frame, Night, bad_weather_intervals, roof_open_intervals
 from nightcrew.report._metrics import NightNumbers
 from nightcrew.report._svg import Band, Series, bands, xy_chart
 from nightcrew.report._time_budget import Acquisition
+from nightcrew.report.records import FOCUS_SERIES, SCHEDULE_RECORD
 
 __all__ = [
     "focus_section",
@@ -242,7 +242,6 @@ def scheduler_section(night: Night, numbers: NightNumbers) -> str:
                 f"{bound:.3f}" if bound is not None else "-",
                 gap,
                 str(data.get("status", "")),
-                f"{float(data.get('wall_time_s', 0.0)):.2f}",
             )
         )
     first = plans[0].data.get("slots", [])
@@ -262,7 +261,7 @@ def scheduler_section(night: Night, numbers: NightNumbers) -> str:
         ],
         header=False,
     )
-    table = _table(("planned at", "blocks", "objective", "bound", "gap", "status", "solver wall s"), rows)
+    table = _table(("planned at", "blocks", "objective", "bound", "gap", "status"), rows)
     return summary + table
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 from html import escape
 from pathlib import Path
 
-from nightcrew.modules.sim.night_recorder import NIGHT_RECORD
 from nightcrew.report._data import Night, read_night
 from nightcrew.report._metrics import night_numbers
 from nightcrew.report._sections import (
@@ -20,6 +19,7 @@ from nightcrew.report._sections import (
     timeline_section,
 )
 from nightcrew.report._time_budget import acquisitions, time_budget
+from nightcrew.report.records import NIGHT_RECORD
 
 __all__ = ["NIGHT_RECORD", "REPORT_FILE", "THUMBNAILS", "night_site", "write_report"]
 
@@ -77,8 +77,8 @@ def write_report(out_dir: Path, *, thumbnails: bool = True) -> Path:
 
 def _flat_fits(out_dir: Path) -> dict[tuple[str, str], object]:
     """The exposure-time fits of ``nightcrew flats fit``, per filter and binning (none: empty)."""
-    from nightcrew.cli.flats import read_flats
     from nightcrew.flatfield.fit import fit_exposure_function
+    from nightcrew.images.flat_frames import read_flats
 
     groups, levels, _ = read_flats(out_dir / "frames")
     fits: dict[tuple[str, str], object] = {}
@@ -94,7 +94,7 @@ def _write_thumbnails(out_dir: Path, night: Night) -> dict[str, str]:
     """A small PNG per frame in ``out_dir/thumbnails`` (kept if already there); name -> relative path."""
     from astropy.io import fits  # type: ignore[import-untyped]
 
-    from nightcrew.modules.utils.png import encode_png, stretch_to_uint8
+    from nightcrew.images.png import encode_png, stretch_to_uint8
 
     folder = out_dir / THUMBNAILS
     folder.mkdir(exist_ok=True)

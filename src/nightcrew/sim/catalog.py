@@ -1,8 +1,11 @@
-"""Star catalog for the simulated sky: real stars to G = 10 plus deterministic synthetic fainter ones.
+"""Star catalog for the simulated sky: real stars to G ~ 12 plus deterministic synthetic fainter ones.
 
-Real stars come from :mod:`nightcrew.sim.catalog_data` (Gaia DR3 positions at J2016.0, Hipparcos
-proper motions); fainter stars down to ``depth`` come from :mod:`nightcrew.sim.synthetic`. Both
-are cached per sky cell (:class:`~nightcrew.sim.sky_cells.SkyGrid`) in memory.
+Real stars come from :mod:`nightcrew.sim.real_stars`: Gaia DR3 to G = 10 (positions at J2016.0,
+Hipparcos proper motions) and the Tycho-2 stars of astrometry.net's index, so ``solve-field`` finds
+its quads anywhere on the sky. The index keeps only the brightest stars of crowded fields, so each
+sky cell has its own limit of completeness (:func:`cell_mag_limit`); fainter stars down to ``depth``
+come from :mod:`nightcrew.sim.synthetic`. Both are cached per sky cell
+(:class:`~nightcrew.sim.sky_cells.SkyGrid`) in memory.
 
 Magnitudes are Gaia G for real stars and the same scale for synthetic ones.
 """
@@ -17,14 +20,14 @@ from nightcrew.sim.catalog_data import (
     CATALOG_EPOCH_JYEAR,
     CATALOG_MAG_LIMIT,
     ReferenceStars,
-    load_reference_stars,
     propagate,
     unit_vectors,
 )
+from nightcrew.sim.real_stars import REAL_MAG_LIMIT, load_real_stars
 from nightcrew.sim.sky_cells import SkyGrid
 from nightcrew.sim.synthetic import synthetic_stars
 
-__all__ = ["STAR_DTYPE", "StarCatalog", "epoch_jyear"]
+__all__ = ["STAR_DTYPE", "StarCatalog", "cell_mag_limit", "epoch_jyear"]
 
 STAR_DTYPE = np.dtype(
     [
@@ -36,9 +39,22 @@ STAR_DTYPE = np.dtype(
     ]
 )
 """Rows returned by :meth:`StarCatalog.query`: ra/dec in degrees at the requested epoch; source_id is
-the Gaia DR3 id, ``-HIP`` for Hipparcos entries and 0 for synthetic stars."""
+the Gaia DR3 id, ``-HIP`` for Hipparcos entries, ``-(1e6 + row)`` for Tycho-2 index stars and 0 for
+synthetic stars."""
 
 _CELL_DTYPE = np.dtype([*STAR_DTYPE.descr, ("pmra", "f8"), ("pmdec", "f8")])
+
+
+def cell_mag_limit(real_mags: npt.NDArray[np.float32]) -> float:
+    """Magnitude to which a cell's real stars are taken as complete; synthetic stars start there.
+
+    The 90th percentile of the cell's real magnitudes, within [10, 12]: where the solver's index
+    kept only the brightest stars (the Milky Way), it lies brighter than 12, and the synthetic
+    stars fill in below it instead of leaving a gap. Gaia is complete to 10 everywhere.
+    """
+    if len(real_mags) == 0:
+        return REAL_MAG_LIMIT
+    return float(np.clip(np.quantile(real_mags, 0.9), CATALOG_MAG_LIMIT, REAL_MAG_LIMIT))
 
 
 def epoch_jyear(epoch: Time | float) -> float:
@@ -52,15 +68,15 @@ class StarCatalog:
     """Cone queries on real + synthetic stars, with proper motion applied to the requested epoch.
 
     Args:
-        depth: faintest magnitude of the synthetic stars (G); at most the real catalog's 10.0
-            means no synthetic stars.
+        depth: faintest magnitude of the synthetic stars (G); at most a cell's real limit
+            (10 .. 12) means no synthetic stars there.
         cell_size_deg: size of the cache / synthetic seeding cells.
         count_growth_per_mag: growth of synthetic number counts per magnitude (see synthetic).
         seed: base seed of the synthetic stars; the same seed gives the same sky.
         reference: real stars to use instead of the bundled catalogs (for tests).
 
-    The constructor does no I/O: the bundled catalogs are read on the first query (about 1.5 s,
-    once per process) and kept in memory.
+    The constructor does no I/O: the real stars are read on the first query (from a cache file in
+    well under a second; building that file once takes ~10 s) and kept in memory.
     """
 
     def __init__(
@@ -129,7 +145,7 @@ class StarCatalog:
 
     def _reference_stars(self) -> ReferenceStars:
         if self._reference is None:
-            self._reference = load_reference_stars()
+            self._reference = load_real_stars()
         return self._reference
 
     def _cell(self, cell_id: int) -> npt.NDArray[np.void]:
@@ -143,11 +159,17 @@ class StarCatalog:
             self._cell_starts = np.searchsorted(ids[self._order], np.arange(self.grid.n_cells + 1))
         rows = self._order[self._cell_starts[cell_id] : self._cell_starts[cell_id + 1]]
         cell = self.grid.cell(cell_id)
-        last_mag = (ref.mag[rows] >= CATALOG_MAG_LIMIT - 1.0) & (ref.mag[rows] < CATALOG_MAG_LIMIT)
+        limit = cell_mag_limit(ref.mag[rows])
+        # The density at the limit is scaled from the last magnitude above Gaia's G = 10, which is
+        # complete everywhere (the index's own counts are cut in crowded cells).
+        mags = ref.mag[rows]
+        gaia_last_mag = np.count_nonzero((mags >= CATALOG_MAG_LIMIT - 1.0) & (mags < CATALOG_MAG_LIMIT))
         fake_ra, fake_dec, fake_mag = synthetic_stars(
             cell,
-            real_count_last_mag=int(last_mag.sum()),
-            mag_limit=CATALOG_MAG_LIMIT,
+            real_count_last_mag=round(
+                gaia_last_mag * self.count_growth_per_mag ** (limit - CATALOG_MAG_LIMIT)
+            ),
+            mag_limit=limit,
             depth=self.depth,
             count_growth_per_mag=self.count_growth_per_mag,
             seed=self.seed,

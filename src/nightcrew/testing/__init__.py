@@ -36,7 +36,7 @@ named ``contract`` that yields a :class:`ContractSetup` — the started device m
 
 The fixture runs for every test: leave the device in a state the suite can start from (READY; a
 telescope parked or not, a roof open or closed — each test first drives it where it needs it).
-Simulated devices use an accelerated clock (``Observatory(speed=100)``); the suites wait on
+Simulated devices use the virtual clock (``Observatory()``, the default); the suites wait on
 conditions with bounded timeouts on the module's own clock and never sleep a fixed time to
 synchronise, so they pass on a real-time device and on a loaded machine alike.
 

@@ -6,7 +6,7 @@ from datetime import datetime
 from types import TracebackType
 from typing import Any, TypeVar
 
-from nightcrew.clock import AcceleratedClock, Clock
+from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.modules import Module
 from nightcrew.site import Site
@@ -29,30 +29,36 @@ class Observatory:
     ``clock``, ``site`` and ``vfs`` are plain attributes: a test may replace them before it starts
     the modules that should use the new ones.
 
+    By default the clock is a :class:`~nightcrew.clock.VirtualClock` started at ``epoch``: the
+    test's event loop runs on virtual time, so simulated minutes pass in milliseconds and the
+    outcome does not depend on how busy the machine is. Anything that talks to the outside world
+    (a server in a subprocess, a real device) needs wall time: give a ``RealClock`` (or a
+    ``speed``) instead, since every ``asyncio`` timeout of a virtual loop is virtual too.
+
     Args:
-        speed: Speed of the accelerated clock started at ``epoch`` (ignored with ``clock``).
+        speed: Run an AcceleratedClock at this speed from ``epoch`` instead (ignored with ``clock``).
         clock: The clock to use instead, e.g. a RealClock for devices that run in real time.
-        epoch: Start of the accelerated clock.
+        epoch: Start of the clock.
         site: Where the observatory stands; None for modules that need no site.
         vfs: The file system; by default one in-memory root ``/cache``.
 
     Example::
 
-        async with Observatory(speed=100.0) as obs:
+        async with Observatory() as obs:
             roof = await obs.start(SimRoof, "roof", open_time=60.0)
-            await roof.open_roof()  # 0.6 s of wall time
+            await roof.open_roof()  # 60 clock seconds, a few ms of wall time
     """
 
     def __init__(
         self,
-        speed: float = 100.0,
+        speed: float | None = None,
         *,
         clock: Clock | None = None,
         epoch: datetime | str = EPOCH,
         site: Site | None = SITE,
         vfs: VirtualFileSystem | None = None,
     ) -> None:
-        self.clock: Clock = clock if clock is not None else AcceleratedClock(epoch, speed=speed)
+        self.clock: Clock = clock if clock is not None else _clock(epoch, speed)
         self.site = site
         self.vfs = vfs if vfs is not None else VirtualFileSystem({"cache": MemoryFile()})
         self.network = LocalNetwork()
@@ -113,3 +119,7 @@ class Observatory:
         self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
     ) -> None:
         await self.close()
+
+
+def _clock(epoch: datetime | str, speed: float | None) -> Clock:
+    return VirtualClock(epoch) if speed is None else AcceleratedClock(epoch, speed=speed)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import inspect
 from collections.abc import Awaitable, Callable
 
-from nightcrew.clock import Clock, RealClock
+from nightcrew.clock import Clock, RealClock, VirtualClock
 
 __all__ = ["Condition", "wait_for"]
 
@@ -31,7 +31,8 @@ async def wait_for(
         clock_seconds: How long to wait at most, in seconds of ``clock``.
         clock: Clock of ``clock_seconds`` and ``interval``; the wall clock by default.
         interval: Clock seconds between two checks; by default 1 clock second, or 0.05 wall
-            seconds when that is shorter (a slow clock is polled as often as a real device needs).
+            seconds when that is shorter (a slow clock is polled as often as a real device needs;
+            a virtual clock costs no wall time to wait on, so 1 clock second).
         message: What was awaited, for the failure message.
 
     Raises:
@@ -40,7 +41,7 @@ async def wait_for(
     if not clock_seconds >= 0:
         raise ValueError(f"clock_seconds must be >= 0, got {clock_seconds}")
     clock = clock or RealClock()
-    step = min(1.0, 0.05 * clock.speed) if interval is None else interval
+    step = interval if interval is not None else _default_interval(clock)
     if not step > 0:
         raise ValueError(f"interval must be > 0 clock seconds, got {interval}")
     start = clock.time()
@@ -49,6 +50,10 @@ async def wait_for(
             raise AssertionError(f"{message}: not within {clock_seconds:g} clock seconds")
         await clock.sleep(step)
     return clock.time() - start
+
+
+def _default_interval(clock: Clock) -> float:
+    return 1.0 if isinstance(clock, VirtualClock) else min(1.0, 0.05 * clock.speed)
 
 
 async def _holds(condition: Condition) -> bool:

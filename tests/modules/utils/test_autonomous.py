@@ -13,6 +13,7 @@ from nightcrew.interfaces import IAutonomous
 from nightcrew.modules import Module
 from nightcrew.modules.utils import AutonomousWarning
 from nightcrew.testing import Observatory
+from nightcrew.vfs import MemoryFile
 
 
 class Robot(Module, IAutonomous):
@@ -24,10 +25,17 @@ class Robot(Module, IAutonomous):
         return self.on
 
 
-async def test_warns_while_a_module_is_autonomous(
-    fast_observatory: Observatory, tmp_path: Path, caplog: pytest.LogCaptureFixture
-) -> None:
-    obs = fast_observatory
+async def test_warns_while_a_module_is_autonomous(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    # The warning runs a real command: a process outside the event loop, so an accelerated clock
+    # (on virtual time the command's timeout would pass before the process could start).
+    try:
+        async with Observatory(speed=200.0) as obs:
+            await _warns_while_autonomous(obs, tmp_path, caplog)
+    finally:
+        MemoryFile.clear_shared()
+
+
+async def _warns_while_autonomous(obs: Observatory, tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
     robot = await obs.start(Robot, "mastermind")
     beeps = tmp_path / "beeps"
     command = [sys.executable, "-c", f"open({str(beeps)!r}, 'a').write('beep\\n')"]

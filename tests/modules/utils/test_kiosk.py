@@ -10,8 +10,8 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 
+from nightcrew.images.png import encode_png, stretch_to_uint8
 from nightcrew.modules.utils import Kiosk
-from nightcrew.modules.utils.png import encode_png, stretch_to_uint8
 from nightcrew.testing import Observatory
 from tests.modules.devices import GradientCamera
 

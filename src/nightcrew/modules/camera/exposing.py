@@ -218,9 +218,9 @@ class ExposingModule(Module, IAbortable, IExposure):
     async def _write(self, filename: str, data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> None:
         # Serialising takes tens of milliseconds: in a thread, so the event loop (guiding, the
         # mastermind, on a fast clock the clock itself) does not stall on every frame.
-        # Writing takes wall time at the telescope, not clock-speed times as much: see Clock.computing.
+        # Writing costs what it costs at a telescope, not clock-speed times as much: see Clock.work.
         try:
-            with self.clock.computing():
+            async with self.clock.work("write_frame"):
                 payload = await asyncio.to_thread(blocking_fits_bytes, data, cards)
                 await self.vfs.write_bytes(filename, payload)
         except (NightcrewError, ValueError) as exc:

@@ -2,7 +2,7 @@
 
 Pure apart from the data it is given: :func:`frame_from_hdul` takes what the VFS read,
 :func:`render_png` turns a frame and :class:`View` into PNG bytes (the house's PNG encoder and
-display stretch, :mod:`nightcrew.modules.utils.png`).
+display stretch, :mod:`nightcrew.images.png`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import numpy.typing as npt
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.modules.utils.png import encode_png, stretch_to_uint8
+from nightcrew.images.png import encode_png, stretch_to_uint8
 
 __all__ = ["STRETCHES", "Frame", "View", "frame_from_hdul", "render_png"]
 

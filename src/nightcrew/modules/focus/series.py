@@ -173,7 +173,7 @@ class AutoFocusSeries(Module, IAutoFocus):
             for position in positions:
                 await self._move(focuser, position)
                 filename = await camera.grab_data(broadcast=False)
-                with self.clock.computing():  # measuring takes wall time, not clock-speed x it
+                async with self.clock.work("measure_focus"):
                     image = await Image.from_vfs(self.vfs, filename)
                     filter_name = _filter_of(image)
                     try:

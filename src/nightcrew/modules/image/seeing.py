@@ -118,8 +118,8 @@ class Seeing(Module, IFitsHeaderBefore):
             return False
         try:
             # Not on the observing path, but in a one-process simulation it holds the GIL the
-            # others need: at real time it stalls them for its wall time only (Clock.computing).
-            with self.clock.computing():
+            # others need: at real time it stalls them for its wall time only (Clock.work).
+            async with self.clock.work("measure_seeing"):
                 image = await self._measure(await Image.from_vfs(self.vfs, event.filename))
             value = self.seeing_of(image)
         except (NightcrewError, ValueError) as exc:

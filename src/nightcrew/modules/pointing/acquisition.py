@@ -114,7 +114,7 @@ class Acquisition(Module, IAcquisition):
         for attempt in range(1, self._max_attempts + 1):
             applied = await self._apply.current()
             filename = await camera.grab_data(broadcast=False)
-            with self.clock.computing():  # the solve takes wall time at the telescope, not 320x it
+            async with self.clock.work("plate_solve"):
                 image = await self._pipeline(await Image.from_vfs(self.vfs, filename))
             offsets = image.metadata.get(OFFSETS_KEY)
             if not isinstance(offsets, Offsets):

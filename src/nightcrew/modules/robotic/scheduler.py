@@ -128,13 +128,31 @@ class SchedulerModule(Module, IRoboticScheduler):
     async def _replan_loop(self) -> None:
         while True:
             blocks = tuple(await self._archive.get_schedulable_blocks())
-            if self._replan_wanted.is_set() or blocks != self._last_blocks:
+            lapse = self._next_lapse()
+            lapsed = lapse is not None and lapse <= self.clock.now()
+            if self._replan_wanted.is_set() or blocks != self._last_blocks or lapsed:
                 self._replan_wanted.clear()
                 self._last_blocks = blocks
                 await self.replan(blocks)
+            wait = self._poll_interval
+            lapse = self._next_lapse()
+            if lapse is not None:
+                wait = min(wait, max(1.0, (lapse - self.clock.now()).total_seconds()))
             with contextlib.suppress(TimeoutError):
-                async with self.clock.timeout(self._poll_interval):
+                async with self.clock.timeout(wait):
                     await self._replan_wanted.wait()
+
+    def _next_lapse(self) -> datetime | None:
+        """When the first slot of the plan ends unstarted, if no task runs: the plan is stale then.
+
+        A slot lapses when the mastermind could not start it in time (e.g. it first opened the
+        roof and focused); without a new plan the task would wait for the next poll.
+        """
+        if self.schedule is None or self._in_progress is not None:
+            return None
+        settled = self._done | self._failed
+        ends = [slot.end for slot in self.schedule.slots if slot.block_id not in settled]
+        return min(ends, default=None)
 
     async def replan(self, blocks: Sequence[SchedulableBlock]) -> Schedule:
         """Plan the rest of the night now and write it to the store."""
@@ -144,9 +162,10 @@ class SchedulerModule(Module, IRoboticScheduler):
             raise ConfigError("the scheduler needs the observatory's site", key="site")
         night = night_around(self.site, start, max_sun_altitude=self._max_sun_altitude)
         exclude = frozenset(self._failed | self._done)
-        schedule = await asyncio.to_thread(
-            self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
-        )
+        async with self.clock.work("schedule"):
+            schedule = await asyncio.to_thread(
+                self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
+            )
         self.schedule = schedule
         names = await self._archive.block_names() if isinstance(self._archive, NamedBlockSource) else {}
         self._plan = plan_of(schedule, blocks, night, now, names)

@@ -154,7 +154,7 @@ class SimCamera(BaseCamera):
             await self.clock.sleep(settings.exposure_time)
             await self._set_exposure_status(ExposureStatus.READOUT)
             await self.clock.sleep(self._readout_time)
-            with self.clock.computing():  # the rest of the render is the simulator's work, not the sky's
+            async with self.clock.work("simulate"):  # the rest of the render: not the sky's time
                 frame = await render
         finally:
             render.cancel()  # aborted: drop the frame (the thread finishes on its own)

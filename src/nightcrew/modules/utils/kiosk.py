@@ -17,9 +17,9 @@ from aiohttp import web
 
 from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent
+from nightcrew.images.png import encode_png, stretch_to_uint8
 from nightcrew.interfaces import IData, IExposureTime, ModuleState
 from nightcrew.modules.module import Module
-from nightcrew.modules.utils.png import encode_png, stretch_to_uint8
 
 __all__ = ["Kiosk"]
 

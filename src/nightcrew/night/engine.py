@@ -3,19 +3,19 @@
 The devices (the top-level files of the bundled observatory) and the robotic modules (its
 ``robotic/`` directory: weather verdict, scheduler, mastermind with runner and scripts, focus
 series, flat fields, acquisition, guiding, seeing, recorder) are built on one in-process network
-and one accelerated clock. The task archive is a fresh SQLite file in ``out_dir`` loaded with the
-bundled sample tasks and a low-priority survey that fills the night; the scheduler plans from it
-and the mastermind runs what it planned. Nobody
-drives the night: this function only watches (progress, the scheduler's plans into the recorder)
-until the clock reaches ``end`` or ``stop`` is set, then stops the mastermind, parks the telescope
-and closes the roof - also after an error - and closes every module.
+and one clock (virtual in ``nightcrew sim``). The task archive is a fresh SQLite file in
+``out_dir`` loaded with the bundled sample tasks and a low-priority survey that fills the night;
+the scheduler plans from it and the mastermind runs what it planned. Nobody drives the night:
+this function only watches (progress, the scheduler's plans into the recorder) until the clock
+reaches ``end`` or ``stop`` is set, then stops the mastermind, parks the telescope and closes the
+roof - also after an error - and closes every module.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from datetime import date, datetime
 from pathlib import Path
@@ -29,14 +29,15 @@ from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, 
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.modules.sim.night import SIM_RPC_GRACE, build_observatory, park_and_close
-from nightcrew.modules.sim.night_blocks import NightBlockSource
-from nightcrew.modules.sim.night_recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
-from nightcrew.modules.sim.whole_night_plan import one_window_each, samples_for_night, survey_groups
+from nightcrew.night.blocks import NightBlockSource
+from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, park_and_close
+from nightcrew.night.plan import one_window_each, samples_for_night, survey_groups
+from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
 from nightcrew.robotic.scheduler.adapters import as_schedule_writer
+from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
 __all__ = ["EVENTS_FILE", "FRAMES", "NightProgress", "WholeNight", "run_whole_night"]
@@ -47,6 +48,8 @@ log = logging.getLogger(__name__)
 EVENTS_FILE = "events.jsonl"
 #: The frames' directory in the output directory.
 FRAMES = "frames"
+#: Clock seconds between two looks of the watcher (progress line, new plans into the record).
+_WATCH_INTERVAL_S = 30.0
 #: Where the robotic modules' files are, below the observatory's directory.
 ROBOTIC = "robotic"
 
@@ -86,11 +89,15 @@ async def run_whole_night(
     device_overrides: dict[str, dict[str, Any]],
     robotic_overrides: dict[str, dict[str, Any]] | None = None,
     seed: int | None = None,
+    tasks: Sequence[RequestGroup] | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
     extra_modules: Callable[[LocalNetwork], list[Module]] | None = None,
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
+
+    ``tasks`` replaces the night's task list (default: the samples and the survey), e.g. with the
+    short list of ``--quick``.
 
     ``extra_modules`` builds more modules on the night's network (e.g. an IndiServer, the web
     console), opened after the others and closed before them.
@@ -99,7 +106,10 @@ async def run_whole_night(
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
     # The watcher opens first, so that whatever fails later, it can still park and close.
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
-    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, night, site)
+    if tasks is None:
+        samples = samples_for_night(load_samples(), night, site)
+        tasks = [*(part for group in samples for part in one_window_each(group)), *survey_groups(night)]
+    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, tasks)
     opened: list[Module] = []
     result = WholeNight()
     try:
@@ -156,12 +166,11 @@ def _blocking_clear_records(out_dir: Path) -> None:
         old.unlink(missing_ok=True)
 
 
-async def _fresh_archive(path: Path, clock: Clock, night: date, site: Site) -> SqliteTaskArchive:
-    """A new archive at ``path`` holding the sample tasks observable on ``night``."""
+async def _fresh_archive(path: Path, clock: Clock, tasks: Sequence[RequestGroup]) -> SqliteTaskArchive:
+    """A new archive at ``path`` holding ``tasks``."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    samples = [part for g in samples_for_night(load_samples(), night, site) for part in one_window_each(g)]
-    for group in [*samples, *survey_groups(night)]:
+    for group in tasks:
         await archive.add_request_group(group)
     return archive
 
@@ -233,7 +242,8 @@ class _Watcher(Module):
                 fraction = min(1.0, (now - start).total_seconds() / total)
                 progress(NightProgress(now, sun, self.task, self.frames, fraction))
             try:
-                async with asyncio.timeout(0.5):  # wall seconds: the progress line's pace
+                # Clock seconds: on a virtual clock the night's record must not hang on wall time.
+                async with self.clock.timeout(_WATCH_INTERVAL_S):
                     await stop.wait()
                 return False
             except TimeoutError:
@@ -247,7 +257,6 @@ def _plan_record(schedule: Schedule) -> dict[str, Any]:
         "status": schedule.status,
         "objective": schedule.objective,
         "bound": schedule.bound,
-        "wall_time_s": schedule.wall_time_s,
         "slots": [
             {"task": s.block_id, "start": s.start.isoformat(), "end": s.end.isoformat()}
             for s in schedule.slots

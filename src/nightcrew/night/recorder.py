@@ -21,17 +21,11 @@ from nightcrew.events import Event, FocusFailedEvent, FocusFoundEvent, event_by_
 from nightcrew.events.base import event_names
 from nightcrew.interfaces import IAutoFocus, ModuleState
 from nightcrew.modules.module import Module
+from nightcrew.report.records import FOCUS_SERIES, NIGHT_RECORD, SCHEDULE_RECORD
 
 __all__ = ["FOCUS_SERIES", "NIGHT_RECORD", "SCHEDULE_RECORD", "EventRecorder"]
 
 log = logging.getLogger(__name__)
-
-#: The ``kind`` of the line with a focus series' measurements.
-FOCUS_SERIES = "FocusSeries"
-#: The ``kind`` of the line where the night says where and when it is (``site``, ``start``, ``end``).
-NIGHT_RECORD = "Night"
-#: The ``kind`` of the lines with a plan of the scheduler (objective, bound, slots).
-SCHEDULE_RECORD = "Schedule"
 
 
 class EventRecorder(Module):

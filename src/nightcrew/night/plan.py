@@ -154,7 +154,7 @@ def survey_groups(night: date, *, exposure_time: float = 300.0, count: int = 6) 
     One request per field, any time of ``night``: ``count`` exposures in V and in R, long enough
     that the shutter is open most of the time. The scheduler takes them where nothing better fits.
     """
-    from nightcrew.modules.sim.night_plan import FAMOUS_FIELDS
+    from nightcrew.night.fields import FAMOUS_FIELDS
 
     noon = datetime(night.year, night.month, night.day, 12, tzinfo=UTC)
     window = {"start": noon.isoformat(), "end": (noon + timedelta(days=1)).isoformat()}

@@ -1,0 +1,66 @@
+"""``nightcrew sim --nights N``: a season of consecutive nights on the one engine, and its report.
+
+Each night runs in ``--out/night-YYYY-MM-DD`` with its own seed (``--seed`` + night number, so
+random weather differs from night to night and the season repeats), gets its report.html and
+its row of numbers; its frames go afterwards unless ``--frames``. The season's table goes to
+stdout and to ``--out/season.md``, all numbers to ``--out/season.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from datetime import timedelta
+from pathlib import Path
+
+from nightcrew.cli._running import quiet_module_logs
+from nightcrew.cli._sim_night import night_setup, run_one_night
+from nightcrew.night.build import bundled_observatory, observatory_site
+from nightcrew.night.engine import FRAMES
+from nightcrew.report import SeasonNight, read_night, season_night, season_summary, season_table, write_report
+
+__all__ = ["SEASON_JSON", "SEASON_TABLE", "run_season_command"]
+
+SEASON_TABLE = "season.md"
+SEASON_JSON = "season.json"
+
+
+def run_season_command(args: argparse.Namespace) -> int:
+    directory: Path = args.configs or bundled_observatory()
+    site = observatory_site(directory)
+    base_seed = 0 if args.seed is None else args.seed
+    rows: list[SeasonNight] = []
+    wall_total = 0.0
+    with quiet_module_logs(args.verbose or args.debug):
+        for number in range(args.nights):
+            night = args.date + timedelta(days=number)
+            setup = night_setup(args, site, night)
+            out = args.out / f"night-{night.isoformat()}"
+            result, wall = run_one_night(directory, args, site, setup, out, None, seed=base_seed + number)
+            wall_total += wall
+            write_report(out, thumbnails=args.frames)
+            rows.append(
+                season_night(
+                    night.isoformat(), read_night(out), latitude=site.latitude, longitude=site.longitude
+                )
+            )
+            if not args.frames:
+                shutil.rmtree(out / FRAMES, ignore_errors=True)
+            row = rows[-1]
+            print(
+                f"night {number + 1}/{args.nights} {night}: shutter {100 * row.shutter_fraction:.1f} % of "
+                f"{row.good_dark_s / 3600:.2f} h good dark, {result.frames} frames ({wall:.0f} s wall)",
+                file=sys.stderr,
+                flush=True,
+            )
+            if not result.completed:
+                break
+    table = season_table(rows)
+    (args.out / SEASON_TABLE).write_text(table, encoding="utf-8")
+    summary = {**season_summary(rows), "wall_s": round(wall_total, 1), "weather": args.weather}
+    (args.out / SEASON_JSON).write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
+    print(table, end="")
+    print(f"season of {len(rows)} nights in {args.out} ({wall_total:.0f} s wall time)")
+    return 0 if len(rows) == args.nights else 130

@@ -1,0 +1,118 @@
+"""Building the simulated observatory in one process, and ending its night safely.
+
+:func:`build_observatory` builds every top-level module file of a directory (by default the
+bundled :func:`bundled_observatory`) on a private in-process network, all sharing one clock and
+one VFS whose ``images`` root is the output directory; :func:`observatory_site` reads its site.
+:func:`park_and_close` is how every night ends: telescope parked and roof closed at once.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from nightcrew.clock import Clock
+from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.config import build_object, load_config, to_plain, validate_config
+from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.interfaces import IRoof, ITelescope
+from nightcrew.modules import Module
+from nightcrew.site import Site
+from nightcrew.vfs import LocalFile, VirtualFileSystem
+
+__all__ = [
+    "IMAGES_ROOT",
+    "SIM_RPC_GRACE",
+    "build_observatory",
+    "bundled_observatory",
+    "observatory_site",
+    "park_and_close",
+]
+
+log = logging.getLogger(__name__)
+
+#: The VFS root the camera writes to (``filename_pattern: /images/...`` in camera.yaml).
+IMAGES_ROOT = "images"
+#: Wall seconds a call on the simulated observatory's network may take beyond its timeout: on a
+#: fast clock a 10-s timeout is a few wall ms, less than rendering or analysing a frame under load.
+SIM_RPC_GRACE = 1.0
+#: Module names the night needs (the file names of the bundled observatory).
+TELESCOPE, ROOF, CAMERA, FOCUSER, FILTERS = "telescope", "roof", "camera", "focuser", "filters"
+
+
+def bundled_observatory() -> Path:
+    """The directory of the bundled observatory's configuration files (package data)."""
+    return Path(__file__).resolve().with_name("observatory")
+
+
+def observatory_site(directory: Path) -> Site:
+    """The observatory's site: the one the telescope's file gives."""
+    path = directory / "telescope.yaml"
+    if not path.is_file():
+        raise ConfigError(f"no telescope.yaml in {directory}: the night needs a telescope")
+    site = load_config(path).get("site")
+    if not isinstance(site, dict):
+        raise ConfigError("the telescope needs a site (latitude, longitude, elevation)", file=str(path))
+    try:
+        return Site(**to_plain(site))
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"invalid site: {exc}", file=str(path), key="site") from exc
+
+
+def build_observatory(
+    directory: Path,
+    *,
+    clock: Clock,
+    out_dir: Path,
+    seed: int | None = None,
+    network: LocalNetwork,
+    overrides: Mapping[str, Mapping[str, Any]] | None = None,
+) -> list[Module]:
+    """Validate, then build the modules of the top-level ``*.yaml`` files of ``directory``.
+
+    Every module gets ``clock``, a VFS with the ``images`` root in ``out_dir`` and a comm on
+    ``network`` named after its file; ``seed`` replaces the seed of every file that sets one, and
+    ``overrides`` (by module name) replace keys after validation (objects the file cannot say).
+    Nothing is opened. Files in subdirectories (fragments, extras) are not modules of the night.
+    """
+    paths = sorted(directory.glob("*.yaml"))
+    if not paths:
+        raise ConfigError(f"no module files (*.yaml) in {directory}")
+    configs = [load_config(path) for path in paths]
+    for config in configs:
+        validate_config(config, Module)
+    vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(out_dir))})
+    modules = []
+    for path, config in zip(paths, configs, strict=True):
+        given: dict[str, Any] = {
+            "comm": LocalComm(path.stem, network=network),
+            "clock": clock,
+            "vfs": vfs,
+        }
+        if seed is not None and "seed" in config:
+            given["seed"] = seed
+        given.update((overrides or {}).get(path.stem, {}))
+        config.update(given)
+        modules.append(build_object(config, Module))
+    return modules
+
+
+async def park_and_close(driver: Module) -> None:
+    """Park the telescope and close the roof at the same time; log (never raise) failures."""
+    proxy = driver.comm.proxy
+
+    async def park() -> None:
+        await (await proxy(TELESCOPE, ITelescope)).park()
+
+    async def close_roof() -> None:
+        await (await proxy(ROOF, IRoof)).close_roof()
+
+    results = await asyncio.gather(park(), close_roof(), return_exceptions=True)
+    for what, result in zip(("park the telescope", "close the roof"), results, strict=True):
+        if isinstance(result, NightcrewError):
+            log.error("could not %s: %s", what, result)
+        elif isinstance(result, BaseException):
+            raise result
