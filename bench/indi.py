@@ -12,7 +12,7 @@ Run: ``.venv/bin/python bench/indi.py [--repeat 7] [--samples 20] [--size 1280x1
    - *client*: :class:`~nightcrew.bridges.indi.IndiClient` parses the stream and decodes the BLOB
      (the time until its ``CCD1`` vector holds the image);
    - *module*: the same plus what IndiCamera does with the BLOB before the camera base writes
-     nightcrew's file (:func:`~nightcrew.modules.indi.camera.blocking_read_fits`: FITS to pixels).
+     nightcrew's file (:func:`~nightcrew.modules.indi.camera.fits_frame`: FITS to pixels).
 
    Goal: module ≥ 0.8 x the bare read's throughput.
 
@@ -42,7 +42,7 @@ from nightcrew.clock import RealClock
 from nightcrew.events import MotionStatusChangedEvent
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.indi import IndiTelescope
-from nightcrew.modules.indi.camera import blocking_read_fits
+from nightcrew.modules.indi.camera import fits_frame
 from nightcrew.testing import EventRecorder, Observatory, wait_for
 from nightcrew.testing.indi import IndiServer
 
@@ -133,7 +133,7 @@ async def client_read(port: int, with_fits: bool) -> float:
     if with_fits:
         blob = vector.members["CCD1"]
         assert isinstance(blob, Blob)
-        await asyncio.to_thread(blocking_read_fits, blob, CCD)
+        await fits_frame(blob, CCD)
     took = time.perf_counter() - start
     await client.close()
     return took
@@ -251,7 +251,7 @@ async def live_blob_table(server: IndiServer, repeat: int) -> list[tuple[str, fl
             parsed = time.time()
             blob = vector.members["CCD1"]
             assert isinstance(blob, Blob)
-            await asyncio.to_thread(blocking_read_fits, blob, CCD)
+            await fits_frame(blob, CCD)
             converted = time.time()
             await wait_for(partial(_arrived, tap, mark), 30, message="the bare tap's copy")
             first = tap.arrival(b'<setBLOBVector device="CCD Simulator"', mark)

@@ -169,3 +169,24 @@ def test_a_blob_split_anywhere_parses_the_same() -> None:
         parser.close()
         assert isinstance(messages[1], SetVector) and messages[1].members == {"CCD1": Blob(data, ".fits")}
         assert messages[2] == IndiMessage("CCD", "done")
+
+
+def test_line_broken_base64_split_anywhere_decodes_while_it_streams() -> None:
+    data = bytes(range(256)) * 7
+    lines = base64.encodebytes(data)  # 76 characters a line, as libindi breaks them
+    stream = _blob(data).replace(base64.b64encode(data), b"\n" + lines)
+    for chunk in (1, 5, 77, 300):
+        parser = IndiStreamParser()
+        messages = [
+            m for start in range(0, len(stream), chunk) for m in parser.feed(stream[start : start + chunk])
+        ]
+        assert isinstance(messages[0], SetVector) and messages[0].members == {"CCD1": Blob(data, ".fits")}
+
+
+def test_a_blob_that_is_not_base64_names_device_property_and_member() -> None:
+    stream = _blob(b"z" * 300).replace(b"enp6", b"en*6", 1)
+    with pytest.raises(IndiProtocolError, match=r"CCD\.CCD1: BLOB CCD1 cannot be decoded"):
+        IndiStreamParser().feed(stream)
+    cut_short = _blob(b"z" * 300).replace(b"</oneBLOB>", b"Q</oneBLOB>")
+    with pytest.raises(IndiProtocolError, match=r"CCD1 cannot be decoded: .*incomplete quad"):
+        IndiStreamParser().feed(cut_short)

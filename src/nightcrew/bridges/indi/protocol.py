@@ -228,13 +228,14 @@ def _member_value(
         if kind is VectorKind.LIGHT:
             return PropertyState(text.strip())
         if kind is VectorKind.BLOB:
-            return _blob(member, payloads.get(member, text), device, name)
+            return _blob(member, payloads.get(member), text, device, name)
         return text.strip()  # libindi wraps values in newlines and indentation
     except ValueError as exc:
         raise IndiProtocolError(f"member {member_name}: {exc}", device=device, name=name) from None
 
 
-def _blob(member: Element, text: str | bytes, device: str, name: str) -> Blob:
+def _blob(member: Element, decoded: bytes | None, text: str, device: str, name: str) -> Blob:
+    """``decoded``: the bytes the stream parser already decoded from the base64 text, if it did."""
     member_name = member.get("name", "")
     fmt = member.get("format", "")
     try:
@@ -244,7 +245,7 @@ def _blob(member: Element, text: str | bytes, device: str, name: str) -> Blob:
             f"BLOB {member_name}: size is not an integer", device=device, name=name
         ) from None
     try:
-        data = pybase64.b64decode(text)  # skips line breaks like binascii, ~40x faster
+        data = pybase64.b64decode(text) if decoded is None else decoded  # ~40x faster than binascii
         if fmt.endswith(".z"):
             data, fmt = zlib.decompress(data), fmt[:-2]
     except (ValueError, zlib.error) as exc:  # binascii.Error is a ValueError
@@ -296,7 +297,7 @@ def _timeout(text: str | None, device: str, name: str) -> float | None:
 def parse_element(element: Element, payloads: Mapping[Element, bytes] | None = None) -> ServerMessage | None:
     """The message a top-level element from a server carries; None for what a client ignores
     (another client's new*Vector, enableBLOB, getProperties snooping). ``payloads`` holds the
-    base64 text of ``oneBLOB`` elements that the stream parser kept out of the tree."""
+    decoded bytes of ``oneBLOB`` elements whose base64 text the stream parser kept out of the tree."""
     tag = element.tag
     device = element.get("device", "")
     name = element.get("name", "")
