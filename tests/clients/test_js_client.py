@@ -16,39 +16,20 @@ from typing import Any
 
 import pytest
 
-from nightcrew.cli.catalogue import catalogue_text
-from nightcrew.cli.catalogue_js import js_client_files
+from nightcrew.timeout import DEFAULT_TIMEOUT
 
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
-from tests.comm.xmpp_servers import DOMAIN, PASSWORD, require_command
+from tests.comm.xmpp_servers import DOMAIN, PASSWORD
 from tests.modules.test_sim_xmpp import CLOCK_SPEED, CLOCK_START, Processes
 
-REPOSITORY = Path(__file__).resolve().parents[2]
-CLIENT = REPOSITORY / "clients" / "js"
+from .node import CLIENT, node_ready
+
 MODULES = ["telescope", "camera"]
 #: Wall seconds for logins, the modules to become ready, and the image (the camera loads stars).
 TIMEOUT = 90
-
-
-def test_generated_files_are_current() -> None:
-    # CI fails here when the catalogue changed without `make catalogue`.
-    expected = js_client_files(json.loads(catalogue_text()))
-    on_disk = {p.relative_to(CLIENT / "generated").as_posix() for p in (CLIENT / "generated").rglob("*.js")}
-    assert on_disk == set(expected), "clients/js/generated is stale: run `make catalogue`"
-    for relative, text in expected.items():
-        assert (CLIENT / "generated" / relative).read_text(encoding="utf-8") == text, (
-            f"clients/js/generated/{relative} is stale: run `make catalogue`"
-        )
-
-
-def node_ready() -> None:
-    require_command("node", "nodejs")
-    if not (CLIENT / "node_modules" / "@xmpp" / "client").is_dir():
-        message = "clients/js/node_modules is missing: run `make js-deps`"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message)
-        pytest.skip(message)
+#: Clock seconds of the exposure: longer than the default timeout window of a call, in wall time.
+EXPOSURE_TIME = 60.0
 
 
 @pytest.fixture
@@ -81,6 +62,7 @@ def observatory(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[dict
             "room": network.room,
             "modules": MODULES,
             "timeout": TIMEOUT,
+            "exposure_time": EXPOSURE_TIME,
             "ca_file": server.ca_file,
             "images": tmp_path / "images",
         }
@@ -91,7 +73,10 @@ def observatory(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[dict
 
 
 def run_observe(observatory: dict[str, Any]) -> dict[str, Any]:
-    options = {key: observatory[key] for key in ("jid", "password", "server", "room", "modules", "timeout")}
+    options = {
+        key: observatory[key]
+        for key in ("jid", "password", "server", "room", "modules", "timeout", "exposure_time")
+    }
     done = subprocess.run(
         ["node", str(CLIENT / "test" / "observe.mjs"), json.dumps(options)],
         env={**os.environ, "NODE_EXTRA_CA_CERTS": observatory["ca_file"]},
@@ -102,6 +87,7 @@ def run_observe(observatory: dict[str, Any]) -> dict[str, Any]:
     )
     assert done.returncode == 0, f"observe.mjs exited {done.returncode}:\n{done.stderr}"
     report: dict[str, Any] = json.loads(done.stdout)
+    print(json.dumps(report, indent=1))  # shown when the test fails
     return report
 
 
@@ -117,6 +103,9 @@ def test_generated_client_observes_with_the_simulated_observatory(observatory: d
     filename = report["filename"]
     assert filename.startswith("/images/") and filename.endswith(".fits")
     assert (observatory["images"] / filename.removeprefix("/images/")).is_file()
+    # The exposure alone takes EXPOSURE_TIME / speed wall seconds, more than the default window of
+    # 10 clock seconds plus 1 s grace: the call lived on the camera's announced timeout.
+    assert report["grab_wall_seconds"] > DEFAULT_TIMEOUT / CLOCK_SPEED + 1.0
     assert report["event"] == {
         "class": "NewImageEvent",
         "filename": filename,
@@ -134,7 +123,8 @@ def test_generated_client_observes_with_the_simulated_observatory(observatory: d
     assert bad["out_of_range"]["message"] == "move_radec(): argument 'dec': must be <= 90 (got number 95)"
     assert bad["too_many"]["message"] == "move_radec(): takes 2 arguments, got 3"
     # Refused by the telescope itself: its fault arrives as the error class it raised.
-    assert bad["below_horizon"]["class"] == "MoveError"
+    assert bad["below_horizon"]["class"] == "MoveError" and bad["below_horizon"]["nightcrew"]
+    assert "below the limit of 15" in bad["below_horizon"]["message"]
     assert bad["unknown_module"] == {
         "class": "RemoteError",
         "message": "module 'ghost' is not online (online: camera, telescope)",

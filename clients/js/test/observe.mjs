@@ -8,11 +8,9 @@ import {
   ICamera,
   IExposureTime,
   ITelescope,
-  InterfaceError,
-  InvalidArgumentError,
   NewImageEvent,
   NightcrewClient,
-  RemoteError,
+  NightcrewError,
 } from "../index.js";
 
 const M39 = [322.95, 48.43];
@@ -34,7 +32,7 @@ async function failure(promise) {
     await promise;
     return { class: null };
   } catch (error) {
-    return { class: error.constructor.name, message: error.message, nightcrew: error instanceof RemoteError || error instanceof InvalidArgumentError || error instanceof InterfaceError };
+    return { class: error.constructor.name, message: error.message, nightcrew: error instanceof NightcrewError };
   }
 }
 
@@ -65,9 +63,12 @@ try {
   await telescope.move_radec(...M39);
   report.radec = await telescope.get_radec();
 
-  await (await client.proxy(cameraName, IExposureTime)).set_exposure_time(2.0);
+  // Longer than a call may take unannounced: grab_data() only succeeds if its announcement counts.
+  await (await client.proxy(cameraName, IExposureTime)).set_exposure_time(options.exposure_time);
   const image = nextEvent(NewImageEvent, options.timeout);
+  const started = performance.now();
   report.filename = await camera.grab_data();
+  report.grab_wall_seconds = (performance.now() - started) / 1000;
   const { event, sender } = await image;
   report.event = { class: event.constructor.name, filename: event.filename, image_type: event.image_type, sender };
 
