@@ -65,4 +65,4 @@ bench: setup
 	$(PY) bench/console.py
 
 clean:
-	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache clients/js/node_modules

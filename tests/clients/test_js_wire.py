@@ -80,3 +80,30 @@ def test_what_nightcrew_sends_is_read_by_the_client() -> None:
             {"struct": {"nested": [{"struct": {"a": 1}}]}},
         ],
     }
+
+
+def test_events_are_decoded_by_the_catalogue_and_bad_ones_refused() -> None:
+    node_ready()
+    events = [
+        ["NewImageEvent", '{"filename": "/images/a.fits", "image_type": "bias", "added_later": 1}'],
+        ["GoodWeatherEvent", '{"eta": "2026-11-10T18:00:00+00:00"}'],
+        ["NewImageEvent", '{"image_type": "bias"}'],
+        ["NewImageEvent", '{"filename": "/images/a.fits", "image_type": "flat"}'],
+        ["MoveRaDecEvent", '{"ra": "east", "dec": 1.0}'],
+        ["NoSuchEvent", "{}"],
+        ["TestEvent", "{not json"],
+    ]
+    decoded = json.loads(node("events", json.dumps(events)))
+    assert decoded[:2] == [
+        # A field the catalogue does not know (a newer sender) is ignored.
+        {"class": "NewImageEvent", "fields": {"filename": "/images/a.fits", "image_type": "bias"}},
+        {"class": "GoodWeatherEvent", "fields": {"eta": {"date": "2026-11-10T18:00:00.000Z"}}},
+    ]
+    assert [entry["problem"] for entry in decoded[2:-1]] == [
+        "must have required property 'filename'",
+        'at /image_type: expected "object"|"bias"|"dark"|"skyflat"|"domeflat"|"focus"|"acquisition"|'
+        '"guiding"|null, got string "flat"',
+        'at /ra: expected number, got string "east"',
+        "an event the catalogue does not have",
+    ]
+    assert decoded[-1]["problem"].startswith("not JSON (")

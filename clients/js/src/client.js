@@ -11,10 +11,11 @@ import {
   RemoteTimeoutError,
   XmppAuthError,
 } from "../generated/errors.js";
-import { EVENTS, EVENT_SCHEMAS } from "../generated/events.js";
+import { EVENT_SCHEMAS } from "../generated/events.js";
 import { DEFAULT_TIMEOUT } from "../generated/index.js";
+import { decodeEvent } from "./decode.js";
 import { schemaProblem } from "./schema.js";
-import { methodCall, methodResponse, parseResponse, parseWireDate } from "./xmlrpc.js";
+import { methodCall, methodResponse, parseResponse } from "./xmlrpc.js";
 
 const NS_RPC = "jabber:iq:rpc";
 const NS_DISCO = "http://jabber.org/protocol/disco#info";
@@ -81,6 +82,9 @@ export class NightcrewClient {
       service: `xmpp://${host}:${port}`,
       domain: this.domain,
       resource: this._resource,
+      // Each step of the login (stream open, STARTTLS, SASL, bind) may take this long; the
+      // library's own 2 s fail on a busy machine.
+      timeout: timeoutSeconds * 1000,
       credentials: async (authenticate, mechanisms, _fast, entity) => {
         const scram = mechanisms.find((mechanism) => mechanism.startsWith("SCRAM-"));
         if (!scram) throw new XmppAuthError(`the server offers no SCRAM login (offers ${mechanisms.join(", ")})`);
@@ -141,7 +145,7 @@ export class NightcrewClient {
    * @returns {Promise<Object<string, number>>}
    */
   async interfaces(module) {
-    const query = await this._xmpp.iqCaller.get(xml("query", { xmlns: NS_DISCO }), this._jidOf(module));
+    const query = await this._session.iqCaller.get(xml("query", { xmlns: NS_DISCO }), this._jidOf(module));
     const served = {};
     for (const feature of query.getChildren("feature")) {
       const variable = feature.attrs.var ?? "";
@@ -194,6 +198,7 @@ export class NightcrewClient {
    * @param {{params?: Array<object>, schemas?: Object<string, object>}} [declaration]
    */
   async call(module, method, args, { params = [], schemas = {} } = {}) {
+    const session = this._session;
     const speed = method.startsWith("system.") ? 1 : await this._speed(module);
     const to = this._jidOf(module);
     const id = `${this._idPrefix}-${++this._counter}`;
@@ -203,7 +208,7 @@ export class NightcrewClient {
       this._pending.set(id, call);
       this._extend(id, DEFAULT_TIMEOUT);
     });
-    await this._xmpp.send(xml("iq", { type: "set", id, to }, query));
+    await session.send(xml("iq", { type: "set", id, to }, query));
     return reply;
   }
 
@@ -229,7 +234,7 @@ export class NightcrewClient {
     const name = event.constructor.eventName;
     const problem = schemaProblem(event.toJSON(), { $ref: `#/$defs/${name}` }, EVENT_SCHEMAS);
     if (problem) throw new InvalidArgumentError(`${name}: ${problem}`);
-    await this._xmpp.send(
+    await this._session.send(
       xml(
         "message",
         { type: "groupchat", to: this._room },
@@ -242,6 +247,12 @@ export class NightcrewClient {
   async _speed(module) {
     if (!this._speeds.has(module)) await this.clock(module);
     return this._speeds.get(module);
+  }
+
+  /** The XMPP session; RemoteError before connect() and after close(). */
+  get _session() {
+    if (!this._xmpp) throw new RemoteError("the client is not connected (connect() first)");
+    return this._xmpp;
   }
 
   _jidOf(module) {
@@ -337,28 +348,12 @@ export class NightcrewClient {
     const name = element.attrs.name;
     const handlers = this._handlers.get(name);
     if (!handlers?.size) return;
-    const event = this._decodeEvent(name, element.getText(), sender);
-    if (event) for (const handler of handlers) handler(event, sender);
-  }
-
-  /** The event object, or null (reported, skipped) when it does not fit the catalogue. */
-  _decodeEvent(name, text, sender) {
-    let fields;
-    try {
-      fields = JSON.parse(text);
-    } catch (error) {
-      this._warn(`skipped ${name} from ${sender}: not JSON (${error.message})`);
-      return null;
-    }
-    const problem = schemaProblem(fields, { $ref: `#/$defs/${name}` }, EVENT_SCHEMAS);
+    const { event, problem } = decodeEvent(name, element.getText());
     if (problem) {
       this._warn(`skipped ${name} from ${sender}: ${problem}`);
-      return null;
+      return;
     }
-    for (const [field, schema] of Object.entries(EVENT_SCHEMAS[name].properties ?? {})) {
-      if (schema.format === "date-time" && typeof fields[field] === "string") fields[field] = parseWireDate(fields[field]);
-    }
-    return new EVENTS[name](fields);
+    for (const handler of handlers) handler(event, sender);
   }
 
   _onReply(iq) {

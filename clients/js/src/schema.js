@@ -12,7 +12,8 @@ const Ajv2020 = Ajv2020Module.default ?? Ajv2020Module;
 const addFormats = addFormatsModule.default ?? addFormatsModule;
 
 // strict: false lets the catalogue's own `x-` keywords (x-unit, x-persistent) through unchecked.
-const ajv = new Ajv2020({ strict: false, allErrors: false });
+// verbose: errors carry the schema that failed, to say what was expected.
+const ajv = new Ajv2020({ strict: false, allErrors: false, verbose: true });
 addFormats(ajv, ["date-time"]);
 
 /** @type {WeakMap<object, Function>} compiled validators, by the catalogue's schema object */
@@ -63,6 +64,17 @@ function show(value) {
 
 const TYPE_KEYWORDS = new Set(["type", "enum", "anyOf", "oneOf", "const", "format"]);
 
+/** The part of `value` at a JSON Pointer (`/image_type`, `/0/x`). */
+function valueAt(value, pointer) {
+  const steps = pointer.split("/").slice(1).map((step) => step.replaceAll("~1", "/").replaceAll("~0", "~"));
+  return steps.reduce((part, step) => part?.[step], value);
+}
+
+/** `true` for a date-time string schema, also as a branch of `anyOf` (an optional date). */
+export function isDateTime(schema) {
+  return schema.format === "date-time" || Boolean(schema.anyOf?.some((option) => isDateTime(option)));
+}
+
 /**
  * Why `value` does not fit `schema`, or null when it does.
  * @returns {string|null}
@@ -70,13 +82,17 @@ const TYPE_KEYWORDS = new Set(["type", "enum", "anyOf", "oneOf", "const", "forma
 export function schemaProblem(value, schema, schemas) {
   const validate = validator(schema, schemas);
   if (validate(jsonView(value))) return null;
-  const error = validate.errors[validate.errors.length - 1];
+  // Ajv reports the innermost failure first; for `anyOf` the summary of the same place comes last.
   const first = validate.errors[0];
-  if (first.instancePath === "" && TYPE_KEYWORDS.has(error.keyword)) {
-    return `expected ${describeSchema(schema, schemas)}, got ${show(value)}`;
+  const last = validate.errors[validate.errors.length - 1];
+  const error = last.instancePath === first.instancePath ? last : first;
+  const where = error.instancePath ? `at ${error.instancePath}: ` : "";
+  const got = show(valueAt(value, error.instancePath));
+  if (TYPE_KEYWORDS.has(error.keyword)) {
+    return `${where}expected ${describeSchema(error.parentSchema, schemas)}, got ${got}`;
   }
-  const where = first.instancePath ? ` at ${first.instancePath}` : "";
-  return `${first.message}${where} (got ${show(value)})`;
+  if (error.keyword === "required") return `${where}${error.message}`;
+  return `${where}${error.message} (got ${got})`;
 }
 
 /**

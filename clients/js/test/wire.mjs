@@ -1,8 +1,10 @@
 // The runtime's XML-RPC codec against another implementation (tests/clients/test_js_wire.py):
 //   node wire.mjs encode   prints a <methodCall> of sample values, as the client would send it
 //   node wire.mjs decode   reads a jabber:iq:rpc <query> on stdin, prints its call's params as tagged JSON
+//   node wire.mjs events   reads [name, JSON text] pairs on stdin, prints what each decodes to
 import parse from "@xmpp/xml/lib/parse.js";
 
+import { decodeEvent } from "../src/decode.js";
 import { decodeValue, methodCall } from "../src/xmlrpc.js";
 
 function tagged(value) {
@@ -16,7 +18,19 @@ function tagged(value) {
   return value;
 }
 
-if (process.argv[2] === "encode") {
+async function stdinText() {
+  const chunks = [];
+  for await (const chunk of process.stdin) chunks.push(chunk);
+  return Buffer.concat(chunks).toString("utf-8");
+}
+
+if (process.argv[2] === "events") {
+  const decoded = JSON.parse(await stdinText()).map(([name, text]) => {
+    const { event, problem } = decodeEvent(name, text);
+    return event ? { class: event.constructor.name, fields: tagged({ ...event }).struct } : { problem };
+  });
+  process.stdout.write(JSON.stringify(decoded));
+} else if (process.argv[2] === "encode") {
   const values = [
     null,
     true,
@@ -36,9 +50,7 @@ if (process.argv[2] === "encode") {
   params[5] = { schema: { type: "number" } }; // a whole number where the schema says `number`
   process.stdout.write(methodCall("sample", values, params).toString());
 } else {
-  const chunks = [];
-  for await (const chunk of process.stdin) chunks.push(chunk);
-  const call = parse(Buffer.concat(chunks).toString("utf-8")).getChild("methodCall");
+  const call = parse(await stdinText()).getChild("methodCall");
   const values = call.getChild("params").getChildren("param").map((p) => decodeValue(p.getChild("value")));
   process.stdout.write(JSON.stringify({ method: call.getChildText("methodName"), params: values.map(tagged) }));
 }
