@@ -132,4 +132,9 @@ def test_generated_client_observes_with_the_simulated_observatory(observatory: d
     }
     assert bad["wrong_interface"]["class"] == "InterfaceError"
     assert bad["wrong_interface"]["message"].startswith("module 'camera' does not offer ITelescope (offers: ")
+    assert report["wrong_password"] == {
+        "class": "XmppAuthError",
+        "message": f"the server refused the login of jsclient@{DOMAIN}",
+        "nightcrew": True,
+    }
     assert report["warnings"] == []

@@ -64,6 +64,8 @@ export class NightcrewClient {
     this._idPrefix = `js-${Math.random().toString(16).slice(2, 10)}`;
     this._counter = 0;
     this._xmpp = null;
+    /** @type {RemoteError|null} why the room refused us, if it did */
+    this._joinError = null;
   }
 
   /** Names of the modules in the room now (this client excluded), sorted. */
@@ -108,7 +110,8 @@ export class NightcrewClient {
       }
       throw error;
     }
-    const joined = this._until(() => this._occupants.get(this.name)?.self, timeoutSeconds, "join the room");
+    const inRoom = () => this._joinError || this._occupants.get(this.name)?.self;
+    const joined = this._until(inRoom, timeoutSeconds, `join ${this._room}`);
     await xmpp.send(
       xml(
         "presence",
@@ -119,6 +122,7 @@ export class NightcrewClient {
       ),
     );
     await joined;
+    if (this._joinError) throw this._joinError;
   }
 
   /** Leave the room and log out; safe to call twice. */
@@ -317,7 +321,9 @@ export class NightcrewClient {
     if (room !== this._room || !nick) return;
     const user = presence.getChild("x", NS_MUC_USER);
     if (presence.attrs.type === "error") {
-      this._warn(`cannot join ${this._room} as ${nick}: ${presence.getChild("error")?.toString()}`);
+      const condition = presence.getChild("error")?.children.find((c) => typeof c !== "string")?.name;
+      // `conflict`: a module of this name is already in the room (protocol.md, section 2).
+      this._joinError = new RemoteError(`cannot join ${this._room} as ${nick}: ${condition ?? "error"}`);
     } else if (presence.attrs.type === "unavailable") {
       const jid = this._occupants.get(nick)?.jid;
       this._occupants.delete(nick);

@@ -47,6 +47,10 @@ function nextEvent(EventClass, seconds) {
   });
 }
 
+const intruder = new NightcrewClient({ ...options, password: "not the password" });
+report.wrong_password = await failure(intruder.connect(options.timeout));
+await intruder.close();
+
 try {
   await client.connect(options.timeout);
   await client.waitUntilReady(options.modules, options.timeout);
