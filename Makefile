@@ -6,9 +6,14 @@ STAMP := $(VENV)/.installed
 # browser, SSH and SMB servers; iproute2 for the private network namespaces of servers that listen on
 # every interface and of the multi-host tests).
 SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2 indi-bin chromium \
-	openssh-server samba
+	openssh-server samba nodejs
+# Node for the generated JavaScript client's test; Debian ships npm apart from nodejs (NodeSource's
+# nodejs includes it and conflicts with Debian's npm), so npm is asked for only when missing.
+SYSTEM_PACKAGES += $(if $(shell command -v npm),,npm)
+# The JavaScript client's npm packages, exactly as clients/js/package-lock.json pins them.
+JS_STAMP := clients/js/node_modules/.installed
 
-.PHONY: setup system-deps lint test sim example bench clean
+.PHONY: setup system-deps js-deps catalogue lint test sim example bench clean
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -22,13 +27,24 @@ setup: $(STAMP)
 system-deps:
 	bash scripts/install-system-deps.sh $(SYSTEM_PACKAGES)
 
+$(JS_STAMP): clients/js/package-lock.json clients/js/package.json
+	cd clients/js && npm ci --no-audit --no-fund
+	touch $(JS_STAMP)
+
+js-deps: system-deps $(JS_STAMP)
+
+# The catalogue and the JavaScript client generated from it (CI checks both are current).
+catalogue: setup
+	$(VENV)/bin/nightcrew catalogue --output docs/catalogue.json
+	$(VENV)/bin/nightcrew catalogue --js clients/js/generated
+
 lint: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/mypy
 	$(VENV)/bin/lint-imports
 
-test: setup system-deps lint
+test: setup system-deps js-deps lint
 	$(PY) -m pytest -q
 
 # The simulated observatory through a whole robotic night on virtual time (a minute or two); frames and
@@ -49,4 +65,4 @@ bench: setup
 	$(PY) bench/console.py
 
 clean:
-	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache clients/js/node_modules

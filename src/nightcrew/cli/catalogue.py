@@ -1,9 +1,10 @@
-"""``nightcrew catalogue [--output FILE] [--check FILE]``: the machine-readable catalogue, from the code.
+"""``nightcrew catalogue [--output FILE] [--check FILE] [--js DIR]``: the machine-readable catalogue.
 
 Every interface as an OpenRPC document (methods, parameters as JSON Schema with units, bounds,
 defaults and enum values, results, announced timeouts, docstrings), every event's JSON fields as
 JSON Schema, and every error class. Printed as JSON; ``--output`` writes it to a file (the repo
-keeps docs/catalogue.json), ``--check`` exits 1 when a file differs from what the code gives.
+keeps docs/catalogue.json), ``--check`` exits 1 when a file differs from what the code gives, and
+``--js`` writes the generated part of the JavaScript client (the repo keeps clients/js/generated).
 """
 
 from __future__ import annotations
@@ -18,12 +19,13 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import nightcrew
+from nightcrew.cli.catalogue_js import js_client_files
 from nightcrew.comm.catalogue import build_catalogue
 from nightcrew.errors import NightcrewError
 from nightcrew.events.base import Event
 from nightcrew.interfaces.base import Interface, is_interface
 
-__all__ = ["add_parser", "catalogue_text", "nightcrew_classes"]
+__all__ = ["add_parser", "catalogue_text", "nightcrew_classes", "write_js_client"]
 
 log = logging.getLogger(__name__)
 
@@ -40,6 +42,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     group.add_argument("--output", type=Path, metavar="FILE", help="write the catalogue to FILE")
     group.add_argument(
         "--check", type=Path, metavar="FILE", help="exit 1 if FILE is not the current catalogue"
+    )
+    group.add_argument(
+        "--js", type=Path, metavar="DIR", help="write the generated JavaScript client files to DIR"
     )
     parser.set_defaults(func=_command)
     return parser
@@ -73,8 +78,27 @@ def catalogue_text() -> str:
     return json.dumps(catalogue, indent=2, sort_keys=True, ensure_ascii=False) + "\n"
 
 
+def write_js_client(directory: Path, text: str) -> None:
+    """Write the JavaScript client generated from catalogue ``text`` into ``directory``.
+
+    Generated files no longer made (an interface that was removed) are deleted, so ``directory``
+    holds exactly what the catalogue gives.
+    """
+    files = js_client_files(json.loads(text))
+    for stale in directory.rglob("*.js") if directory.is_dir() else []:
+        if stale.relative_to(directory).as_posix() not in files:
+            stale.unlink()
+    for relative, content in files.items():
+        path = directory / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(content, encoding="utf-8")
+
+
 def _command(args: argparse.Namespace) -> int:
     text = catalogue_text()
+    if args.js is not None:
+        write_js_client(args.js, text)
+        return 0
     if args.output is not None:
         args.output.write_text(text, encoding="utf-8")
         return 0

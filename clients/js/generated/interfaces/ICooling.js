@@ -1,0 +1,101 @@
+// Generated from the nightcrew catalogue by `nightcrew catalogue --js clients/js/generated`.
+// Do not edit: change the Python interface, event or error and generate again.
+import { RemoteInterface } from "../../src/remote.js";
+
+/**
+ * State of a detector's cooling.
+ * @typedef {{enabled: boolean, power: number, setpoint: number}} CoolingStatus
+ */
+/**
+ * Detector cooling.
+ */
+export class ICooling extends RemoteInterface {
+  /**
+   * Cooling state, setpoint and power.
+   *
+   * Timeout: 10 clock seconds (the default, not announced).
+   * @returns {Promise<CoolingStatus>}
+   */
+  get_cooling() {
+    return this._invoke("get_cooling", arguments);
+  }
+  /**
+   * Switch cooling on or off and set its target temperature in °C.
+   *
+   * Timeout: 10 clock seconds (the default, not announced).
+   * @param {boolean} enabled
+   * @param {number} setpoint
+   * @returns {Promise<null>}
+   */
+  set_cooling(enabled, setpoint) {
+    return this._invoke("set_cooling", arguments);
+  }
+}
+ICooling.spec = {
+  "methods": {
+    "get_cooling": {
+      "params": [],
+      "result": {
+        "$ref": "#/components/schemas/CoolingStatus"
+      },
+      "timeout": {
+        "announced": false,
+        "seconds": 10.0
+      }
+    },
+    "set_cooling": {
+      "params": [
+        {
+          "name": "enabled",
+          "required": true,
+          "schema": {
+            "type": "boolean"
+          }
+        },
+        {
+          "name": "setpoint",
+          "required": true,
+          "schema": {
+            "type": "number"
+          }
+        }
+      ],
+      "result": {
+        "type": "null"
+      },
+      "timeout": {
+        "announced": false,
+        "seconds": 10.0
+      }
+    }
+  },
+  "name": "ICooling",
+  "schemas": {
+    "CoolingStatus": {
+      "description": "State of a detector's cooling.",
+      "properties": {
+        "enabled": {
+          "title": "Enabled",
+          "type": "boolean"
+        },
+        "power": {
+          "title": "Power",
+          "type": "number"
+        },
+        "setpoint": {
+          "title": "Setpoint",
+          "type": "number"
+        }
+      },
+      "required": [
+        "enabled",
+        "setpoint",
+        "power"
+      ],
+      "title": "CoolingStatus",
+      "type": "object"
+    }
+  },
+  "version": 1
+};
+ICooling.bases = [];
