@@ -21,7 +21,7 @@ from nightcrew.timeout import DEFAULT_TIMEOUT
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
-from tests.modules.test_sim_xmpp import CLOCK_SPEED, CLOCK_START, Processes
+from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes
 
 from .node import CLIENT, node_ready
 

@@ -10,9 +10,6 @@ from __future__ import annotations
 
 import asyncio
 import os
-import signal
-import subprocess
-import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -41,15 +38,11 @@ from nightcrew.modules.sim.interfaces import ISimFocuserTruth
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes
 
 pytestmark = pytest.mark.xmpp
-REPOSITORY = Path(__file__).resolve().parents[2]
-OVERLAYS = REPOSITORY / "examples" / "sim-processes"
 MODULES = ["weather", "roof", "telescope", "focuser", "filters", "camera"]
 M39 = (322.95, 48.43)
-#: Dusk of the default night of ``nightcrew sim``; every process starts its clock here.
-CLOCK_START = "2026-11-10T17:50:00"
-CLOCK_SPEED = 20.0
 #: Wall seconds for all processes to come up (the camera loads its star catalog).
 START_TIMEOUT = 60.0
 
@@ -58,52 +51,6 @@ START_TIMEOUT = 60.0
 def network(request: pytest.FixtureRequest) -> Network:
     prosody: Network = request.getfixturevalue("prosody_network")
     return prosody
-
-
-class Processes:
-    """The module processes, their logs (stderr in files: a pipe nobody reads could fill up)."""
-
-    def __init__(self, logs: Path) -> None:
-        self.logs = logs
-        self.running: dict[str, subprocess.Popen[bytes]] = {}
-
-    def start(self, name: str, env: dict[str, str]) -> None:
-        with open(self.logs / f"{name}.log", "wb") as log:
-            self.running[name] = subprocess.Popen(
-                [sys.executable, "-m", "nightcrew", "run", str(OVERLAYS / f"{name}.yaml")],
-                env=env,
-                stdout=subprocess.DEVNULL,
-                stderr=log,
-            )
-
-    def log(self, name: str) -> str:
-        return (self.logs / f"{name}.log").read_text(errors="replace")
-
-    def check_alive(self) -> None:
-        for name, process in self.running.items():
-            assert process.poll() is None, f"{name} exited {process.returncode}:\n{self.log(name)}"
-
-    def stop(self) -> list[str]:
-        """SIGTERM to all, then each must exit 0; returns what went wrong, with the process's log."""
-        for process in self.running.values():
-            if process.poll() is None:
-                process.send_signal(signal.SIGTERM)
-        problems = []
-        for name, process in self.running.items():
-            try:
-                process.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                problems.append(f"{name} did not stop within 15 s of SIGTERM")
-            else:
-                if process.returncode != 0:
-                    problems.append(f"{name} exited {process.returncode}:\n{self.log(name)}")
-        return problems
-
-    def kill(self) -> None:
-        for process in self.running.values():
-            if process.poll() is None:
-                process.kill()
-                process.wait()
 
 
 @pytest.fixture
