@@ -67,8 +67,9 @@ async def test_postgres_stopping_mid_upload_gives_503_and_no_file(
             await blocker.execute("BEGIN; LOCK TABLE frame_headers IN EXCLUSIVE MODE")
             upload = asyncio.create_task(client.upload(fits_frame(), "a.fits"))
             async with asyncio.timeout(PATIENCE):
-                while not await watcher.fetchval(  # outside a transaction: a fresh view each time
-                    "SELECT count(*) FROM pg_stat_activity WHERE wait_event_type = 'Lock' AND query LIKE 'INSERT%'"
+                while not await watcher.fetchval(  # noqa: ASYNC110 - polling another process's state
+                    "SELECT count(*) FROM pg_stat_activity "  # outside a transaction: a fresh view each time
+                    "WHERE wait_event_type = 'Lock' AND query LIKE 'INSERT%'"
                 ):
                     await asyncio.sleep(0.02)
             assert (archive.storage / "20261124/sbig6303/a.fits").exists()  # the file waits for its row
@@ -78,7 +79,7 @@ async def test_postgres_stopping_mid_upload_gives_503_and_no_file(
             assert stored_files(archive) == []
             await asyncio.to_thread(own_cluster.start)
             async with asyncio.timeout(PATIENCE):  # the pool replaces its dead connections
-                while (await client.upload(fits_frame(), "a.fits"))[0] == 503:
+                while (await client.upload(fits_frame(), "a.fits"))[0] == 503:  # noqa: ASYNC110 - retrying
                     await asyncio.sleep(0.05)
             status, body = await client.get("/frames/")
             assert status == 200 and [f["basename"] for f in body["results"]] == ["a.fits"]

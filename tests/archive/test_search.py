@@ -3,6 +3,8 @@ LCO-style paging; parameters out of range get a 400 naming them."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 from nightcrew.testing.archive import fits_frame
@@ -23,7 +25,14 @@ FRAMES = [
 @pytest.fixture
 async def filled(client: Client) -> Client:
     for seed, (name, date, obj, filt, kind, exptime, ra, dec, proposal, task) in enumerate(FRAMES):
-        cards = {"OBJECT": obj, "FILTER": filt, "RA": ra, "DEC": dec, "PROPOSAL": proposal, "TASK_NAM": task}
+        cards: dict[str, Any] = {
+            "OBJECT": obj,
+            "FILTER": filt,
+            "RA": ra,
+            "DEC": dec,
+            "PROPOSAL": proposal,
+            "TASK_NAM": task,
+        }
         data = fits_frame(
             date_obs=date,
             imagetyp=kind,
