@@ -60,8 +60,7 @@ async def _serve(server: Any) -> None:
     for sig in (signal.SIGINT, signal.SIGTERM):
         loop.add_signal_handler(sig, stop.set)
     try:
-        url = await server.start()
-        print(f"nightcrew archive at {url}", file=sys.stderr, flush=True)
+        await server.start()  # logs where it listens
         await stop.wait()
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
