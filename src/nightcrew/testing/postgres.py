@@ -21,6 +21,7 @@ import shutil
 import signal
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 from nightcrew.testing.processes import free_port, wait_until_listening
@@ -30,6 +31,7 @@ __all__ = ["PostgresCluster", "postgres_missing"]
 _BIN_DIRS = "/usr/lib/postgresql"
 _SERVICE_USER = "postgres"
 _STOP_TIMEOUT = 30.0
+_READY_TIMEOUT = 60.0
 SUPERUSER = "nightcrew"
 
 
@@ -111,6 +113,17 @@ class PostgresCluster:
                 self._as_owner(command), stdin=subprocess.DEVNULL, stdout=output, stderr=output
             )
         wait_until_listening(self._process, self.port, what="postgres", log=log)
+        self._wait_until_ready(bin_dir / "pg_isready", log)
+
+    def _wait_until_ready(self, pg_isready: Path, log: Path) -> None:
+        """It listens before it accepts logins (``the database system is starting up``)."""
+        deadline = time.monotonic() + _READY_TIMEOUT
+        command = [str(pg_isready), "-q", "-h", self.host, "-p", str(self.port), "-U", SUPERUSER]
+        while subprocess.run(command, check=False, timeout=_READY_TIMEOUT).returncode != 0:
+            if time.monotonic() > deadline or self.pid is None:
+                tail = log.read_text(errors="replace").strip().splitlines()[-5:]
+                raise RuntimeError(f"postgres did not get ready on port {self.port}: " + " | ".join(tail))
+            time.sleep(0.05)
 
     def stop(self) -> None:
         """Stop the server by its PID (fast shutdown: clients are disconnected at once)."""
