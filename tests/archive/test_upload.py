@@ -97,3 +97,14 @@ async def test_an_upload_over_the_size_cap_is_a_413(tmp_path, database) -> None:
         finally:
             await client.close()
         assert stored_files(archive) == ["20261124/sbig6303/small.fits"]
+
+
+async def test_a_start_removes_what_uploads_cut_off_by_a_crash_left(tmp_path, database) -> None:
+    from nightcrew.testing.archive import running_archive
+
+    left = tmp_path / "frames/20261124/sbig6303/.upload-0123456789abcdef"
+    left.parent.mkdir(parents=True)
+    left.write_bytes(fits_frame()[:2880])
+    async with running_archive(tmp_path, database=database) as archive:
+        assert not left.exists()
+        assert stored_files(archive) == []

@@ -183,7 +183,9 @@ class PostgresDatabase(Database):
 
     async def open(self) -> None:
         try:
-            self._pool = await asyncpg.create_pool(self._dsn, min_size=1, max_size=4, timeout=10)
+            self._pool = await asyncpg.create_pool(
+                self._dsn, min_size=1, max_size=4, timeout=10, command_timeout=30
+            )
         except (OSError, asyncpg.PostgresError, asyncpg.InterfaceError) as exc:
             raise DatabaseUnavailable(f"PostgreSQL: {exc}") from exc
         await self.migrate()

@@ -74,6 +74,8 @@ class ArchiveServer:
     async def start(self) -> str:
         """Connect, migrate, listen; return the base URL (``http://127.0.0.1:PORT``)."""
         self.config.storage.mkdir(parents=True, exist_ok=True)
+        for left in await asyncio.to_thread(self.store.blocking_remove_temporaries):
+            log.warning("removed %s, left by an upload cut off by a crash", left)
         await self.database.open()
         app = web.Application(middlewares=[_replies], client_max_size=self.config.max_upload_bytes + _CHUNK)
         self._routes(app)

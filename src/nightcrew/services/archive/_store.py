@@ -53,6 +53,14 @@ class FrameStore:
                 temporary.unlink()
         _sync_directory(target.parent)
 
+    def blocking_remove_temporaries(self) -> list[Path]:
+        """Remove the temporary files of uploads cut off by a crash; return them."""
+        left = sorted(self.root.glob(f"*/*/{TEMP_PREFIX}*"))
+        for path in left:
+            with contextlib.suppress(FileNotFoundError):
+                path.unlink()
+        return left
+
     def blocking_discard(self, relative: str) -> None:
         """Remove a file whose index row could not be committed."""
         target = self.absolute(relative)
