@@ -4,8 +4,9 @@ gets one clear error and leaves nothing behind."""
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 
-from nightcrew.testing.archive import RunningArchive, fits_frame
+from nightcrew.testing.archive import RunningArchive, fits_frame, running_archive
 
 from .conftest import Client
 
@@ -85,9 +86,7 @@ async def test_bad_files_are_refused_with_one_clear_error_each(
     assert (await client.get("/frames/"))[1]["count"] == 0
 
 
-async def test_an_upload_over_the_size_cap_is_a_413(tmp_path, database) -> None:
-    from nightcrew.testing.archive import running_archive
-
+async def test_an_upload_over_the_size_cap_is_a_413(tmp_path: Path, database: str | None) -> None:
     async with running_archive(tmp_path, database=database, max_upload_bytes=8 * 2880) as archive:
         client = Client(archive)
         try:
@@ -99,9 +98,9 @@ async def test_an_upload_over_the_size_cap_is_a_413(tmp_path, database) -> None:
         assert stored_files(archive) == ["20261124/sbig6303/small.fits"]
 
 
-async def test_a_start_removes_what_uploads_cut_off_by_a_crash_left(tmp_path, database) -> None:
-    from nightcrew.testing.archive import running_archive
-
+async def test_a_start_removes_what_uploads_cut_off_by_a_crash_left(
+    tmp_path: Path, database: str | None
+) -> None:
     left = tmp_path / "frames/20261124/sbig6303/.upload-0123456789abcdef"
     left.parent.mkdir(parents=True)
     left.write_bytes(fits_frame()[:2880])

@@ -13,10 +13,13 @@ import asyncio
 import signal
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
+
+if TYPE_CHECKING:
+    from nightcrew.services.archive import ArchiveServer
 
 __all__ = ["add_parser"]
 
@@ -34,6 +37,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def _command(args: argparse.Namespace) -> int:
+    # Imported here: `nightcrew <other command>` should not pay for astropy and asyncpg.
     from nightcrew.services.archive import ArchiveServer, load_archive_config, write_new_token
 
     if args.new_token:
@@ -54,7 +58,7 @@ def _command(args: argparse.Namespace) -> int:
     return 0
 
 
-async def _serve(server: Any) -> None:
+async def _serve(server: ArchiveServer) -> None:
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
