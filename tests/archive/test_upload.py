@@ -107,3 +107,17 @@ async def test_a_start_removes_what_uploads_cut_off_by_a_crash_left(
     async with running_archive(tmp_path, database=database) as archive:
         assert not left.exists()
         assert stored_files(archive) == []
+
+
+async def test_a_night_keeps_one_day_obs_across_midnight(client: Client) -> None:
+    """Without DAY-OBS: the date of the local noon before DATE-OBS (SITELONG, east positive)."""
+    cases = [
+        ({"date_obs": "2026-11-25T04:00:00", "SITELONG": 9.9}, "20261124"),  # after midnight in Europe
+        ({"date_obs": "2026-11-25T03:00:00", "SITELONG": -70.7}, "20261124"),  # evening in Chile
+        ({"date_obs": "2026-11-25T13:00:00", "SITELONG": -155.5}, "20261124"),  # Hawaii, 3 am
+        ({"date_obs": "2026-11-25T11:00:00"}, "20261124"),  # no longitude: Greenwich
+        ({"date_obs": "2026-11-25T04:00:00", "DAY_OBS": "2026-11-20"}, "20261120"),  # as given
+    ]
+    for seed, (cards, day) in enumerate(cases):
+        status, body = await client.upload(fits_frame(seed=seed, **cards), f"f{seed}.fits")  # type: ignore[arg-type]
+        assert (status, body["DAY_OBS"]) == (201, day), cards

@@ -14,7 +14,7 @@ import math
 import re
 import warnings
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
+from datetime import UTC, datetime, timedelta
 from typing import Any
 
 from astropy.io import fits  # type: ignore[import-untyped]
@@ -131,7 +131,7 @@ def _facts(header: fits.Header) -> FrameFacts:
     exptime = header["EXPTIME"]
     if isinstance(exptime, bool) or not isinstance(exptime, int | float) or not 0 <= exptime < math.inf:
         raise Rejected(422, f"EXPTIME must be a number of seconds >= 0, got {exptime!r}")
-    day_obs = _day_obs(header.get("DAY-OBS"), date_obs)
+    day_obs = _day_obs(header.get("DAY-OBS"), date_obs, header.get("SITELONG"))
     links = [
         FrameLink(role, basename=str(header[key]).strip())
         for key, role in LINK_KEYWORDS.items()
@@ -174,9 +174,19 @@ def _date_obs(value: Any) -> datetime:
     return parsed.replace(tzinfo=UTC) if parsed.tzinfo is None else parsed.astimezone(UTC)
 
 
-def _day_obs(value: Any, date_obs: datetime) -> str:
+def _day_obs(value: Any, date_obs: datetime, longitude: Any) -> str:
+    """The night's date: DAY-OBS, else the date of the local noon before DATE-OBS.
+
+    Local mean solar time from SITELONG (east positive; 0 when missing): a night keeps one date
+    even where it crosses midnight UTC.
+    """
     if value in (None, ""):
-        return date_obs.strftime("%Y%m%d")
+        east = (
+            float(longitude)
+            if isinstance(longitude, int | float) and not isinstance(longitude, bool)
+            else 0.0
+        )
+        return (date_obs + timedelta(hours=east / 15.0 - 12.0)).strftime("%Y%m%d")
     digits = str(value).replace("-", "").strip()
     if not re.fullmatch(r"\d{8}", digits):
         raise Rejected(422, f"DAY-OBS must be YYYYMMDD or YYYY-MM-DD, got {value!r}")
