@@ -3,10 +3,10 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 # Debian packages of the real components the tests use (XMPP servers, plate solver, INDI simulators,
-# browser, SSH and SMB servers, PostgreSQL for the archive; iproute2 for the private network namespaces of servers that listen on
+# browser, SSH and SMB servers; iproute2 for the private network namespaces of servers that listen on
 # every interface and of the multi-host tests).
 SYSTEM_PACKAGES := prosody ejabberd astrometry.net astrometry-data-tycho2 iproute2 indi-bin chromium \
-	openssh-server samba postgresql
+	openssh-server samba
 
 .PHONY: setup system-deps lint test sim example bench clean
 
@@ -17,6 +17,9 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 setup: $(STAMP)
+
+# PostgreSQL for the image archive's tests and bench (a private cluster: nightcrew.testing.postgres).
+SYSTEM_PACKAGES += postgresql
 
 # Real components the tests use (XMPP servers, plate solver); installs only what is missing.
 system-deps:
