@@ -40,9 +40,9 @@ async def test_filter_preview_header_related_and_download(
     await expect(page.locator("#count")).to_have_text("2 frames")
     await expect(page.locator("#rows tr")).to_have_count(2)
     assert "OBJECT=M+13" in page.url  # a link that repeats the search
-    previews = page.locator("#rows img")
-    await expect(previews.first).to_have_js_property("complete", True)
-    assert await previews.evaluate_all("images => images.every(i => i.complete && i.naturalWidth > 0)")
+    await page.wait_for_function(  # every thumbnail loaded and decoded as an image
+        "[...document.querySelectorAll('#rows img')].every(i => i.complete && i.naturalWidth > 0)"
+    )
 
     await page.get_by_role("button", name="m13-red.fits").click()
     details = page.locator("#details")
