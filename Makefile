@@ -23,6 +23,9 @@ $(STAMP): pyproject.toml
 
 setup: $(STAMP)
 
+# PostgreSQL for the image archive's tests and bench (a private cluster: nightcrew.testing.postgres).
+SYSTEM_PACKAGES += postgresql
+
 # Real components the tests use (XMPP servers, plate solver); installs only what is missing.
 system-deps:
 	bash scripts/install-system-deps.sh $(SYSTEM_PACKAGES)
@@ -57,12 +60,14 @@ example: setup
 
 # Every benchmark that needs no options; bench/rpc.py starts its own Prosody (system-deps) and
 # compares with pyobs-core only when given --pyobs-venv PATH; bench/console.py drives Debian's chromium
-# (system-deps) for 0.5 min of events by default (--minutes 5 for the issue's run).
+# (system-deps) for 0.5 min of events by default (--minutes 5 for the issue's run); bench/archive.py
+# starts its own PostgreSQL (system-deps) and takes a few minutes (100,000 header rows per database).
 bench: setup
 	$(PY) bench/local_rpc.py
 	$(PY) bench/render.py
 	$(PY) bench/rpc.py
 	$(PY) bench/console.py
+	$(PY) bench/archive.py
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache clients/js/node_modules

@@ -33,12 +33,12 @@ import aiohttp
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the browser helpers of the tests
 
 from playwright.async_api import Page, expect
-from tests.console.browser.browser import launch_chromium
 from tests.console.browser.observatory import OPERATOR, Observatory, login
 
 from nightcrew.events import NewImageEvent, TestEvent
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules import Module
+from nightcrew.testing.browser import launch_chromium
 
 EVENT_MODULES = 30
 EVENT_RATE = 200.0  # per second, all modules together

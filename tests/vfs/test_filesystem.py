@@ -24,6 +24,7 @@ from nightcrew.vfs import (
 
 def test_public_surface_is_curated() -> None:
     assert sorted(nightcrew.vfs.__all__) == [
+        "ArchiveFile",
         "FileRoot",
         "HttpFile",
         "LocalFile",

@@ -33,6 +33,7 @@ SUBCOMMANDS = [
     "server",
     "sim",
     "reduce",
+    "archive",
     "tasks",
     "flats",
     "report",

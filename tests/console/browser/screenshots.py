@@ -15,7 +15,8 @@ from pathlib import Path
 
 from playwright.async_api import Page, expect
 
-from .browser import launch_chromium
+from nightcrew.testing.browser import launch_chromium
+
 from .observatory import login
 from .test_sim_console import PASSWORD, sim_night
 

@@ -1,8 +1,14 @@
-"""Debian's Chromium driven by Playwright, as the console's browser tests and benchmark use it.
+"""Debian's Chromium driven by Playwright, as the browser tests (console, archive) and benchmarks use it.
 
 Playwright's own browser download cannot be reached here, so it drives /usr/bin/chromium
 (``make system-deps`` installs it). The flags keep Chromium off the network: without them it
 tries Google's hosts at every start and the closed network refuses those connections.
+
+The fixtures :func:`browser` (a headless Chromium per test; skipped without Chromium except under
+CI=true) and :func:`page` (a fresh context; the test fails on an uncaught script error) are
+shared by importing them into a ``conftest.py``::
+
+    from nightcrew.testing.browser import browser, page  # noqa: F401 - fixtures
 """
 
 from __future__ import annotations
@@ -12,9 +18,10 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
 
-from playwright.async_api import Browser, async_playwright
+import pytest
+from playwright.async_api import Browser, Page, async_playwright
 
-__all__ = ["CHROMIUM", "CHROMIUM_FLAGS", "chromium_missing", "launch_chromium"]
+__all__ = ["CHROMIUM", "CHROMIUM_FLAGS", "browser", "chromium_missing", "launch_chromium", "page"]
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_FLAGS = [
@@ -49,3 +56,26 @@ async def launch_chromium() -> AsyncIterator[Browser]:
             yield browser
         finally:
             await browser.close()
+
+
+@pytest.fixture
+async def browser() -> AsyncIterator[Browser]:
+    """A headless Chromium of its own per test; skips without Chromium except when CI=true."""
+    reason = chromium_missing()
+    if reason is not None:
+        pytest.skip(reason)
+    async with launch_chromium() as launched:
+        yield launched
+
+
+@pytest.fixture
+async def page(browser: Browser) -> AsyncIterator[Page]:
+    """A page in a fresh context; the test fails if the page's scripts threw an uncaught error."""
+    context = await browser.new_context(viewport={"width": 1280, "height": 800})
+    context.set_default_timeout(20_000)
+    opened = await context.new_page()
+    errors: list[str] = []
+    opened.on("pageerror", lambda error: errors.append(str(error)))
+    yield opened
+    await context.close()
+    assert not errors, f"uncaught script errors in the page: {errors}"

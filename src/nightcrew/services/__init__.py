@@ -1,0 +1,1 @@
+"""Stand-alone servers: the image archive (:mod:`nightcrew.services.archive`)."""
