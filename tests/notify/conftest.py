@@ -8,7 +8,7 @@ observatory whose clock follows the wall clock (sped up): the chat modules talk 
 from __future__ import annotations
 
 import functools
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -19,7 +19,12 @@ from nightcrew.modules import Module
 from nightcrew.modules.console import hash_password
 from nightcrew.testing import Observatory
 
+# The session's Prosody, as tests/comm starts it (imported to be found here).
+from tests.comm.conftest import prosody_server  # noqa: F401
+from tests.comm.xmpp_servers import XmppServer
+
 from .telegram_standin import BotApiStandIn
+from .xmpp_person import Person
 
 M = TypeVar("M", bound=Module)
 
@@ -94,3 +99,27 @@ async def bot_api() -> AsyncIterator[BotApiStandIn]:
         yield standin
     finally:
         await standin.close()
+
+
+@pytest.fixture
+def prosody(request: pytest.FixtureRequest) -> XmppServer:
+    """The session's Prosody (tests/comm/conftest.py starts it)."""
+    server: XmppServer = request.getfixturevalue("prosody_server")
+    return server
+
+
+@pytest.fixture
+async def people(prosody: XmppServer) -> AsyncIterator[Callable[[str], Person]]:
+    """Makes people with accounts on Prosody (connect them yourself); all disconnected after."""
+    made: list[Person] = []
+
+    def make(name: str) -> Person:
+        person = Person(prosody, name)
+        made.append(person)
+        return person
+
+    try:
+        yield make
+    finally:
+        for person in made:
+            await person.close()

@@ -18,13 +18,11 @@ from nightcrew.modules.sim import SimRoof, SimWeatherStation
 from nightcrew.modules.weather import ModuleStation, Weather
 from nightcrew.testing import EventRecorder
 from nightcrew.weather import Boolean
-
-from tests.comm.conftest import prosody_server  # noqa: F401
 from tests.comm.xmpp_servers import XmppServer
 
 from .conftest import OBSERVER, OBSERVER_ID, OPERATOR, OPERATOR_ID, SECRETS, TOKEN, SecuredObservatory, users
 from .telegram_standin import BotApiStandIn
-from .test_xmppchat import CHAT, chat_options, people  # noqa: F401
+from .test_xmppchat import CHAT, chat_options
 from .xmpp_person import Person
 
 pytestmark = pytest.mark.xmpp
@@ -57,7 +55,7 @@ async def tell(api: BotApiStandIn, person: int, text: str, expect: str) -> str:
 
 async def test_bad_weather_reaches_both_chats_and_operators_close_the_roof(
     bot_api: BotApiStandIn,
-    prosody_server: XmppServer,
+    prosody: XmppServer,
     people: Callable[[str], Person],
     observatory: SecuredObservatory,
 ) -> None:
@@ -71,7 +69,7 @@ async def test_bad_weather_reaches_both_chats_and_operators_close_the_roof(
         poll_timeout=5,
         users=users({OPERATOR: OPERATOR_ID, OBSERVER: OBSERVER_ID}),
     )
-    await obs.start(XmppChat, "xmppchat", **chat_options(prosody_server))
+    await obs.start(XmppChat, "xmppchat", **chat_options(prosody))
     olga, oscar = people(OPERATOR), people(OBSERVER)
     await olga.connect()
     await oscar.connect()
@@ -132,5 +130,6 @@ async def test_bad_weather_reaches_both_chats_and_operators_close_the_roof(
     print("bad weather event → message, wall seconds:", {k: round(v, 3) for k, v in latencies.items()})
     assert all(0 <= latency < LATENCY_LIMIT for latency in latencies.values()), latencies
     # The roof closes by itself on bad weather, and people hear of that too.
-    await bot_api.wait_for(OPERATOR_ID, lambda t: "Roof closed (roof)" in t, "roof closed", since=telegram_since)
-    await olga.wait_for(lambda t: "Roof closed (roof)" in t, "roof closed", since=olga_since)
+    closed = "Roof closed (roof)"
+    await bot_api.wait_for(OPERATOR_ID, lambda t: closed in t, "roof closed", since=telegram_since)
+    await olga.wait_for(lambda t: closed in t, "roof closed", since=olga_since)

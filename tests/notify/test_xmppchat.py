@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable
+from collections.abc import Callable
 
 import pytest
 
@@ -11,9 +11,6 @@ from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.notify import XmppChat
 from nightcrew.modules.sim import SimRoof
 from nightcrew.security import read_audit
-
-# The session's Prosody, as tests/comm has it (imported to be found here).
-from tests.comm.conftest import prosody_server  # noqa: F401
 from tests.comm.xmpp_servers import DOMAIN, XmppServer
 
 from .conftest import OBSERVER, OPERATOR, SECRETS, SecuredObservatory, users
@@ -36,28 +33,11 @@ def chat_options(server: XmppServer) -> dict[str, object]:
     }
 
 
-@pytest.fixture
-async def people(prosody_server: XmppServer) -> AsyncIterator[Callable[[str], Person]]:
-    """Makes people logged in to Prosody (connect them yourself); all disconnected after."""
-    made: list[Person] = []
-
-    def make(name: str) -> Person:
-        person = Person(prosody_server, name)
-        made.append(person)
-        return person
-
-    try:
-        yield make
-    finally:
-        for person in made:
-            await person.close()
-
-
 async def test_people_log_in_and_call_with_their_own_rights(
-    prosody_server: XmppServer, people: Callable[[str], Person], observatory: SecuredObservatory
+    prosody: XmppServer, people: Callable[[str], Person], observatory: SecuredObservatory
 ) -> None:
     roof = await observatory.start(SimRoof, "roof", open_time=1.0, close_time=1.0)
-    chat = await observatory.start(XmppChat, "xmppchat", **chat_options(prosody_server))
+    chat = await observatory.start(XmppChat, "xmppchat", **chat_options(prosody))
     assert chat.jid == CHAT
     olga, oscar, stranger = people(OPERATOR), people(OBSERVER), people("stranger")
     for person in (olga, oscar, stranger):

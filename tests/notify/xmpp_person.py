@@ -69,5 +69,5 @@ class Person:
     async def say(self, to: str, text: str, expect: str) -> str:
         """What ``to`` answers to ``text`` (the first new message containing ``expect``)."""
         before = len(self.heard)
-        self.client.send_message(mto=to, mbody=text, mtype="chat")
+        self.client.send_message(mto=slixmpp.JID(to), mbody=text, mtype="chat")
         return (await self.wait_for(lambda t: expect in t, f"reply to {text!r}", since=before))[1]
