@@ -64,8 +64,11 @@ class BotApiStandIn:
         if self._runner is not None:
             await self._runner.cleanup()
 
-    async def person_says(self, user_id: int, text: str) -> None:
-        """A private message from Telegram user ``user_id`` to the bot."""
+    async def person_says(self, user_id: int, text: str, *, group: int | None = None) -> None:
+        """A private message from Telegram user ``user_id`` to the bot (or one in ``group``)."""
+        chat = {"id": user_id, "type": "private", "first_name": f"user{user_id}"}
+        if group is not None:
+            chat = {"id": group, "type": "group", "title": "observers"}
         async with self._changed:
             self._updates.append(
                 {
@@ -73,7 +76,7 @@ class BotApiStandIn:
                     "message": {
                         "message_id": self._new_message_id(),
                         "date": int(time.time()),
-                        "chat": {"id": user_id, "type": "private", "first_name": f"user{user_id}"},
+                        "chat": chat,
                         "from": {"id": user_id, "is_bot": False, "first_name": f"user{user_id}"},
                         "text": text,
                     },

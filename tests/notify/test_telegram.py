@@ -11,7 +11,7 @@ import logging
 import pytest
 
 from nightcrew.errors import ConfigError
-from nightcrew.interfaces import MotionStatus
+from nightcrew.interfaces import ModuleState, MotionStatus
 from nightcrew.modules.notify import Telegram
 from nightcrew.modules.sim import SimRoof
 from nightcrew.security import read_audit
@@ -173,6 +173,30 @@ async def test_a_blocked_chat_does_not_stop_the_others(
     await roof.open_roof()
     await roof.close_roof()
     await bot_api.wait_for(OPERATOR_ID, lambda t: "Roof closed (roof)" in t, "roof closed")
+
+
+async def test_a_refused_token_puts_the_module_in_error_state(
+    bot_api: BotApiStandIn, observatory: SecuredObservatory, caplog: pytest.LogCaptureFixture
+) -> None:
+    bot = await observatory.start(
+        Telegram, "telegram", token="999:wrong-token", base_url=bot_api.base_url, users={}
+    )
+    await observatory.wait_for(lambda: bot.state is ModuleState.ERROR, 300.0, message="no error state")
+    assert "refused the bot's token" in await bot.get_error_string()
+    assert "wrong-token" not in caplog.text
+
+
+async def test_groups_are_not_answered_and_a_flood_of_lines_is_cut(
+    bot_api: BotApiStandIn, observatory: SecuredObservatory
+) -> None:
+    await start_bot(observatory, bot_api)
+    await bot_api.person_says(OPERATOR_ID, "/help", group=-77)
+    for _ in range(40):
+        await bot_api.person_says(STRANGER_ID, "/help")
+    await say(bot_api, OPERATOR_ID, "/help", "Commands")  # after all of the above
+    await bot_api.wait_for(STRANGER_ID, lambda _: len(bot_api.texts(STRANGER_ID)) >= 30, "30 replies")
+    assert len(bot_api.texts(STRANGER_ID)) == 30  # INCOMING_LIMIT: the other 10 lines got no reply
+    assert bot_api.texts(-77) == []
 
 
 def test_bad_options_are_refused_without_showing_secrets() -> None:

@@ -31,11 +31,11 @@ from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
 from nightcrew.modules.notify._commands import LOG_LEVELS, level_number
 from nightcrew.modules.notify._dispatch import CommandDispatcher, Session
-from nightcrew.modules.notify._outbox import Outbox, RateLimit, TokenBucket
+from nightcrew.modules.notify._outbox import IncomingLimit, Outbox, RateLimit, TokenBucket
 from nightcrew.modules.notify._text import describe_event
 from nightcrew.modules.notify._users import ChatUser
 
-__all__ = ["DEFAULT_EVENTS", "ChatModule"]
+__all__ = ["DEFAULT_EVENTS", "INCOMING_LIMIT", "ChatModule"]
 
 log = logging.getLogger(__name__)
 
@@ -51,6 +51,8 @@ DEFAULT_EVENTS = (
 #: otherwise report its failure to the other chat, and back.
 _OWN_LOGGERS = "nightcrew.modules.notify"
 _SEND_ATTEMPTS = 3
+#: Lines one sender may send (a person types far fewer; a script trying secrets, more).
+INCOMING_LIMIT = RateLimit(messages=30, per=60.0)
 
 
 class _Recipient:
@@ -102,6 +104,7 @@ class ChatModule(Module):
         self._limit = rate_limit or RateLimit()
         self._recipients: dict[str, _Recipient] = {}
         self._handling: set[asyncio.Task[None]] = set()
+        self._incoming = IncomingLimit(INCOMING_LIMIT)
         self.dispatcher = CommandDispatcher(
             self.channel,
             users,
@@ -135,7 +138,10 @@ class ChatModule(Module):
 
     def received(self, key: str, address: str, text: str) -> None:
         """A line from person ``key`` (reply to ``address``); answered in a task of its own, so
-        that a long call never holds up the transport."""
+        that a long call never holds up the transport. Lines beyond :data:`INCOMING_LIMIT` from
+        one sender are dropped unanswered: a flood of lines must not become a flood of replies."""
+        if not self._incoming.allows(key, time.monotonic()):
+            return
         task = asyncio.get_running_loop().create_task(self._answer(key, address, text))
         self._handling.add(task)
         task.add_done_callback(self._handling.discard)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from nightcrew.errors import ConfigError
 
-__all__ = ["MAX_MESSAGE_CHARS", "Outbox", "RateLimit", "TokenBucket"]
+__all__ = ["MAX_MESSAGE_CHARS", "IncomingLimit", "Outbox", "RateLimit", "TokenBucket"]
 
 #: Telegram takes 4096 characters a message; XMPP clients show long ones badly too.
 MAX_MESSAGE_CHARS = 3500
@@ -52,6 +52,11 @@ class TokenBucket:
         self._refill(now)
         return 0.0 if self._tokens >= 1.0 else (1.0 - self._tokens) / self._rate
 
+    @property
+    def is_full(self) -> bool:
+        """Whether no message was taken lately (as of the last look)."""
+        return self._tokens >= self._capacity
+
     def take(self, now: float) -> None:
         self._refill(now)
         self._tokens -= 1.0
@@ -59,6 +64,29 @@ class TokenBucket:
     def _refill(self, now: float) -> None:
         self._tokens = min(self._capacity, self._tokens + (now - self._updated) * self._rate)
         self._updated = now
+
+
+class IncomingLimit:
+    """A token bucket per sender, for lines coming in; at most ``max_senders`` remembered."""
+
+    def __init__(self, limit: RateLimit, max_senders: int = 10_000) -> None:
+        self._limit = limit
+        self._max_senders = max_senders
+        self._buckets: dict[str, TokenBucket] = {}
+
+    def allows(self, sender: str, now: float) -> bool:
+        """Whether a line from ``sender`` now is taken (and counted)."""
+        bucket = self._buckets.get(sender)
+        if bucket is None:
+            if len(self._buckets) >= self._max_senders:  # many senders: forget the quiet ones
+                full = {k: b for k, b in self._buckets.items() if b.wait_time(now) == 0.0 and b.is_full}
+                for key in full:
+                    del self._buckets[key]
+            bucket = self._buckets[sender] = TokenBucket(self._limit, now)
+        if bucket.wait_time(now) > 0:
+            return False
+        bucket.take(now)
+        return True
 
 
 class Outbox:
