@@ -38,6 +38,9 @@ class BotApiStandIn:
         self.token = token
         self.sent: list[Sent] = []
         self.blocked: set[int] = set()
+        #: sendMessage calls still to answer with 429 (Telegram's flood control), and how long to wait.
+        self.throttle = 0
+        self.retry_after = 1
         self.calls: list[str] = []
         self._updates: list[dict[str, Any]] = []
         self._next_update = 1
@@ -140,6 +143,15 @@ class BotApiStandIn:
             return list(self._updates)
 
     async def _send_message(self, chat_id: int, text: str) -> web.Response:
+        if self.throttle > 0:
+            self.throttle -= 1
+            body = {
+                "ok": False,
+                "error_code": 429,
+                "description": f"Too Many Requests: retry after {self.retry_after}",
+                "parameters": {"retry_after": self.retry_after},
+            }
+            return web.Response(status=429, text=json.dumps(body), content_type="application/json")
         if chat_id in self.blocked:
             return _error(403, "Forbidden: bot was blocked by the user")
         if not text or len(text) > 4096:

@@ -199,6 +199,18 @@ async def test_groups_are_not_answered_and_a_flood_of_lines_is_cut(
     assert bot_api.texts(-77) == []
 
 
+async def test_telegrams_flood_control_is_obeyed(
+    bot_api: BotApiStandIn, observatory: SecuredObservatory
+) -> None:
+    await start_bot(observatory, bot_api)
+    await say(bot_api, OPERATOR_ID, f"/login {SECRETS[OPERATOR]}", "Logged in")
+    bot_api.throttle = 1  # the next message is refused with 429, retry_after 1 s
+    before = len(bot_api.sent)
+    await bot_api.person_says(OPERATOR_ID, "/loglevel")
+    await bot_api.wait_for(OPERATOR_ID, lambda t: t == "Log level: WARNING", "the reply", since=before)
+    assert bot_api.throttle == 0
+
+
 def test_bad_options_are_refused_without_showing_secrets() -> None:
     with pytest.raises(ConfigError, match=r"token.*value not shown"):
         Telegram(name="t", token="no-colon-here", users={})

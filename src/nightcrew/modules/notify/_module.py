@@ -156,10 +156,7 @@ class ChatModule(Module):
         except Exception:
             log.exception("%s: answering a message failed", self.name)
             reply = "Internal error; nothing more was done."
-        try:
-            await self._send(address, reply)
-        except NightcrewError as exc:
-            log.warning("%s: cannot reply to %s: %s", self.name, address, exc.message)
+        await self._deliver(address, reply)
 
     # --- forwarding ----------------------------------------------------------------------------
 

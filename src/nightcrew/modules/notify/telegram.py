@@ -18,6 +18,7 @@ from __future__ import annotations
 import asyncio
 import datetime
 import logging
+import os
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.errors import ConfigError, RemoteError
@@ -85,6 +86,9 @@ class Telegram(ChatModule):
         from telegram.request import HTTPXRequest
 
         _quiet_http_logs()
+        # python-telegram-bot 22 warns on every flood-control reply unless the process opts in to
+        # its coming type for `retry_after` (a timedelta), which _seconds() takes.
+        os.environ.setdefault("PTB_TIMEDELTA", "true")
         # Long polls on a request object of their own, so that sending never waits for one.
         self._bot = Bot(
             self._token,
