@@ -1,11 +1,12 @@
 """A stand-in for Telegram's Bot API servers, which tests cannot reach: on 127.0.0.1, in this process.
 
 It answers the documented Bot API methods the Telegram module uses — ``getMe``, ``getUpdates``
-(long polling with ``offset`` and ``timeout``), ``sendMessage`` — at ``/bot<token>/<method>``, with
-the API's envelope (``{"ok": true, "result": ...}``, errors with ``error_code`` and
-``description``). Parameters come as the API allows: query string, form or JSON. A test plays
-the people (:meth:`BotApiStandIn.person_says`) and reads what the bot sent
-(:meth:`BotApiStandIn.wait_for`); it can make a chat refuse messages (a person who blocked the bot).
+(long polling with ``offset`` and ``timeout``), ``sendMessage``, ``deleteMessage`` — at
+``/bot<token>/<method>``, with the API's envelope (``{"ok": true, "result": ...}``, errors with
+``error_code`` and ``description``, 429 with ``retry_after``). Parameters come as the API allows:
+query string, form or JSON. A test plays the people (:meth:`BotApiStandIn.person_says`), reads
+what the bot sent (:meth:`BotApiStandIn.wait_for`), and can make a chat refuse messages (a person
+who blocked the bot) or throttle the next ones (Telegram's flood control).
 """
 
 from __future__ import annotations
@@ -42,6 +43,8 @@ class BotApiStandIn:
         self.throttle = 0
         self.retry_after = 1
         self.calls: list[str] = []
+        #: (chat id, message id) of the messages the bot deleted.
+        self.deleted: list[tuple[int, int]] = []
         self._updates: list[dict[str, Any]] = []
         self._next_update = 1
         self._next_message = 1
@@ -102,6 +105,12 @@ class BotApiStandIn:
         except TimeoutError:
             raise AssertionError(f"no message to {chat_id}: {what}; got {self.texts(chat_id)}") from None
 
+    async def wait_for_deletions(self, count: int) -> list[tuple[int, int]]:
+        """The deleted messages, once there are ``count``."""
+        async with asyncio.timeout(20.0), self._changed:
+            await self._changed.wait_for(lambda: len(self.deleted) >= count)
+        return list(self.deleted)
+
     def texts(self, chat_id: int) -> list[str]:
         return [s.text for s in self.sent if s.chat_id == chat_id]
 
@@ -129,6 +138,11 @@ class BotApiStandIn:
             )
         if method == "sendMessage":
             return await self._send_message(int(params["chat_id"]), str(params["text"]))
+        if method == "deleteMessage":
+            async with self._changed:
+                self.deleted.append((int(params["chat_id"]), int(params["message_id"])))
+                self._changed.notify_all()
+            return _ok(True)
         return _error(404, "Not Found: method not found")
 
     async def _get_updates(self, offset: int, wait: float) -> list[dict[str, Any]]:

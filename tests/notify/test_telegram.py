@@ -61,6 +61,9 @@ async def test_login_first_then_commands(bot_api: BotApiStandIn, observatory: Se
     assert roof_status(roof) is MotionStatus.PARKED
     assert await say(bot_api, OPERATOR_ID, "/login wrong-secret", "Wrong secret") == "Wrong secret."
     assert "Logged in as olga" in await say(bot_api, OPERATOR_ID, f"/login {SECRETS[OPERATOR]}", "Logged in")
+    # Both /login messages, with their secrets, are deleted from the chat.
+    deleted = await bot_api.wait_for_deletions(2)
+    assert [chat for chat, _ in deleted] == [OPERATOR_ID, OPERATOR_ID] and deleted[0] != deleted[1]
     modules = await say(bot_api, OPERATOR_ID, "/modules", "roof:")
     assert "IRoof" in modules
     assert "Log level: ERROR" in await say(bot_api, OPERATOR_ID, "/loglevel error", "Log level")

@@ -76,6 +76,7 @@ class Telegram(ChatModule):
         self._base_url = base_url
         self._poll_timeout = float(poll_timeout)
         self._bot: Bot | None = None
+        self._deletions: set[asyncio.Task[None]] = set()
         self.add_background_task(self._poll_loop, restart=False)
 
     def __repr__(self) -> str:
@@ -100,6 +101,9 @@ class Telegram(ChatModule):
 
     async def close(self) -> None:
         await super().close()
+        for task in list(self._deletions):
+            task.cancel()
+        await asyncio.gather(*self._deletions, return_exceptions=True)
         bot, self._bot = self._bot, None
         if bot is not None:
             try:
@@ -148,6 +152,25 @@ class Telegram(ChatModule):
                 if message.chat.type != "private":
                     continue
                 self.received(str(message.from_user.id), str(message.chat.id), message.text)
+                if message.text.lstrip().lower().startswith("/login"):
+                    self._spawn_deletion(message.chat.id, message.message_id)
+
+    def _spawn_deletion(self, chat_id: int, message_id: int) -> None:
+        """Delete a /login message from the chat (bots may, in private chats): the secret should
+        not stay readable on a phone that is lost or lent."""
+        task = asyncio.get_running_loop().create_task(self._delete(chat_id, message_id))
+        self._deletions.add(task)
+        task.add_done_callback(self._deletions.discard)
+
+    async def _delete(self, chat_id: int, message_id: int) -> None:
+        from telegram.error import TelegramError
+
+        if self._bot is None:
+            return
+        try:
+            await self._bot.delete_message(chat_id=chat_id, message_id=message_id)
+        except TelegramError as exc:
+            log.warning("%s: could not delete a /login message: %s", self.name, self._scrub(exc.message))
 
     async def _send(self, address: str, text: str) -> None:
         from telegram.error import RetryAfter, TelegramError
