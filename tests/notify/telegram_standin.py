@@ -70,8 +70,11 @@ class BotApiStandIn:
         if self._runner is not None:
             await self._runner.cleanup()
 
-    async def person_says(self, user_id: int, text: str, *, group: int | None = None) -> None:
-        """A private message from Telegram user ``user_id`` to the bot (or one in ``group``)."""
+    async def person_says(
+        self, user_id: int, text: str, *, group: int | None = None, sent: float | None = None
+    ) -> None:
+        """A private message from Telegram user ``user_id`` to the bot (or one in ``group``),
+        sent at Unix time ``sent`` (now by default)."""
         chat = {"id": user_id, "type": "private", "first_name": f"user{user_id}"}
         if group is not None:
             chat = {"id": group, "type": "group", "title": "observers"}
@@ -81,7 +84,7 @@ class BotApiStandIn:
                     "update_id": self._next_update,
                     "message": {
                         "message_id": self._new_message_id(),
-                        "date": int(time.time()),
+                        "date": int(time.time() if sent is None else sent),
                         "chat": chat,
                         "from": {"id": user_id, "is_bot": False, "first_name": f"user{user_id}"},
                         "text": text,

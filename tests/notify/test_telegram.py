@@ -7,6 +7,8 @@ sendMessage as the documented Bot API does, and python-telegram-bot's ``base_url
 from __future__ import annotations
 
 import logging
+import time
+from pathlib import Path
 
 import pytest
 
@@ -44,12 +46,12 @@ async def start_bot(obs: SecuredObservatory, api: BotApiStandIn, **options: obje
     )
 
 
-async def say(api: BotApiStandIn, person: int, text: str, expect: str) -> str:
+async def say(api: BotApiStandIn, person: int, text: str, expect: str, *, sent: float | None = None) -> str:
     """What the bot answers ``person`` for ``text`` (the first new message containing ``expect``)."""
     before = len(api.sent)
-    await api.person_says(person, text)
-    sent = await api.wait_for(person, lambda t: expect in t, f"reply to {text!r}", since=before)
-    return sent.text
+    await api.person_says(person, text, sent=sent)
+    reply = await api.wait_for(person, lambda t: expect in t, f"reply to {text!r}", since=before)
+    return reply.text
 
 
 async def test_login_first_then_commands(bot_api: BotApiStandIn, observatory: SecuredObservatory) -> None:
@@ -176,6 +178,29 @@ async def test_a_blocked_chat_does_not_stop_the_others(
     await roof.open_roof()
     await roof.close_roof()
     await bot_api.wait_for(OPERATOR_ID, lambda t: "Roof closed (roof)" in t, "roof closed")
+
+
+async def test_sessions_survive_a_restart_and_old_lines_are_not_acted_on(
+    bot_api: BotApiStandIn, observatory: SecuredObservatory, tmp_path: Path
+) -> None:
+    saved = tmp_path / "state" / "sessions.json"
+    bot = await start_bot(observatory, bot_api, sessions=str(saved))
+    await say(bot_api, OPERATOR_ID, f"/login {SECRETS[OPERATOR]}", "Logged in")
+    await say(bot_api, OPERATOR_ID, "/loglevel error", "Log level: ERROR")
+    await say(bot_api, OBSERVER_ID, f"/login {SECRETS[OBSERVER]}", "Logged in")
+    assert saved.stat().st_mode & 0o777 == 0o600
+    await bot.close()
+    # Restarted, with the observer no longer a user: the operator's session and level are back.
+    await start_bot(observatory, bot_api, sessions=str(saved), users=users({OPERATOR: OPERATOR_ID}))
+    roof = await observatory.start(SimRoof, "roof", open_time=1.0, close_time=1.0)
+    await roof.open_roof()
+    await roof.close_roof()
+    await bot_api.wait_for(OPERATOR_ID, lambda t: "Roof closed (roof)" in t, "roof closed, without a login")
+    assert await say(bot_api, OPERATOR_ID, "/loglevel", "Log level") == "Log level: ERROR"
+    assert "Not logged in" in await say(bot_api, OBSERVER_ID, "/modules", "Not logged in")
+    # A line that waited at Telegram for 10 minutes is not acted on.
+    reply = await say(bot_api, OPERATOR_ID, "/exec roof.open_roof()", "Not done", sent=time.time() - 600)
+    assert "Send it again" in reply and roof_status(roof) is MotionStatus.PARKED
 
 
 async def test_a_refused_token_puts_the_module_in_error_state(

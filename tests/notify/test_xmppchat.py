@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from datetime import UTC, datetime, timedelta
 
 import pytest
 
@@ -55,6 +56,10 @@ async def test_people_log_in_and_call_with_their_own_rights(
     assert f"your id is stranger@{DOMAIN}" in await stranger.say(CHAT, "/help", "your id")
     assert await stranger.say(CHAT, f"/login {SECRETS[OPERATOR]}", "Wrong") == "Wrong secret."
     assert roof._motion_status is MotionStatus.IDLE
+    # A message a server kept for an hour (XEP-0203 delay) is not acted on.
+    an_hour_ago = (datetime.now(UTC) - timedelta(hours=1)).isoformat()
+    stale = await olga.say(CHAT, "/exec roof.close_roof()", "Not done", delayed_since=an_hour_ago)
+    assert "Send it again" in stale and roof._motion_status is MotionStatus.IDLE
     outcomes = [(r.caller, r.method, r.outcome) for r in read_audit(observatory.audit, module="roof")]
     assert ("olga", "open_roof", "ok") in outcomes and ("oscar", "close_roof", "forbidden") in outcomes
     assert ("xmppchat", "open_roof", "ok") in outcomes  # the roof's own record of the caller it saw

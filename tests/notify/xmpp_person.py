@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import time
+import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -66,8 +67,14 @@ class Person:
             texts = [text for _, text, _ in self.heard]
             raise AssertionError(f"{self.jid} heard no {what}; heard {texts}") from None
 
-    async def say(self, to: str, text: str, expect: str) -> str:
-        """What ``to`` answers to ``text`` (the first new message containing ``expect``)."""
+    async def say(self, to: str, text: str, expect: str, *, delayed_since: str | None = None) -> str:
+        """What ``to`` answers to ``text`` (the first new message containing ``expect``); with
+        ``delayed_since`` (an ISO time) the message carries a XEP-0203 delay, as one kept by a
+        server while its receiver was offline."""
         before = len(self.heard)
-        self.client.send_message(mto=slixmpp.JID(to), mbody=text, mtype="chat")
+        message = self.client.make_message(mto=slixmpp.JID(to), mbody=text, mtype="chat")
+        if delayed_since is not None:
+            delay = ET.Element("{urn:xmpp:delay}delay", {"stamp": delayed_since, "from": self.jid})
+            message.xml.append(delay)
+        message.send()
         return (await self.wait_for(lambda t: expect in t, f"reply to {text!r}", since=before))[1]

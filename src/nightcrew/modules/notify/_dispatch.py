@@ -146,6 +146,16 @@ class CommandDispatcher:
             return await self._modules()
         return await self._exec(session, command)
 
+    @property
+    def users(self) -> Mapping[str, ChatUser]:
+        return self._users
+
+    def restore(self, user: ChatUser, address: str, level: str) -> None:
+        """Take up a session saved before a restart."""
+        session = Session(user, address, level)
+        self.sessions[user.key] = session
+        self._on_login(session)
+
     async def _login(self, key: str, address: str, secret: str) -> str:
         wait = self._limiter.retry_after([key])
         if wait > 0:

@@ -13,7 +13,8 @@ import asyncio
 import logging
 import time
 from abc import abstractmethod
-from collections.abc import Mapping
+from collections.abc import Coroutine, Mapping
+from pathlib import Path
 from typing import Any
 
 from nightcrew.errors import ConfigError, NightcrewError
@@ -32,10 +33,11 @@ from nightcrew.modules.module import Module
 from nightcrew.modules.notify._commands import LOG_LEVELS, level_number
 from nightcrew.modules.notify._dispatch import CommandDispatcher, Session
 from nightcrew.modules.notify._outbox import IncomingLimit, Outbox, RateLimit, TokenBucket
+from nightcrew.modules.notify._saved import load_sessions, save_sessions, sessions_text
 from nightcrew.modules.notify._text import describe_event
 from nightcrew.modules.notify._users import ChatUser
 
-__all__ = ["DEFAULT_EVENTS", "INCOMING_LIMIT", "ChatModule"]
+__all__ = ["DEFAULT_EVENTS", "INCOMING_LIMIT", "STALE_AFTER", "ChatModule"]
 
 log = logging.getLogger(__name__)
 
@@ -51,6 +53,8 @@ DEFAULT_EVENTS = (
 #: otherwise report its failure to the other chat, and back.
 _OWN_LOGGERS = "nightcrew.modules.notify"
 _SEND_ATTEMPTS = 3
+#: Wall seconds after which a line is too old to act on.
+STALE_AFTER = 120.0
 #: Lines one sender may send (a person types far fewer; a script trying secrets, more).
 INCOMING_LIMIT = RateLimit(messages=30, per=60.0)
 
@@ -78,6 +82,8 @@ class ChatModule(Module):
             failed, module error, safety alarm).
         rate_limit: ``{messages: 20, per: 60, queue: 200}``: messages per wall seconds to one person,
             lines waiting for them at most.
+        sessions: A file where sessions are kept across restarts (without it, a restart logs
+            everybody out and nobody hears of trouble until they log in again).
         **kwargs: Module options.
     """
 
@@ -90,6 +96,7 @@ class ChatModule(Module):
         log_level: str = "WARNING",
         events: list[str] | None = None,
         rate_limit: RateLimit | dict[str, Any] | None = None,
+        sessions: str | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -102,6 +109,8 @@ class ChatModule(Module):
                 raise ConfigError(f"unknown keys {', '.join(sorted(unknown))}", key="rate_limit")
             rate_limit = RateLimit(**rate_limit)
         self._limit = rate_limit or RateLimit()
+        self._sessions_file = Path(sessions) if sessions else None
+        self._saved_text: str | None = None
         self._recipients: dict[str, _Recipient] = {}
         self._handling: set[asyncio.Task[None]] = set()
         self._incoming = IncomingLimit(INCOMING_LIMIT)
@@ -125,6 +134,10 @@ class ChatModule(Module):
         await self.comm.register_event(LogEvent, self.on_log)
         for event_type in self._events:
             await self.comm.register_event(event_type, self.on_event)
+        if self._sessions_file is not None:
+            for user, address, level in load_sessions(self._sessions_file, self.dispatcher.users):
+                self.dispatcher.restore(user, address, level)
+            self._saved_text = sessions_text(self.dispatcher.sessions.values())
 
     async def close(self) -> None:
         tasks = [r.task for r in self._recipients.values() if r.task is not None] + list(self._handling)
@@ -136,13 +149,23 @@ class ChatModule(Module):
 
     # --- what transports call and provide ------------------------------------------------------
 
-    def received(self, key: str, address: str, text: str) -> None:
-        """A line from person ``key`` (reply to ``address``); answered in a task of its own, so
-        that a long call never holds up the transport. Lines beyond :data:`INCOMING_LIMIT` from
-        one sender are dropped unanswered: a flood of lines must not become a flood of replies."""
+    def received(self, key: str, address: str, text: str, *, age: float = 0.0) -> None:
+        """A line from person ``key`` (reply to ``address``), sent ``age`` wall seconds ago;
+        answered in a task of its own, so that a long call never holds up the transport.
+
+        Lines beyond :data:`INCOMING_LIMIT` from one sender are dropped unanswered: a flood of
+        lines must not become a flood of replies. Lines older than :data:`STALE_AFTER` are not
+        acted on: the servers keep what was sent while nobody listened, and an old
+        ``/exec roof.open_roof()`` must not run hours later.
+        """
         if not self._incoming.allows(key, time.monotonic()):
             return
-        task = asyncio.get_running_loop().create_task(self._answer(key, address, text))
+        if age > STALE_AFTER:
+            note = f"Not done: sent {age:.0f} s ago, while nobody listened. Send it again."
+            work: Coroutine[Any, Any, None] = self._deliver(address, note)
+        else:
+            work = self._answer(key, address, text)
+        task = asyncio.get_running_loop().create_task(work)
         self._handling.add(task)
         task.add_done_callback(self._handling.discard)
 
@@ -156,7 +179,20 @@ class ChatModule(Module):
         except Exception:
             log.exception("%s: answering a message failed", self.name)
             reply = "Internal error; nothing more was done."
+        self._save_sessions()
         await self._deliver(address, reply)
+
+    def _save_sessions(self) -> None:
+        if self._sessions_file is None:
+            return
+        text = sessions_text(self.dispatcher.sessions.values())
+        if text != self._saved_text:
+            try:
+                save_sessions(self._sessions_file, text)
+            except OSError as exc:
+                log.warning("%s: cannot save the sessions to %s: %s", self.name, self._sessions_file, exc)
+                return
+            self._saved_text = text
 
     # --- forwarding ----------------------------------------------------------------------------
 

@@ -19,6 +19,7 @@ import asyncio
 import datetime
 import logging
 import os
+from collections.abc import Coroutine
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.errors import ConfigError, RemoteError
@@ -26,7 +27,7 @@ from nightcrew.modules.notify._module import ChatModule
 from nightcrew.modules.notify._users import users_from_config
 
 if TYPE_CHECKING:
-    from telegram import Bot
+    from telegram import Bot, Update
 
 __all__ = ["Telegram"]
 
@@ -76,7 +77,8 @@ class Telegram(ChatModule):
         self._base_url = base_url
         self._poll_timeout = float(poll_timeout)
         self._bot: Bot | None = None
-        self._deletions: set[asyncio.Task[None]] = set()
+        self._side_tasks: set[asyncio.Task[None]] = set()
+        self._offset: int | None = None  # of the next update to take
         self.add_background_task(self._poll_loop, restart=False)
 
     def __repr__(self) -> str:
@@ -101,12 +103,14 @@ class Telegram(ChatModule):
 
     async def close(self) -> None:
         await super().close()
-        for task in list(self._deletions):
+        for task in list(self._side_tasks):
             task.cancel()
-        await asyncio.gather(*self._deletions, return_exceptions=True)
+        await asyncio.gather(*self._side_tasks, return_exceptions=True)
         bot, self._bot = self._bot, None
         if bot is not None:
             try:
+                if self._offset is not None:  # confirm what was taken: not to be delivered again
+                    await bot.get_updates(offset=self._offset, timeout=0, limit=1)
                 await bot.shutdown()
             except Exception as exc:  # closing must not fail for a network that is gone
                 log.debug("closing the bot's HTTP clients: %s", self._scrub(str(exc)))
@@ -116,7 +120,6 @@ class Telegram(ChatModule):
 
         bot = self._bot
         assert bot is not None
-        offset: int | None = None
         failures = 0
         initialized = False
         while True:
@@ -125,7 +128,7 @@ class Telegram(ChatModule):
                     await bot.initialize()  # getMe: checks the token
                     initialized = True
                 updates = await bot.get_updates(
-                    offset=offset, timeout=int(self._poll_timeout), allowed_updates=["message"]
+                    offset=self._offset, timeout=int(self._poll_timeout), allowed_updates=["message"]
                 )
             except InvalidToken:
                 self.set_error("Telegram refused the bot's token")
@@ -145,22 +148,29 @@ class Telegram(ChatModule):
                 continue
             failures = 0
             for update in updates:
-                offset = update.update_id + 1
-                message = update.message
-                if message is None or message.from_user is None or not message.text:
-                    continue
-                if message.chat.type != "private":
-                    continue
-                self.received(str(message.from_user.id), str(message.chat.id), message.text)
-                if message.text.lstrip().lower().startswith("/login"):
-                    self._spawn_deletion(message.chat.id, message.message_id)
+                self._offset = update.update_id + 1
+                self._take(update)
+
+    def _take(self, update: Update) -> None:
+        message = update.message
+        if message is None or message.from_user is None or not message.text:
+            return
+        if message.chat.type != "private":
+            return  # a bot added to a group would tell the group
+        if message.text.lstrip().lower().startswith("/login"):
+            self._spawn_deletion(message.chat.id, message.message_id)
+        age = (datetime.datetime.now(datetime.UTC) - message.date).total_seconds()
+        self.received(str(message.from_user.id), str(message.chat.id), message.text, age=age)
 
     def _spawn_deletion(self, chat_id: int, message_id: int) -> None:
         """Delete a /login message from the chat (bots may, in private chats): the secret should
         not stay readable on a phone that is lost or lent."""
-        task = asyncio.get_running_loop().create_task(self._delete(chat_id, message_id))
-        self._deletions.add(task)
-        task.add_done_callback(self._deletions.discard)
+        self._spawn(self._delete(chat_id, message_id))
+
+    def _spawn(self, work: Coroutine[Any, Any, None]) -> None:
+        task = asyncio.get_running_loop().create_task(work)
+        self._side_tasks.add(task)
+        task.add_done_callback(self._side_tasks.discard)
 
     async def _delete(self, chat_id: int, message_id: int) -> None:
         from telegram.error import TelegramError

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import logging
 import xml.etree.ElementTree as ET
+from datetime import UTC, datetime
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.comm.xmpp._settings import XmppSettings, is_loopback, parse_jid, parse_server
@@ -34,6 +35,7 @@ __all__ = ["XmppChat"]
 log = logging.getLogger(__name__)
 
 _CLIENT_NS = "{jabber:client}"
+_DELAY = "{urn:xmpp:delay}delay"
 
 
 def _bare_jid(key: Any) -> str:
@@ -137,7 +139,7 @@ class XmppChat(ChatModule):
         bare = sender.partition("/")[0].lower()
         if bare == self._settings.bare_jid:
             return True
-        self.received(bare, bare, body.text)
+        self.received(bare, bare, body.text, age=_age(stanza))
         return True
 
     async def _send(self, address: str, text: str) -> None:
@@ -147,6 +149,19 @@ class XmppChat(ChatModule):
         body = ET.Element(f"{_CLIENT_NS}body")
         body.text = text
         connection.send(connection.stanza("message", address, body, type="chat"))
+
+
+def _age(stanza: ET.Element) -> float:
+    """Wall seconds since the message was sent: a server that kept it while we were offline marks
+    it with a XEP-0203 delay (0 without one, or with one that cannot be read)."""
+    delay = stanza.find(_DELAY)
+    try:
+        sent = datetime.fromisoformat(delay.get("stamp", "")) if delay is not None else None
+    except ValueError:
+        return 0.0
+    if sent is None or sent.tzinfo is None:
+        return 0.0
+    return (datetime.now(UTC) - sent).total_seconds()
 
 
 def _nothing() -> None:
