@@ -114,6 +114,7 @@ class ChatModule(Module):
         self._recipients: dict[str, _Recipient] = {}
         self._handling: set[asyncio.Task[None]] = set()
         self._incoming = IncomingLimit(INCOMING_LIMIT)
+        self._closing = False
         self.dispatcher = CommandDispatcher(
             self.channel,
             users,
@@ -140,6 +141,7 @@ class ChatModule(Module):
             self._saved_text = sessions_text(self.dispatcher.sessions.values())
 
     async def close(self) -> None:
+        self._closing = True  # lines still coming in while the transport stops are not answered
         tasks = [r.task for r in self._recipients.values() if r.task is not None] + list(self._handling)
         self._recipients.clear()
         for task in tasks:
@@ -158,7 +160,7 @@ class ChatModule(Module):
         acted on: the servers keep what was sent while nobody listened, and an old
         ``/exec roof.open_roof()`` must not run hours later.
         """
-        if not self._incoming.allows(key, time.monotonic()):
+        if self._closing or not self._incoming.allows(key, time.monotonic()):
             return
         if age > STALE_AFTER:
             note = f"Not done: sent {age:.0f} s ago, while nobody listened. Send it again."
@@ -215,6 +217,8 @@ class ChatModule(Module):
             recipient.waiting.set()
 
     def _start_sending(self, session: Session) -> None:
+        if self._closing:
+            return
         recipient = _Recipient(session, self._limit)
         self._recipients[session.user.key] = recipient
         recipient.task = asyncio.get_running_loop().create_task(self._send_loop(recipient))
