@@ -122,6 +122,8 @@ def test_incoming_limit_per_sender() -> None:
         ({"per": 0.0}, "per"),
         ({"per": float("nan")}, "per"),
         ({"queue": 0}, "queue"),
+        ({"per": "x"}, "per"),
+        ({"messages": True}, "messages"),
     ],
 )
 def test_bad_rate_limits(options: dict[str, float], key: str) -> None:

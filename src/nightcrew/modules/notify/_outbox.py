@@ -30,11 +30,15 @@ class RateLimit:
     queue: int = 200
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.messages, int) and self.messages >= 1):
+        if isinstance(self.messages, bool) or not (isinstance(self.messages, int) and self.messages >= 1):
             raise ConfigError(f"must be an integer >= 1, got {self.messages!r}", key="rate_limit.messages")
-        if not self.per > 0 or self.per == float("inf"):
+        if (
+            isinstance(self.per, bool)
+            or not isinstance(self.per, int | float)
+            or not 0 < self.per < float("inf")
+        ):
             raise ConfigError(f"must be > 0 seconds, got {self.per!r}", key="rate_limit.per")
-        if not (isinstance(self.queue, int) and self.queue >= 1):
+        if isinstance(self.queue, bool) or not (isinstance(self.queue, int) and self.queue >= 1):
             raise ConfigError(f"must be an integer >= 1, got {self.queue!r}", key="rate_limit.queue")
 
 
