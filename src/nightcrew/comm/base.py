@@ -164,6 +164,11 @@ class Comm(ABC):
         return self._policy
 
     @property
+    def audit(self) -> AuditLog | None:
+        """Where state-changing calls to (and on behalf of people through) this module are recorded."""
+        return self._audit
+
+    @property
     def clock(self) -> Clock:
         return self._clock
 

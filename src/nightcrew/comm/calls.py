@@ -15,14 +15,15 @@ def parse_shell_call(line: str) -> tuple[str, list[Any]]:
     try:
         tree = ast.parse(line.strip(), mode="eval")
     except SyntaxError as exc:
-        raise InvalidArgumentError(f"not a call: {line.strip()!r} ({exc.msg})") from exc
+        # The line is shown cut: a hostile one may be kilobytes long.
+        raise InvalidArgumentError(f"not a call: {line.strip()[:80]!r} ({exc.msg})") from exc
     call = tree.body
     if (
         not isinstance(call, ast.Call)
         or not isinstance(call.func, ast.Attribute)
         or not isinstance(call.func.value, ast.Name)
     ):
-        raise InvalidArgumentError(f"expected module.method(arguments), got {line.strip()!r}")
+        raise InvalidArgumentError(f"expected module.method(arguments), got {line.strip()[:80]!r}")
     if call.keywords:
         raise InvalidArgumentError("keyword arguments are not supported; give all arguments in order")
     try:

@@ -95,7 +95,15 @@ class Module(Object, IModule, IConfig):
             log.debug("%s: %s -> %s", self.name, old, state)
         if self.comm.is_open:
             self.comm.advertise_state(state.value)
+            if ModuleState.ERROR in (old, state):  # trouble and its end: people are told (notify)
+                self._announce_state(old, state)
         self.on_state_changed(old, state)
+
+    def _announce_state(self, old: ModuleState, new: ModuleState) -> None:
+        from nightcrew.events import ModuleStateChangedEvent
+
+        event = ModuleStateChangedEvent(last=old, current=new, error=self._error_string)
+        self.comm._spawn(self.comm.send_event(event), "state event")
 
     def on_state_changed(self, old: ModuleState, new: ModuleState) -> None:
         """Hook for subclasses, called after every state change."""
