@@ -6,12 +6,13 @@ import json
 import logging
 import time
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from typing import Any
 
 import pytest
 
 from nightcrew.comm.rpc import Fault
-from nightcrew.comm.xmpp._pyobs import translate_event
+from nightcrew.comm.xmpp._pyobs_events import translate_event
 from nightcrew.comm.xmpp._pyobs_values import (
     build_pyobs_fault,
     build_pyobs_params,
@@ -118,21 +119,29 @@ def test_pyobs_event_bodies_become_nightcrew_fields() -> None:
     assert translate_event(body, "NewImageEvent", "cam") == {"filename": "/a.fits", "image_type": "object"}
 
 
+def test_fields_pyobs_names_otherwise_are_renamed_and_known_extras_dropped() -> None:
+    offsets = _body("OffsetsRaDecEvent", {"ra": 0.5, "dec": -0.25})
+    assert translate_event(offsets, "OffsetsRaDecEvent", "tel") == {"dra": 0.5, "ddec": -0.25}
+    task = _body("TaskFinishedEvent", {"name": "M31", "id": "7", "obsnum": 3})
+    assert translate_event(task, "TaskFinishedEvent", "robotic") == {"name": "M31", "id": "7"}
+
+
 @pytest.mark.parametrize(
-    ("body", "logged"),
+    ("make_body", "logged"),
     [
         (
-            _body("NewImageEvent", {"filename": "/a", "raw": "/r"}),
+            lambda: _body("NewImageEvent", {"filename": "/a", "raw": "/r"}),
             "fields nightcrew's NewImageEvent lacks: raw",
         ),
-        (_body("TestEvent", {"message": "x"}), "type 'TestEvent' on the node of NewImageEvent"),
-        ("{not json", "skipped malformed pyobs NewImageEvent from cam"),
-        (_body("NewImageEvent", {"filename": "/a"}, age=120), "120 s old"),
+        (lambda: _body("TestEvent", {"message": "x"}), "type 'TestEvent' on the node of NewImageEvent"),
+        (lambda: "{not json", "skipped malformed pyobs NewImageEvent from cam"),
+        (lambda: _body("NewImageEvent", {"filename": "/a"}, age=120), "120 s old"),
     ],
 )
 def test_pyobs_events_nightcrew_cannot_take_are_logged_and_skipped(
-    body: str, logged: str, caplog: pytest.LogCaptureFixture
+    make_body: Callable[[], str], logged: str, caplog: pytest.LogCaptureFixture
 ) -> None:
-    with caplog.at_level(logging.INFO, logger="nightcrew.comm.xmpp._pyobs"):
-        assert translate_event(body, "NewImageEvent", "cam") is None
+    # Bodies are made when the test runs: their timestamps must be fresh, not from collection.
+    with caplog.at_level(logging.INFO, logger="nightcrew.comm.xmpp._pyobs_events"):
+        assert translate_event(make_body(), "NewImageEvent", "cam") is None
     assert logged in caplog.text

@@ -13,23 +13,20 @@ value format are :class:`~nightcrew.comm.xmpp._rpc.RpcChannel`'s business.
 from __future__ import annotations
 
 import asyncio
-import json
 import logging
-import time
 import uuid
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Coroutine
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import Any
 
 from slixmpp.exceptions import IqError, IqTimeout
 
 from nightcrew.comm.xmpp._connection import XmppConnection, split_jid
-from nightcrew.comm.xmpp._room import _json_value
+from nightcrew.comm.xmpp._pyobs_events import NS_PYOBS_EVENT, PYOBS_EVENTS, event_body, translate_event
 from nightcrew.errors import RemoteError
-from nightcrew.events.base import event_by_name
 
-__all__ = ["PYOBS_EVENTS", "PyobsPeers"]
+__all__ = ["PyobsPeer", "PyobsPeers"]
 
 log = logging.getLogger(__name__)
 
@@ -37,40 +34,16 @@ _C = "{jabber:client}"
 NS_DISCO = "http://jabber.org/protocol/disco#info"
 NS_PUBSUB_EVENT = "http://jabber.org/protocol/pubsub#event"
 NS_PUBSUB = "http://jabber.org/protocol/pubsub"
-NS_PYOBS_EVENT = "pyobs:event"
 INTERFACE_PREFIX = "urn:pyobs:interface:"
 EVENT_PREFIX = "urn:pyobs:event:"
-#: pyobs-core 2.19's events whose names nightcrew's events share (docs/pyobs.md has the fields).
-PYOBS_EVENTS = frozenset(
-    {
-        "BadWeatherEvent",
-        "ExposureStatusChangedEvent",
-        "FilterChangedEvent",
-        "FocusFoundEvent",
-        "GoodWeatherEvent",
-        "MotionStatusChangedEvent",
-        "MoveAltAzEvent",
-        "MoveRaDecEvent",
-        "NewImageEvent",
-        "NewSpectrumEvent",
-        "OffsetsAltAzEvent",
-        "OffsetsRaDecEvent",
-        "RoofClosingEvent",
-        "RoofOpenedEvent",
-        "TaskFailedEvent",
-        "TaskFinishedEvent",
-        "TaskStartedEvent",
-        "TestEvent",
-    }
-)
-#: pyobs drops events older than this (a replay after a reconnect); so do we.
-_MAX_EVENT_AGE = 30.0
 _IQ_TIMEOUT = 5.0
 _SUBSCRIBE_ATTEMPTS = 6
 
 
 @dataclass
 class PyobsPeer:
+    """A pyobs module online: its full JID, interface names and the events it says it sends."""
+
     jid: str
     interfaces: list[str]
     sent_events: set[str] = field(default_factory=set)
@@ -243,9 +216,8 @@ class PyobsPeers:
         """Publish event ``name`` (if pyobs knows it) on our PubSub node; fire and forget."""
         if name not in PYOBS_EVENTS:
             return
-        body = {"type": name, "timestamp": time.time(), "uuid": str(uuid.uuid4()), "data": payload}
         event = ET.Element(f"{{{NS_PYOBS_EVENT}}}event")
-        event.text = json.dumps(body, default=_json_value, separators=(",", ":"))
+        event.text = event_body(name, payload)
         pubsub = ET.Element(f"{{{NS_PUBSUB}}}pubsub")
         publish = ET.SubElement(pubsub, f"{{{NS_PUBSUB}}}publish", node=self._node(self._name, name))
         ET.SubElement(publish, f"{{{NS_PUBSUB}}}item").append(event)
@@ -309,39 +281,3 @@ def _sent_events(query: ET.Element | None) -> set[str]:
         ):
             sent.add(element.get("name") or namespace[len(EVENT_PREFIX) :].rpartition(":")[0])
     return sent
-
-
-def translate_event(text: str, name: str, sender: str) -> dict[str, Any] | None:
-    """nightcrew's wire fields for one pyobs event body, or None (logged) when it cannot be mapped.
-
-    A field nightcrew's event of that name lacks is dropped when empty (pyobs' ``raw=None``) and
-    refused otherwise: its meaning would be lost without notice.
-    """
-    event_type = event_by_name(name)
-    if event_type is None:
-        log.debug("pyobs event %s from %s has no nightcrew equivalent; skipped", name, sender)
-        return None
-    try:
-        body = json.loads(text)
-        data = body.get("data") or {}
-        if body.get("type") != name or not isinstance(data, dict):
-            raise ValueError(f"type {body.get('type')!r} on the node of {name}, data {type(data).__name__}")
-        age = time.time() - float(body.get("timestamp", 0.0))
-    except (ValueError, TypeError, AttributeError) as exc:
-        log.warning("skipped malformed pyobs %s from %s: %s", name, sender, exc)
-        return None
-    if age > _MAX_EVENT_AGE:
-        log.info("skipped pyobs %s from %s: %.0f s old", name, sender, age)
-        return None
-    known = {f.name for f in fields(event_type)}
-    unknown = sorted(key for key, value in data.items() if key not in known and value is not None)
-    if unknown:
-        log.warning(
-            "skipped pyobs %s from %s: fields nightcrew's %s lacks: %s",
-            name,
-            sender,
-            name,
-            ", ".join(unknown),
-        )
-        return None
-    return {key: value for key, value in data.items() if key in known}
