@@ -12,6 +12,7 @@ from typing import Any
 import pytest
 
 from nightcrew.comm.rpc import Fault
+from nightcrew.comm.xmpp import XmppComm
 from nightcrew.comm.xmpp._pyobs_events import translate_event
 from nightcrew.comm.xmpp._pyobs_values import (
     build_pyobs_fault,
@@ -20,7 +21,7 @@ from nightcrew.comm.xmpp._pyobs_values import (
     parse_pyobs_fault,
     parse_pyobs_params,
 )
-from nightcrew.errors import CodecError
+from nightcrew.errors import CodecError, ConfigError
 from nightcrew.focus.series import FocusOutsideSeriesError
 
 RPC = "{jabber:iq:rpc}"
@@ -145,3 +146,11 @@ def test_pyobs_events_nightcrew_cannot_take_are_logged_and_skipped(
     with caplog.at_level(logging.INFO, logger="nightcrew.comm.xmpp._pyobs_events"):
         assert translate_event(make_body(), "NewImageEvent", "cam") is None
     assert logged in caplog.text
+
+
+def test_the_dialect_is_checked_when_the_comm_is_built() -> None:
+    assert XmppComm("camera@obs.test", "pw", dialect="pyobs").jid == "camera@obs.test/pyobs"
+    assert XmppComm("camera@obs.test/dome", "pw", dialect="pyobs").jid == "camera@obs.test/dome"
+    with pytest.raises(ConfigError, match="unknown dialect 'pyobs2' \\(known: nightcrew, pyobs\\)") as caught:
+        XmppComm("camera@obs.test", "pw", dialect="pyobs2")
+    assert caught.value.key == "dialect"
