@@ -2,13 +2,15 @@
 
 Its dependencies differ from nightcrew's (and it is not one of ours), so it never enters our venv.
 The venv lives in ``$NIGHTCREW_CACHE`` (default ``~/.cache/nightcrew``) under a name holding the
-pyobs-core version and the Python version; it is built in a temporary directory and renamed
-into place, under a lock, so concurrent test runs neither build it twice nor see half a venv.
+pyobs-core version, the Python version and a digest of the requirements; it is built in a
+temporary directory and renamed into place, under a lock, so concurrent test runs neither build
+it twice nor see half a venv.
 """
 
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import logging
 import os
 import shutil
@@ -22,6 +24,8 @@ __all__ = ["PYOBS_VERSION", "pyobs_venv"]
 log = logging.getLogger(__name__)
 
 PYOBS_VERSION = "2.19.1"
+#: What the venv holds: pyobs-core, and astroquery, which its telescope modules import (an extra).
+REQUIREMENTS = (f"pyobs-core=={PYOBS_VERSION}", "astroquery>=0.4.10,<0.5")
 _BUILD_TIMEOUT = 900.0
 
 
@@ -35,7 +39,8 @@ def pyobs_venv() -> Path:
     root = _cache_root()
     root.mkdir(parents=True, exist_ok=True)
     python = f"py{sys.version_info.major}{sys.version_info.minor}"
-    target = root / f"pyobs-core-{PYOBS_VERSION}-{python}"
+    digest = hashlib.sha256("\n".join(REQUIREMENTS).encode()).hexdigest()[:8]
+    target = root / f"pyobs-core-{PYOBS_VERSION}-{python}-{digest}"
     with (root / f"{target.name}.lock").open("w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # another run building it: wait for that one
         if (target / "ok").exists():
@@ -48,7 +53,7 @@ def pyobs_venv() -> Path:
         base = Path(sys.base_prefix) / "bin" / f"python{sys.version_info.major}.{sys.version_info.minor}"
         _run([str(base), "-m", "venv", str(building)])
         pip = [str(building / "bin" / "python"), "-m", "pip", "install", "--quiet", "--no-input"]
-        _run([*pip, f"pyobs-core=={PYOBS_VERSION}"])
+        _run([*pip, *REQUIREMENTS])
         # venvs hold their own path in scripts: build under the final name's sibling, then rename
         # and repair the script headers rather than rebuilding.
         building.rename(target)

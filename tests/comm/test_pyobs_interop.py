@@ -1,9 +1,10 @@
 """pyobs-core 2.19.1 modules and nightcrew modules in one observatory, on one Prosody.
 
-The pyobs modules (tests/comm/pyobs_peer/) run as separate processes with pyobs' own runner and
-YAML configs, in pyobs' own venv (built once and cached: pyobs_venv.py); the nightcrew modules
-run here with ``XmppComm(dialect="pyobs")``. The server is the one ``nightcrew server`` sets up
-(shared roster, PubSub), with every account registered before it starts.
+The pyobs modules (pyobs' own DummyRaDecTelescope and two small modules in pyobs_peer/) run as
+separate processes with pyobs' own runner and YAML configs, in pyobs' own venv (built once and
+cached: pyobs_venv.py); the nightcrew modules run here with ``XmppComm(dialect="pyobs")``. The
+server is the one ``nightcrew server`` sets up (shared roster, PubSub), with every account
+registered before it starts.
 """
 
 from __future__ import annotations
@@ -24,8 +25,8 @@ import pytest
 
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import InterfaceError
-from nightcrew.events import NewImageEvent
-from nightcrew.interfaces import IData, ImageType
+from nightcrew.events import MotionStatusChangedEvent, MoveRaDecEvent, NewImageEvent
+from nightcrew.interfaces import IData, ImageType, IPointingRaDec, MotionStatus
 from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
 from nightcrew.server import Account, init_server, start_server, stop_server
@@ -38,7 +39,16 @@ from .xmpp_servers import DOMAIN, PASSWORD, free_port, require_command
 pytestmark = pytest.mark.xmpp
 PEER_DIR = Path(__file__).resolve().parent / "pyobs_peer"
 NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw"]
-PYOBS_MODULES = {"pycamera": "PyCamera", "shooter": "Shooter"}
+#: pyobs modules by account: the class and extra YAML lines. pyobs' own dummy telescope stands at
+#: latitude 89.9°, so that dec 89.5° is above its altitude limit at any time of day.
+PYOBS_MODULES = {
+    "pycamera": ("pyobs_peer_modules.PyCamera", ""),
+    "shooter": ("pyobs_peer_modules.Shooter", ""),
+    "pytelescope": (
+        "pyobs.modules.telescope.DummyRaDecTelescope",
+        "location: {longitude: 0.0, latitude: 89.9, elevation: 0.0}\n",
+    ),
+}
 _PEER_START_TIMEOUT = 90.0  # pyobs imports astropy & co.: slow on a loaded 2-core machine
 
 
@@ -58,10 +68,20 @@ class NightcrewCamera(Module, IData):
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)  # type: ignore[arg-type]
         self.heard: list[tuple[str, str, ImageType | None]] = []
+        self.moves: list[tuple[str, float, float]] = []
+        self.motions: list[tuple[str, MotionStatus]] = []
 
     async def open(self) -> None:
         await super().open()
         await self.comm.register_event(NewImageEvent, self.on_new_image)
+        await self.comm.register_event(MoveRaDecEvent, self.on_move)
+        await self.comm.register_event(MotionStatusChangedEvent, self.on_motion)
+
+    async def on_move(self, event: MoveRaDecEvent, sender: str) -> None:
+        self.moves.append((sender, event.ra, event.dec))
+
+    async def on_motion(self, event: MotionStatusChangedEvent, sender: str) -> None:
+        self.motions.append((sender, event.status))
 
     async def on_new_image(self, event: NewImageEvent, sender: str) -> None:
         self.heard.append((sender, event.filename, event.image_type))
@@ -114,10 +134,10 @@ def pyobs_peers(
     processes: list[subprocess.Popen[bytes]] = []
     logs = {}
     try:
-        for name, cls in PYOBS_MODULES.items():
+        for name, (cls, extra) in PYOBS_MODULES.items():
             config = directory / f"{name}.yaml"
             config.write_text(
-                f"class: pyobs_peer_modules.{cls}\n"
+                f"class: {cls}\n{extra}"
                 "comm:\n"
                 "  class: pyobs.comm.xmpp.XmppComm\n"
                 f"  jid: {name}@{DOMAIN}\n"
@@ -166,7 +186,7 @@ def _stop(process: subprocess.Popen[bytes]) -> None:
 async def nightcrew_side(
     interop_server: Server, pyobs_peers: dict[str, Path]
 ) -> AsyncIterator[NightcrewCamera]:
-    """nightcrew's camera and calculator in the pyobs dialect, once both pyobs peers are online."""
+    """nightcrew's camera and calculator in the pyobs dialect, once the pyobs modules are online."""
     camera = NightcrewCamera(comm=_comm("nccamera", interop_server))
     calculator = Calculator(comm=_comm("nccalc", interop_server))
     await camera.open()
@@ -206,6 +226,16 @@ async def _shooter(camera: NightcrewCamera) -> IInteropShooter:
 
 
 # --- the tests ----------------------------------------------------------------------------------
+
+
+async def test_nightcrew_moves_pyobs_own_dummy_telescope(nightcrew_side: NightcrewCamera) -> None:
+    camera = nightcrew_side
+    telescope = await camera.comm.proxy("pytelescope", IPointingRaDec)  # pyobs' interface of that name
+    await telescope.move_radec(10.0, 89.5)
+    # pyobs sends its MoveRaDecEvent as the move starts.
+    await wait_for(lambda: ("pytelescope", 10.0, 89.5) in camera.moves, 20, message="MoveRaDecEvent")
+    # Its MotionStatusChangedEvent carries per-interface statuses nightcrew drops knowingly.
+    await wait_for(lambda: ("pytelescope", MotionStatus.SLEWING) in camera.motions, 20, message="slewing")
 
 
 async def test_nightcrew_calls_pyobs_and_hears_its_event(nightcrew_side: NightcrewCamera) -> None:
