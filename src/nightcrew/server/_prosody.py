@@ -129,7 +129,9 @@ def init_server(
     (root / "data").mkdir(parents=True, exist_ok=True)
     for domain in all_domains:
         make_self_signed(root / "certs", domain)
-        groups_file(root, domain).write_text("[+observatory]\n")  # '+': every account sees the group
+        roster = groups_file(root, domain)
+        if not roster.exists():  # init again keeps the accounts registered before
+            roster.write_text("[+observatory]\n")  # '+': every account sees the group
     (root / "prosody.cfg.lua").write_text(prosody_config(root, settings))
     settings.save(root)
     for account in accounts:
