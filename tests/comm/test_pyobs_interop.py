@@ -61,6 +61,9 @@ class IInteropShooter(Interface):
     @abstractmethod
     async def add_remote(self, module: str, a: float, b: float, as_dataclass: bool) -> str: ...
 
+    @abstractmethod
+    async def call_remote(self, module: str, method: str) -> str: ...
+
 
 class NightcrewCamera(Module, IData):
     """A nightcrew IData module that also keeps the NewImageEvents it hears."""
@@ -264,6 +267,13 @@ async def test_pyobs_gets_typed_results_and_nightcrew_errors(nightcrew_side: Nig
     # A dataclass where nightcrew expects a number: refused with one clear error, as pyobs' own.
     refused = await shooter.add_remote("nccalc", 2.5, 4.0, True)
     assert refused == "InvalidArgumentError: add(): argument 'a': expected float, got dict"
+
+
+async def test_pyobs_callers_hear_nightcrews_timeout_announcements(nightcrew_side: NightcrewCamera) -> None:
+    shooter = await _shooter(nightcrew_side)
+    # too_slow() announces 0.3 s (sent to pyobs as 1 s) and takes 5: pyobs' default of 10 s would
+    # wait for its result; the announcement makes the pyobs caller give up first.
+    assert await shooter.call_remote("nccalc", "too_slow") == "TimeoutError: "
 
 
 async def test_pyobs_event_with_unknown_field_is_logged_and_skipped(

@@ -9,7 +9,7 @@ against pyobs-core 2.19's public API (Module, Interface, events, proxies, ``time
 * ``Shooter`` offers ``IInteropShooter``, an interface nightcrew's test declares under the same name:
   it calls a nightcrew module's ``IData.grab_data`` and waits for that module's ``NewImageEvent``;
   ``add_remote`` calls a nightcrew ``ICalculator.add``, with arguments as given or as a
-  dataclass nightcrew cannot take for a number.
+  dataclass nightcrew cannot take for a number; ``call_remote`` calls any method without arguments.
 """
 
 from __future__ import annotations
@@ -31,6 +31,9 @@ class IInteropShooter(Interface, metaclass=ABCMeta):  # type: ignore[misc]
 
     @abstractmethod
     async def add_remote(self, module: str, a: float, b: float, as_dataclass: bool, **kwargs: Any) -> str: ...
+
+    @abstractmethod
+    async def call_remote(self, module: str, method: str, **kwargs: Any) -> str: ...
 
 
 class ICalculator(Interface, metaclass=ABCMeta):  # type: ignore[misc]
@@ -103,6 +106,13 @@ class Shooter(Module, IInteropShooter):  # type: ignore[misc]
             else:
                 async with self.proxy(module, ICalculator) as calculator:
                     result = await calculator.add(a, b)
+        except Exception as exc:
+            return f"{type(exc).__name__}: {getattr(exc, 'message', exc)}"
+        return f"{type(result).__name__} {result!r}"
+
+    async def call_remote(self, module: str, method: str, **kwargs: Any) -> str:
+        try:
+            result = await self.comm.execute(module, method, {"return": Any})
         except Exception as exc:
             return f"{type(exc).__name__}: {getattr(exc, 'message', exc)}"
         return f"{type(result).__name__} {result!r}"

@@ -145,7 +145,12 @@ class XmppComm(Comm):
             on_fatal=self._report_fatal,
             plugins=("xep_0060",) if self._dialect == "pyobs" else (),
         )
-        self._rpc = RpcChannel(connection, serve=self._serve_remote, spawn=self._spawn)
+        self._rpc = RpcChannel(
+            connection,
+            serve=self._serve_remote,
+            spawn=self._spawn,
+            pyobs_caller=lambda jid: self._pyobs is not None and self._pyobs.is_peer(jid),
+        )
         self._room = Room(
             connection,
             self._settings.room_jid,

@@ -102,6 +102,11 @@ class PyobsPeers:
     def peer(self, name: str) -> PyobsPeer | None:
         return self._peers.get(name)
 
+    def is_peer(self, jid: str) -> bool:
+        """Whether the full JID ``jid`` is a pyobs module's session."""
+        peer = self._peers.get(split_jid(jid)[0].partition("@")[0])
+        return peer is not None and peer.jid == jid
+
     # --- session -------------------------------------------------------------------------------
 
     async def on_session(self) -> None:

@@ -73,8 +73,17 @@ class _Outgoing:
 class RpcChannel:
     """Sends calls and serves incoming ones on one connection."""
 
-    def __init__(self, connection: XmppConnection, *, serve: Serve, spawn: Spawn) -> None:
+    def __init__(
+        self,
+        connection: XmppConnection,
+        *,
+        serve: Serve,
+        spawn: Spawn,
+        pyobs_caller: Callable[[str], bool] = lambda jid: False,
+    ) -> None:
         self._connection = connection
+        # pyobs sends a call without arguments as a bare <params/>: only the caller tells its format.
+        self._pyobs_caller = pyobs_caller
         self._serve = serve
         self._spawn = spawn
         self._pending: dict[str, _Outgoing] = {}
@@ -216,7 +225,7 @@ class RpcChannel:
 
     def _on_call(self, stanza: ET.Element, query: ET.Element) -> None:
         caller, iq_id = stanza.get("from", ""), stanza.get("id", "")
-        if is_pyobs_call(query):
+        if is_pyobs_call(query) or self._pyobs_caller(caller):
             self._on_pyobs_call(caller, iq_id, query)
             return
         try:
