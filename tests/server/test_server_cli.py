@@ -100,3 +100,22 @@ async def test_init_start_status_stop(tmp_path: Path, capsys: pytest.CaptureFixt
     assert main(["server", "status", str(directory)]) == 3
     out = capsys.readouterr().out
     assert "camera@obs.local" in out and "not running" in out
+
+
+def test_every_account_is_on_the_shared_roster_and_may_make_pubsub_nodes(tmp_path: Path) -> None:
+    # What pyobs-core peers need (docs/pyobs.md); test_pyobs_interop.py shows it working.
+    if shutil.which("prosody") is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("prosody is not installed")
+        pytest.skip("prosody is not installed")
+    directory = tmp_path / "server"
+    camera = _config(tmp_path / "camera.yaml", "camera@obs.local", "pw1")
+    dome = _config(tmp_path / "dome.yaml", "dome@obs.local", "pw2")
+    assert main(["server", "init", str(directory), "--port", str(_free_port()), str(camera)]) == 0
+    assert main(["server", "init", str(directory), "--port", str(_free_port()), str(dome)]) == 0
+    roster = (directory / "groups-obs.local.txt").read_text().split()
+    assert roster == ["[+observatory]", "camera@obs.local", "dome@obs.local"]  # init again keeps camera
+    config = (directory / "prosody.cfg.lua").read_text()
+    assert f'groups_file = "{(directory / "groups-obs.local.txt").resolve()}"' in config
+    assert 'Component "pubsub.obs.local" "pubsub"' in config
+    assert 'admins = { "camera@obs.local"; "dome@obs.local" }' in config

@@ -73,7 +73,8 @@ def prosody_config(directory: Path, settings: ServerSettings) -> str:
         "c2s_direct_tls_ports = {}",
         "-- Only what the nightcrew protocol needs; no s2s (a private server), no rate limits (mod_limits",
         "-- is not loaded) and no offline storage (events and calls are not for later).",
-        'modules_enabled = { "roster"; "saslauth"; "tls"; "disco"; "ping"; "posix" }',
+        "-- groups: a shared roster (see groups_file below), which pyobs-core peers need (docs/pyobs.md).",
+        'modules_enabled = { "roster"; "saslauth"; "tls"; "disco"; "ping"; "posix"; "groups" }',
         'modules_disabled = { "s2s"; "offline" }',
         'authentication = "internal_hashed"  -- SCRAM-SHA-1 (passwords are stored hashed)',
         f"c2s_require_encryption = {require_tls}",
@@ -91,6 +92,15 @@ def prosody_config(directory: Path, settings: ServerSettings) -> str:
         lines += [
             f"VirtualHost {_lua(domain)}",
             f"    {ssl}",
+            "    -- Every account is a contact of every other: pyobs-core finds its peers by presence.",
+            f"    groups_file = {_lua(str(groups_file(d, domain)))}",
+            "",
+            "-- PubSub, where pyobs-core modules publish their events (one node per sender and event).",
+            "-- Prosody lets only its admins make nodes: every account is one here (and nowhere else).",
+            f'Component {_lua("pubsub." + domain)} "pubsub"',
+            f"    {ssl}",
+            f"    admins = {{ {'; '.join(_lua(jid) for jid in _members(d, domain))} }}",
+            "    autocreate_on_publish = true",
             "",
             "-- The room all modules meet in: non-anonymous (real JIDs visible), created on first join.",
             f'Component {_lua("conference." + domain)} "muc"',
@@ -119,11 +129,24 @@ def init_server(
     (root / "data").mkdir(parents=True, exist_ok=True)
     for domain in all_domains:
         make_self_signed(root / "certs", domain)
+        roster = groups_file(root, domain)
+        if not roster.exists():  # init again keeps the accounts registered before
+            roster.write_text("[+observatory]\n")  # '+': every account sees the group
     (root / "prosody.cfg.lua").write_text(prosody_config(root, settings))
     settings.save(root)
     for account in accounts:
         register_account(root, account)
     return settings
+
+
+def groups_file(directory: Path, domain: str) -> Path:
+    """The shared roster of ``domain``: the accounts every account has as contacts (mod_groups)."""
+    return directory / f"groups-{domain}.txt"
+
+
+def _members(directory: Path, domain: str) -> list[str]:
+    path = groups_file(directory, domain)
+    return [line for line in path.read_text().split() if "@" in line] if path.exists() else []
 
 
 def register_account(directory: str | os.PathLike[str], account: Account) -> None:
@@ -138,6 +161,12 @@ def register_account(directory: str | os.PathLike[str], account: Account) -> Non
     )
     if result.returncode != 0:
         raise NightcrewError(f"registering {account.jid} failed: {_last_line(result.stdout + result.stderr)}")
+    roster = groups_file(root, account.domain)
+    if roster.exists() and account.jid not in _members(root, account.domain):
+        # Shared roster and PubSub admins are read by Prosody when it starts.
+        with roster.open("a") as out:
+            out.write(f"{account.jid}\n")
+        (root / "prosody.cfg.lua").write_text(prosody_config(root, ServerSettings.load(root)))
 
 
 def start_server(directory: str | os.PathLike[str]) -> int:

@@ -20,6 +20,7 @@ from nightcrew.security import Policy
 
 if TYPE_CHECKING:
     from nightcrew.comm.xmpp._connection import XmppConnection
+    from nightcrew.comm.xmpp._pyobs import PyobsPeer, PyobsPeers
     from nightcrew.comm.xmpp._room import Room
     from nightcrew.comm.xmpp._rpc import RpcChannel
 
@@ -30,6 +31,9 @@ log = logging.getLogger(__name__)
 #: disco#info feature per served interface: ``urn:nightcrew:interface:ICamera:1`` (name, version).
 INTERFACE_FEATURE = "urn:nightcrew:interface:"
 _DISCO_TIMEOUT = 5.0
+DIALECTS = ("nightcrew", "pyobs")
+#: pyobs addresses a peer as ``name@domain/<its own resource>``, ``pyobs`` unless configured.
+PYOBS_RESOURCE = "pyobs"
 
 
 class XmppComm(Comm):
@@ -49,6 +53,9 @@ class XmppComm(Comm):
         policy: The access policy file; callers are identified by their authenticated account
             (the JID's local part on this domain, the bare JID otherwise).
         audit: The audit trail file.
+        dialect: ``pyobs`` makes pyobs-core 2.x modules peers too (docs/pyobs.md): the module
+            also announces itself by presence, offers its interfaces and events the pyobs way and
+            calls pyobs modules in their value format; its resource defaults to ``pyobs``.
     """
 
     def __init__(
@@ -65,8 +72,12 @@ class XmppComm(Comm):
         rpc_grace: float = 1.0,
         policy: str | Policy | None = None,
         audit: str | None = None,
+        dialect: str = "nightcrew",
     ) -> None:
         super().__init__(rpc_grace=rpc_grace, policy=policy, audit=audit)
+        if dialect not in DIALECTS:
+            raise ConfigError(f"unknown dialect '{dialect}' (known: {', '.join(DIALECTS)})", key="dialect")
+        self._dialect = dialect
         local, domain, resource = parse_jid(jid)
         host, port = parse_server(server, domain)
         if not password:
@@ -76,7 +87,7 @@ class XmppComm(Comm):
         self._settings = XmppSettings(
             local=local,
             domain=domain,
-            resource=resource or DEFAULT_RESOURCE,
+            resource=resource or (PYOBS_RESOURCE if dialect == "pyobs" else DEFAULT_RESOURCE),
             password=password,
             host=host,
             port=port,
@@ -89,6 +100,7 @@ class XmppComm(Comm):
         self._connection: XmppConnection | None = None
         self._rpc: RpcChannel | None = None
         self._room: Room | None = None
+        self._pyobs: PyobsPeers | None = None
 
     @property
     def name(self) -> str:
@@ -101,7 +113,9 @@ class XmppComm(Comm):
 
     @property
     def clients(self) -> list[str]:
-        return self._room.occupants if self._room is not None else []
+        room = self._room.occupants if self._room is not None else []
+        pyobs = [n for n in self._pyobs.names if n not in room] if self._pyobs is not None else []
+        return room + pyobs
 
     @property
     def connected(self) -> bool:
@@ -112,6 +126,8 @@ class XmppComm(Comm):
         """Publish the module's state in its room presence (``<status>`` and ``<module state=…>``)."""
         if self._room is not None:
             self._room.advertise_state(state)
+        if self._pyobs is not None:
+            self._pyobs.advertise_state(state)
 
     # --- transport hooks -----------------------------------------------------------------------
 
@@ -127,8 +143,14 @@ class XmppComm(Comm):
             on_lost=self._on_lost,
             features=self._features(),
             on_fatal=self._report_fatal,
+            plugins=("xep_0060",) if self._dialect == "pyobs" else (),
         )
-        self._rpc = RpcChannel(connection, serve=self._serve_remote, spawn=self._spawn)
+        self._rpc = RpcChannel(
+            connection,
+            serve=self._serve_remote,
+            spawn=self._spawn,
+            pyobs_caller=lambda jid: self._pyobs is not None and self._pyobs.is_peer(jid),
+        )
         self._room = Room(
             connection,
             self._settings.room_jid,
@@ -138,6 +160,21 @@ class XmppComm(Comm):
             on_event=self._deliver_event,
             domain=self._settings.domain,
         )
+        if self._dialect == "pyobs":
+            from nightcrew.comm.xmpp._pyobs import PyobsPeers
+
+            self._pyobs = PyobsPeers(
+                connection,
+                name=self.name,
+                domain=self._settings.domain,
+                features=self._features(),
+                interfaces=self.served_interfaces,
+                on_online=self._client_online,
+                on_offline=self._on_client_offline,
+                deliver=self._deliver_event,
+                wants=lambda event: bool(self._handlers.get(event)),
+                spawn=self._spawn,
+            )
         self._connection = connection
         try:
             await connection.open()
@@ -152,6 +189,9 @@ class XmppComm(Comm):
             self._rpc.fail_all("comm closed")
 
     async def _fetch_interface_names(self, client: str) -> list[str]:
+        peer = self._pyobs_peer(client)
+        if peer is not None:
+            return list(peer.interfaces)
         jid = self._require_room().jid_of(client)
         from slixmpp.exceptions import IqError, IqTimeout
 
@@ -163,19 +203,26 @@ class XmppComm(Comm):
         return _interface_names(info["disco_info"]["features"], client)
 
     async def _send_call(self, client: str, method: str, args: list[Any], call: PendingCall) -> None:
+        peer = self._pyobs_peer(client)
+        if peer is not None:
+            self._require_rpc().call(peer.jid, client, method, args, call, pyobs=True)
+            return
         jid = self._require_room().jid_of(client)
         self._require_rpc().call(jid, client, method, args, call)
 
     async def _publish_event(self, name: str, payload: dict[str, Any]) -> None:
         try:
             self._require_room().publish(name, payload)
+            if self._pyobs is not None:
+                self._pyobs.publish(name, payload)
         except RemoteError:
             # Events are fire and forget; while reconnecting there is nobody to tell.
             log.debug("%s dropped: not connected", name)
 
     async def _subscribe_events(self, name: str) -> None:
         # Every event reaches every room occupant; Comm._deliver_event keeps the registered ones.
-        return None
+        if self._pyobs is not None:
+            self._pyobs.subscribe(name)
 
     # --- glue ----------------------------------------------------------------------------------
 
@@ -188,6 +235,8 @@ class XmppComm(Comm):
 
     async def _on_session(self) -> None:
         await self._require_room().join()
+        if self._pyobs is not None:
+            await self._pyobs.on_session()
 
     async def _serve_remote(
         self, method: str, args: list[Any], announce: Callable[[float], None], jid: str
@@ -196,6 +245,9 @@ class XmppComm(Comm):
 
     def _sender_account(self, sender: str) -> str:
         # The room nickname is chosen by the occupant; its real JID is what the server authenticated.
+        peer = self._pyobs_peer(sender)
+        if peer is not None:
+            return self._account_of(peer.jid)
         try:
             return self._account_of(self._require_room().jid_of(sender))
         except RemoteError:
@@ -211,10 +263,18 @@ class XmppComm(Comm):
         log.warning("%s lost its connection to the XMPP server; reconnecting", self.name)
         self._require_rpc().fail_all("connection to the XMPP server lost during the call")
         self._require_room().lost()
+        if self._pyobs is not None:
+            self._pyobs.lost()
 
     def _on_client_offline(self, client: str) -> None:
         self._require_rpc().fail_calls_to(client)
         self._client_offline(client)
+
+    def _pyobs_peer(self, client: str) -> PyobsPeer | None:
+        """The pyobs peer called ``client`` (a room occupant of that name takes precedence)."""
+        if self._pyobs is None or (self._room is not None and client in self._room.occupants):
+            return None
+        return self._pyobs.peer(client)
 
     def _require_connection(self) -> XmppConnection:
         if self._connection is None:

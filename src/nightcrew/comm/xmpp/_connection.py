@@ -56,12 +56,14 @@ class XmppConnection:
         on_lost: Callable[[], None],
         features: list[str],
         on_fatal: Callable[[NightcrewError], None] | None = None,
+        plugins: tuple[str, ...] = (),
     ) -> None:
         self._settings = settings
         self._on_session = on_session
         self._on_lost = on_lost
         self._on_fatal = on_fatal
         self._features = features
+        self._plugins = plugins  # slixmpp plugins beyond disco (PubSub for the pyobs dialect)
         self._handlers: list[tuple[str, _TagMatcher, StanzaHandler]] = []
         self._client: slixmpp.ClientXMPP | None = None
         self._session: asyncio.Future[None] | None = None
@@ -199,6 +201,8 @@ class XmppConnection:
         disco: Any = client.plugin["xep_0030"]
         for feature in self._features:
             disco.add_feature(feature)
+        for plugin in self._plugins:
+            client.register_plugin(plugin)
         client.add_event_handler("session_start", self._on_session_start)
         client.add_event_handler("tls_success", self._on_tls)
         client.add_event_handler("ssl_invalid_chain", self._on_untrusted_certificate)

@@ -5,12 +5,17 @@ Callee → caller, at once, when the method's timeout is not the default: ``<mes
 with ``<timeout xmlns='urn:nightcrew:rpc:timeout' id=ID seconds=S/>``. Callee → caller, when done:
 ``<iq type='result' id=ID>`` with a methodResponse (result or fault). An ``<iq type='error'>``
 (e.g. the callee's session is gone) fails the call with RemoteError.
+
+Calls to and from pyobs-core peers (the comm's pyobs dialect) carry their values in pyobs' format
+(:mod:`~nightcrew.comm.xmpp._pyobs_values`) and announce timeouts pyobs' way: an early
+``<iq type='result'>`` with the same id holding ``<methodTimeout><timeout>S</timeout>``.
 """
 
 from __future__ import annotations
 
 import itertools
 import logging
+import math
 import secrets
 import xml.etree.ElementTree as ET
 from collections.abc import Awaitable, Callable, Coroutine
@@ -19,6 +24,13 @@ from typing import Any
 from nightcrew.comm.base import PendingCall
 from nightcrew.comm.rpc import Fault, fault_from_exception
 from nightcrew.comm.xmpp._connection import XmppConnection, error_condition
+from nightcrew.comm.xmpp._pyobs_values import (
+    build_pyobs_fault,
+    build_pyobs_params,
+    is_pyobs_call,
+    parse_pyobs_fault,
+    parse_pyobs_params,
+)
 from nightcrew.comm.xmpp._xmlrpc import (
     NS_RPC,
     build_call,
@@ -27,7 +39,7 @@ from nightcrew.comm.xmpp._xmlrpc import (
     parse_call,
     parse_response,
 )
-from nightcrew.errors import CodecError, InvalidArgumentError, NightcrewError, RemoteError
+from nightcrew.errors import CodecError, InterfaceError, InvalidArgumentError, NightcrewError, RemoteError
 
 __all__ = ["NS_HINTS", "NS_TIMEOUT", "RpcChannel"]
 
@@ -42,20 +54,36 @@ Serve = Callable[[str, list[Any], Callable[[float], None], str], Awaitable[Any]]
 Spawn = Callable[[Coroutine[Any, Any, Any], str], None]
 
 
-class _Outgoing:
-    __slots__ = ("call", "jid", "module")
+_Q = f"{{{NS_RPC}}}"
 
-    def __init__(self, jid: str, module: str, call: PendingCall) -> None:
+
+class _Outgoing:
+    __slots__ = ("call", "jid", "method", "module", "pyobs")
+
+    def __init__(
+        self, jid: str, module: str, call: PendingCall, method: str = "", pyobs: bool = False
+    ) -> None:
         self.jid = jid
         self.module = module
         self.call = call
+        self.method = method
+        self.pyobs = pyobs  # the callee speaks pyobs' value format
 
 
 class RpcChannel:
     """Sends calls and serves incoming ones on one connection."""
 
-    def __init__(self, connection: XmppConnection, *, serve: Serve, spawn: Spawn) -> None:
+    def __init__(
+        self,
+        connection: XmppConnection,
+        *,
+        serve: Serve,
+        spawn: Spawn,
+        pyobs_caller: Callable[[str], bool] = lambda jid: False,
+    ) -> None:
         self._connection = connection
+        # pyobs sends a call without arguments as a bare <params/>: only the caller tells its format.
+        self._pyobs_caller = pyobs_caller
         self._serve = serve
         self._spawn = spawn
         self._pending: dict[str, _Outgoing] = {}
@@ -69,15 +97,26 @@ class RpcChannel:
 
     # --- calling -------------------------------------------------------------------------------
 
-    def call(self, jid: str, module: str, method: str, args: list[Any], call: PendingCall) -> None:
+    def call(
+        self, jid: str, module: str, method: str, args: list[Any], call: PendingCall, *, pyobs: bool = False
+    ) -> None:
         """Send ``method(*args)`` to ``jid`` (module ``module``); ``call`` hears what comes back."""
         iq_id = f"{self._id_prefix}{next(self._ids):x}"
-        payload = build_call(method, args)
-        self._pending[iq_id] = _Outgoing(jid, module, call)
+        if pyobs:
+            query = ET.Element(f"{_Q}query")
+            method_call = ET.SubElement(query, f"{_Q}methodCall")
+            ET.SubElement(method_call, f"{_Q}methodName").text = method
+            method_call.append(build_pyobs_params(args, f"{method}(): argument"))
+        else:
+            payload = build_call(method, args)
+        self._pending[iq_id] = _Outgoing(jid, module, call, method, pyobs)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
         try:
-            self._connection.send_text("iq", jid, payload, id=iq_id, type="set")
+            if pyobs:
+                self._connection.send(self._connection.stanza("iq", jid, query, id=iq_id, type="set"))
+            else:
+                self._connection.send_text("iq", jid, payload, id=iq_id, type="set")
         except NightcrewError:
             self._pending.pop(iq_id, None)
             raise
@@ -105,6 +144,9 @@ class RpcChannel:
         outgoing = self._take(iq_id, stanza)
         if outgoing is None:
             return
+        if outgoing.pyobs:
+            self._on_pyobs_reply(iq_id, outgoing, query)
+            return
         del self._pending[iq_id]
         try:
             response = parse_response(query)
@@ -116,6 +158,31 @@ class RpcChannel:
         else:
             outgoing.call.set_result(response)
 
+    def _on_pyobs_reply(self, iq_id: str, outgoing: _Outgoing, query: ET.Element) -> None:
+        timeout = query.findtext(f"{_Q}methodTimeout/{_Q}timeout")
+        if timeout is not None:
+            try:
+                outgoing.call.announce(float(timeout))
+            except ValueError:
+                log.debug("ignored malformed pyobs timeout %r from %s", timeout, outgoing.module)
+            return  # the result follows under the same id
+        del self._pending[iq_id]
+        response = query.find(f"{_Q}methodResponse")
+        fault = response.find(f"{_Q}fault") if response is not None else None
+        if fault is not None:
+            outgoing.call.set_fault(parse_pyobs_fault(fault))
+            return
+        try:
+            values = parse_pyobs_params(
+                response.find(f"{_Q}params") if response is not None else None, "result"
+            )
+        except CodecError as exc:
+            outgoing.call.set_error(
+                RemoteError(f"unreadable pyobs reply: {exc.message}", module=outgoing.module)
+            )
+            return
+        outgoing.call.set_result(values[0] if values else None)
+
     def _on_error_iq(self, stanza: ET.Element) -> bool:
         iq_id = stanza.get("id", "")
         outgoing = self._take(iq_id, stanza) if stanza.get("type") == "error" else None
@@ -123,6 +190,10 @@ class RpcChannel:
             return False  # maybe an IQ slixmpp waits for (disco)
         del self._pending[iq_id]
         condition = error_condition(stanza) or "unknown error"
+        if outgoing.pyobs and condition == "item-not-found":  # pyobs' answer to an unknown method
+            message = f"pyobs module '{outgoing.module}' has no method '{outgoing.method}'"
+            outgoing.call.set_error(InterfaceError(message, module=outgoing.module))
+            return True
         outgoing.call.set_error(RemoteError(f"call not delivered ({condition})", module=outgoing.module))
         return True
 
@@ -154,6 +225,9 @@ class RpcChannel:
 
     def _on_call(self, stanza: ET.Element, query: ET.Element) -> None:
         caller, iq_id = stanza.get("from", ""), stanza.get("id", "")
+        if is_pyobs_call(query) or self._pyobs_caller(caller):
+            self._on_pyobs_call(caller, iq_id, query)
+            return
         try:
             method, args = parse_call(query)
         except CodecError as exc:
@@ -179,11 +253,49 @@ class RpcChannel:
             payload = build_fault(fault_from_exception(exc))
         self._reply(caller, iq_id, payload)
 
+    def _on_pyobs_call(self, caller: str, iq_id: str, query: ET.Element) -> None:
+        method = query.findtext(f"{_Q}methodCall/{_Q}methodName") or ""
+        try:
+            args = parse_pyobs_params(query.find(f"{_Q}methodCall/{_Q}params"), f"{method}(): argument")
+        except CodecError as exc:
+            log.warning("refused pyobs call %s() from %s: %s", method, caller, exc.message)
+            self._reply_pyobs(caller, iq_id, _pyobs_fault(InvalidArgumentError(exc.message)))
+            return
+        self._spawn(self._serve_pyobs_call(caller, iq_id, method, args), f"serve pyobs {method}()")
+
+    async def _serve_pyobs_call(self, caller: str, iq_id: str, method: str, args: list[Any]) -> None:
+        def announce(seconds: float) -> None:
+            body = ET.Element(f"{_Q}methodTimeout")
+            ET.SubElement(body, f"{_Q}timeout").text = str(math.ceil(seconds))  # pyobs reads an int
+            self._reply_pyobs(caller, iq_id, body)
+
+        try:
+            result = await self._serve(method, args, announce, caller)
+            body = ET.Element(f"{_Q}methodResponse")
+            body.append(build_pyobs_params([] if result is None else [result], "result"))
+        except Exception as exc:
+            body = _pyobs_fault(exc)
+        self._reply_pyobs(caller, iq_id, body)
+
+    def _reply_pyobs(self, caller: str, iq_id: str, body: ET.Element) -> None:
+        query = ET.Element(f"{_Q}query")
+        query.append(body)
+        try:
+            self._connection.send(self._connection.stanza("iq", caller, query, id=iq_id, type="result"))
+        except NightcrewError:
+            log.debug("reply to pyobs call %s from %s lost: not connected", iq_id, caller)
+
     def _reply(self, caller: str, iq_id: str, payload: str) -> None:
         try:
             self._connection.send_text("iq", caller, payload, id=iq_id, type="result")
         except NightcrewError:
             log.debug("result of call %s to %s lost: not connected", iq_id, caller)
+
+
+def _pyobs_fault(exc: BaseException) -> ET.Element:
+    response = ET.Element(f"{_Q}methodResponse")
+    response.append(build_pyobs_fault(fault_from_exception(exc)))
+    return response
 
 
 def _no_store() -> ET.Element:

@@ -30,9 +30,10 @@ def escape_attribute(value: str) -> str:
 
 def _write(element: ET.Element, parent_ns: str, out: list[str]) -> None:
     tag = element.tag
-    if not isinstance(tag, str) or not tag.startswith("{"):
-        raise ValueError(f"element {tag!r} has no namespace")
-    ns, _, local = tag[1:].partition("}")
+    if not isinstance(tag, str):
+        raise ValueError(f"element {tag!r} is not an element")
+    # An element in no namespace (pyobs' fault fields are) undeclares its parent's default one.
+    ns, _, local = tag[1:].partition("}") if tag.startswith("{") else ("", "", tag)
     out.append("<" + local)
     if ns != parent_ns:
         out.append(f' xmlns="{escape_attribute(ns)}"')
@@ -59,8 +60,10 @@ def stanza_text(stanza: ET.Element, stream_ns: str = "jabber:client") -> str:
     """The XML text of ``stanza`` inside a stream whose default namespace is ``stream_ns``.
 
     Raises:
-        ValueError: An element has no namespace, or an attribute one other than ``xml:``.
+        ValueError: The stanza has no namespace, or an attribute one other than ``xml:``.
     """
+    if not isinstance(stanza.tag, str) or not stanza.tag.startswith("{"):
+        raise ValueError(f"element {stanza.tag!r} has no namespace")
     out: list[str] = []
     _write(stanza, stream_ns, out)
     return "".join(out)
