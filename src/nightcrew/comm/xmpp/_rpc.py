@@ -27,6 +27,7 @@ from nightcrew.comm.xmpp._xmlrpc import (
     parse_call,
     parse_response,
 )
+from nightcrew.comm.xmpp._xmltext import escape_attribute
 from nightcrew.errors import CodecError, InvalidArgumentError, NightcrewError, RemoteError
 
 __all__ = ["NS_HINTS", "NS_TIMEOUT", "RpcChannel"]
@@ -34,11 +35,13 @@ __all__ = ["NS_HINTS", "NS_TIMEOUT", "RpcChannel"]
 log = logging.getLogger(__name__)
 
 NS_TIMEOUT = "urn:nightcrew:rpc:timeout"
+#: ``<acting xmlns=NS_ACTING identity='viewer'/>`` in a call's IQ: made in the identity ``account:viewer``.
+NS_ACTING = "urn:nightcrew:rpc:acting"
 NS_HINTS = "urn:xmpp:hints"
 _C = "{jabber:client}"
 
-#: Serves ``method(args)``; the last argument is the caller's full JID (for the access check).
-Serve = Callable[[str, list[Any], Callable[[float], None], str], Awaitable[Any]]
+#: Serves ``method(args)``; then the caller's full JID and the identity it acts in (access check).
+Serve = Callable[[str, list[Any], Callable[[float], None], str, str | None], Awaitable[Any]]
 Spawn = Callable[[Coroutine[Any, Any, Any], str], None]
 
 
@@ -73,6 +76,8 @@ class RpcChannel:
         """Send ``method(*args)`` to ``jid`` (module ``module``); ``call`` hears what comes back."""
         iq_id = f"{self._id_prefix}{next(self._ids):x}"
         payload = build_call(method, args)
+        if call.acting_as is not None:
+            payload += f'<acting xmlns="{NS_ACTING}" identity="{escape_attribute(call.acting_as)}"/>'
         self._pending[iq_id] = _Outgoing(jid, module, call)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
@@ -159,9 +164,13 @@ class RpcChannel:
         except CodecError as exc:
             self._reply(caller, iq_id, build_fault(fault_from_exception(InvalidArgumentError(exc.message))))
             return
-        self._spawn(self._serve_call(caller, iq_id, method, args), f"serve {method}()")
+        acting = stanza.find(f"{{{NS_ACTING}}}acting")
+        identity = None if acting is None else acting.get("identity", "")
+        self._spawn(self._serve_call(caller, iq_id, method, args, identity), f"serve {method}()")
 
-    async def _serve_call(self, caller: str, iq_id: str, method: str, args: list[Any]) -> None:
+    async def _serve_call(
+        self, caller: str, iq_id: str, method: str, args: list[Any], identity: str | None
+    ) -> None:
         def announce(seconds: float) -> None:
             element = ET.Element(f"{{{NS_TIMEOUT}}}timeout", id=iq_id, seconds=repr(float(seconds)))
             try:
@@ -172,7 +181,7 @@ class RpcChannel:
                 log.debug("could not announce the timeout of %s() to %s", method, caller)
 
         try:
-            result = await self._serve(method, args, announce, caller)
+            result = await self._serve(method, args, announce, caller, identity)
             payload = build_response(result)
         except Exception as exc:
             # Every failure becomes a fault: the one place (nightcrew.comm.rpc) decides its content.
