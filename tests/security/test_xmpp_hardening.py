@@ -16,11 +16,12 @@ import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from nightcrew.comm.xmpp import XmppComm
-from nightcrew.errors import NightcrewError, RemoteError
+from nightcrew.errors import ConfigError, NightcrewError, RemoteError
 from nightcrew.events import TestEvent
 from nightcrew.modules import Module
 from nightcrew.server import Account, init_server, start_server, stop_server
@@ -142,6 +143,39 @@ async def test_account_outside_the_member_list_cannot_enter(hardened_server: _Se
     finally:
         await weather.close()
         await listener.close()
+
+
+class _Impostor(XmppComm):
+    """An observatory account (a room owner) entering under another module's name."""
+
+    def __init__(self, *args: Any, squatted: str, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._squatted = squatted
+
+    @property
+    def name(self) -> str:
+        return self._squatted
+
+
+@pytest.mark.xmpp
+async def test_a_reserved_name_is_refused_to_any_other_account(hardened_server: _Server) -> None:
+    room = f"reserved@conference.{DOMAIN}"
+    weather = await _open(hardened_server.comm("weather", room))  # enters and reserves its name
+    await weather.close()
+    impostor = _Impostor(
+        f"operator@{DOMAIN}", DISTINCTIVE, server=f"127.0.0.1:{hardened_server.port}", room=room,
+        ca_file=hardened_server.ca_file, squatted="weather",
+    )  # fmt: skip
+    with pytest.raises(ConfigError, match=f"the name .weather. is reserved in room {room} for another"):
+        await impostor.open()
+    await impostor.close()
+    weather = await _open(hardened_server.comm("weather", room))  # while the real module still enters
+    listener = await _open(hardened_server.comm("listener", room))
+    try:
+        assert listener.comm.clients == ["weather"]  # the impostor left no passing name behind
+    finally:
+        await listener.close()
+        await weather.close()
 
 
 async def _read_until(reader: asyncio.StreamReader, pattern: str) -> str:

@@ -134,7 +134,11 @@ def _room_access(settings: ServerSettings) -> list[str]:
         "    restrict_room_creation = true",
     ]
     if settings.members_only:
-        lines.append("    muc_room_default_members_only = true  -- nobody else enters (XEP-0045 §7.2.6)")
+        lines += [
+            "    muc_room_default_members_only = true  -- nobody else enters (XEP-0045 §7.2.6)",
+            "    -- Rooms outlive their occupants, so module names reserved in them stay reserved.",
+            "    muc_room_default_persistent = true",
+        ]
     return lines
 
 

@@ -31,6 +31,7 @@ log = logging.getLogger(__name__)
 NS_MUC = "http://jabber.org/protocol/muc"
 NS_MUC_USER = "http://jabber.org/protocol/muc#user"
 NS_MUC_ADMIN = "http://jabber.org/protocol/muc#admin"
+NS_MUC_REGISTER = "http://jabber.org/protocol/muc#register"
 NS_EVENT = "urn:nightcrew:event"
 NS_MODULE = "urn:nightcrew:module"
 _C = "{jabber:client}"
@@ -99,6 +100,34 @@ class Room:
             if self._domain is None:
                 raise
             await self._take_back()
+        if self._domain is not None:
+            await self._reserve_name()
+
+    async def _reserve_name(self) -> None:
+        """Register this module's name with the room (XEP-0045 §7.10), so that no other account may
+        enter under it, also while the module is down (the room keeps it if it is persistent).
+
+        Servers and rooms that do not offer registration to this account refuse; that is fine:
+        taking the name back (:meth:`_take_back`) still works where the module owns the room.
+        """
+        from slixmpp.exceptions import IqError, IqTimeout
+
+        query = ET.Element("{jabber:iq:register}query")
+        form = ET.SubElement(query, "{jabber:x:data}x", type="submit")
+        for var, value in (("FORM_TYPE", NS_MUC_REGISTER), ("muc#register_roomnick", self._nick)):
+            ET.SubElement(
+                ET.SubElement(form, "{jabber:x:data}field", var=var), "{jabber:x:data}value"
+            ).text = value
+        iq: Any = self._connection.client.make_iq_set(ito=self._room_jid)
+        iq.append(query)
+        try:
+            await iq.send(timeout=_JOIN_TIMEOUT)
+        except IqError as exc:
+            log.debug(
+                "room %s did not reserve '%s': %s", self._room_jid, self._nick, exc.iq["error"]["condition"]
+            )
+        except IqTimeout:
+            log.debug("room %s did not answer the reservation of '%s'", self._room_jid, self._nick)
 
     async def _enter(self, *, join: bool = True) -> None:
         self._joined = asyncio.get_running_loop().create_future()
@@ -121,19 +150,26 @@ class Room:
         clear error naming it.
         """
         name = self._nick
-        self._nick = f"{name}{_RECLAIM_MARK}{secrets.token_hex(3)}"
+        passing = f"{name}{_RECLAIM_MARK}{secrets.token_hex(3)}"
+        self._nick = passing
         try:
             await self._enter()
             squatter = self._squatters.get(name)
             if squatter is not None:
                 await self._ban(squatter, name)
-        except BaseException:
             self._nick = name
-            with contextlib.suppress(NightcrewError):
+            try:
+                await self._enter(join=False)  # a nickname change (XEP-0045 §7.6)
+            except _NameTaken:
+                raise ConfigError(
+                    f"the name '{name}' is reserved in room {self._room_jid} for another account"
+                ) from None
+        except BaseException:
+            self._nick = passing
+            with contextlib.suppress(NightcrewError):  # leave under the passing name
                 self._connection.send(self._presence(join=False, kind="unavailable"))
+            self._nick = name
             raise
-        self._nick = name
-        await self._enter(join=False)  # a nickname change (XEP-0045 §7.6)
 
     async def _ban(self, jid: str, name: str) -> None:
         from slixmpp.exceptions import IqError, IqTimeout
