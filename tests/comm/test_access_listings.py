@@ -87,3 +87,23 @@ async def test_listings_show_only_what_the_caller_may_call(network: Network, tmp
 async def _documented(comm: Comm, module: str) -> list[str]:
     document = await comm.execute(module, "system.describe", [])
     return sorted(method["name"] for method in document["methods"])
+
+
+async def test_a_call_acting_as_an_identity_is_checked_as_that_identity(
+    network: Network, tmp_path: Path
+) -> None:
+    policy_file = tmp_path / "policy.yaml"
+    policy_file.write_text(POLICY + '  "operator:viewer": [observer]\n')
+    roof = SimRoof(comm=_secured(network, "roof", policy_file))
+    network._modules.append(roof)
+    await roof.open()
+    operator = await network.start(Calculator, "operator")
+    with operator.comm.acting_as("viewer"):  # as the console does for a viewer's session
+        assert await operator.comm.execute("roof", "get_motion_status", []) == "parked"
+        with pytest.raises(ForbiddenError, match=r"operator:viewer may not call roof\.open_roof\(\)"):
+            await operator.comm.execute("roof", "open_roof", [])
+    with operator.comm.acting_as("nobody"), pytest.raises(ForbiddenError, match="operator:nobody may not"):
+        await operator.comm.execute("roof", "get_motion_status", [])
+    with pytest.raises(ValueError, match="not an identity name"), operator.comm.acting_as("a:b"):
+        pass
+    await operator.comm.execute("roof", "close_roof", [])  # as itself again: everything

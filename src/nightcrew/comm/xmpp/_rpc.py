@@ -35,7 +35,7 @@ __all__ = ["NS_HINTS", "NS_TIMEOUT", "RpcChannel"]
 log = logging.getLogger(__name__)
 
 NS_TIMEOUT = "urn:nightcrew:rpc:timeout"
-#: ``<acting xmlns=NS_ACTING identity='viewer'/>`` in a call's IQ: made in the identity ``account:viewer``.
+#: ``<acting xmlns=NS_ACTING identity='viewer'/>`` in a call's query: made as ``account:viewer``.
 NS_ACTING = "urn:nightcrew:rpc:acting"
 NS_HINTS = "urn:xmpp:hints"
 _C = "{jabber:client}"
@@ -77,7 +77,9 @@ class RpcChannel:
         iq_id = f"{self._id_prefix}{next(self._ids):x}"
         payload = build_call(method, args)
         if call.acting_as is not None:
-            payload += f'<acting xmlns="{NS_ACTING}" identity="{escape_attribute(call.acting_as)}"/>'
+            # Inside the query: an IQ carries exactly one payload element (RFC 6120 §8.2.3).
+            acting = f'<acting xmlns="{NS_ACTING}" identity="{escape_attribute(call.acting_as)}"/>'
+            payload = f"{payload[: -len('</query>')]}{acting}</query>"
         self._pending[iq_id] = _Outgoing(jid, module, call)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
@@ -164,7 +166,7 @@ class RpcChannel:
         except CodecError as exc:
             self._reply(caller, iq_id, build_fault(fault_from_exception(InvalidArgumentError(exc.message))))
             return
-        acting = stanza.find(f"{{{NS_ACTING}}}acting")
+        acting = query.find(f"{{{NS_ACTING}}}acting")
         identity = None if acting is None else acting.get("identity", "")
         self._spawn(self._serve_call(caller, iq_id, method, args, identity), f"serve {method}()")
 
