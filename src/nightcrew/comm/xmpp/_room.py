@@ -40,8 +40,8 @@ _JOIN_TIMEOUT = 10.0
 _RECLAIM_MARK = "~"
 
 
-class _NameTaken(ConfigError):
-    """The room refused our nickname: an occupant holds it."""
+class _NameTaken(Exception):  # an internal signal: never leaves this module
+    """The room refused our nickname: an occupant holds it (or it is reserved)."""
 
 
 class Room:
@@ -96,10 +96,13 @@ class Room:
         """
         try:
             await self._enter()
-        except _NameTaken:
+        except _NameTaken as exc:
             if self._domain is None:
-                raise
-            await self._take_back()
+                raise ConfigError(str(exc)) from None
+            try:
+                await self._take_back()
+            except _NameTaken as again:  # even the passing name was refused
+                raise ConfigError(str(again)) from None
         if self._domain is not None:
             await self._reserve_name()
 
@@ -290,7 +293,7 @@ class Room:
     def _on_join_error(self, stanza: ET.Element) -> None:
         condition = error_condition(stanza)
         if condition == "conflict":
-            error: NightcrewError = _NameTaken(
+            error: Exception = _NameTaken(
                 f"another module named '{self._nick}' is already in room {self._room_jid}"
             )
         else:
