@@ -107,8 +107,14 @@ async def list_modules(comm: Comm) -> list[ModuleInfo]:
 
 
 async def method_names(comm: Comm, module: str) -> list[str]:
-    """Remotely callable methods of ``module`` (of the interfaces this process knows)."""
-    return sorted(interface_methods(await comm.get_interfaces(module)))
+    """Remotely callable methods of ``module`` (of the interfaces this process knows) that this
+    caller may call: the callee's own listing says which (it shows each caller its rights)."""
+    known = interface_methods(await comm.get_interfaces(module))
+    try:
+        listed = set(await comm.execute(module, "system.listMethods", []))
+    except NightcrewError:
+        return sorted(known)  # a peer without introspection: what its interfaces declare
+    return sorted(name for name in known if name in listed)
 
 
 async def call_method(comm: Comm, target: str, args: list[Any]) -> Any:

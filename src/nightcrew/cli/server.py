@@ -59,14 +59,28 @@ def _init_options() -> argparse.ArgumentParser:
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on (default: loopback)")
     parser.add_argument("--port", type=int, default=5222, help="client port (default: 5222)")
     parser.add_argument("--domain", action="append", default=[], help="XMPP domain (default: from the JIDs)")
+    parser.add_argument(
+        "--open-room",
+        action="store_true",
+        help="let any account of the server enter the room (not members-only)",
+    )
+    parser.add_argument("--require-tls", action="store_true", help="require TLS on loopback too")
     return parser
 
 
 def _init(args: argparse.Namespace) -> int:
     options = _init_options().parse_intermixed_args(args.rest)
     accounts = accounts_from_configs(options.configs)
+    # The accounts of the given files own the room; with any, it is members-only (docs/security.md).
     settings = init_server(
-        args.directory, accounts, host=options.host, port=options.port, domains=options.domain
+        args.directory,
+        accounts,
+        host=options.host,
+        port=options.port,
+        domains=options.domain,
+        room_owners=[a.jid for a in accounts],
+        members_only=bool(accounts) and not options.open_room,
+        require_tls=True if options.require_tls else None,
     )
     names = ", ".join(a.jid for a in accounts) or "no accounts"
     print(

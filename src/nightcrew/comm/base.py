@@ -15,9 +15,12 @@ network. When it passes, :class:`~nightcrew.errors.RemoteTimeoutError` is raised
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
+import re
 from abc import ABC, abstractmethod
-from collections.abc import Awaitable, Callable, Coroutine
+from collections.abc import Awaitable, Callable, Coroutine, Iterator
+from contextvars import ContextVar
 from typing import Any, TypeVar, overload
 
 from nightcrew.clock import Clock, ClockTimeout, RealClock
@@ -39,15 +42,21 @@ I = TypeVar("I", bound=Interface)  # noqa: E741 - the conventional name for an i
 #: An event handler: ``async def on_x(event, sender) -> None`` (a bool result is ignored).
 EventHandler = Callable[[E, str], Awaitable[Any]]
 
+#: The role a module's calls are made in for someone else (see :meth:`Comm.acting_as`).
+_acting_as: ContextVar[str | None] = ContextVar("nightcrew_acting_as", default=None)
+_IDENTITY = re.compile(r"[A-Za-z0-9_.-]{1,64}")
+
 
 class PendingCall:
     """A call on its way: the transport reports the announced timeout, the result or a fault."""
 
-    __slots__ = ("_client", "_on_announce", "future", "timeout")
+    __slots__ = ("_client", "_on_announce", "acting_as", "future", "timeout")
 
-    def __init__(self, client: str) -> None:
+    def __init__(self, client: str, acting_as: str | None = None) -> None:
         self.future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
         self.timeout: float | None = None
+        #: The sub-identity the call is made in (the callee checks ``account:acting_as``), or None.
+        self.acting_as = acting_as
         self._client = client
         self._on_announce: Callable[[float], None] | None = None
 
@@ -200,6 +209,28 @@ class Comm(ABC):
         """Names of the interfaces this comm serves (empty before :meth:`attach`)."""
         return self._server.interface_names if self._server else []
 
+    def served_interfaces_for(self, caller: str) -> list[str]:
+        """The served interfaces announced to account ``caller``: those it may call a method of."""
+        return self._server.interfaces_for(caller) if self._server else []
+
+    @staticmethod
+    @contextlib.contextmanager
+    def acting_as(identity: str) -> Iterator[None]:
+        """Make the calls inside ``with comm.acting_as("viewer"):`` in a narrower identity.
+
+        A module acting for people (the console's viewers and operators) calls as
+        ``account:identity`` (``console:viewer``), which the callee checks against the policy
+        like any account: an identity the policy does not list may call nothing. An account can
+        only name sub-identities of itself, never another account.
+        """
+        if not _IDENTITY.fullmatch(identity):
+            raise ValueError(f"not an identity name (letters, digits, _ . -): {identity!r}")
+        token = _acting_as.set(identity)
+        try:
+            yield
+        finally:
+            _acting_as.reset(token)
+
     async def open(self) -> None:
         """Connect; afterwards others can call this module and see it online."""
         if self._is_open:
@@ -276,7 +307,7 @@ class Comm(ABC):
 
         Raises the remote exception's class (or RemoteError), or RemoteTimeoutError.
         """
-        call = PendingCall(client)
+        call = PendingCall(client, _acting_as.get())
         try:
             async with self.timeout(DEFAULT_TIMEOUT) as deadline:
                 call._on_announce = deadline.reschedule
@@ -292,9 +323,18 @@ class Comm(ABC):
             raise
 
     async def _serve_call(
-        self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None = None
+        self,
+        method: str,
+        args: list[Any],
+        announce: Callable[[float], None],
+        caller: str | None = None,
+        acting_as: str | None = None,
     ) -> Any:
-        """Run an incoming call from account ``caller`` on the attached object (for transports)."""
+        """Run an incoming call from account ``caller`` (acting as ``caller:acting_as``, if given)
+        on the attached object (for transports)."""
+        if caller is not None and acting_as is not None:
+            # A malformed identity from the wire becomes one no policy lists: refused everything.
+            caller = f"{caller}:{acting_as if _IDENTITY.fullmatch(acting_as) else '?'}"
         if self._server is None:
             raise ModuleError(f"{self.name} serves no methods")
         token = current_module.set(self.name)  # the callee's logs are the callee's

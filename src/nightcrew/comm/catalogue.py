@@ -17,7 +17,7 @@ interface declaring a method), ``x-extends`` (interfaces an interface is made of
 from __future__ import annotations
 
 import inspect
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any, Literal
 
 from pydantic import TypeAdapter
@@ -43,9 +43,14 @@ JSON_SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 _COMPONENT_REF = "#/components/schemas/{model}"
 
 
-def interface_document(interface: type[Interface]) -> dict[str, Any]:
-    """The OpenRPC document of one interface: the methods it declares itself, and what it extends."""
-    own = {name: func for name, func in interface_methods([interface]).items() if name in vars(interface)}
+def interface_document(interface: type[Interface], *, visible: set[str] | None = None) -> dict[str, Any]:
+    """The OpenRPC document of one interface: the methods it declares itself (those in ``visible``,
+    if given: what one caller may call), and what it extends."""
+    own = {
+        name: func
+        for name, func in interface_methods([interface]).items()
+        if name in vars(interface) and (visible is None or name in visible)
+    }
     document = methods_document(interface.__name__, interface.version, own, _doc(interface))
     document["x-extends"] = sorted(base.__name__ for base in interface.__bases__ if is_interface(base))
     return document
@@ -158,10 +163,17 @@ def build_catalogue(
     }
 
 
-def module_document(obj: object, name: str) -> dict[str, Any]:
-    """The OpenRPC document of everything a module serves (its interfaces' methods together)."""
-    interfaces = interfaces_of(type(obj))
-    document = methods_document(name, 1, interface_methods(interfaces), _doc(type(obj)))
+def module_document(
+    obj: object,
+    name: str,
+    methods: Mapping[str, Callable[..., object]] | None = None,
+    interfaces: list[type[Interface]] | None = None,
+) -> dict[str, Any]:
+    """The OpenRPC document of everything a module serves (its interfaces' methods together), or
+    of the ``methods`` and ``interfaces`` given (what one caller may see)."""
+    interfaces = interfaces_of(type(obj)) if interfaces is None else interfaces
+    served = interface_methods(interfaces_of(type(obj))) if methods is None else dict(methods)
+    document = methods_document(name, 1, served, _doc(type(obj)))
     document["x-interfaces"] = {i.__name__: i.version for i in sorted(interfaces, key=lambda i: i.__name__)}
     return document
 

@@ -15,6 +15,7 @@ default timeout, so they are never announced.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import enum
 import inspect
@@ -106,6 +107,13 @@ class SystemMethods:
             "system.clock": SystemMethods.clock,
         }
 
+    def restricted(self, methods: set[str], interfaces: list[str]) -> SystemMethods:
+        """These system methods as one caller sees them: only ``methods`` and ``interfaces``."""
+        view = copy.copy(self)
+        view._methods = {name: func for name, func in self._methods.items() if name in methods}
+        view._interfaces = {name: iface for name, iface in self._interfaces.items() if name in interfaces}
+        return view
+
     def bound(self, method: str) -> Callable[..., Any]:
         """The implementation of ``method`` (a name from :attr:`declarations`)."""
         bound: Callable[..., Any] = self.declarations[method].__get__(self)
@@ -137,12 +145,12 @@ class SystemMethods:
         from nightcrew.comm.catalogue import interface_document, module_document
 
         if interface is None:
-            return module_document(self._obj, self._name)
+            return module_document(self._obj, self._name, self._methods, list(self._interfaces.values()))
         found = self._interfaces.get(interface)
         if found is None:
             offered = ", ".join(sorted(self._interfaces))
             raise InterfaceError(f"module '{self._name}' does not offer {interface} (offers: {offered})")
-        return interface_document(found)
+        return interface_document(found, visible=set(self._methods))
 
     async def clock(self) -> dict[str, Any]:
         """The module's clock: ``time`` now (UTC) and ``speed`` (clock seconds per wall second)."""

@@ -122,12 +122,12 @@ class LocalComm(Comm):
         self._network.leave(self)
 
     async def _fetch_interface_names(self, client: str) -> list[str]:
-        return self._network.get(client).served_interfaces
+        return self._network.get(client).served_interfaces_for(self._name)
 
     async def _send_call(self, client: str, method: str, args: list[Any], call: PendingCall) -> None:
         callee = self._network.get(client)
         try:
-            result = await callee._serve_call(method, args, call.announce, self._name)
+            result = await callee._serve_call(method, args, call.announce, self._name, call.acting_as)
         except Exception as exc:
             call.set_fault(fault_from_exception(exc))
         else:

@@ -24,7 +24,7 @@ from nightcrew.errors import (
     RemoteError,
     error_class,
 )
-from nightcrew.interfaces.base import Interface, interface_methods, interfaces_of
+from nightcrew.interfaces.base import Interface, interface_methods, interfaces_of, is_interface
 from nightcrew.security import AuditLog, Policy, is_state_changing
 from nightcrew.timeout import DEFAULT_TIMEOUT, has_timeout, method_timeout
 
@@ -181,6 +181,21 @@ class RpcServer:
         """The methods ``caller`` may call (what listings show it)."""
         return [method for method in self.method_names if self.may_call(caller, method)]
 
+    def interfaces_for(self, caller: str | None) -> list[str]:
+        """Names of the served interfaces announced to ``caller``: those with a method it may call.
+
+        An interface that declares nothing itself (``ICamera`` made of others) counts its bases'
+        methods. Without a policy (or a known caller) every interface is announced.
+        """
+        if self._policy is None or caller is None:
+            return self.interface_names
+        allowed = set(self.methods_for(caller))
+        return [
+            iface.__name__
+            for iface in self.interfaces
+            if allowed & set(interface_methods(base for base in iface.__mro__ if is_interface(base)))
+        ]
+
     async def handle(
         self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None = None
     ) -> Any:
@@ -192,7 +207,7 @@ class RpcServer:
                 outcome = "forbidden"
                 log.warning("refused %s() to %s: not allowed by the policy", shorten(method), caller)
                 raise ForbiddenError(f"{caller} may not call {self._name}.{shorten(method, 60)}()")
-            return await self._dispatch(method, args, announce)
+            return await self._dispatch(method, args, announce, caller)
         except BaseException as exc:
             if outcome == "ok":
                 outcome = type(exc).__name__
@@ -201,7 +216,9 @@ class RpcServer:
             if self._audit is not None and is_state_changing(method) and not method.startswith(SYSTEM_PREFIX):
                 self._audit.record(caller or "?", self._name, method, args, outcome)
 
-    async def _dispatch(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
+    async def _dispatch(
+        self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None = None
+    ) -> Any:
         """Run ``method`` with wire ``args``; call ``announce(timeout)`` as soon as it is known.
 
         Only a timeout other than :data:`~nightcrew.timeout.DEFAULT_TIMEOUT` is announced: callers
@@ -210,7 +227,7 @@ class RpcServer:
         Returns the wire-encoded result; raises the method's exception (see fault_from_exception).
         """
         try:
-            return await self._handle(method, args, announce)
+            return await self._handle(method, args, announce, caller)
         except NightcrewError as exc:
             # Expected failures are reported, not dumped: the caller receives the message anyway.
             log.info("call %s() failed: %s: %s", shorten(method), type(exc).__name__, shorten(exc.message))
@@ -221,9 +238,11 @@ class RpcServer:
             self._report(exc)
             raise
 
-    async def _handle(self, method: str, args: list[Any], announce: Callable[[float], None]) -> Any:
+    async def _handle(
+        self, method: str, args: list[Any], announce: Callable[[float], None], caller: str | None
+    ) -> Any:
         if method.startswith(SYSTEM_PREFIX):
-            return await self._handle_system(method, args)
+            return await self._handle_system(method, args, caller)
         declaration = self._methods.get(method)
         if declaration is None:
             raise InterfaceError(
@@ -248,14 +267,18 @@ class RpcServer:
         except CodecError as exc:
             raise RemoteError(exc.message) from exc
 
-    async def _handle_system(self, method: str, args: list[Any]) -> Any:
+    async def _handle_system(self, method: str, args: list[Any], caller: str | None) -> Any:
         # Not guarded: a module in error state can still be asked what it is. Default timeout.
+        # Introspection shows the caller only what it may call (listings, signatures, documents).
         declaration = self._system.declarations.get(method)
         if declaration is None:
             known = ", ".join(sorted(self._system.declarations))
             raise InterfaceError(f"no method '{method}' (system methods: {known})")
         arguments = _decode(method, declaration, args)
-        result = await self._system.bound(method)(**arguments)
+        system = self._system
+        if self._policy is not None and caller is not None:
+            system = system.restricted(set(self.methods_for(caller)), self.interfaces_for(caller))
+        result = await system.bound(method)(**arguments)
         return encode(result, f"result of {method}()")
 
     def _report(self, exc: BaseException) -> None:

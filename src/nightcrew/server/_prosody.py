@@ -13,7 +13,7 @@ import signal
 import socket
 import subprocess
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from nightcrew.comm.xmpp._settings import is_loopback
@@ -37,11 +37,20 @@ _STOP_TIMEOUT = 10.0
 
 @dataclass(frozen=True)
 class ServerSettings:
-    """Where the server listens and which domains it serves."""
+    """Where the server listens, which domains it serves, and who may use the room.
+
+    ``room_owners``: bare JIDs made owners of every room (component admins); with them only they may
+    create rooms, and a module can ban an account that squats its name. ``members_only``: only
+    owners and members may enter a room. ``require_tls``: TLS for every client connection, also on
+    loopback (None: required off loopback only).
+    """
 
     host: str
     port: int
     domains: list[str]
+    room_owners: list[str] = field(default_factory=list)
+    members_only: bool = False
+    require_tls: bool | None = None
 
     @classmethod
     def load(cls, directory: Path) -> ServerSettings:
@@ -49,7 +58,14 @@ class ServerSettings:
         if not path.is_file():
             raise ConfigError(f"{directory} holds no server (run 'nightcrew server init {directory}' first)")
         data = json.loads(path.read_text())
-        return cls(host=data["host"], port=int(data["port"]), domains=list(data["domains"]))
+        return cls(
+            host=data["host"],
+            port=int(data["port"]),
+            domains=list(data["domains"]),
+            room_owners=list(data.get("room_owners", [])),
+            members_only=bool(data.get("members_only", False)),
+            require_tls=data.get("require_tls"),
+        )
 
     def save(self, directory: Path) -> None:
         (directory / "server.json").write_text(json.dumps(asdict(self), indent=2) + "\n")
@@ -62,7 +78,8 @@ def _lua(value: str) -> str:
 def prosody_config(directory: Path, settings: ServerSettings) -> str:
     """The text of ``prosody.cfg.lua``."""
     d = directory.resolve()
-    require_tls = "false" if is_loopback(settings.host) else "true"
+    tls = not is_loopback(settings.host) if settings.require_tls is None else settings.require_tls
+    require_tls = "true" if tls else "false"
     lines = [
         "-- Written by `nightcrew server init`; see docs/xmpp-servers.md. Edit freely, init overwrites it.",
         "run_as_root = true  -- CI and containers run as root; the data lives in this directory only",
@@ -109,15 +126,47 @@ def prosody_config(directory: Path, settings: ServerSettings) -> str:
             "    muc_room_default_public_jids = true",
             "    muc_room_default_history_length = 0",
             "    muc_tombstones = false",
+            *_room_access(settings),
             "",
         ]
     return "\n".join(lines)
 
 
+def _room_access(settings: ServerSettings) -> list[str]:
+    """The MUC options that keep the room to the observatory's accounts (see docs/security.md)."""
+    if not settings.room_owners:
+        return []
+    owners = "; ".join(_lua(jid) for jid in settings.room_owners)
+    lines = [
+        "    -- The observatory's accounts own every room (component_admins_as_room_owners, the",
+        "    -- default): only they create rooms, and a module can ban an account holding its name.",
+        f"    admins = {{ {owners} }}",
+        "    restrict_room_creation = true",
+    ]
+    if settings.members_only:
+        lines += [
+            "    muc_room_default_members_only = true  -- nobody else enters (XEP-0045 §7.2.6)",
+            "    -- Rooms outlive their occupants, so module names reserved in them stay reserved.",
+            "    muc_room_default_persistent = true",
+        ]
+    return lines
+
+
 def init_server(
-    directory: str | os.PathLike[str], accounts: list[Account], *, host: str, port: int, domains: list[str]
+    directory: str | os.PathLike[str],
+    accounts: list[Account],
+    *,
+    host: str,
+    port: int,
+    domains: list[str],
+    room_owners: list[str] | None = None,
+    members_only: bool = False,
+    require_tls: bool | None = None,
 ) -> ServerSettings:
-    """Write config and certificates into ``directory`` and register ``accounts``."""
+    """Write config and certificates into ``directory`` and register ``accounts``.
+
+    ``room_owners``, ``members_only``, ``require_tls``: see :class:`ServerSettings`.
+    """
     _require("prosody")
     root = Path(directory)
     if server_status(root) is not None:
@@ -125,7 +174,16 @@ def init_server(
     all_domains = sorted({*domains, *(a.domain for a in accounts)})
     if not all_domains:
         raise ConfigError("no domain: give module configs with comm.jid or --domain")
-    settings = ServerSettings(host=host, port=port, domains=all_domains)
+    if members_only and not room_owners:
+        raise ConfigError("a members-only room needs owners (the observatory's accounts)")
+    settings = ServerSettings(
+        host=host,
+        port=port,
+        domains=all_domains,
+        room_owners=sorted(jid.lower() for jid in room_owners or []),
+        members_only=members_only,
+        require_tls=require_tls,
+    )
     (root / "data").mkdir(parents=True, exist_ok=True)
     for domain in all_domains:
         make_self_signed(root / "certs", domain)

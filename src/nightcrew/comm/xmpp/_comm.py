@@ -141,7 +141,8 @@ class XmppComm(Comm):
             self._settings,
             on_session=self._on_session,
             on_lost=self._on_lost,
-            features=self._features(),
+            features=self._features(self.served_interfaces),
+            features_for=self._features_for if self.policy is not None else None,
             on_fatal=self._report_fatal,
             plugins=("xep_0060",) if self._dialect == "pyobs" else (),
         )
@@ -226,9 +227,14 @@ class XmppComm(Comm):
 
     # --- glue ----------------------------------------------------------------------------------
 
-    def _features(self) -> list[str]:
+    def _features_for(self, jid: str) -> list[str]:
+        """The disco features this module shows the entity ``jid``: only interfaces it may call."""
+        return self._features(self.served_interfaces_for(self._account_of(jid)))
+
+    @staticmethod
+    def _features(interfaces: list[str]) -> list[str]:
         features = ["jabber:iq:rpc", "urn:nightcrew:rpc:timeout", "urn:nightcrew:event"]
-        for name in self.served_interfaces:
+        for name in interfaces:
             interface = interface_by_name(name)
             features.append(f"{INTERFACE_FEATURE}{name}:{interface.version if interface else 1}")
         return features
@@ -239,9 +245,9 @@ class XmppComm(Comm):
             await self._pyobs.on_session()
 
     async def _serve_remote(
-        self, method: str, args: list[Any], announce: Callable[[float], None], jid: str
+        self, method: str, args: list[Any], announce: Callable[[float], None], jid: str, acting: str | None
     ) -> Any:
-        return await self._serve_call(method, args, announce, self._account_of(jid))
+        return await self._serve_call(method, args, announce, self._account_of(jid), acting)
 
     def _sender_account(self, sender: str) -> str:
         # The room nickname is chosen by the occupant; its real JID is what the server authenticated.

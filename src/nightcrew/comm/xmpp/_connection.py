@@ -55,10 +55,12 @@ class XmppConnection:
         on_session: Callable[[], Awaitable[None]],
         on_lost: Callable[[], None],
         features: list[str],
+        features_for: Callable[[str], list[str]] | None = None,
         on_fatal: Callable[[NightcrewError], None] | None = None,
         plugins: tuple[str, ...] = (),
     ) -> None:
         self._settings = settings
+        self._features_for = features_for
         self._on_session = on_session
         self._on_lost = on_lost
         self._on_fatal = on_fatal
@@ -203,6 +205,8 @@ class XmppConnection:
             disco.add_feature(feature)
         for plugin in self._plugins:
             client.register_plugin(plugin)
+        if self._features_for is not None:
+            disco.api.register(self._disco_info_for, "get_info")
         client.add_event_handler("session_start", self._on_session_start)
         client.add_event_handler("tls_success", self._on_tls)
         client.add_event_handler("ssl_invalid_chain", self._on_untrusted_certificate)
@@ -211,6 +215,22 @@ class XmppConnection:
         client.add_event_handler("disconnected", self._on_disconnected)
         client.add_event_handler("stream_error", self._on_stream_error)
         return client
+
+    def _disco_info_for(self, jid: Any, node: str | None, ifrom: Any, data: Any) -> Any:
+        """disco#info answered per asking entity (XEP-0030 answers are per entity): the features
+        ``features_for`` gives for it, so a caller is not told of interfaces it may not call."""
+        from slixmpp.plugins.xep_0030.stanza.info import DiscoInfo
+
+        disco: Any = self.client.plugin["xep_0030"]
+        info = disco.static.get_info(jid, node, ifrom, data)
+        if node or self._features_for is None:
+            return info
+        answer = DiscoInfo()
+        for category, kind, _, name in info["identities"]:
+            answer.add_identity(category, kind, name)
+        for feature in self._features_for(str(ifrom) if ifrom else ""):
+            answer.add_feature(feature)
+        return answer
 
     async def _connect_once(self) -> None:
         s = self._settings

@@ -14,6 +14,7 @@ import base64
 import contextlib
 import json
 import logging
+import secrets
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from datetime import datetime
@@ -29,10 +30,18 @@ log = logging.getLogger(__name__)
 
 NS_MUC = "http://jabber.org/protocol/muc"
 NS_MUC_USER = "http://jabber.org/protocol/muc#user"
+NS_MUC_ADMIN = "http://jabber.org/protocol/muc#admin"
+NS_MUC_REGISTER = "http://jabber.org/protocol/muc#register"
 NS_EVENT = "urn:nightcrew:event"
 NS_MODULE = "urn:nightcrew:module"
 _C = "{jabber:client}"
 _JOIN_TIMEOUT = 10.0
+#: Marks the nickname a module uses for a moment while it takes its own name back; never a module name.
+_RECLAIM_MARK = "~"
+
+
+class _NameTaken(Exception):  # an internal signal: never leaves this module
+    """The room refused our nickname: an occupant holds it (or it is reserved)."""
 
 
 class Room:
@@ -58,7 +67,8 @@ class Room:
         self._on_offline = on_offline
         self._on_event = on_event
         self._occupants: dict[str, str] = {}  # nick → real full JID
-        self._squatters: set[str] = set()  # nicknames held by another account (reported once)
+        self._squatters: dict[str, str] = {}  # nickname → real JID of another account holding it
+        self._vacated: asyncio.Future[None] | None = None  # while waiting for a squatter to go
         self._previous: dict[str, str] | None = None  # occupants before a reconnect
         self._joined: asyncio.Future[None] | None = None
         self._state = "starting"
@@ -80,15 +90,118 @@ class Room:
     # --- joining -------------------------------------------------------------------------------
 
     async def join(self) -> None:
-        """Enter the room (again after a reconnect) and wait for the occupant list."""
+        """Enter the room (again after a reconnect) and wait for the occupant list.
+
+        When another account holds this module's name, take it back (see :meth:`_take_back`).
+        """
+        try:
+            await self._enter()
+        except _NameTaken as exc:
+            if self._domain is None:
+                raise ConfigError(str(exc)) from None
+            try:
+                await self._take_back()
+            except _NameTaken as again:  # even the passing name was refused
+                raise ConfigError(str(again)) from None
+        if self._domain is not None:
+            await self._reserve_name()
+
+    async def _reserve_name(self) -> None:
+        """Register this module's name with the room (XEP-0045 §7.10), so that no other account may
+        enter under it, also while the module is down (the room keeps it if it is persistent).
+
+        Servers and rooms that do not offer registration to this account refuse; that is fine:
+        taking the name back (:meth:`_take_back`) still works where the module owns the room.
+        """
+        from slixmpp.exceptions import IqError, IqTimeout
+
+        query = ET.Element("{jabber:iq:register}query")
+        form = ET.SubElement(query, "{jabber:x:data}x", type="submit")
+        for var, value in (("FORM_TYPE", NS_MUC_REGISTER), ("muc#register_roomnick", self._nick)):
+            ET.SubElement(
+                ET.SubElement(form, "{jabber:x:data}field", var=var), "{jabber:x:data}value"
+            ).text = value
+        iq: Any = self._connection.client.make_iq_set(ito=self._room_jid)
+        iq.append(query)
+        try:
+            await iq.send(timeout=_JOIN_TIMEOUT)
+        except IqError as exc:
+            log.debug(
+                "room %s did not reserve '%s': %s", self._room_jid, self._nick, exc.iq["error"]["condition"]
+            )
+        except IqTimeout:
+            log.debug("room %s did not answer the reservation of '%s'", self._room_jid, self._nick)
+
+    async def _enter(self, *, join: bool = True) -> None:
         self._joined = asyncio.get_running_loop().create_future()
-        self._connection.send(self._presence())
+        self._connection.send(self._presence(join=join))
         try:
             await asyncio.wait_for(self._joined, _JOIN_TIMEOUT)
         except TimeoutError:
             raise RemoteError(f"no answer from room {self._room_jid} within {_JOIN_TIMEOUT:g} s") from None
         finally:
             self._joined = None
+
+    async def _take_back(self) -> None:
+        """Take this module's name back from a squatter (XEP-0045 §9.1, banning a user).
+
+        The module enters under a passing nickname (``camera~1f2e3d``), finds the real JID of the
+        occupant holding its name, bans that account from the room (affiliation ``outcast``: it is
+        removed and cannot come back) and changes its nickname to its own name. Banning needs the
+        room's owner or admin affiliation: ``nightcrew server init`` makes the observatory's accounts
+        owners of every room (component admins). Without it the squatter stays, and this is one
+        clear error naming it.
+        """
+        name = self._nick
+        passing = f"{name}{_RECLAIM_MARK}{secrets.token_hex(3)}"
+        self._nick = passing
+        try:
+            await self._enter()
+            squatter = self._squatters.get(name)
+            if squatter is not None:
+                await self._ban(squatter, name)
+            self._nick = name
+            try:
+                await self._enter(join=False)  # a nickname change (XEP-0045 §7.6)
+            except _NameTaken:
+                raise ConfigError(
+                    f"the name '{name}' is reserved in room {self._room_jid} for another account"
+                ) from None
+        except BaseException:
+            self._nick = passing
+            with contextlib.suppress(NightcrewError):  # leave under the passing name
+                self._connection.send(self._presence(join=False, kind="unavailable"))
+            self._nick = name
+            raise
+
+    async def _ban(self, jid: str, name: str) -> None:
+        from slixmpp.exceptions import IqError, IqTimeout
+
+        bare = jid.partition("/")[0]
+        query = ET.Element(f"{{{NS_MUC_ADMIN}}}query")
+        item = ET.SubElement(query, f"{{{NS_MUC_ADMIN}}}item", affiliation="outcast", jid=bare)
+        ET.SubElement(item, f"{{{NS_MUC_ADMIN}}}reason").text = f"took the name of module '{name}'"
+        iq: Any = self._connection.client.make_iq_set(ito=self._room_jid)
+        iq.append(query)
+        self._vacated = asyncio.get_running_loop().create_future()
+        try:
+            await iq.send(timeout=_JOIN_TIMEOUT)
+            await asyncio.wait_for(self._vacated, _JOIN_TIMEOUT)
+        except IqError as exc:
+            condition = exc.iq["error"]["condition"]
+            raise ConfigError(
+                f"{bare} holds the name of module '{name}' in room {self._room_jid} and cannot be "
+                f"removed ({condition}: this account is not an owner of the room)"
+            ) from None
+        except (IqTimeout, TimeoutError):
+            raise RemoteError(
+                f"room {self._room_jid} did not remove {bare} within {_JOIN_TIMEOUT:g} s"
+            ) from None
+        finally:
+            self._vacated = None
+        log.warning(
+            "took back the name '%s' in room %s from %s: banned from the room", name, self._room_jid, bare
+        )
 
     def lost(self) -> None:
         """The connection is gone; remember who was there to tell differences after rejoining."""
@@ -102,7 +215,7 @@ class Room:
         with contextlib.suppress(NightcrewError):  # if offline, the next join carries it
             self._connection.send(self._presence(join=False))
 
-    def _presence(self, *, join: bool = True) -> ET.Element:
+    def _presence(self, *, join: bool = True, kind: str | None = None) -> ET.Element:
         module = ET.Element(f"{{{NS_MODULE}}}module", state=self._state)
         status = ET.Element(f"{_C}status")
         status.text = self._state
@@ -111,7 +224,8 @@ class Room:
             muc = ET.Element(f"{{{NS_MUC}}}x")
             ET.SubElement(muc, f"{{{NS_MUC}}}history", maxstanzas="0")  # no old events
             payload.insert(0, muc)
-        return self._connection.stanza("presence", f"{self._room_jid}/{self._nick}", *payload)
+        attrs = {"type": kind} if kind else {}
+        return self._connection.stanza("presence", f"{self._room_jid}/{self._nick}", *payload, **attrs)
 
     # --- incoming ------------------------------------------------------------------------------
 
@@ -135,7 +249,8 @@ class Room:
                 self._complete_join()
             return
         if kind == "unavailable":
-            self._squatters.discard(nick)
+            if self._squatters.pop(nick, None) is not None and self._vacated and not self._vacated.done():
+                self._vacated.set_result(None)
             if self._occupants.pop(nick, None) is not None and self._joined is None:
                 self._on_offline(nick)
             return
@@ -145,9 +260,9 @@ class Room:
             log.warning("room %s hides real JIDs; module '%s' cannot be called", self._room_jid, nick)
             return
         if self._is_squatter(nick, jid):
-            if nick not in self._squatters:
-                self._squatters.add(nick)
+            if nick not in self._squatters and _RECLAIM_MARK not in nick:  # not a module taking its name back
                 log.warning("%s took the name of module '%s' in room %s: ignored", jid, nick, self._room_jid)
+            self._squatters[nick] = jid
             return
         known = nick in self._occupants
         self._occupants[nick] = jid
@@ -178,7 +293,7 @@ class Room:
     def _on_join_error(self, stanza: ET.Element) -> None:
         condition = error_condition(stanza)
         if condition == "conflict":
-            error: NightcrewError = ConfigError(
+            error: Exception = _NameTaken(
                 f"another module named '{self._nick}' is already in room {self._room_jid}"
             )
         else:
@@ -206,7 +321,7 @@ class Room:
         element = stanza.find(f"{{{NS_EVENT}}}event")
         if element is None or nick == self._nick:
             return True  # our own event, echoed by the room
-        if nick in self._squatters:
+        if nick in self._squatters or nick not in self._occupants:
             log.warning(
                 "dropped %s from '%s': sent by an account that is not that module", element.get("name"), nick
             )

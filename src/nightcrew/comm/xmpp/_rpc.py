@@ -39,6 +39,7 @@ from nightcrew.comm.xmpp._xmlrpc import (
     parse_call,
     parse_response,
 )
+from nightcrew.comm.xmpp._xmltext import escape_attribute
 from nightcrew.errors import CodecError, InterfaceError, InvalidArgumentError, NightcrewError, RemoteError
 
 __all__ = ["NS_HINTS", "NS_TIMEOUT", "RpcChannel"]
@@ -46,11 +47,13 @@ __all__ = ["NS_HINTS", "NS_TIMEOUT", "RpcChannel"]
 log = logging.getLogger(__name__)
 
 NS_TIMEOUT = "urn:nightcrew:rpc:timeout"
+#: ``<acting xmlns=NS_ACTING identity='viewer'/>`` in a call's query: made as ``account:viewer``.
+NS_ACTING = "urn:nightcrew:rpc:acting"
 NS_HINTS = "urn:xmpp:hints"
 _C = "{jabber:client}"
 
-#: Serves ``method(args)``; the last argument is the caller's full JID (for the access check).
-Serve = Callable[[str, list[Any], Callable[[float], None], str], Awaitable[Any]]
+#: Serves ``method(args)``; then the caller's full JID and the identity it acts in (access check).
+Serve = Callable[[str, list[Any], Callable[[float], None], str, str | None], Awaitable[Any]]
 Spawn = Callable[[Coroutine[Any, Any, Any], str], None]
 
 
@@ -102,13 +105,17 @@ class RpcChannel:
     ) -> None:
         """Send ``method(*args)`` to ``jid`` (module ``module``); ``call`` hears what comes back."""
         iq_id = f"{self._id_prefix}{next(self._ids):x}"
-        if pyobs:
+        if pyobs:  # pyobs peers know no acting identity: they are not under nightcrew's policy
             query = ET.Element(f"{_Q}query")
             method_call = ET.SubElement(query, f"{_Q}methodCall")
             ET.SubElement(method_call, f"{_Q}methodName").text = method
             method_call.append(build_pyobs_params(args, f"{method}(): argument"))
         else:
             payload = build_call(method, args)
+            if call.acting_as is not None:
+                # Inside the query: an IQ carries exactly one payload element (RFC 6120 §8.2.3).
+                acting = f'<acting xmlns="{NS_ACTING}" identity="{escape_attribute(call.acting_as)}"/>'
+                payload = f"{payload[: -len('</query>')]}{acting}</query>"
         self._pending[iq_id] = _Outgoing(jid, module, call, method, pyobs)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
@@ -233,9 +240,13 @@ class RpcChannel:
         except CodecError as exc:
             self._reply(caller, iq_id, build_fault(fault_from_exception(InvalidArgumentError(exc.message))))
             return
-        self._spawn(self._serve_call(caller, iq_id, method, args), f"serve {method}()")
+        acting = query.find(f"{{{NS_ACTING}}}acting")
+        identity = None if acting is None else acting.get("identity", "")
+        self._spawn(self._serve_call(caller, iq_id, method, args, identity), f"serve {method}()")
 
-    async def _serve_call(self, caller: str, iq_id: str, method: str, args: list[Any]) -> None:
+    async def _serve_call(
+        self, caller: str, iq_id: str, method: str, args: list[Any], identity: str | None
+    ) -> None:
         def announce(seconds: float) -> None:
             element = ET.Element(f"{{{NS_TIMEOUT}}}timeout", id=iq_id, seconds=repr(float(seconds)))
             try:
@@ -246,7 +257,7 @@ class RpcChannel:
                 log.debug("could not announce the timeout of %s() to %s", method, caller)
 
         try:
-            result = await self._serve(method, args, announce, caller)
+            result = await self._serve(method, args, announce, caller, identity)
             payload = build_response(result)
         except Exception as exc:
             # Every failure becomes a fault: the one place (nightcrew.comm.rpc) decides its content.

@@ -175,7 +175,7 @@ class _Routes:
         args = body.get("args", [])
         if not isinstance(args, list | dict):
             raise ApiError(400, "InvalidArgumentError", "field 'args' must be a list or an object")
-        require_call_right(session, method)
+        require_call_right(session, method, self._policy_decides)
         result = await self._call(session, module, method, args)
         return web.json_response({"result": result})
 
@@ -188,19 +188,27 @@ class _Routes:
             module, method, args = parse_shell_line(line)
         except (RecursionError, MemoryError):
             raise ApiError(400, "InvalidArgumentError", "the line is nested too deeply") from None
-        require_call_right(session, method)
+        require_call_right(session, method, self._policy_decides)
         result = await self._call(session, module, method, args)
         return web.json_response(
             {"module": module, "method": method, "args": to_json(args), "result": result}
         )
 
+    @property
+    def _policy_decides(self) -> bool:
+        """Whether an access policy checks the console's calls at the callee (then the page does not:
+        one place decides, and a viewer's state-changing call is refused by the module itself)."""
+        return self.console.comm.policy is not None
+
     async def _call(self, session: Session, module: str, method: str, args: Any) -> Any:
         if not is_read_method(method):  # who changed what, for the record
             log.info("%s: %s calls %s.%s()", self.console.name, session.user, module, method)
-        return await call_json(self.console.comm, self.console.directory, module, method, args)
+        # Made as `console:viewer` / `console:operator`: the callee checks the role's rights.
+        with self.console.comm.acting_as(session.role.value):
+            return await call_json(self.console.comm, self.console.directory, module, method, args)
 
     async def read(self, request: web.Request) -> web.Response:
-        require_session(request)
+        session = require_session(request)
         calls = field_of(await json_body(request), "calls", list)
         if len(calls) > MAX_READS:
             raise ApiError(
@@ -214,7 +222,8 @@ class _Routes:
                 raise ApiError(400, "InvalidArgumentError", f"calls[{index}] needs a method and args")
             if not is_read_method(method):
                 raise ApiError(403, "ForbiddenError", f"/api/read takes read methods only, not {method}()")
-        results = await call_many(self.console.comm, self.console.directory, calls)
+        with self.console.comm.acting_as(session.role.value):
+            results = await call_many(self.console.comm, self.console.directory, calls)
         return web.json_response({"results": results})
 
     # --- events and log ------------------------------------------------------------------------

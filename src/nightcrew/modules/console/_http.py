@@ -19,6 +19,7 @@ from aiohttp import web
 
 from nightcrew.errors import (
     CodecError,
+    ForbiddenError,
     InterfaceError,
     InvalidArgumentError,
     NightcrewError,
@@ -63,6 +64,8 @@ def status_of(exc: NightcrewError) -> int:
     """The HTTP status of a nightcrew error: the caller's fault (4xx) or the module's (5xx)."""
     if isinstance(exc, RemoteTimeoutError):
         return 504
+    if isinstance(exc, ForbiddenError):  # the callee's access policy refused the session's role
+        return 403
     if exc.module is None:  # raised here, before anything was sent
         if isinstance(exc, InvalidArgumentError | CodecError):
             return 400
@@ -124,7 +127,10 @@ def require_session(request: web.Request) -> Session:
     return session
 
 
-def require_call_right(session: Session, method: str) -> None:
+def require_call_right(session: Session, method: str, policy_decides: bool = False) -> None:
+    """Refuse a viewer's state-changing call here, unless an access policy decides at the callee."""
+    if policy_decides:
+        return
     if session.role is not Role.OPERATOR and not is_read_method(method):
         raise ApiError(
             403, "ForbiddenError", f"a {session.role.value} may only call read methods, not {method}()"
