@@ -168,7 +168,7 @@ class XmppComm(Comm):
                 connection,
                 name=self.name,
                 domain=self._settings.domain,
-                features=self._features(),
+                features=self._features(self.served_interfaces),
                 interfaces=self.served_interfaces,
                 on_online=self._client_online,
                 on_offline=self._on_client_offline,

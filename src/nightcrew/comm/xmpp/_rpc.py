@@ -281,7 +281,7 @@ class RpcChannel:
             self._reply_pyobs(caller, iq_id, body)
 
         try:
-            result = await self._serve(method, args, announce, caller)
+            result = await self._serve(method, args, announce, caller, None)
             body = ET.Element(f"{_Q}methodResponse")
             body.append(build_pyobs_params([] if result is None else [result], "result"))
         except Exception as exc:
