@@ -33,6 +33,7 @@ SUBCOMMANDS = [
     "server",
     "sim",
     "reduce",
+    "solver",
     "tasks",
     "flats",
     "report",

@@ -1,0 +1,1 @@
+"""Stand-alone servers that modules and tools talk to over HTTP (the plate-solving service, ...)."""
