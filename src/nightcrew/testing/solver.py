@@ -62,8 +62,9 @@ def running_solver(*, index_dir: Path | None = None, sip_order: int = 2) -> Iter
 
 @dataclass(frozen=True)
 class RenderedField:
-    """Detected stars (0-based, brightest first) of a rendered frame and where it truly points."""
+    """A rendered frame's pixels, its detected stars (0-based, brightest first) and true pointing."""
 
+    data: npt.NDArray[np.uint16]
     x: FloatArray
     y: FloatArray
     flux: FloatArray
@@ -107,6 +108,7 @@ def rendered_field(
     catalog = detect_sources_sep(np.array(frame.data, dtype=np.float64))
     order = np.argsort(-np.asarray(catalog["flux"], dtype=np.float64), kind="stable")
     return RenderedField(
+        data=np.asarray(frame.data, dtype=np.uint16),
         x=np.asarray(catalog["x"], dtype=np.float64)[order],
         y=np.asarray(catalog["y"], dtype=np.float64)[order],
         flux=np.asarray(catalog["flux"], dtype=np.float64)[order],

@@ -131,12 +131,12 @@ async def reduce_frame(
     times.add("photometry", started)
     header = image.header.copy()
     cards: dict[str, Any] = {
-        "RLEVEL": (REDUCED_LEVEL, "Reduction level (0 raw, 91 reduced)"),
-        "RAWFILE": (raw_name, "Raw frame this was reduced from"),
+        "RLEVEL": (REDUCED_LEVEL, "Reduction level (0 raw)"),
+        "RAWFILE": (raw_name, "Raw frame"),
     }
     for keyword, master in (("BIASFILE", bias), ("DARKFILE", dark), ("FLATFILE", flat)):
         if master is not None:
-            cards[keyword] = (master.name, "Master used in the reduction")
+            cards[keyword] = (master.name, "Master used")
         elif keyword in header:
             del header[keyword]
     for keyword, card in cards.items():
