@@ -87,3 +87,10 @@ def test_a_bad_option_is_a_config_error_naming_its_key(change: dict[str, object]
     with pytest.raises(ConfigError) as info:
         build_object(config)
     assert info.value.key == key
+
+
+def test_the_example_config_builds_a_pipeline() -> None:
+    from nightcrew.config import load_config
+
+    example = Path(__file__).resolve().parents[3] / "examples" / "pipeline.yaml"
+    assert isinstance(build_object(load_config(example), Module), Pipeline)

@@ -139,7 +139,6 @@ class CatalogAstrometry(ImageProcessor):
             pixel_scale_arcsec=scale,
         )
 
-
     def catalog_for(self, image: Image) -> StarCatalog:
         """The catalog of the sky ``image`` shows: configured seed and depth, else its SIM- cards."""
         depth, seed = self.catalog_depth, self.catalog_seed

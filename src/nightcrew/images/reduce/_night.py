@@ -16,8 +16,9 @@ import asyncio
 import hashlib
 import logging
 import math
+import os
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TextIO
 
@@ -60,6 +61,7 @@ class ReduceOptions:
         solve_timeout_s: Limit of one solve-field run.
         detection_threshold: SEP detection threshold (sigma).
         sigma: Clipping threshold when combining masters.
+        workers: Science frames reduced at once (default: one per CPU core).
     """
 
     pixel_scale_arcsec: float | None = None
@@ -68,6 +70,11 @@ class ReduceOptions:
     solve_timeout_s: float = 60.0
     detection_threshold: float = 4.0
     sigma: float = 3.0
+    workers: int = field(default_factory=lambda: os.cpu_count() or 1)
+
+    def __post_init__(self) -> None:
+        if self.workers < 1:
+            raise ConfigError(f"workers must be >= 1, got {self.workers}")
 
 
 async def reduce_night(
@@ -117,7 +124,11 @@ async def reduce_night(
         solve_timeout_s=options.solve_timeout_s,
         detection_threshold=options.detection_threshold,
     )
-    for entry in science:
+    # Frames are reduced concurrently: their steps run in worker threads (numpy and SEP release
+    # the GIL), so each core gets a frame.
+    running = asyncio.Semaphore(options.workers)
+
+    async def reduce_one(entry: FrameEntry) -> None:
         name = entry.path.name
         done = previous.get(name)
         if (
@@ -128,10 +139,13 @@ async def reduce_night(
         ):
             rows[name] = done
         else:
-            rows[name] = await _reduce_frame(entry, masters, library, steps, out_dir, times)
-            write_summary(summary_path, list(rows.values()))  # progress survives an interruption
+            async with running:
+                rows[name] = await _reduce_frame(entry, masters, library, steps, out_dir, times)
+            write_summary(summary_path, list(rows.values()))  # in the loop: one writer at a time
         if bar:
             bar.step(name)
+
+    await asyncio.gather(*(reduce_one(entry) for entry in science))
     write_summary(summary_path, list(rows.values()))
     return sorted(rows.values(), key=lambda r: r.file)
 
