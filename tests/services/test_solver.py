@@ -115,3 +115,22 @@ def test_parse_request_names_the_bad_field(
 ) -> None:
     with pytest.raises(SolveRequestError, match=message):
         parse_request(request_body(field, **change))
+
+
+def test_stars_of_no_sky_get_no_solution_within_the_time_limit(solver_url: str, field: RenderedField) -> None:
+    import numpy as np
+
+    rng = np.random.default_rng(7)
+    stars = {
+        "x": rng.uniform(0, 2047, 60).tolist(),
+        "y": rng.uniform(0, 2047, 60).tolist(),
+        "flux": [1.0] * 60,
+    }
+    status, reply = post(solver_url, json.dumps(request_body(field, stars=stars)).encode())
+    assert status == 200 and reply["solved"] is False
+    assert reply["message"].startswith(
+        ("no match for 60 stars within 1 deg", "no solution within the time limit")
+    )
+    # The service is still there for the next request.
+    status, reply = post(solver_url, json.dumps(request_body(field)).encode())
+    assert status == 200 and reply["solved"] is True

@@ -37,23 +37,29 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "--sip-order", type=int, default=2, help="SIP distortion order of the solution (0: pure TAN)"
     )
+    parser.add_argument(
+        "--time-limit", type=float, default=10.0, metavar="S", help="longest solve in seconds (default 10)"
+    )
     parser.set_defaults(func=run_solver)
     return parser
 
 
 def run_solver(args: argparse.Namespace) -> int:
-    from nightcrew.services.solver import DEFAULT_INDEX_DIR, IndexSolver, SolverService, find_index_files
+    from nightcrew.services.solver import DEFAULT_INDEX_DIR, SolverProcess, SolverService, find_index_files
 
     if not 0 <= args.port <= 65535:
         raise ConfigError(f"--port must be within 0..65535, got {args.port}")
     if args.sip_order < 0:
         raise ConfigError(f"--sip-order must be >= 0, got {args.sip_order}")
+    if not args.time_limit > 0:
+        raise ConfigError(f"--time-limit must be positive, got {args.time_limit}")
     directory: Path = args.index_dir or DEFAULT_INDEX_DIR
     try:
         indexes = find_index_files(directory)
     except FileNotFoundError as exc:
         raise ConfigError(str(exc)) from exc
-    service = SolverService(IndexSolver(indexes, sip_order=args.sip_order), host=args.host, port=args.port)
+    solver = SolverProcess(indexes, time_limit_s=args.time_limit, sip_order=args.sip_order)
+    service = SolverService(solver, host=args.host, port=args.port)
     asyncio.run(_serve(service))
     return 0
 

@@ -2,7 +2,8 @@
 behind a small JSON API over HTTP.
 
 :class:`IndexSolver` solves (blocking) against index files found by :func:`find_index_files`;
-:class:`SolverService` serves it (see :mod:`._server` for the answers); :func:`parse_request`
+:class:`SolverProcess` runs it in a child process with a time limit per solve;
+:class:`SolverService` serves that (see :mod:`._server` for the answers); :func:`parse_request`
 checks a request. The client is :class:`nightcrew.images.astrometry.RemoteSolver`, whose module
 documents the API.
 """
@@ -21,6 +22,7 @@ from nightcrew.services.solver._request import (
     parse_request,
 )
 from nightcrew.services.solver._server import MAX_BODY_BYTES, SolverService
+from nightcrew.services.solver._worker import SolverProcess
 
 __all__ = [
     "DEFAULT_INDEX_DIR",
@@ -31,6 +33,7 @@ __all__ = [
     "SolveOutcome",
     "SolveRequest",
     "SolveRequestError",
+    "SolverProcess",
     "SolverService",
     "find_index_files",
     "parse_request",

@@ -20,8 +20,8 @@ from typing import Any
 from aiohttp import web
 
 from nightcrew.images.astrometry import API_VERSION
-from nightcrew.services.solver._engine import IndexSolver
 from nightcrew.services.solver._request import SolveRequestError, parse_request
+from nightcrew.services.solver._worker import SolverProcess
 
 __all__ = ["MAX_BODY_BYTES", "SolverService"]
 
@@ -32,7 +32,7 @@ MAX_BODY_BYTES = 1_000_000
 
 
 class SolverService:
-    """Serves :class:`IndexSolver` on ``host``:``port`` (0: any free port, see :attr:`port`).
+    """Serves a :class:`SolverProcess` on ``host``:``port`` (0: any free port, see :attr:`port`).
 
     Args:
         solver: The solver (its index files are loaded in :meth:`start`).
@@ -42,7 +42,7 @@ class SolverService:
     """
 
     def __init__(
-        self, solver: IndexSolver, *, host: str = "127.0.0.1", port: int = 0, max_queue: int = 16
+        self, solver: SolverProcess, *, host: str = "127.0.0.1", port: int = 0, max_queue: int = 16
     ) -> None:
         if not 0 <= port <= 65535:
             raise ValueError(f"port must be within 0..65535, got {port}")
@@ -89,7 +89,7 @@ class SolverService:
         if self._executor is not None:
             self._executor.shutdown(wait=True)
             self._executor = None
-        self.solver.close()
+        await asyncio.get_running_loop().run_in_executor(None, self.solver.close)
 
     async def handle_health(self, request: web.Request) -> web.Response:
         return web.json_response(
@@ -107,7 +107,7 @@ class SolverService:
             return _error(400, f"the request is not valid JSON: {exc}")
         try:
             solve_request = parse_request(body)
-            self.solver.check_scale(solve_request)
+            self.solver.checker.check_scale(solve_request)
         except SolveRequestError as exc:
             return _error(400, str(exc))
         if self._waiting >= self.max_queue:
