@@ -3,9 +3,9 @@
 Run ``.venv/bin/python bench/solver.py [--frames 50]``. Renders the frames (2k x 2k, 1.16"/px, the
 simulated camera, at seeded random pointings), detects their stars, then solves each star list
 with the service given a position hint (6' off) and scale, with the service blind, and with
-``solve-field`` given the same hints (each gives up after 10 s). Prints median/p90 seconds per solve against the targets,
-the speed-up of the service over solve-field and the largest distance of the solved frame centre
-from the truth.
+``solve-field`` given the same hints (each gives up after 10 s). Prints median/p90 seconds per
+solve against the targets, the speed-up of the service over solve-field and the largest distance
+of the solved frame centre from the truth.
 """
 
 from __future__ import annotations
