@@ -17,6 +17,7 @@ The result is also in ``image.metadata["astrometry"]`` (:class:`AstrometryResult
 from __future__ import annotations
 
 import asyncio
+import threading
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -101,6 +102,7 @@ class CatalogAstrometry(ImageProcessor):
         self.catalog_seed = catalog_seed
         _configured(StarCatalog, depth=_DEFAULT_DEPTH if catalog_depth is None else catalog_depth)
         self._catalogs: dict[tuple[float, int], StarCatalog] = {}
+        self._catalog_lock = threading.Lock()
         self.matcher: CatalogMatcher = _configured(
             CatalogMatcher,
             bright_stars=bright_stars,
@@ -124,8 +126,9 @@ class CatalogAstrometry(ImageProcessor):
         if scale is None:
             raise MissingWcsError("the catalog matcher needs a pixel scale: configure pixel_scale_arcsec")
         radius = self.matcher.catalog_radius_deg(image.shape, scale)
-        catalog = self.catalog_for(image)
-        stars = catalog.query(ra, dec, radius, epoch=image_epoch_jyear(image, CATALOG_EPOCH_JYEAR))
+        with self._catalog_lock:  # frames may be solved in several threads; the catalog caches cells
+            catalog = self.catalog_for(image)
+            stars = catalog.query(ra, dec, radius, epoch=image_epoch_jyear(image, CATALOG_EPOCH_JYEAR))
         return self.matcher.solve(
             x,
             y,
