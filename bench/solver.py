@@ -108,7 +108,7 @@ def main() -> None:
     baseline = statistics.median(results[2][1])
     header = ("case", "median s", "p90 s", "solved", "max err ''", "x faster")
     print(
-        f"\n{header[0]:28}{header[1]:>10}{header[2]:>8}{header[3]:>8}{header[4]:>10}{header[5]:>10}  target"
+        f"\n{header[0]:28}{header[1]:>10}{header[2]:>8}{header[3]:>9}{header[4]:>11}{header[5]:>10}  target"
     )
     for name, seconds, errors in results:
         p90 = float(np.percentile(seconds, 90))
@@ -116,7 +116,7 @@ def main() -> None:
         worst = max((e for e in errors if math.isfinite(e)), default=math.inf)
         median = statistics.median(seconds)
         print(
-            f"{name:28}{median:>10.3f}{p90:>8.3f}{solved:>5}/{len(errors):<3}{worst:>9.2f}"
+            f"{name:28}{median:>10.3f}{p90:>8.3f}{solved:>6}/{len(errors):<3}{worst:>10.2f}"
             f"{baseline / median:>10.1f}  {targets[name]}"
         )
     print('targets: >= 5x faster than solve-field; max err <= 1" from the SIM truth')
