@@ -93,4 +93,4 @@ def test_the_example_config_builds_a_pipeline() -> None:
     from nightcrew.config import load_config
 
     example = Path(__file__).resolve().parents[3] / "examples" / "pipeline.yaml"
-    assert isinstance(build_object(load_config(example), Module), Pipeline)
+    assert isinstance(build_object({**load_config(example), "name": "pipeline"}, Module), Pipeline)
