@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Iterator
 
 import pytest
 
 from nightcrew.testing import Observatory
+from nightcrew.testing.solver import running_solver
 from nightcrew.vfs import MemoryFile
 
 
@@ -26,3 +27,10 @@ async def fast_observatory() -> AsyncIterator[Observatory]:
     finally:
         await obs.close()
         MemoryFile.clear_shared()
+
+
+@pytest.fixture(scope="session")
+def solver_url() -> Iterator[str]:
+    """The plate-solving service (``nightcrew solver``), one for the session: it starts in ~1 s."""
+    with running_solver() as url:
+        yield url

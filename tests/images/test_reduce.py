@@ -100,7 +100,7 @@ def test_reduce_a_night_then_rerun_without_redoing_work(
     stdout, stderr = capsys.readouterr()
     assert "12 files: 2 reduced (2 plate-solved), 9 calibration, 0 failed, 1 broken" in stdout
     assert "broken.fits: broken: not a readable FITS file" in stdout
-    assert "5/5 science-1.fits" in stderr  # the progress bar: 3 masters and 2 science frames
+    assert "5/5 science-" in stderr  # the progress bar: 3 masters, 2 science frames (done in any order)
 
     summary = Table.read(out / "summary.ecsv")
     science = summary[summary["status"] == "reduced"]
@@ -135,3 +135,22 @@ def _max_error_arcsec(image: Image, pointing: Pointing) -> float:
     s = np.array(solved.all_pix2world(gx.ravel(), gy.ravel(), 0))
     d_ra = (s[0] - t[0]) * math.cos(math.radians(pointing.dec_deg))
     return float(np.max(3600.0 * np.hypot(d_ra, s[1] - t[1])))
+
+
+def test_a_sim_output_directory_is_read_from_its_frames_and_an_empty_one_is_an_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from nightcrew.errors import ConfigError
+    from nightcrew.images.reduce import find_raw_frames
+
+    (tmp_path / "sim-output" / "frames").mkdir(parents=True)
+    (tmp_path / "sim-output" / "report.html").write_text("<html></html>")
+    with pytest.raises(
+        ConfigError, match=r"no raw frames \(.fits, .*\) in .*sim-output or .*sim-output/frames$"
+    ):
+        find_raw_frames(tmp_path / "sim-output")
+    assert main(["reduce", str(tmp_path / "sim-output"), str(tmp_path / "out")]) != 0
+    assert "no raw frames" in capsys.readouterr().err and not (tmp_path / "out").exists()
+    frame = tmp_path / "sim-output" / "frames" / "a-object-V.fits"
+    fits.PrimaryHDU(np.zeros((4, 4), np.uint16)).writeto(frame)
+    assert find_raw_frames(tmp_path / "sim-output") == [frame]

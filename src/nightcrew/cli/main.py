@@ -34,6 +34,7 @@ SUBCOMMANDS = [
     "sim",
     "reduce",
     "archive",
+    "solver",
     "tasks",
     "flats",
     "report",

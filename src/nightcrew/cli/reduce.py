@@ -1,8 +1,12 @@
 """``nightcrew reduce RAW_DIR OUT_DIR``: reduce a night of raw FITS frames.
 
+RAW_DIR is a directory of FITS files, or a ``nightcrew sim`` output (its ``frames`` directory is
+used).
+
 Builds master bias/dark/flat frames from the calibration frames (grouped by IMAGETYP, binning,
 filter and exposure time), calibrates every science frame, detects its stars, plate-solves it (the
-catalog matcher first, astrometry.net's solve-field as fallback) and writes it with its source
+catalog matcher first, then the solve service given with --solver, then astrometry.net's
+solve-field) and writes it with its source
 catalog to OUT_DIR, plus ``OUT_DIR/summary.ecsv`` with one row per raw file. Progress goes to
 stderr. Running it again skips finished work; a broken file is reported and skipped.
 """
@@ -36,7 +40,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         metavar="ARCSEC",
         help="unbinned pixel scale (default: headers)",
     )
-    parser.add_argument("--no-solve-field", action="store_true", help="do not fall back to astrometry.net")
+    parser.add_argument(
+        "--solver", default=None, metavar="URL", help="plate-solving service (nightcrew solver) to try"
+    )
+    parser.add_argument("--no-solve-field", action="store_true", help="do not fall back to solve-field")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run_reduce)
     return parser
@@ -44,13 +51,18 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def run_reduce(args: argparse.Namespace) -> int:
     # Imported here: astropy and the image stack load in ~1 s, which other commands should not pay.
-    from nightcrew.images.reduce import SUMMARY_NAME, ReduceOptions, reduce_night
+    from nightcrew.images.reduce import SUMMARY_NAME, ReduceOptions, find_raw_frames, reduce_night
 
     if not args.raw_dir.is_dir():
         raise ConfigError(f"RAW_DIR {args.raw_dir} is not a directory")
     if args.pixel_scale is not None and args.pixel_scale <= 0:
         raise ConfigError(f"--pixel-scale must be positive, got {args.pixel_scale}")
-    options = ReduceOptions(pixel_scale_arcsec=args.pixel_scale, solve_field=not args.no_solve_field)
+    if args.solver is not None and not args.solver.startswith(("http://", "https://")):
+        raise ConfigError(f"--solver must be an http:// or https:// URL, got {args.solver!r}")
+    find_raw_frames(args.raw_dir)  # no frames: say where it looked before creating OUT_DIR
+    options = ReduceOptions(
+        pixel_scale_arcsec=args.pixel_scale, solver_url=args.solver, solve_field=not args.no_solve_field
+    )
     rows = asyncio.run(
         reduce_night(args.raw_dir, args.out_dir, options=options, progress=None if args.quiet else sys.stderr)
     )

@@ -1,1 +1,2 @@
-"""Stand-alone servers: the image archive (:mod:`nightcrew.services.archive`)."""
+"""Stand-alone servers that modules and tools talk to over HTTP: the image archive
+(:mod:`nightcrew.services.archive`) and the plate-solving service (:mod:`nightcrew.services.solver`)."""

@@ -17,6 +17,7 @@ The result is also in ``image.metadata["astrometry"]`` (:class:`AstrometryResult
 from __future__ import annotations
 
 import asyncio
+import threading
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -46,6 +47,9 @@ from nightcrew.sim.catalog_data import CATALOG_EPOCH_JYEAR
 __all__ = ["CatalogAstrometry", "FirstSolution", "RemoteAstrometry", "SolveFieldAstrometry"]
 
 
+_DEFAULT_DEPTH = 16.0
+
+
 def _configured(build: Any, **arguments: Any) -> Any:
     """``build(**arguments)``, a ValueError turned into a ConfigError naming its argument."""
     try:
@@ -60,8 +64,12 @@ class CatalogAstrometry(ImageProcessor):
 
     Args:
         pixel_scale_arcsec: Unbinned pixel scale (times ``XBINNING``); None: from the image.
-        catalog_depth: Faintest catalog magnitude (as :class:`~nightcrew.sim.catalog.StarCatalog`).
-        catalog_seed: Seed of the catalog's synthetic stars (the simulation's sky).
+        catalog_depth: Faintest catalog magnitude (as :class:`~nightcrew.sim.catalog.StarCatalog`);
+            None: the frame's ``SIM-DPTH``, else 16.
+        catalog_seed: Seed of the catalog's synthetic stars (the simulation's sky); None: the
+            frame's ``SIM-SEED`` (written by the simulated camera), else 0. Only stars to G ~ 12
+            are real, so a matcher with another seed than the camera's sees other faint stars and
+            fails on most frames.
         flux_column: Catalog column ranking the detected stars.
         **matcher: Options of :class:`CatalogMatcher` (``search_radius_arcmin``, ...).
     """
@@ -70,8 +78,8 @@ class CatalogAstrometry(ImageProcessor):
         self,
         *,
         pixel_scale_arcsec: float | None = None,
-        catalog_depth: float = 16.0,
-        catalog_seed: int = 0,
+        catalog_depth: float | None = None,
+        catalog_seed: int | None = None,
         flux_column: str = "flux",
         bright_stars: int = 40,
         fit_stars: int = 400,
@@ -90,7 +98,11 @@ class CatalogAstrometry(ImageProcessor):
         )
         self.pixel_scale_arcsec = pixel_scale_arcsec
         self.flux_column = flux_column
-        self.catalog: StarCatalog = _configured(StarCatalog, depth=catalog_depth, seed=catalog_seed)
+        self.catalog_depth = catalog_depth
+        self.catalog_seed = catalog_seed
+        _configured(StarCatalog, depth=_DEFAULT_DEPTH if catalog_depth is None else catalog_depth)
+        self._catalogs: dict[tuple[float, int], StarCatalog] = {}
+        self._catalog_lock = threading.Lock()
         self.matcher: CatalogMatcher = _configured(
             CatalogMatcher,
             bright_stars=bright_stars,
@@ -114,7 +126,9 @@ class CatalogAstrometry(ImageProcessor):
         if scale is None:
             raise MissingWcsError("the catalog matcher needs a pixel scale: configure pixel_scale_arcsec")
         radius = self.matcher.catalog_radius_deg(image.shape, scale)
-        stars = self.catalog.query(ra, dec, radius, epoch=image_epoch_jyear(image, CATALOG_EPOCH_JYEAR))
+        with self._catalog_lock:  # frames may be solved in several threads; the catalog caches cells
+            catalog = self.catalog_for(image)
+            stars = catalog.query(ra, dec, radius, epoch=image_epoch_jyear(image, CATALOG_EPOCH_JYEAR))
         return self.matcher.solve(
             x,
             y,
@@ -127,6 +141,23 @@ class CatalogAstrometry(ImageProcessor):
             dec_deg=dec,
             pixel_scale_arcsec=scale,
         )
+
+    def catalog_for(self, image: Image) -> StarCatalog:
+        """The catalog of the sky ``image`` shows: configured seed and depth, else its SIM- cards."""
+        depth, seed = self.catalog_depth, self.catalog_seed
+        if depth is None:
+            value = image.header.get("SIM-DPTH")
+            depth = float(value) if isinstance(value, int | float) and not isinstance(value, bool) else None
+        if seed is None:
+            value = image.header.get("SIM-SEED")
+            seed = int(value) if isinstance(value, int) and not isinstance(value, bool) else 0
+        key = (_DEFAULT_DEPTH if depth is None else depth, seed)
+        if key not in self._catalogs:
+            try:
+                self._catalogs[key] = StarCatalog(depth=key[0], seed=key[1])
+            except ValueError as exc:
+                raise MissingWcsError(f"cannot build the star catalog for this frame: {exc}") from exc
+        return self._catalogs[key]
 
 
 class _HintedSolver(ImageProcessor):

@@ -16,31 +16,24 @@ import asyncio
 import hashlib
 import logging
 import math
-from dataclasses import dataclass, replace
+import os
+import time
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TextIO
 
-from nightcrew.errors import NightcrewError
-from nightcrew.images.astrometry import (
-    AstrometryError,
-    AstrometryResult,
-    CatalogAstrometry,
-    FirstSolution,
-    SolveFieldAstrometry,
-)
+from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.images.astrometry import AstrometryResult
 from nightcrew.images.calibration import (
     MasterInfo,
     MasterKind,
     build_master,
-    calibrate_image,
     frame_key,
     master_kind,
     select_master,
 )
 from nightcrew.images.image import Image
-from nightcrew.images.processor import ImageProcessor
-from nightcrew.images.processors.detection import SepSourceDetection
-from nightcrew.images.processors.photometry import SepPhotometry
+from nightcrew.images.reduce._frame import Master, ReductionSteps, StageTimes, reduce_frame
 from nightcrew.images.reduce._inventory import FrameEntry, GroupKey, group_frames, read_entry
 from nightcrew.images.reduce._summary import (
     SUMMARY_NAME,
@@ -50,7 +43,7 @@ from nightcrew.images.reduce._summary import (
     write_summary,
 )
 
-__all__ = ["ReduceOptions", "reduce_night"]
+__all__ = ["ReduceOptions", "find_raw_frames", "reduce_night"]
 
 log = logging.getLogger(__name__)
 
@@ -63,25 +56,44 @@ class ReduceOptions:
 
     Attributes:
         pixel_scale_arcsec: Unbinned pixel scale for the plate solvers; None: from the headers.
-        solve_field: Fall back to astrometry.net when the catalog matcher finds nothing.
+        solver_url: The plate-solving service (``nightcrew solver``) tried after the catalog matcher.
+        solve_field: Fall back to astrometry.net's solve-field when the others find nothing.
         solve_timeout_s: Limit of one solve-field run.
         detection_threshold: SEP detection threshold (sigma).
         sigma: Clipping threshold when combining masters.
+        workers: Science frames reduced at once (default: one per CPU core).
     """
 
     pixel_scale_arcsec: float | None = None
+    solver_url: str | None = None
     solve_field: bool = True
     solve_timeout_s: float = 60.0
     detection_threshold: float = 4.0
     sigma: float = 3.0
+    workers: int = field(default_factory=lambda: os.cpu_count() or 1)
+
+    def __post_init__(self) -> None:
+        if self.workers < 1:
+            raise ConfigError(f"workers must be >= 1, got {self.workers}")
 
 
 async def reduce_night(
-    raw_dir: Path, out_dir: Path, *, options: ReduceOptions | None = None, progress: TextIO | None = None
+    raw_dir: Path,
+    out_dir: Path,
+    *,
+    options: ReduceOptions | None = None,
+    progress: TextIO | None = None,
+    times: StageTimes | None = None,
 ) -> list[SummaryRow]:
-    """Reduce the FITS files in ``raw_dir`` into ``out_dir`` (see the module docstring)."""
+    """Reduce the FITS files in ``raw_dir`` into ``out_dir`` (see the module docstring).
+
+    ``times`` collects the seconds spent per stage. Raises :class:`ConfigError` when
+    :func:`find_raw_frames` finds no frames.
+    """
     options = options or ReduceOptions()
-    files = await asyncio.to_thread(_blocking_prepare, raw_dir, out_dir)
+    times = times or StageTimes()
+    files = await asyncio.to_thread(find_raw_frames, raw_dir)
+    await asyncio.to_thread((out_dir / "masters").mkdir, parents=True, exist_ok=True)
     summary_path = out_dir / SUMMARY_NAME
     previous = read_summary(summary_path)
     entries = [await asyncio.to_thread(read_entry, path) for path in files]
@@ -105,8 +117,18 @@ async def reduce_night(
             bar.step(key.file_name)
     library = _library(masters)
 
-    pipeline = _pipeline(options)
-    for entry in science:
+    steps = ReductionSteps.default(
+        pixel_scale_arcsec=options.pixel_scale_arcsec,
+        solver_url=options.solver_url,
+        solve_field=options.solve_field,
+        solve_timeout_s=options.solve_timeout_s,
+        detection_threshold=options.detection_threshold,
+    )
+    # Frames are reduced concurrently: their steps run in worker threads (numpy and SEP release
+    # the GIL), so each core gets a frame.
+    running = asyncio.Semaphore(options.workers)
+
+    async def reduce_one(entry: FrameEntry) -> None:
         name = entry.path.name
         done = previous.get(name)
         if (
@@ -117,18 +139,34 @@ async def reduce_night(
         ):
             rows[name] = done
         else:
-            rows[name] = await _reduce_frame(entry, masters, library, pipeline, out_dir)
-            write_summary(summary_path, list(rows.values()))  # progress survives an interruption
+            async with running:
+                rows[name] = await _reduce_frame(entry, masters, library, steps, out_dir, times)
+            write_summary(summary_path, list(rows.values()))  # in the loop: one writer at a time
         if bar:
             bar.step(name)
+
+    await asyncio.gather(*(reduce_one(entry) for entry in science))
     write_summary(summary_path, list(rows.values()))
     return sorted(rows.values(), key=lambda r: r.file)
 
 
-def _blocking_prepare(raw_dir: Path, out_dir: Path) -> list[Path]:
-    """The raw FITS files (sorted); creates the output directories."""
-    (out_dir / "masters").mkdir(parents=True, exist_ok=True)
-    return sorted(p for p in raw_dir.iterdir() if p.is_file() and p.name.lower().endswith(_FITS_SUFFIXES))
+def find_raw_frames(raw_dir: Path) -> list[Path]:
+    """The FITS files (sorted) in ``raw_dir``, else in ``raw_dir/frames`` (a ``nightcrew sim`` output).
+
+    Raises:
+        ConfigError: neither holds a FITS file; the message names where it looked.
+    """
+    looked = []
+    for directory in (raw_dir, raw_dir / "frames"):
+        if directory.is_dir():
+            looked.append(str(directory))
+            files = sorted(
+                p for p in directory.iterdir() if p.is_file() and p.name.lower().endswith(_FITS_SUFFIXES)
+            )
+            if files:
+                return files
+    suffixes = ", ".join(_FITS_SUFFIXES)
+    raise ConfigError(f"no raw frames ({suffixes}) in {' or '.join(looked) or raw_dir}")
 
 
 async def _master_rows(
@@ -197,35 +235,30 @@ def _library(masters: dict[str, Image]) -> list[MasterInfo]:
 
 
 async def _reduce_frame(
-    entry: FrameEntry, masters: dict[str, Image], library: list[MasterInfo], pipeline: _Steps, out_dir: Path
+    entry: FrameEntry,
+    masters: dict[str, Image],
+    library: list[MasterInfo],
+    steps: ReductionSteps,
+    out_dir: Path,
+    times: StageTimes,
 ) -> SummaryRow:
     name = entry.path.name
     row = SummaryRow(name, entry.sha256, "object", "failed")
     try:
-        image = Image.from_bytes(await asyncio.to_thread(entry.path.read_bytes))
-        key = frame_key(image.header)
-        bias = select_master(library, MasterKind.BIAS, key)
-        dark = select_master(library, MasterKind.DARK, key)
-        flat = select_master(library, MasterKind.FLAT, key)
-        # A night without some calibration frames is still worth solving and measuring: calibrate
-        # with what there is and say what was missing.
-        missing = [kind.value for kind, m in ((MasterKind.DARK, dark), (MasterKind.FLAT, flat)) if m is None]
-        if bias is None:
-            notes = [f"not calibrated: no master bias for binning {key.binning}"]
-        else:
-            notes = [f"no master {', '.join(missing)}"] if missing else []
-            image = await asyncio.to_thread(
-                calibrate_image,
-                image,
-                bias=masters[bias.path],
-                dark=None if dark is None else masters[dark.path],
-                flat=None if flat is None else masters[flat.path],
-            )
-        image, message = await pipeline.run(image)
-        message = "; ".join([*notes, message] if message else notes)
+        raw = Image.from_bytes(await asyncio.to_thread(entry.path.read_bytes))
+        key = frame_key(raw.header)
+        chosen = [
+            select_master(library, kind, key) for kind in (MasterKind.BIAS, MasterKind.DARK, MasterKind.FLAT)
+        ]
+        bias, dark, flat = (None if m is None else Master(Path(m.path).name, masters[m.path]) for m in chosen)
+        image, notes = await reduce_frame(
+            raw, raw_name=name, steps=steps, bias=bias, dark=dark, flat=flat, times=times
+        )
         output = name.split(".fits")[0].split(".fit")[0] + "_red.fits"
+        started = time.perf_counter()
         content = await asyncio.to_thread(image.to_bytes)
         await asyncio.to_thread((out_dir / output).write_bytes, content)
+        times.add("write", started)
     except NightcrewError as exc:
         log.warning("%s: %s", name, exc)
         return replace(row, message=str(exc))
@@ -234,7 +267,7 @@ async def _reduce_frame(
         status="reduced",
         output=output,
         stars=0 if image.catalog is None else len(image.catalog),
-        message=message,
+        message="; ".join(notes),
     )
     result = image.metadata.get("astrometry")
     if not isinstance(result, AstrometryResult):
@@ -243,37 +276,3 @@ async def _reduce_frame(
     ra, dec = image.pixel_to_sky([(cols - 1) / 2.0], [(rows - 1) / 2.0])
     rms = math.nan if result.rms_arcsec is None else result.rms_arcsec
     return replace(row, solver=result.solver, rms_arcsec=rms, ra=float(ra[0]), dec=float(dec[0]))
-
-
-@dataclass(frozen=True)
-class _Steps:
-    """Detection, plate solving (its failure is noted, not fatal) and aperture photometry."""
-
-    detection: ImageProcessor
-    astrometry: ImageProcessor
-    photometry: ImageProcessor
-
-    async def run(self, image: Image) -> tuple[Image, str]:
-        image = await self.detection(image)
-        message = ""
-        try:
-            image = await self.astrometry(image)
-        except AstrometryError as exc:
-            message = f"no astrometric solution: {exc.message.splitlines()[0]}"
-        image = await self.photometry(image)
-        return image, message
-
-
-def _pipeline(options: ReduceOptions) -> _Steps:
-    solvers: list[ImageProcessor] = [CatalogAstrometry(pixel_scale_arcsec=options.pixel_scale_arcsec)]
-    if options.solve_field:
-        solvers.append(
-            SolveFieldAstrometry(
-                pixel_scale_arcsec=options.pixel_scale_arcsec, timeout_s=options.solve_timeout_s
-            )
-        )
-    return _Steps(
-        detection=SepSourceDetection(threshold=options.detection_threshold),
-        astrometry=FirstSolution(solvers),
-        photometry=SepPhotometry(radii=(3.0, 6.0)),
-    )

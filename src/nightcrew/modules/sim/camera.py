@@ -247,6 +247,9 @@ class SimCamera(BaseCamera):
             "SIM-FWHM": (round(frame.fwhm_px * scale, 3), "Simulator: star FWHM [arcsec]"),
             "SIM-CLD": (round(scene.cloud_cover, 3), "Simulator: cloud cover (0..1)"),
             "SIM-SUNA": (round(conditions.sun_altitude_deg, 2), "Simulator: Sun altitude [deg]"),
+            # The sky's synthetic stars follow from these two: a catalog matcher needs the same.
+            "SIM-SEED": (self._catalog.seed, "Simulator: seed of the synthetic stars"),
+            "SIM-DPTH": (self._catalog.depth, "Simulator: faintest catalog star drawn [mag]"),
         }
         if scene.true_radec is not None:
             cards["SIM-RA"] = (round(scene.true_radec[0], 7), "Simulator: true RA of the axis [deg]")

@@ -1,0 +1,125 @@
+"""The plate-solving service for tests and benchmarks: run it, and frames to solve with it.
+
+:func:`running_solver` starts ``nightcrew solver`` as a child process on a loopback port (the real
+service, as a user runs it) and stops it by its PID; :func:`rendered_field` renders a frame of the
+simulated sky at a known pointing and detects its stars, so a solution can be checked against the
+truth.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+
+from nightcrew.testing.processes import free_port, wait_until_listening
+
+__all__ = ["RenderedField", "rendered_field", "running_solver", "sky_distance_arcsec"]
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@contextmanager
+def running_solver(*, index_dir: Path | None = None, sip_order: int = 2) -> Iterator[str]:
+    """``nightcrew solver`` on 127.0.0.1 for the block; yields its base URL."""
+    port = free_port()
+    with tempfile.TemporaryDirectory(prefix="nightcrew-solver-") as workdir:
+        log_path = Path(workdir) / "solver.log"
+        command = [
+            sys.executable,
+            "-m",
+            "nightcrew",
+            "solver",
+            "--port",
+            str(port),
+            "--sip-order",
+            str(sip_order),
+        ]
+        if index_dir is not None:
+            command += ["--index-dir", str(index_dir)]
+        with log_path.open("wb") as log:
+            process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=dict(os.environ))
+        try:
+            wait_until_listening(process, port, what="nightcrew solver", log=log_path)
+            yield f"http://127.0.0.1:{port}"
+        finally:
+            process.terminate()
+            try:
+                process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+@dataclass(frozen=True)
+class RenderedField:
+    """A rendered frame's pixels, its detected stars (0-based, brightest first) and true pointing."""
+
+    data: npt.NDArray[np.uint16]
+    x: FloatArray
+    y: FloatArray
+    flux: FloatArray
+    shape: tuple[int, int]
+    pixel_scale_arcsec: float
+    true_ra_deg: float
+    true_dec_deg: float
+
+
+def rendered_field(
+    ra_deg: float, dec_deg: float, *, rotation_deg: float = 0.0, seed: int = 0, exposure_s: float = 30.0
+) -> RenderedField:
+    """A 2k x 2k frame (1.16"/px, the simulated camera) of the simulated sky, its stars detected."""
+    from nightcrew.images.processors.detection import detect_sources_sep
+    from nightcrew.sim.catalog import StarCatalog
+    from nightcrew.sim.projection import Pointing
+    from nightcrew.sim.render import (
+        CameraModel,
+        Conditions,
+        Exposure,
+        Optics,
+        field_radius_deg,
+        frame_geometry,
+        render_frame,
+    )
+
+    camera, optics, exposure = CameraModel(), Optics(), Exposure(exposure_s)
+    geometry = frame_geometry(camera, optics, exposure)
+    pointing = Pointing(ra_deg, dec_deg, rotation_deg)
+    stars = StarCatalog(seed=seed).query(ra_deg, dec_deg, field_radius_deg(geometry), epoch=2026.0)
+    frame = render_frame(
+        stars,
+        pointing=pointing,
+        focus=0.0,
+        camera=camera,
+        optics=optics,
+        conditions=Conditions(seeing_arcsec=2.0),
+        exposure=exposure,
+        rng=np.random.default_rng(seed),
+    )
+    catalog = detect_sources_sep(np.array(frame.data, dtype=np.float64))
+    order = np.argsort(-np.asarray(catalog["flux"], dtype=np.float64), kind="stable")
+    return RenderedField(
+        data=np.asarray(frame.data, dtype=np.uint16),
+        x=np.asarray(catalog["x"], dtype=np.float64)[order],
+        y=np.asarray(catalog["y"], dtype=np.float64)[order],
+        flux=np.asarray(catalog["flux"], dtype=np.float64)[order],
+        shape=geometry.shape,
+        pixel_scale_arcsec=geometry.pixel_scale_arcsec,
+        true_ra_deg=ra_deg,
+        true_dec_deg=dec_deg,
+    )
+
+
+def sky_distance_arcsec(ra1: float, dec1: float, ra2: float, dec2: float) -> float:
+    """Angular distance of two positions (degrees in, arcsec out), good for small distances."""
+    d_ra = (ra1 - ra2 + 180.0) % 360.0 - 180.0
+    return 3600.0 * math.hypot(d_ra * math.cos(math.radians(0.5 * (dec1 + dec2))), dec1 - dec2)
