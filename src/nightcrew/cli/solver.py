@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import importlib.util
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +50,11 @@ def run_solver(args: argparse.Namespace) -> int:
 
     if not 0 <= args.port <= 65535:
         raise ConfigError(f"--port must be within 0..65535, got {args.port}")
+    if importlib.util.find_spec("astrometry") is None:
+        raise ConfigError(
+            "nightcrew solver needs the 'astrometry' package (GPL-3, an optional extra): "
+            "pip install 'nightcrew[solver]'"
+        )
     if args.sip_order < 0:
         raise ConfigError(f"--sip-order must be >= 0, got {args.sip_order}")
     if not args.time_limit > 0:

@@ -101,8 +101,12 @@ class IndexSolver:
 
     def blocking_open(self) -> None:
         """Load (memory-map) the index files."""
-        import astrometry  # type: ignore[import-untyped]  # GPL wrapper, imported only by the service
-
+        try:
+            import astrometry  # type: ignore[import-untyped]  # GPL wrapper, imported only by the service
+        except ImportError:
+            raise RuntimeError(
+                "nightcrew solver needs the 'astrometry' package (GPL-3): pip install 'nightcrew[solver]'"
+            ) from None
         if self._solver is None:
             self._solver = astrometry.Solver([scale.path for scale in self.indexes])
             log.info("loaded %d index files", len(self.indexes))
