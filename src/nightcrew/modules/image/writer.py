@@ -3,10 +3,18 @@
 On a NewImageEvent it reads the file through its own VFS (the path is the sender's), names the
 copy with the camera's filename-pattern rules (``/archive/{DATE-OBS}-{IMAGETYP}.fits``), writes it
 atomically and checks the copy's checksum.
+
+Copies are made one at a time, in the order the images came. A copy that fails because the
+original or the destination cannot be reached (server stopped, link down, a copy that differs)
+waits and is tried again after ``retry_delay`` clock seconds, doubling up to ``max_retry_delay``;
+images that come meanwhile wait behind it. Only a copy that cannot succeed (the original is gone
+or is not a FITS file) is dropped, with an error in the log. Waiting copies are kept in memory:
+those still waiting when the module stops are named in the log and not copied.
 """
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 import io
 import logging
@@ -15,8 +23,9 @@ from typing import Any
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import NewImageEvent
 from nightcrew.interfaces import FitsValue, ImageType, ModuleState
+from nightcrew.modules.image.watch_state import Backoff
 from nightcrew.modules.module import Module
-from nightcrew.vfs import VfsError
+from nightcrew.vfs import VfsError, VfsFileNotFoundError
 from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 __all__ = ["ImageWriter", "read_header"]
@@ -40,6 +49,8 @@ class ImageWriter(Module):
             ``/archive/{DATE-OBS}-{IMAGETYP}-{FILTER}.fits`` (a missing keyword gives ``none``).
         sources: Only images from these modules (cameras); all by default.
         image_types: Only images of these types (object, flat ...); all by default.
+        retry_delay: Clock seconds before a failed copy is tried again (doubles each time).
+        max_retry_delay: The longest wait between tries.
         **kwargs: Module options.
     """
 
@@ -49,16 +60,29 @@ class ImageWriter(Module):
         pattern: str,
         sources: list[str] | None = None,
         image_types: list[ImageType] | None = None,
+        retry_delay: float = 5.0,
+        max_retry_delay: float = 120.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
         check_filename_pattern(pattern, key="pattern")
         if sources is not None and not sources:
             raise ConfigError("name at least one module, or leave sources out", key="sources")
+        if not 0 < retry_delay <= max_retry_delay:
+            raise ConfigError("need 0 < retry_delay <= max_retry_delay", key="retry_delay")
         self._pattern = pattern
         self._sources = set(sources) if sources is not None else None
         self._image_types = {ImageType(t) for t in image_types} if image_types else None
         self.written: list[str] = []  # paths of the copies made, oldest first (for status and tests)
+        self._waiting: list[str] = []  # originals to copy, oldest first
+        self._arrived = asyncio.Event()
+        self._backoff = Backoff(retry_delay, max_retry_delay)
+        self.add_background_task(self._copy_loop)
+
+    @property
+    def waiting(self) -> int:
+        """How many images wait for their copy."""
+        return len(self._waiting)
 
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
@@ -66,15 +90,45 @@ class ImageWriter(Module):
         await super().open()
         await self.comm.register_event(NewImageEvent, self.on_new_image)
 
+    async def close(self) -> None:
+        if self._waiting:
+            log.warning(
+                "%s: stopping with %d images not copied: %s", self.name, len(self._waiting), self._waiting
+            )
+        await super().close()
+
     async def on_new_image(self, event: NewImageEvent, sender: str) -> None:
         if self._sources is not None and sender not in self._sources:
             return
         if self._image_types is not None and event.image_type not in self._image_types:
             return
-        try:
-            await self.write_copy(event.filename)
-        except NightcrewError as exc:
-            log.error("%s: copying %s failed: %s", self.name, event.filename, exc)
+        self._waiting.append(event.filename)
+        self._arrived.set()
+
+    async def _copy_loop(self) -> None:
+        while True:
+            if not self._waiting:
+                self._arrived.clear()
+                await self._arrived.wait()
+                continue
+            wait = self._backoff.retry_at - self.clock.time()
+            if wait > 0:
+                await self.clock.sleep(wait)
+            path = self._waiting[0]
+            try:
+                await self.write_copy(path)
+            except (VfsFileNotFoundError, _NotAnImageError) as exc:
+                log.error("%s: cannot copy %s: %s", self.name, path, exc)
+            except NightcrewError as exc:
+                delay = self._backoff.failed(self.clock.time())
+                log.warning(
+                    "%s: copying %s failed: %s; trying again in %.0f s (%d waiting)",
+                    self.name, path, exc, delay, len(self._waiting),
+                )  # fmt: skip
+                continue
+            else:
+                self._backoff.succeeded()
+            self._waiting.pop(0)
 
     async def write_copy(self, path: str) -> str:
         """Copy the image at VFS ``path`` to its place under the pattern; return the new path."""
@@ -82,7 +136,7 @@ class ImageWriter(Module):
         try:
             header = read_header(data)
         except Exception as exc:  # astropy raises many kinds for a broken file
-            raise VfsError(f"not a FITS file: {exc}", path=path) from exc
+            raise _NotAnImageError(f"not a FITS file: {exc}", path=path) from exc
         target = format_filename(self._pattern, header)
         await self.vfs.write_bytes(target, data)
         if await self.vfs.checksum(target) != hashlib.sha256(data).hexdigest():
@@ -90,3 +144,7 @@ class ImageWriter(Module):
         log.info("%s: wrote %s", self.name, target)
         self.written.append(target)
         return target
+
+
+class _NotAnImageError(VfsError):
+    """The original is no FITS file: trying again cannot help."""
