@@ -8,6 +8,7 @@ import pytest
 
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
+from nightcrew.events import NewImageEvent
 from nightcrew.modules.image import ImageWriter
 from nightcrew.testing import Observatory
 from nightcrew.vfs import MemoryFile, VirtualFileSystem
@@ -75,3 +76,19 @@ def test_a_sweep_needs_a_state_file() -> None:
     with pytest.raises(ConfigError, match="a sweep needs a state_file") as info:
         ImageWriter(name="w", pattern="/archive/{DATE-OBS}.fits", sweep="/cache/*.fits")
     assert info.value.key == "state_file"
+
+
+async def test_an_original_that_is_no_fits_file_is_given_up_not_retried(
+    fast_observatory: Observatory, caplog: pytest.LogCaptureFixture
+) -> None:
+    obs = fast_observatory
+    vfs = VirtualFileSystem({"cache": MemoryFile(), "archive": MemoryFile()})
+    await vfs.write_bytes("/cache/junk.fits", b"not a FITS file")
+    writer = await obs.start(ImageWriter, "writer", vfs=vfs, pattern="/archive/{DATE-OBS}.fits")
+    await writer.on_new_image(NewImageEvent(filename="/cache/junk.fits"), "camera")
+    await writer.on_new_image(NewImageEvent(filename="/cache/gone.fits"), "camera")
+    await obs.wait_for(lambda: writer.waiting == 0, 2000.0, interval=1.0)
+    assert writer.written == []
+    given_up = [r.getMessage() for r in caplog.records if "cannot copy" in r.getMessage()]
+    assert len(given_up) == 2 and "not a FITS file" in given_up[0] and "gone.fits" in given_up[1]
+    assert not [r for r in caplog.records if "trying again" in r.getMessage()]

@@ -182,8 +182,10 @@ class ImageWriter(Module):
                 await self.clock.sleep(wait)
             path = self._waiting[0]
             try:
-                await self.write_copy(path)
-            except (VfsFileNotFoundError, _NotAnImageError) as exc:
+                data = await self.vfs.read_bytes(path)
+                header = _header_of(data)
+                await self._store(data, header)
+            except (VfsFileNotFoundError, _NotAnImage) as exc:
                 log.error("%s: cannot copy %s: %s", self.name, path, exc)
             except NightcrewError as exc:
                 delay = self._backoff.failed(self.clock.time())
@@ -200,9 +202,12 @@ class ImageWriter(Module):
         """Copy the image at VFS ``path`` to its place under the pattern; return the new path."""
         data = await self.vfs.read_bytes(path)
         try:
-            header = read_header(data)
-        except Exception as exc:  # astropy raises many kinds for a broken file
-            raise _NotAnImageError(f"not a FITS file: {exc}", path=path) from exc
+            header = _header_of(data)
+        except _NotAnImage as exc:
+            raise VfsError(str(exc), path=path) from exc
+        return await self._store(data, header)
+
+    async def _store(self, data: bytes, header: dict[str, FitsValue]) -> str:
         target = format_filename(self._pattern, header)
         await self.vfs.write_bytes(target, data)
         if await self.vfs.checksum(target) != hashlib.sha256(data).hexdigest():
@@ -212,5 +217,12 @@ class ImageWriter(Module):
         return target
 
 
-class _NotAnImageError(VfsError):
+class _NotAnImage(Exception):  # not a NightcrewError: never on the wire, only a reason to give up
     """The original is no FITS file: trying again cannot help."""
+
+
+def _header_of(data: bytes) -> dict[str, FitsValue]:
+    try:
+        return read_header(data)
+    except Exception as exc:  # astropy raises many kinds for a broken file
+        raise _NotAnImage(f"not a FITS file: {exc}") from exc
