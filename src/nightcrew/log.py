@@ -4,10 +4,16 @@ Several modules may share a process and a logger (``logging.getLogger(__name__)`
 attributed by context: every task a module starts (background tasks, served calls, event handlers)
 runs with :data:`current_module` set to that module's name. One :class:`LogForwarder` on the root
 logger hands each record of level INFO and up to the sink its module registered.
+
+A sink runs on its module's event loop: a record made in a worker thread (``asyncio.to_thread``
+copies the context, and with it the module's name; libraries such as smbprotocol log from there)
+is handed over with ``loop.call_soon_threadsafe``, since the sink sends an event and needs the loop.
 """
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import contextvars
 import logging
 from collections.abc import Callable
@@ -34,7 +40,10 @@ class LogForwarder(logging.Handler):
 
     def __init__(self) -> None:
         super().__init__(level=logging.INFO)
-        self._sinks: dict[str, Callable[[logging.LogRecord], None]] = {}
+        #: Module name → its sink and the loop it runs on (None: whatever thread logs).
+        self._sinks: dict[
+            str, tuple[Callable[[logging.LogRecord], None], asyncio.AbstractEventLoop | None]
+        ] = {}
 
     @classmethod
     def install(cls) -> LogForwarder:
@@ -49,7 +58,8 @@ class LogForwarder(logging.Handler):
         return cls._instance
 
     def add_sink(self, module: str, sink: Callable[[logging.LogRecord], None]) -> None:
-        self._sinks[module] = sink
+        """Pass ``module``'s records to ``sink``, on the event loop running now (if any)."""
+        self._sinks[module] = (sink, _running_loop())
 
     def remove_sink(self, module: str) -> None:
         self._sinks.pop(module, None)
@@ -58,11 +68,27 @@ class LogForwarder(logging.Handler):
         if _forwarding.get():
             return
         module = current_module.get()
-        sink = self._sinks.get(module) if module else None
-        if sink is None:
+        entry = self._sinks.get(module) if module else None
+        if entry is None:
             return
-        token = _forwarding.set(True)
-        try:
-            sink(record)
-        finally:
-            _forwarding.reset(token)
+        sink, loop = entry
+        if loop is None or _running_loop() is loop:
+            _deliver(sink, record)
+        elif not loop.is_closed():
+            with contextlib.suppress(RuntimeError):  # the loop closed meanwhile: so is the module's bus
+                loop.call_soon_threadsafe(_deliver, sink, record)
+
+
+def _deliver(sink: Callable[[logging.LogRecord], None], record: logging.LogRecord) -> None:
+    token = _forwarding.set(True)
+    try:
+        sink(record)
+    finally:
+        _forwarding.reset(token)
+
+
+def _running_loop() -> asyncio.AbstractEventLoop | None:
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None

@@ -182,6 +182,26 @@ async def test_log_records_are_forwarded_as_log_events(network: Network) -> None
     assert sender == "calc" and event.level == "INFO" and event.logger == "tests.calc"
 
 
+async def test_log_records_from_a_worker_thread_are_forwarded(network: Network) -> None:
+    # asyncio.to_thread copies the module's context into the thread: its records count as the
+    # module's, and reach the bus through the module's loop.
+    calc = await network.start(Calculator, "calc")
+    viewer = await network.start(Module, "viewer")
+    arrived = asyncio.Event()
+
+    async def on_log(event: LogEvent, sender: str) -> None:
+        if "hello from a thread" in event.message and sender == "calc":
+            arrived.set()
+
+    await viewer.comm.register_event(LogEvent, on_log)
+
+    async def log_from_a_thread() -> None:
+        await asyncio.to_thread(logging.getLogger("tests.calc").warning, "hello from a thread")
+
+    calc.add_background_task(log_from_a_thread, restart=False)
+    await asyncio.wait_for(arrived.wait(), 5)
+
+
 async def test_error_limit_puts_module_in_error_state_until_reset(network: Network) -> None:
     calc = await network.start(Calculator, "calc")
     calc.register_exception(InvalidArgumentError, 2, timespan=60)

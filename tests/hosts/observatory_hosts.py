@@ -1,12 +1,16 @@
-"""The simulated observatory on three simulated hosts, each module a ``nightcrew run`` process.
+"""The simulated observatory on three simulated hosts, each host's modules under ``nightcrew up``.
 
-* **dome**: Prosody (``nightcrew server start``), one process with roof, telescope and weather
-  (``examples/sim-processes``), OpenSSH and Samba serving the frames' copies.
-* **camera**: one process with the camera and the HTTP file cache it writes into
-  (``examples/multi-host/camera.yaml``, ``cache.yaml``).
-* **office**: two image writers (``examples/multi-host/writer-ssh.yaml``, ``writer-smb.yaml``),
-  each its own process, reading frames from the camera's cache and writing them to the dome.
+* **dome**: Prosody (``nightcrew server start``), roof, telescope, weather (``examples/sim-processes``)
+  and a safety watchdog watching the weather and the office's mastermind; OpenSSH and Samba
+  serving the frames' copies.
+* **camera**: the camera and the HTTP file cache it writes into (``examples/multi-host``), and
+  the filter wheel (a FITS header provider).
+* **office**: two image writers (``examples/multi-host/writer-ssh.yaml``, ``writer-smb.yaml``)
+  reading frames from the camera's cache and writing them to the dome, and a stand-in mastermind
+  (a plain module: the watchdog's heartbeat from the office).
 
+Each host runs one supervisor (``nightcrew up DIR``) over a directory of small module files that
+include the examples; every module is its own process, restarted by its supervisor when killed.
 The test process reaches Prosody over a link of its own to "dome" and drives the night from there.
 """
 
@@ -14,11 +18,14 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import tempfile
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 from nightcrew.server import Account, init_server, stop_server
+from nightcrew.supervisor import send_request
 from nightcrew.testing.hosts import OUTSIDE, Hosts
 from nightcrew.testing.samba import SambaServer
 from nightcrew.testing.sshd import SshServer
@@ -31,31 +38,51 @@ ROOM = "nightcrew"
 XMPP_PORT, SSH_PORT, SMB_PORT, CACHE_PORT = 5222, 22, 445, 37081
 CLOCK_START = "2026-11-10T17:50:00"
 CLOCK_SPEED = 20.0
-#: Module name → (host, configuration files of its process). One process per entry.
-PROCESSES: dict[str, tuple[str, list[Path]]] = {
-    "dome": (
-        "dome",
-        [EXAMPLES / "sim-processes" / f"{name}.yaml" for name in ("roof", "telescope", "weather")],
-    ),
-    "camera": (
-        "camera",
-        [EXAMPLES / "multi-host" / "camera.yaml", EXAMPLES / "multi-host" / "cache.yaml"],
-    ),
-    "writer-ssh": ("office", [EXAMPLES / "multi-host" / "writer-ssh.yaml"]),
-    "writer-smb": ("office", [EXAMPLES / "multi-host" / "writer-smb.yaml"]),
+#: Clock seconds the watchdog lets the weather or the mastermind be silent (20 wall seconds).
+SILENCE_LIMIT = 400
+_OVERLAY = f"comm:\n  <<: !include {EXAMPLES}/sim-processes/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n" + (
+    f"clock: !include {EXAMPLES}/sim-processes/clock.yaml\n"
+)
+#: Host → module name → the module file's text (most include an example unchanged).
+MODULE_FILES: dict[str, dict[str, str]] = {
+    "dome": {
+        **{
+            name: f"<<: !include {EXAMPLES}/sim-processes/{name}.yaml\n"
+            for name in ("roof", "telescope", "weather")
+        },
+        "watchdog": (
+            "class: nightcrew.modules.safety.SafetyWatchdog\n"
+            f"watch: {{weather: {SILENCE_LIMIT}, mastermind: {SILENCE_LIMIT}}}\n"
+            "roof: roof\ntelescope: telescope\nweather: weather\ninterval: 20\nanswer_timeout: 40\n"
+            + _OVERLAY.format(name="watchdog")
+        ),
+    },
+    "camera": {
+        "camera": f"<<: !include {EXAMPLES}/multi-host/camera.yaml\n",
+        "cache": f"<<: !include {EXAMPLES}/multi-host/cache.yaml\n",
+        "filters": f"<<: !include {EXAMPLES}/sim-processes/filters.yaml\n",
+    },
+    "office": {
+        "writer-ssh": f"<<: !include {EXAMPLES}/multi-host/writer-ssh.yaml\n",
+        "writer-smb": f"<<: !include {EXAMPLES}/multi-host/writer-smb.yaml\n",
+        "mastermind": "class: nightcrew.modules.Module\n" + _OVERLAY.format(name="mastermind"),
+    },
 }
-MODULES = ["roof", "telescope", "weather", "camera", "cache", "writer-ssh", "writer-smb"]
+MODULES = [name for modules in MODULE_FILES.values() for name in modules]
+HOST_OF = {name: host for host, modules in MODULE_FILES.items() for name in modules}
 
 
 @dataclass
 class Observatory:
-    """What the set-up made: hosts, servers, processes and where the copies land."""
+    """What the set-up made: hosts, servers, supervisors and where the copies land."""
 
     hosts: Hosts
     directory: Path
     ssh: SshServer
     samba: SambaServer
-    processes: dict[str, subprocess.Popen[bytes]] = field(default_factory=dict)
+    supervisors: dict[str, subprocess.Popen[bytes]] = field(default_factory=dict)
+    #: Control sockets by host (short paths: a Unix socket path must stay below 108 bytes).
+    sockets: dict[str, Path] = field(default_factory=dict)
 
     @property
     def xmpp_directory(self) -> Path:
@@ -79,18 +106,28 @@ class Observatory:
         return self.samba.files / "frames"
 
     def log(self, name: str) -> str:
-        path = self.directory / f"{name}.log"
+        """A module's log (or a host's supervisor log, by host name)."""
+        path = self.directory / "logs" / f"{name}.log"
+        if name in self.supervisors:
+            path = self.directory / f"supervisor-{name}.log"
         return path.read_text(errors="replace") if path.exists() else ""
 
     def check_alive(self) -> None:
-        for name, process in self.processes.items():
-            assert process.poll() is None, f"{name} exited {process.returncode}:\n{self.log(name)}"
+        for host, process in self.supervisors.items():
+            assert process.poll() is None, (
+                f"supervisor on {host} exited {process.returncode}:\n{self.log(host)}"
+            )
+
+    async def status(self, host: str) -> dict[str, dict[str, Any]]:
+        """The supervisor's status of every module on ``host``, by module name."""
+        reply = await send_request(self.sockets[host], {"command": "status", "module": None})
+        return {module["name"]: module for module in reply["modules"]}
 
 
 def start(directory: Path) -> Observatory:
     """Build everything; on failure, stop what was started."""
     hosts = Hosts(["dome", "camera", "office"], outside=["dome"])
-    dome, camera = hosts["dome"], hosts["camera"]
+    dome = hosts["dome"]
     hosts.start()
     observatory = Observatory(
         hosts,
@@ -108,73 +145,83 @@ def start(directory: Path) -> Observatory:
         assert server.wait(timeout=60) == 0, (directory / "prosody-start.log").read_text()
         observatory.ssh.start()
         observatory.samba.start()
-        common = {
-            "PATH": "/usr/sbin:/usr/bin:/sbin:/bin",
-            "HOME": str(directory),
-            "SIM_XMPP_PASSWORD": PASSWORD,
-            "SIM_XMPP_DOMAIN": DOMAIN,
-            "SIM_XMPP_ROOM": ROOM,
-            "SIM_XMPP_CA_FILE": observatory.ca_file,
-            "SIM_CLOCK_START": CLOCK_START,
-            "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
-            "SIM_WALL_START": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S"),
-            "NC_FILECACHE_PORT": str(CACHE_PORT),
-            "NC_FILECACHE_TOKEN": "cache-secret-for-tests",
-            "NC_FILECACHE_URL": f"http://{camera.address('office')}:{CACHE_PORT}",
-        }
-        ssh = observatory.ssh
-        office_env = {
-            **common,
-            "SIM_XMPP_SERVER": f"{dome.address('office')}:{XMPP_PORT}",
-            "NC_SSH_HOST": dome.address("office"),
-            "NC_SSH_PORT": str(SSH_PORT),
-            "NC_SSH_USER": ssh.username,
-            "NC_SSH_ROOT": str(observatory.ssh_copies),
-            "NC_SSH_KEY": str(ssh.client_key),
-            "NC_SSH_KNOWN_HOSTS": str(ssh.known_hosts),
-            "NC_SSH_KEEPALIVE": "2",
-            "NC_SMB_HOST": dome.address("office"),
-            "NC_SMB_PORT": str(SMB_PORT),
-            "NC_SMB_SHARE": observatory.samba.share,
-            "NC_SMB_USER": observatory.samba.username,
-            "NC_SMB_PASSWORD": observatory.samba.password,
-            "NC_SMB_ROOT": "frames",
-        }
-        environments = {
-            "dome": {**common, "SIM_XMPP_SERVER": f"127.0.0.1:{XMPP_PORT}"},
-            "camera": {**common, "SIM_XMPP_SERVER": f"{dome.address('camera')}:{XMPP_PORT}"},
-            "office": office_env,
-        }
-        for name, (host, configs) in PROCESSES.items():
-            observatory.processes[name] = hosts[host].run(
-                [sys.executable, "-m", "nightcrew", "run", *map(str, configs)],
-                log=directory / f"{name}.log",
-                env=environments[host],
-                cwd=directory,
-            )
+        environments = _environments(observatory)
+        sockets = Path(tempfile.mkdtemp(prefix="nc-hosts-"))
+        for host, modules in MODULE_FILES.items():
+            files = directory / f"{host}-modules"
+            files.mkdir()
+            for name, text in modules.items():
+                (files / f"{name}.yaml").write_text(text)
+            socket = observatory.sockets[host] = sockets / f"{host}.sock"
+            observatory.supervisors[host] = hosts[host].run(
+                [sys.executable, "-m", "nightcrew", "up", str(files), "--socket", str(socket),
+                 "--log-dir", str(directory / "logs")],
+                log=directory / f"supervisor-{host}.log", env=environments[host], cwd=directory,
+            )  # fmt: skip
     except BaseException:
         stop(observatory)
         raise
     return observatory
 
 
+def _environments(observatory: Observatory) -> dict[str, dict[str, str]]:
+    dome, camera = observatory.hosts["dome"], observatory.hosts["camera"]
+    directory, ssh, samba = observatory.directory, observatory.ssh, observatory.samba
+    common = {
+        "PATH": "/usr/sbin:/usr/bin:/sbin:/bin",
+        "HOME": str(directory),
+        "SIM_XMPP_PASSWORD": PASSWORD,
+        "SIM_XMPP_DOMAIN": DOMAIN,
+        "SIM_XMPP_ROOM": ROOM,
+        "SIM_XMPP_CA_FILE": observatory.ca_file,
+        "SIM_CLOCK_START": CLOCK_START,
+        "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
+        "SIM_WALL_START": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S"),
+        "NC_FILECACHE_PORT": str(CACHE_PORT),
+        "NC_FILECACHE_TOKEN": "cache-secret-for-tests",
+        "NC_FILECACHE_URL": f"http://{camera.address('office')}:{CACHE_PORT}",
+    }
+    office = {
+        **common,
+        "SIM_XMPP_SERVER": f"{dome.address('office')}:{XMPP_PORT}",
+        "NC_SSH_HOST": dome.address("office"),
+        "NC_SSH_PORT": str(SSH_PORT),
+        "NC_SSH_USER": ssh.username,
+        "NC_SSH_ROOT": str(observatory.ssh_copies),
+        "NC_SSH_KEY": str(ssh.client_key),
+        "NC_SSH_KNOWN_HOSTS": str(ssh.known_hosts),
+        "NC_SSH_KEEPALIVE": "2",
+        "NC_SMB_HOST": dome.address("office"),
+        "NC_SMB_PORT": str(SMB_PORT),
+        "NC_SMB_SHARE": samba.share,
+        "NC_SMB_USER": samba.username,
+        "NC_SMB_PASSWORD": samba.password,
+        "NC_SMB_ROOT": "frames",
+        "NC_WRITER_STATE_DIR": str(directory),
+    }
+    return {
+        "dome": {**common, "SIM_XMPP_SERVER": f"127.0.0.1:{XMPP_PORT}"},
+        "camera": {**common, "SIM_XMPP_SERVER": f"{dome.address('camera')}:{XMPP_PORT}"},
+        "office": office,
+    }
+
+
 def stop(observatory: Observatory) -> list[str]:
-    """Stop everything; returns the module processes that did not exit 0 on SIGTERM, with logs."""
-    hosts = observatory.hosts
+    """Stop everything; returns the supervisors that did not exit 0 on SIGTERM, with their logs."""
     problems = []
-    for process in observatory.processes.values():
+    for process in observatory.supervisors.values():
         if process.poll() is None:
-            process.terminate()
-    for name, process in observatory.processes.items():
+            process.terminate()  # each stops its modules cleanly (roof closes, telescope parks)
+    for host, process in observatory.supervisors.items():
         try:
-            code = process.wait(timeout=20)
+            code = process.wait(timeout=120)
         except subprocess.TimeoutExpired:
-            problems.append(f"{name} did not stop within 20 s of SIGTERM")
+            problems.append(f"the supervisor on {host} did not stop within 120 s of SIGTERM")
             continue
         if code != 0:
-            problems.append(f"{name} exited {code}:\n{observatory.log(name)[-3000:]}")
+            problems.append(f"the supervisor on {host} exited {code}:\n{observatory.log(host)[-3000:]}")
     stop_server(observatory.xmpp_directory)
     observatory.ssh.stop()
     observatory.samba.stop()
-    hosts.stop()
+    observatory.hosts.stop()
     return problems

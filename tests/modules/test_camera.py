@@ -142,3 +142,17 @@ async def test_slow_header_peer_is_left_out_after_its_timeout(observatory: Obser
     assert took < 1.0 + 1.0 + 5.0 + 2.0  # exposure + readout + header timeout + slack
     header = (await observatory.vfs.read_fits(filename))[0].header
     assert header["FASTKEY"] == 2 and "SLOWKEY" not in header
+
+
+async def test_a_frame_taken_while_a_header_provider_is_down_names_it(observatory: Observatory) -> None:
+    peer = await observatory.start(HeaderPeer, "filters", cards={"FILTER": "R"})
+    camera = await observatory.start(GradientCamera, "camera")
+    await camera.set_exposure_time(1.0)
+    first = (await observatory.vfs.read_fits(await camera.grab_data()))[0].header
+    assert first["FILTER"] == "R" and "HDRMISS" not in first
+    await peer.close()  # killed, restarting, offline: the camera must not pretend nothing is missing
+    second = (await observatory.vfs.read_fits(await camera.grab_data()))[0].header
+    assert "FILTER" not in second and second["HDRMISS"] == "filters"
+    await observatory.start(HeaderPeer, "filters", cards={"FILTER": "R"})  # back
+    third = (await observatory.vfs.read_fits(await camera.grab_data()))[0].header
+    assert third["FILTER"] == "R" and "HDRMISS" not in third

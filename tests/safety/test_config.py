@@ -1,4 +1,4 @@
-"""Bad watchdog and roof options are refused when the module is built, naming the key."""
+"""Bad watchdog, roof and telescope options are refused when the module is built, naming the key."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 
 from nightcrew.errors import ConfigError
 from nightcrew.modules.safety import SafetyWatchdog
-from nightcrew.modules.sim import SimRoof
+from nightcrew.modules.sim import SimRoof, SimTelescope
 
 
 @pytest.mark.parametrize(
@@ -33,7 +33,13 @@ def test_watchdog_options(options: dict[str, Any], message: str) -> None:
     assert message in str(caught.value)
 
 
-def test_roof_close_when_offline_must_be_positive() -> None:
+def test_roof_park_when_offline_must_be_positive() -> None:
     with pytest.raises(ConfigError) as caught:
-        SimRoof(name="roof", close_when_offline=0)
-    assert "key 'close_when_offline': must be > 0 seconds or null, got 0" in str(caught.value)
+        SimRoof(name="roof", park_when_offline=0)
+    assert "key 'park_when_offline': must be > 0 seconds or null, got 0" in str(caught.value)
+
+
+def test_telescope_park_when_offline_must_be_positive() -> None:
+    with pytest.raises(ConfigError) as caught:
+        SimTelescope(name="telescope", site={"latitude": 50, "longitude": 10}, park_when_offline=-1)
+    assert "key 'park_when_offline': must be > 0 seconds or null, got -1" in str(caught.value)

@@ -35,11 +35,11 @@ CLOCK_START = "2026-11-10T17:50:00"
 MODULES = ["roof", "telescope", "mastermind", "watchdog"]
 
 
-def write_observatory(supervised: SupervisedDirectory, *, close_when_offline: float = 300) -> None:
+def write_observatory(supervised: SupervisedDirectory, *, park_when_offline: float = 300) -> None:
     for name in MODULES:
         supervised.prosody.account(name)
     for name in ("roof", "telescope"):
-        extra = f"close_when_offline: {close_when_offline}\n" if name == "roof" else ""
+        extra = f"park_when_offline: {park_when_offline}\n"
         (supervised.directory / f"{name}.yaml").write_text(f"<<: !include {OVERLAYS / name}.yaml\n{extra}")
     overlay = (
         f"comm:\n  <<: !include {OVERLAYS}/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
@@ -177,20 +177,21 @@ async def _both_parked(driver: Module) -> bool:
 async def test_prosody_killed_roof_closes_by_itself_and_everything_is_back_within_10_s(
     supervised: SupervisedDirectory, driver: Module
 ) -> None:
-    write_observatory(supervised, close_when_offline=20)  # 2 wall seconds at this speed
+    write_observatory(supervised, park_when_offline=20)  # 2 wall seconds at this speed
     supervised.up()
     clock = driver.clock
     await wait_for(lambda: all_ready(driver), START_TIMEOUT * SPEED, clock=clock, message="modules ready")
     await open_up(driver)
     prosody = supervised.prosody
-    roof_log = supervised.log_dir / "roof.log"
+    logs = [supervised.log_dir / f"{name}.log" for name in ("roof", "telescope")]
 
     os.kill(prosody.pid(), signal.SIGKILL)
     try:
-        # The roof hears nobody: it closes by itself (its own log says so, while the server is down).
+        # Roof and telescope hear nobody: they park by themselves (their logs say so, while the
+        # server is down).
         await wait_for(
-            lambda: "no connection to the other modules" in roof_log.read_text(),
-            60 * SPEED, clock=clock, message="roof closing without the server",
+            lambda: all("no connection to the other modules" in p.read_text() for p in logs),
+            60 * SPEED, clock=clock, message="roof closing and telescope parking without the server",
         )  # fmt: skip
     finally:
         prosody.start()
@@ -199,9 +200,12 @@ async def test_prosody_killed_roof_closes_by_itself_and_everything_is_back_withi
     back = time.monotonic() - restarted
     assert back <= 10, f"modules back after {back:.1f} s"
     log.info("every module back %.1f s after Prosody's restart", back)
-    # it finishes closing (30 clock s) without being told to
+    # both finish (the roof closes in 30 clock s) without being told to: one rule for both
     await wait_for(
-        lambda: _roof_is(driver, MotionStatus.PARKED), 60, clock=clock, message="roof closed by itself"
+        lambda: _both_parked(driver),
+        60,
+        clock=clock,
+        message="roof closed and telescope parked by themselves",
     )
     status = await supervised.status()
     assert all(status[name]["restarts"] == 0 for name in MODULES)  # reconnected, not restarted

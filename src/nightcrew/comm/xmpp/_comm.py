@@ -49,6 +49,9 @@ class XmppComm(Comm):
         verify_tls: Check the server's certificate (turn off only for testing).
         ca_file: A CA or self-signed certificate to trust (``nightcrew server init`` writes one).
         connect_timeout: Seconds to wait for the first session before giving up.
+        ping_interval: Wall seconds between pings to the server (XEP-0199); ``null`` for none.
+        ping_timeout: Wall seconds a ping may go unanswered: then the link counts as dead and the
+            module reconnects (a silent link is noticed within interval + timeout).
         rpc_grace: Wall seconds added to every announced timeout for network latency.
         policy: The access policy file; callers are identified by their authenticated account
             (the JID's local part on this domain, the bare JID otherwise).
@@ -69,6 +72,8 @@ class XmppComm(Comm):
         verify_tls: bool = True,
         ca_file: str | None = None,
         connect_timeout: float = 10.0,
+        ping_interval: float | None = 10.0,
+        ping_timeout: float = 10.0,
         rpc_grace: float = 1.0,
         policy: str | Policy | None = None,
         audit: str | None = None,
@@ -84,6 +89,10 @@ class XmppComm(Comm):
             raise ConfigError("an XmppComm needs a password", key="password")
         if require_tls is False and not is_loopback(host):
             raise ConfigError(f"TLS cannot be turned off off loopback ({host})", key="require_tls")
+        if ping_interval is not None and not ping_interval > 0:
+            raise ConfigError(f"must be > 0 seconds or null, got {ping_interval}", key="ping_interval")
+        if not ping_timeout > 0:
+            raise ConfigError(f"must be > 0 seconds, got {ping_timeout}", key="ping_timeout")
         self._settings = XmppSettings(
             local=local,
             domain=domain,
@@ -96,6 +105,8 @@ class XmppComm(Comm):
             verify_tls=verify_tls,
             ca_file=ca_file,
             connect_timeout=connect_timeout,
+            ping_interval=None if ping_interval is None else float(ping_interval),
+            ping_timeout=float(ping_timeout),
         )
         self._connection: XmppConnection | None = None
         self._rpc: RpcChannel | None = None

@@ -7,6 +7,8 @@ connection is retried every second or so until :meth:`close`; ``on_session`` run
 session start (join the room again), ``on_lost`` after every loss (fail calls in flight),
 ``on_fatal`` when the connection is lost for good (another session took over the account, or the
 login is refused on a reconnect): the process should then end, not stay alive and offline.
+A :class:`~nightcrew.comm.xmpp._keepalive.Keepalive` pings the server during every session, so a
+link that went silent ends the session within seconds and the reconnect loop starts.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from typing import Any
 import slixmpp
 
 from nightcrew.comm.xmpp._errors import XmppAuthError
+from nightcrew.comm.xmpp._keepalive import Keepalive
 from nightcrew.comm.xmpp._settings import XmppSettings
 from nightcrew.comm.xmpp._xmltext import escape_attribute, stanza_text
 from nightcrew.errors import NightcrewError, RemoteError
@@ -74,6 +77,11 @@ class XmppConnection:
         self._closing = False
         self._reconnect_task: asyncio.Task[None] | None = None
         self._outbox: list[str] = []  # serialized stanzas waiting for the next flush
+        self._keepalive = (
+            Keepalive(settings.ping_interval, settings.ping_timeout, self._on_silent_link)
+            if settings.ping_interval is not None
+            else None
+        )
 
     @property
     def online(self) -> bool:
@@ -113,6 +121,8 @@ class XmppConnection:
         self._closing = True
         self._flush()  # what was sent before close() still goes out
         self._online = False  # a disconnect we asked for is not a loss
+        if self._keepalive is not None:
+            self._keepalive.stop()
         if self._reconnect_task is not None:
             self._reconnect_task.cancel()
             await asyncio.gather(self._reconnect_task, return_exceptions=True)
@@ -200,6 +210,7 @@ class XmppConnection:
             client.ssl_context.check_hostname = False
             client.ssl_context.verify_mode = ssl.CERT_NONE
         client.register_plugin("xep_0030")  # disco#info: answers interface discovery
+        client.register_plugin("xep_0199")  # pings: ours (Keepalive) and answers to the server's
         disco: Any = client.plugin["xep_0030"]
         for feature in self._features:
             disco.add_feature(feature)
@@ -261,6 +272,8 @@ class XmppConnection:
             # A call's reply follows its timeout announcement at once: do not let Nagle hold it.
             raw.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self._online = True
+        if self._keepalive is not None:
+            self._keepalive.start(self.client.plugin["xep_0199"])
         if self._session is not None and not self._session.done():
             self._session.set_result(None)
 
@@ -312,8 +325,15 @@ class XmppConnection:
         if self._on_fatal is not None:
             self._on_fatal(error)
 
+    def _on_silent_link(self, why: str) -> None:
+        log.warning("%s: the XMPP server is silent (%s); reconnecting", self._settings.bare_jid, why)
+        if self._client is not None:
+            self._client.abort()  # -> "disconnected" -> the reconnect loop
+
     def _on_disconnected(self, reason: Any) -> None:
         was_online, self._online = self._online, False
+        if self._keepalive is not None:
+            self._keepalive.stop()
         self._fail_session(self._loss_error(reason))
         if was_online:
             self._on_lost()

@@ -64,6 +64,9 @@ class XmppSettings:
     verify_tls: bool
     ca_file: str | None
     connect_timeout: float
+    #: Wall seconds between pings to the server (None: no pings) and how long one may go unanswered.
+    ping_interval: float | None = 10.0
+    ping_timeout: float = 10.0
 
     @property
     def bare_jid(self) -> str:

@@ -10,7 +10,9 @@
    opens, so DATE-OBS and the progress count from then, not from the call;
 4. ask IFitsHeaderAfter peers, await both header rounds (each peer bounded by ``header_timeout``);
 5. merge cards (static config < peers < driver < the camera's own), write the FITS file through the
-   VFS in one atomic write and announce it.
+   VFS in one atomic write and announce it. A provider that answered for an earlier frame but not
+   for this one (down, restarting, failing) is named in the card ``HDRMISS``, and the log says so:
+   no frame silently lacks a provider's cards.
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from nightcrew.errors import (
 from nightcrew.events import ExposureStatusChangedEvent
 from nightcrew.interfaces import ExposureStatus, FitsCard, FitsValue, IAbortable, IExposure, ModuleState
 from nightcrew.modules.camera.fitsfile import blocking_fits_bytes
-from nightcrew.modules.camera.headers import clean_cards, collect_headers
+from nightcrew.modules.camera.headers import HeaderReplies, MissingHeaders, ask_header_providers, clean_cards
 from nightcrew.modules.module import Module
 from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
@@ -86,6 +88,7 @@ class ExposingModule(Module, IAbortable, IExposure):
             bad = sorted(set(static) - set(self._static_cards))
             raise ConfigError(f"invalid FITS keywords or values: {', '.join(bad)}", key="fits_headers")
         self._header_timeout = float(header_timeout)
+        self._missing_headers = MissingHeaders()
         self._exposure_status = ExposureStatus.IDLE
         self._busy = False
         self._exposure_task: asyncio.Task[Frame] | None = None
@@ -157,16 +160,20 @@ class ExposingModule(Module, IAbortable, IExposure):
         self._busy = True
         self._aborted = False
         before = asyncio.create_task(self._headers("before"))
-        after: asyncio.Task[dict[str, FitsCard]] | None = None
+        after: asyncio.Task[HeaderReplies] | None = None
         try:
             self._exposure_start, self._exposure_length = self.clock.time(), exposure_time
             await self._set_exposure_status(ExposureStatus.EXPOSING)
             frame = await self._run_hook(expose)
             after = asyncio.create_task(self._headers("after"))
-            peers = {**await before, **await after}
+            before_replies, after_replies = await before, await after
+            missing = self._missing_headers.missing("before", before_replies)
+            missing |= self._missing_headers.missing("after", after_replies)
             cards = {
                 **self._static_cards,
-                **peers,
+                **before_replies.cards,
+                **after_replies.cards,
+                **MissingHeaders.card(missing),
                 **clean_cards(frame.header, "driver"),
                 **_time_cards(self._exposure_start),
             }
@@ -180,7 +187,12 @@ class ExposingModule(Module, IAbortable, IExposure):
             self._busy = False
             self._exposure_task = None
             await self._set_exposure_status(ExposureStatus.IDLE)
-        log.info("%s: wrote %s", self.name, filename)
+        if missing:
+            log.warning(
+                "%s: wrote %s without the headers of %s", self.name, filename, ", ".join(sorted(missing))
+            )
+        else:
+            log.info("%s: wrote %s", self.name, filename)
         if announce is not None:
             await announce(filename)
         return filename
@@ -212,8 +224,8 @@ class ExposingModule(Module, IAbortable, IExposure):
             raise GrabImageError(f"driver returned {type(frame).__name__}, expected a Frame with an array")
         return frame
 
-    async def _headers(self, when: str) -> dict[str, FitsCard]:
-        return await collect_headers(self.comm, when, self._header_timeout)
+    async def _headers(self, when: str) -> HeaderReplies:
+        return await ask_header_providers(self.comm, when, self._header_timeout)
 
     async def _write(self, filename: str, data: npt.NDArray[Any], cards: Mapping[str, FitsCard]) -> None:
         # Serialising takes tens of milliseconds: in a thread, so the event loop (guiding, the

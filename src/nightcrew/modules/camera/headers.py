@@ -1,4 +1,9 @@
-"""Asking the other modules for FITS header cards, all at once and each within a short timeout."""
+"""Asking the other modules for FITS header cards, all at once and each within a short timeout.
+
+:class:`MissingHeaders` remembers which providers ever answered, so that a frame taken while one of
+them is down (killed, restarting, offline) says so in its header instead of silently lacking
+its cards.
+"""
 
 from __future__ import annotations
 
@@ -6,22 +11,60 @@ import asyncio
 import logging
 import math
 import re
+from dataclasses import dataclass, field
 
 from nightcrew.comm.base import Comm
 from nightcrew.errors import NightcrewError
 from nightcrew.interfaces import FitsCard, IFitsHeaderAfter, IFitsHeaderBefore
 
-__all__ = ["clean_cards", "collect_headers"]
+__all__ = ["HeaderReplies", "MissingHeaders", "ask_header_providers", "clean_cards", "collect_headers"]
 
 log = logging.getLogger(__name__)
 
 _KEYWORD = re.compile(r"^[A-Z0-9_-]{1,8}$")
 _VALUE_TYPES = (bool, int, float, str, type(None))
+#: The card naming header providers whose cards a frame lacks.
+MISSING_KEYWORD = "HDRMISS"
+
+
+@dataclass
+class HeaderReplies:
+    """One round of asking: the merged cards and who answered."""
+
+    cards: dict[str, FitsCard] = field(default_factory=dict)
+    answered: set[str] = field(default_factory=set)
+
+
+class MissingHeaders:
+    """The providers that answered before, per round (``before``/``after``): who is missing now."""
+
+    def __init__(self) -> None:
+        self._known: dict[str, set[str]] = {"before": set(), "after": set()}
+
+    def missing(self, when: str, replies: HeaderReplies) -> set[str]:
+        """Providers known from earlier frames that did not answer this time (and learn the new)."""
+        known = self._known[when]
+        known |= replies.answered
+        return known - replies.answered
+
+    @staticmethod
+    def card(missing: set[str]) -> dict[str, FitsCard]:
+        """``HDRMISS`` naming the missing providers, or nothing."""
+        if not missing:
+            return {}
+        return {MISSING_KEYWORD: (",".join(sorted(missing)), "header providers that did not answer")}
 
 
 async def collect_headers(
     comm: Comm, when: str, wait_limit: float, namespaces: list[str] | None = None
 ) -> dict[str, FitsCard]:
+    """The cards of :func:`ask_header_providers`."""
+    return (await ask_header_providers(comm, when, wait_limit, namespaces)).cards
+
+
+async def ask_header_providers(
+    comm: Comm, when: str, wait_limit: float, namespaces: list[str] | None = None
+) -> HeaderReplies:
     """Cards from every other module offering IFitsHeaderBefore (``when="before"``) or ...After.
 
     Providers are asked concurrently; one that fails or takes longer than ``wait_limit`` clock
@@ -36,15 +79,17 @@ async def collect_headers(
         # A forged OBJECT/RA/DEC in a frame is worse than a missing one.
         log.warning("refused FITS headers from %s: not a header provider in the access policy", name)
     results = await asyncio.gather(*(_ask(comm, name, when, wait_limit, namespaces) for name in names))
-    merged: dict[str, FitsCard] = {}
-    for cards in results:
-        merged.update(cards)
-    return merged
+    replies = HeaderReplies()
+    for name, cards in zip(names, results, strict=True):
+        if cards is not None:
+            replies.cards.update(cards)
+            replies.answered.add(name)
+    return replies
 
 
 async def _ask(
     comm: Comm, name: str, when: str, wait_limit: float, namespaces: list[str] | None
-) -> dict[str, FitsCard]:
+) -> dict[str, FitsCard] | None:
     try:
         # Across processes the network adds wall time that a fast simulated clock does not shrink.
         async with comm.timeout(wait_limit):
@@ -54,10 +99,10 @@ async def _ask(
                 cards = await (await comm.proxy(name, IFitsHeaderAfter)).get_fits_header_after(namespaces)
     except TimeoutError:
         log.warning("no FITS header from %s within %g s; leaving its cards out", name, wait_limit)
-        return {}
+        return None
     except NightcrewError as exc:
         log.warning("FITS header from %s failed: %s", name, exc)
-        return {}
+        return None
     return clean_cards(cards, name)
 
 

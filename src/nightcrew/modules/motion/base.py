@@ -1,4 +1,10 @@
-"""The base of every moving device: motion status, its event, and one motion at a time."""
+"""The base of every moving device: motion status, its event, and one motion at a time.
+
+One safety rule lives here for every device that parks: without the message server nobody can
+tell it to park (not the weather module, not the watchdog), so with ``park_when_offline`` set, a
+device whose comm stayed disconnected for that many clock seconds parks by itself (a roof: closes).
+Roofs and telescopes set it to 300 s by default. It may be used again once the comm is back.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +13,7 @@ from abc import abstractmethod
 from collections.abc import Awaitable, Coroutine
 from typing import Any, TypeVar
 
-from nightcrew.errors import MotionError, MoveError, NightcrewError
+from nightcrew.errors import ConfigError, MotionError, MoveError, NightcrewError
 from nightcrew.events import MotionStatusChangedEvent
 from nightcrew.interfaces import IMotion, ModuleState, MotionStatus
 from nightcrew.modules.module import Module
@@ -38,15 +44,26 @@ class BaseMotion(Module, IMotion):
     Args:
         park_on_close: Park (a roof: close) before the module closes, e.g. when ``nightcrew up``
             or systemd stops it; bounded by :data:`PARK_ON_CLOSE_TIMEOUT` clock seconds.
+        park_when_offline: Clock seconds without a connection to the other modules (the XMPP
+            server) after which the device parks by itself; None: never.
         **kwargs: Module options.
     """
 
     #: Status before the first change; a parked telescope, a closed roof, an idle focuser.
     initial_status: MotionStatus = MotionStatus.IDLE
 
-    def __init__(self, *, park_on_close: bool = False, **kwargs: Any) -> None:
+    def __init__(
+        self, *, park_on_close: bool = False, park_when_offline: float | None = None, **kwargs: Any
+    ) -> None:
         super().__init__(**kwargs)
+        if park_when_offline is not None and not park_when_offline > 0:
+            raise ConfigError(
+                f"must be > 0 seconds or null, got {park_when_offline}", key="park_when_offline"
+            )
         self._park_on_close = park_on_close
+        self._park_when_offline = park_when_offline
+        if park_when_offline is not None:
+            self.add_background_task(self._offline_watch_loop)
         self._motion_status = self.initial_status
         self._motion = MotionRunner(type(self).__name__)
 
@@ -73,6 +90,34 @@ class BaseMotion(Module, IMotion):
                 await self.park()
         except Exception as exc:  # closing goes on: a stop must not hang on a broken device
             log.error("%s: could not park before closing: %s", self.name, exc or type(exc).__name__)
+
+    async def _offline_watch_loop(self) -> None:
+        """Park when the comm stayed disconnected for ``park_when_offline`` clock seconds."""
+        limit = self._park_when_offline
+        assert limit is not None
+        step = min(5.0, limit / 5)
+        offline_since: float | None = None
+        while True:
+            now = self.clock.time()
+            if self.comm.connected:
+                offline_since = None
+            elif offline_since is None:
+                offline_since = now
+            elif (
+                now - offline_since >= limit
+                and (self._motion_status is not MotionStatus.PARKED or self._motion.busy)
+                and self._motion_status is not MotionStatus.PARKING
+            ):
+                log.warning(
+                    "%s: no connection to the other modules for %.0f s: parking",
+                    self.name,
+                    now - offline_since,
+                )
+                try:
+                    await self.park()
+                except NightcrewError as exc:  # tried again on the next round
+                    log.error("%s: could not park without the server: %s", self.name, exc)
+            await self.clock.sleep(step)
 
     # --- helpers for subclasses ----------------------------------------------------------------
 

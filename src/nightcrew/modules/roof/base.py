@@ -6,9 +6,9 @@ like any other IMotion device. Closing always wins: it aborts an opening roof. A
 BadWeatherEvent the roof refuses to open (MoveError) until a GoodWeatherEvent; after a
 SafetyAlarmEvent (the safety watchdog's) until a SafetyClearedEvent.
 
-Without the message server nobody could tell the roof to close (not the weather module, not the
-watchdog), so the roof decides alone: when its comm has been disconnected for ``close_when_offline``
-clock seconds (default 300), it closes by itself. It may open again once it is back and asked to.
+Without the message server nobody could tell the roof to close, so it closes by itself when its
+comm has been disconnected for ``park_when_offline`` clock seconds (default 300; the rule of every
+motion device, see nightcrew.modules.motion.base). It may open again once it is back and asked to.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import logging
 from abc import abstractmethod
 from typing import Any
 
-from nightcrew.errors import ConfigError, MoveError
+from nightcrew.errors import MoveError
 from nightcrew.events import (
     BadWeatherEvent,
     GoodWeatherEvent,
@@ -39,24 +39,17 @@ class BaseRoof(BaseMotion, IRoof):
     """A roof or shutter; a driver implements ``_hw_open``, ``_hw_close`` and ``_hw_stop``.
 
     Args:
-        close_when_offline: Clock seconds without a connection to the other modules (the XMPP
+        park_when_offline: Clock seconds without a connection to the other modules (the XMPP
             server) after which the roof closes by itself; None: never.
-        **kwargs: Module options.
+        **kwargs: Module options (see BaseMotion).
     """
 
     initial_status = MotionStatus.PARKED
 
-    def __init__(self, *, close_when_offline: float | None = 300.0, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
-        if close_when_offline is not None and not close_when_offline > 0:
-            raise ConfigError(
-                f"must be > 0 seconds or null, got {close_when_offline}", key="close_when_offline"
-            )
-        self._close_when_offline = close_when_offline
+    def __init__(self, *, park_when_offline: float | None = 300.0, **kwargs: Any) -> None:
+        super().__init__(park_when_offline=park_when_offline, **kwargs)
         self._bad_weather: str | None = None
         self._alarm: str | None = None
-        if close_when_offline is not None:
-            self.add_background_task(self._offline_watch_loop)
 
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
@@ -140,28 +133,3 @@ class BaseRoof(BaseMotion, IRoof):
 
     async def on_safety_cleared(self, event: SafetyClearedEvent, sender: str) -> None:
         self._alarm = None
-
-    async def _offline_watch_loop(self) -> None:
-        """Close when the comm stayed disconnected for ``close_when_offline`` clock seconds."""
-        limit = self._close_when_offline
-        assert limit is not None
-        step = min(5.0, limit / 5)
-        offline_since: float | None = None
-        while True:
-            now = self.clock.time()
-            if self.comm.connected:
-                offline_since = None
-            elif offline_since is None:
-                offline_since = now
-            elif (
-                now - offline_since >= limit
-                and (self._motion_status is not MotionStatus.PARKED or self._motion.busy)
-                and self._motion.action != "closing"
-            ):
-                log.warning(
-                    "%s: no connection to the other modules for %.0f s: closing",
-                    self.name,
-                    now - offline_since,
-                )
-                await self.close_roof()
-            await self.clock.sleep(step)

@@ -10,7 +10,7 @@ to close and the telescope to park, again on every round while the alarm lasts. 
 says the weather is good.
 
 When the XMPP server itself is gone, nobody reaches the roof: the roof closes by itself after its
-``close_when_offline`` limit (see nightcrew.modules.roof.base).
+``park_when_offline`` limit (see nightcrew.modules.roof.base).
 
 Example (``examples/sim-processes/watchdog.yaml``)::
 

@@ -9,7 +9,8 @@ Decisions (documented for drivers and callers):
 * Offsets: RA/Dec offsets apply while tracking an RA/Dec target, Alt/Az offsets while pointing at an
   Alt/Az position; a new move resets both.
 * On BadWeatherEvent and on SafetyAlarmEvent (the safety watchdog's) the telescope parks by itself
-  (aborting any slew).
+  (aborting any slew), and so it does after ``park_when_offline`` clock seconds (default 300)
+  without a connection to the other modules (see nightcrew.modules.motion.base).
 """
 
 from __future__ import annotations
@@ -62,13 +63,17 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
 
     Args:
         min_altitude: Lowest altitude in degrees the telescope may be sent to (0..90).
-        **kwargs: Module options; ``site`` is required (coordinates need it).
+        park_when_offline: Clock seconds without a connection to the other modules (the XMPP
+            server) after which the telescope parks by itself; None: never.
+        **kwargs: Module options (see BaseMotion); ``site`` is required (coordinates need it).
     """
 
     initial_status = MotionStatus.PARKED
 
-    def __init__(self, *, min_altitude: float = 10.0, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
+    def __init__(
+        self, *, min_altitude: float = 10.0, park_when_offline: float | None = 300.0, **kwargs: Any
+    ) -> None:
+        super().__init__(park_when_offline=park_when_offline, **kwargs)
         if not 0.0 <= min_altitude < 90.0:
             raise ConfigError(
                 f"min_altitude must be within 0..90 degrees, got {min_altitude}", key="min_altitude"
