@@ -85,7 +85,12 @@ def test_standalone_logs_at_its_interval_and_stops_cleanly(tmp_path: Path, sig: 
     lines: queue.Queue[str] = queue.Queue()
     seen: list[str] = []
     with proc:
-        reader = threading.Thread(target=lambda: [lines.put(line) for line in proc.stderr or ()], daemon=True)
+
+        def read_lines() -> None:
+            for line in proc.stderr or ():
+                lines.put(line)
+
+        reader = threading.Thread(target=read_lines, daemon=True)
         reader.start()
         deadline = time.monotonic() + HELLO_DEADLINE_S
         while sum(line.rstrip().endswith("Hello world") for line in seen) < HELLOS:
