@@ -6,8 +6,8 @@ text (Markdown), so a benchmark prints it and a season directory keeps it (seaso
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import asdict, dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
 from nightcrew.report._data import Night
@@ -15,7 +15,15 @@ from nightcrew.report._metrics import night_numbers
 from nightcrew.report._time_budget import time_budget
 from nightcrew.report.records import SCHEDULE_RECORD
 
-__all__ = ["DELAY_BINS_S", "SeasonNight", "season_night", "season_summary", "season_table"]
+__all__ = [
+    "DELAY_BINS_S",
+    "SeasonNight",
+    "season_night",
+    "season_night_from",
+    "season_row",
+    "season_summary",
+    "season_table",
+]
 
 #: Upper edges (s) of the roof-close delay distribution; the last bin is everything above.
 DELAY_BINS_S = (15.0, 30.0, 60.0, 120.0)
@@ -71,6 +79,18 @@ def season_night(name: str, night: Night, *, latitude: float, longitude: float) 
     )
 
 
+def season_row(night: SeasonNight) -> dict[str, Any]:
+    """One night as JSON-ready values (a row of season.json; :func:`season_night_from` reads it)."""
+    return {**asdict(night), "shutter_fraction": night.shutter_fraction}
+
+
+def season_night_from(row: Mapping[str, Any]) -> SeasonNight:
+    """The night of a row made by :func:`season_row` (e.g. read back from JSON)."""
+    values = {f.name: row[f.name] for f in fields(SeasonNight) if f.name in row}
+    values["roof_close_delays_s"] = tuple(values.get("roof_close_delays_s", ()))
+    return SeasonNight(**values)
+
+
 def season_summary(nights: Sequence[SeasonNight]) -> dict[str, Any]:
     """Totals over ``nights`` (JSON-ready), with the per-night rows under ``nights``."""
     delays = [d for n in nights for d in n.roof_close_delays_s]
@@ -87,7 +107,7 @@ def season_summary(nights: Sequence[SeasonNight]) -> dict[str, Any]:
         for label, seconds in n.dark_time.items():
             dark_time[label] = dark_time.get(label, 0.0) + seconds
     return {
-        "nights": [{**asdict(n), "shutter_fraction": n.shutter_fraction} for n in nights],
+        "nights": [season_row(n) for n in nights],
         "good_dark_h": good_dark / 3600.0,
         "shutter_fraction": shutter / good_dark if good_dark > 0 else 0.0,
         "bad_weather_onsets": sum(n.bad_weather_onsets for n in nights),
