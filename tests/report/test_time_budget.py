@@ -62,13 +62,19 @@ def test_each_second_counts_once_in_the_first_label_that_applies() -> None:
             _telescope(920, "parked"),
             _record(1000, "RoofClosingEvent", "roof"),
         ],
-        frames=[_frame(300, 300, "object"), _frame(800, 10, "focus"), _frame(850, 10, "focus")],
+        frames=[
+            _frame(300, 300, "object"),
+            _frame(800, 10, "focus"),
+            _frame(850, 10, "focus"),
+            _frame(950, 20, "dark"),  # shutter closed: not exposing the sky
+        ],
     )
     spent = time_budget(night, **SITE)
     assert list(spent) == ["exposing focus", "exposing object", *BUDGET_LABELS]
     assert {label: round(seconds) for label, seconds in spent.items()} == {
         "exposing focus": 20,
         "exposing object": 300,
+        "dark and bias frames": 20,
         "exposing, frame not kept": 30,
         "readout": 10,
         "slew": 50,  # 200-230 and the parking at 900-920
@@ -77,7 +83,7 @@ def test_each_second_counts_once_in_the_first_label_that_applies() -> None:
         "filter change": 3,
         "focus run, between frames": 40,
         "in a task, camera idle": 127,  # 200-700 less the slew, filter change, exposures, read-out
-        "no task running": 320,  # 100-200 and 700-1000 less the focus run and the parking
+        "no task running": 300,  # 100-200 and 700-1000 less the focus run, the parking, the dark
     }
     assert round(sum(spent.values())) == 1000
 

@@ -39,6 +39,7 @@ FRAME_COLOURS = {
 OTHER_FRAME_COLOUR = "#17becf"
 #: Idle and lost time in warm colours, so that they stand out in the bar.
 BUDGET_COLOURS = {
+    "dark and bias frames": "#636363",
     "exposing, frame not kept": "#e7ba52",
     "readout": "#aec7e8",
     "slew": "#8c564b",

@@ -4,8 +4,9 @@
 weather not bad) the first label of :data:`BUDGET_LABELS` that applies:
 
 * ``exposing <type>``: a light frame of that IMAGETYP (object, focus, acquisition, skyflat) exposes;
+* ``dark and bias frames``: calibration frames taken in the dark time (the shutter stays closed);
 * ``exposing, frame not kept``: the camera exposes (its ExposureStatusChangedEvents) but no frame
-  was written: acquisition frames, and exposures cut short (bad weather, the end of the run);
+  was written: exposures cut short (bad weather, the end of the run), frames never written;
 * ``readout``: the camera reads out;
 * ``slew``: the telescope slews, initialises or parks;
 * ``roof opening or closing``: the roof moves although the weather is good;
@@ -38,6 +39,7 @@ Interval = tuple[float, float]
 
 #: The labels after the ``exposing <type>`` ones, in the order they are given.
 BUDGET_LABELS = (
+    "dark and bias frames",
     "exposing, frame not kept",
     "readout",
     "slew",
@@ -93,6 +95,7 @@ def time_budget(
         layers.append((f"exposing {kind}", frames))
     records = night.records
     layers += [
+        ("dark and bias frames", [(f.start, f.end) for f in night.frames if not f.light]),
         ("exposing, frame not kept", _camera(records, frozenset({"exposing"}), end)),
         ("readout", _camera(records, frozenset({"readout"}), end)),
         ("slew", _slews(records, end)),
