@@ -71,3 +71,10 @@ def test_the_season_report_holds_each_nights_numbers_and_the_totals(season: tupl
     assert summary["science_frames_while_closed"] == 0
     assert all(d <= 60.0 for row in rows for d in row["roof_close_delays_s"])
     assert table.count("\n| 2026-11-1") == 2 and "**all 2**" in table and "Roof-close delays" in table
+    # Where the dark time went: every second once, the exposing part is the shutter's.
+    for row in rows:
+        spent = row["dark_time"]
+        assert sum(spent.values()) == pytest.approx(row["good_dark_s"], abs=1e-6)
+        exposing = sum(v for k, v in spent.items() if k.startswith("exposing "))
+        assert exposing == pytest.approx(row["shutter_open_s"], abs=1e-6)
+    assert "Where the good-weather dark time went" in table and "| roof opening or closing |" in table

@@ -32,35 +32,58 @@ def _telescope(t: float, status: str) -> Record:
     return _record(t, "MotionStatusChangedEvent", "telescope", status=status)
 
 
+def _roof(t: float, status: str) -> Record:
+    return _record(t, "MotionStatusChangedEvent", "roof", status=status)
+
+
+def _filters(t: float, status: str) -> Record:
+    return _record(t, "MotionStatusChangedEvent", "filters", status=status)
+
+
 def test_each_second_counts_once_in_the_first_label_that_applies() -> None:
     night = Night(
         records=[
             _record(0, "GoodWeatherEvent", "weather"),
+            _roof(40, "moving"),
+            _roof(100, "idle"),
             _record(100, "RoofOpenedEvent", "roof"),
             _record(200, "TaskStartedEvent", "mastermind", id="1", name="M31"),
             _telescope(200, "slewing"),
             _telescope(230, "tracking"),
+            _filters(230, "moving"),
+            _filters(233, "idle"),
             _camera(300, "exposing"),
             _camera(600, "readout"),
             _camera(610, "idle"),
+            _camera(620, "exposing"),  # cut short (by the task's end): no frame
+            _camera(650, "idle"),
             _record(700, "TaskFinishedEvent", "mastermind", id="1", name="M31"),
             _telescope(900, "parking"),
             _telescope(920, "parked"),
             _record(1000, "RoofClosingEvent", "roof"),
         ],
-        frames=[_frame(300, 300, "object"), _frame(800, 10, "focus"), _frame(850, 10, "focus")],
+        frames=[
+            _frame(300, 300, "object"),
+            _frame(800, 10, "focus"),
+            _frame(850, 10, "focus"),
+            _frame(950, 20, "dark"),  # shutter closed: not exposing the sky
+        ],
     )
     spent = time_budget(night, **SITE)
     assert list(spent) == ["exposing focus", "exposing object", *BUDGET_LABELS]
     assert {label: round(seconds) for label, seconds in spent.items()} == {
         "exposing focus": 20,
         "exposing object": 300,
+        "dark and bias frames": 20,
+        "exposing, frame not kept": 30,
         "readout": 10,
         "slew": 50,  # 200-230 and the parking at 900-920
-        "roof not open": 100,
+        "roof opening or closing": 60,
+        "roof closed": 40,
+        "filter change": 3,
         "focus run, between frames": 40,
-        "in a task, camera idle": 160,  # 200-700 less the slew, exposure and read-out
-        "no task running": 320,  # 100-200 and 700-1000 less the focus run and the parking
+        "in a task, camera idle": 127,  # 200-700 less the slew, filter change, exposures, read-out
+        "no task running": 300,  # 100-200 and 700-1000 less the focus run, the parking, the dark
     }
     assert round(sum(spent.values())) == 1000
 
@@ -75,7 +98,7 @@ def test_bad_weather_is_not_good_dark_time() -> None:
         ]
     )
     spent = time_budget(night, **SITE)
-    assert round(sum(spent.values())) == 700 and round(spent["roof not open"]) == 700
+    assert round(sum(spent.values())) == 700 and round(spent["roof closed"]) == 700
 
 
 def test_twilight_is_not_dark_time() -> None:

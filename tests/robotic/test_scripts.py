@@ -79,15 +79,16 @@ async def test_repeat_expose_cycles_until_the_repeat_duration_is_used_up(sim: Si
     await runner.run_task(task, progress)
 
     v, r = progress.last.exposures_done[0]
-    assert v + r >= 4  # a cycle is 3 s of exposure plus read-outs, filter changes and rendering
+    # A cycle is 3 s of exposure plus two read-outs (1 s), filter changes and frame writing: about
+    # 10 s of clock time on the virtual clock, whatever the machine's load.
+    assert v + r >= 10
     assert v - r in (0, 1)  # whole cycles, perhaps one V frame more
     headers = await sim.headers(v + r)
     assert [h["FILTER"] for h in headers][:4] == ["V", "R", "V", "R"]
-    # The repetitions start with the first frame; the last must end within the duration. The
-    # margin is for overheads growing on a busy machine (the script learns them as it goes).
+    # The repetitions start with the first frame; the last ends within the duration, and the
+    # script stopped only because the next frame (<= 2 s plus its ~4 s overhead) would not fit.
     started = datetime.fromisoformat(headers[0]["DATE-OBS"]).replace(tzinfo=UTC).timestamp()
-    assert progress.times[-1] - started <= 60.0 + 5.0
-    assert progress.times[-1] - started > 60.0 - 20.0  # and it did not stop long before
+    assert 60.0 - 6.0 < progress.times[-1] - started <= 60.0
 
 
 async def test_bias_and_dark_frames_without_moving_the_telescope(sim: SimSetup) -> None:

@@ -2,7 +2,8 @@
 
 Each night runs in ``--out/night-YYYY-MM-DD`` with its own seed (``--seed`` + night number, so
 random weather differs from night to night and the season repeats), gets its report.html and
-its row of numbers; its frames go afterwards unless ``--frames``. The season's table goes to
+its row of numbers (also in its directory, ``season-row.json``, as soon as it is over); its
+frames go afterwards unless ``--frames``. The season's table goes to
 stdout and to ``--out/season.md``, all numbers to ``--out/season.json``.
 """
 
@@ -19,12 +20,22 @@ from nightcrew.cli._running import quiet_module_logs
 from nightcrew.cli._sim_night import night_setup, run_one_night
 from nightcrew.night.build import bundled_observatory, observatory_site
 from nightcrew.night.engine import FRAMES
-from nightcrew.report import SeasonNight, read_night, season_night, season_summary, season_table, write_report
+from nightcrew.report import (
+    SeasonNight,
+    read_night,
+    season_night,
+    season_row,
+    season_summary,
+    season_table,
+    write_report,
+)
 
-__all__ = ["SEASON_JSON", "SEASON_TABLE", "run_season_command"]
+__all__ = ["NIGHT_ROW", "SEASON_JSON", "SEASON_TABLE", "run_season_command"]
 
 SEASON_TABLE = "season.md"
 SEASON_JSON = "season.json"
+#: Each night's row of the season, in its directory, written as soon as the night is over.
+NIGHT_ROW = "season-row.json"
 
 
 def run_season_command(args: argparse.Namespace) -> int:
@@ -46,9 +57,10 @@ def run_season_command(args: argparse.Namespace) -> int:
                     night.isoformat(), read_night(out), latitude=site.latitude, longitude=site.longitude
                 )
             )
+            row = rows[-1]
+            (out / NIGHT_ROW).write_text(json.dumps(season_row(row), indent=1) + "\n", encoding="utf-8")
             if not args.frames:
                 shutil.rmtree(out / FRAMES, ignore_errors=True)
-            row = rows[-1]
             print(
                 f"night {number + 1}/{args.nights} {night}: shutter {100 * row.shutter_fraction:.1f} % of "
                 f"{row.good_dark_s / 3600:.2f} h good dark, {result.frames} frames ({wall:.0f} s wall)",

@@ -148,11 +148,15 @@ def samples_for_night(samples: Mapping[str, RequestGroup], night: date, site: Si
     return groups
 
 
-def survey_groups(night: date, *, exposure_time: float = 300.0, count: int = 6) -> list[RequestGroup]:
+def survey_groups(
+    night: date, *, exposure_time: float = 300.0, count: int = 3, visits: int = 2
+) -> list[RequestGroup]:
     """A low-priority survey of the well-known fields that fills the night between the samples.
 
-    One request per field, any time of ``night``: ``count`` exposures in V and in R, long enough
-    that the shutter is open most of the time. The scheduler takes them where nothing better fits.
+    ``visits`` requests per field, any time of ``night``, each ``count`` exposures in V and in R,
+    long enough that the shutter is open most of the time. The scheduler takes them where nothing
+    better fits; visits of half an hour (not one of an hour per field) also fill the shorter gaps -
+    after a task that ended early, before dawn - where the roof would otherwise close.
     """
     from nightcrew.night.fields import FAMOUS_FIELDS
 
@@ -161,7 +165,7 @@ def survey_groups(night: date, *, exposure_time: float = 300.0, count: int = 6) 
     return [
         parse_request_group(
             {
-                "name": f"Survey {field.name}",
+                "name": f"Survey {field.name}" + (f" ({visit}/{visits})" if visits > 1 else ""),
                 "proposal": "sim-survey",
                 "priority": 0.5,
                 "requests": [
@@ -188,4 +192,5 @@ def survey_groups(night: date, *, exposure_time: float = 300.0, count: int = 6) 
             }
         )
         for field in FAMOUS_FIELDS
+        for visit in range(1, visits + 1)
     ]

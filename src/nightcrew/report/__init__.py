@@ -8,7 +8,14 @@ files. The data extraction (:mod:`nightcrew.report._data`), the numbers
 
 from nightcrew.report._data import Frame, Night, Record, TaskRun, read_night
 from nightcrew.report._metrics import NightNumbers, night_numbers
-from nightcrew.report._season import SeasonNight, season_night, season_summary, season_table
+from nightcrew.report._season import (
+    SeasonNight,
+    season_night,
+    season_night_from,
+    season_row,
+    season_summary,
+    season_table,
+)
 from nightcrew.report._time_budget import Acquisition, acquisitions, time_budget
 from nightcrew.report._write import NIGHT_RECORD, REPORT_FILE, night_site, write_report
 
@@ -27,6 +34,8 @@ __all__ = [
     "night_site",
     "read_night",
     "season_night",
+    "season_night_from",
+    "season_row",
     "season_summary",
     "season_table",
     "time_budget",

@@ -6,15 +6,24 @@ text (Markdown), so a benchmark prints it and a season directory keeps it (seaso
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
 from nightcrew.report._data import Night
 from nightcrew.report._metrics import night_numbers
+from nightcrew.report._time_budget import time_budget
 from nightcrew.report.records import SCHEDULE_RECORD
 
-__all__ = ["DELAY_BINS_S", "SeasonNight", "season_night", "season_summary", "season_table"]
+__all__ = [
+    "DELAY_BINS_S",
+    "SeasonNight",
+    "season_night",
+    "season_night_from",
+    "season_row",
+    "season_summary",
+    "season_table",
+]
 
 #: Upper edges (s) of the roof-close delay distribution; the last bin is everything above.
 DELAY_BINS_S = (15.0, 30.0, 60.0, 120.0)
@@ -37,6 +46,8 @@ class SeasonNight:
     tasks_unfinished: int
     objective: float | None
     bound: float | None
+    #: Where the good-weather dark time went (:func:`~nightcrew.report.time_budget`), clock seconds.
+    dark_time: dict[str, float] = field(default_factory=dict)
 
     @property
     def shutter_fraction(self) -> float:
@@ -64,7 +75,20 @@ def season_night(name: str, night: Night, *, latitude: float, longitude: float) 
         tasks_unfinished=len(outcomes) - outcomes.count("done") - outcomes.count("failed"),
         objective=None if objective is None else float(objective),
         bound=None if bound is None else float(bound),
+        dark_time=time_budget(night, latitude=latitude, longitude=longitude),
     )
+
+
+def season_row(night: SeasonNight) -> dict[str, Any]:
+    """One night as JSON-ready values (a row of season.json; :func:`season_night_from` reads it)."""
+    return {**asdict(night), "shutter_fraction": night.shutter_fraction}
+
+
+def season_night_from(row: Mapping[str, Any]) -> SeasonNight:
+    """The night of a row made by :func:`season_row` (e.g. read back from JSON)."""
+    values = {f.name: row[f.name] for f in fields(SeasonNight) if f.name in row}
+    values["roof_close_delays_s"] = tuple(values.get("roof_close_delays_s", ()))
+    return SeasonNight(**values)
 
 
 def season_summary(nights: Sequence[SeasonNight]) -> dict[str, Any]:
@@ -78,8 +102,12 @@ def season_summary(nights: Sequence[SeasonNight]) -> dict[str, Any]:
         for low, high in zip(edges[:-1], DELAY_BINS_S, strict=True)
     }
     distribution[f"> {DELAY_BINS_S[-1]:g} s"] = sum(1 for d in delays if d > DELAY_BINS_S[-1])
+    dark_time: dict[str, float] = {}
+    for n in nights:
+        for label, seconds in n.dark_time.items():
+            dark_time[label] = dark_time.get(label, 0.0) + seconds
     return {
-        "nights": [{**asdict(n), "shutter_fraction": n.shutter_fraction} for n in nights],
+        "nights": [season_row(n) for n in nights],
         "good_dark_h": good_dark / 3600.0,
         "shutter_fraction": shutter / good_dark if good_dark > 0 else 0.0,
         "bad_weather_onsets": sum(n.bad_weather_onsets for n in nights),
@@ -93,6 +121,7 @@ def season_summary(nights: Sequence[SeasonNight]) -> dict[str, Any]:
         "tasks_unfinished": sum(n.tasks_unfinished for n in nights),
         "objective": sum(n.objective or 0.0 for n in nights),
         "bound": sum(n.bound or 0.0 for n in nights),
+        "dark_time_s": dark_time,
     }
 
 
@@ -131,7 +160,27 @@ def season_table(nights: Sequence[SeasonNight]) -> str:
     )
     spread = ", ".join(f"{k}: {v}" for k, v in total["roof_close_delay_distribution"].items())
     lines += ["", f"Roof-close delays after bad-weather onsets ({total['roof_close_delays']}): {spread}"]
-    return "\n".join(lines) + "\n"
+    return "\n".join([*lines, "", *_dark_time_table(total["dark_time_s"])]) + "\n"
+
+
+def _dark_time_table(spent: dict[str, float]) -> list[str]:
+    """Where the season's good-weather dark time went: exposing, and each cause of the shutter closed."""
+    whole = sum(spent.values())
+    if whole <= 0:
+        return ["No good-weather dark time."]
+    closed = sum(v for k, v in spent.items() if not k.startswith("exposing "))
+    lines = [
+        f"Where the good-weather dark time went ({whole / 3600:.2f} h; shutter closed "
+        f"{closed / 3600:.2f} h = {100 * closed / whole:.1f} %):",
+        "",
+        "| | h | % of good dark | % of shutter closed |",
+        "|---|---|---|---|",
+    ]
+    for label, seconds in spent.items():
+        kept = label.startswith("exposing ")
+        share = "" if kept or closed <= 0 else f"{100 * seconds / closed:.1f}"
+        lines.append(f"| {label} | {seconds / 3600:.2f} | {100 * seconds / whole:.1f} | {share} |")
+    return lines
 
 
 def _row(

@@ -39,9 +39,13 @@ FRAME_COLOURS = {
 OTHER_FRAME_COLOUR = "#17becf"
 #: Idle and lost time in warm colours, so that they stand out in the bar.
 BUDGET_COLOURS = {
+    "dark and bias frames": "#636363",
+    "exposing, frame not kept": "#e7ba52",
     "readout": "#aec7e8",
     "slew": "#8c564b",
-    "roof not open": "#7f7f7f",
+    "roof opening or closing": "#bcbd22",
+    "roof closed": "#7f7f7f",
+    "filter change": "#9edae5",
     "focus run, between frames": "#c5b0d5",
     "in a task, camera idle": "#ff7f0e",
     "no task running": "#d62728",

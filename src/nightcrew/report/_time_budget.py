@@ -4,13 +4,20 @@
 weather not bad) the first label of :data:`BUDGET_LABELS` that applies:
 
 * ``exposing <type>``: a light frame of that IMAGETYP (object, focus, acquisition, skyflat) exposes;
-* ``readout``: the camera reads out (its ExposureStatusChangedEvents);
+* ``dark and bias frames``: calibration frames taken in the dark time (the shutter stays closed);
+* ``exposing, frame not kept``: the camera exposes (its ExposureStatusChangedEvents) but no frame
+  was written: exposures cut short (bad weather, the end of the run), frames never written;
+* ``readout``: the camera reads out;
 * ``slew``: the telescope slews, initialises or parks;
-* ``roof not open``: the roof is closed or moving although the weather is good;
+* ``roof opening or closing``: the roof moves although the weather is good;
+* ``roof closed``: the rest of the time the roof is not open (e.g. the weather module's wait
+  for good weather to last, or the mastermind closing for a gap between tasks);
+* ``filter change``: the filter wheel moves;
 * ``focus run, between frames``: from the first to the last frame of a focus series;
 * ``in a task, camera idle``: a task runs but the camera neither exposes nor reads out (frame
-  writing and analysis, filter changes, acquisition solving, guiding start-up);
-* ``no task running``: the mastermind runs nothing (nothing schedulable, waiting, polling).
+  writing and analysis, acquisition solving, guiding start-up);
+* ``no task running``: the roof is open and the mastermind runs nothing (a gap in the schedule,
+  waiting for a task's slot, a step of the mastermind's loop).
 
 :func:`acquisitions` measures, per task run, the clock time from its start to the start of its
 first science (``object``) frame, and how much of it the telescope slewed and the camera was busy
@@ -32,9 +39,13 @@ Interval = tuple[float, float]
 
 #: The labels after the ``exposing <type>`` ones, in the order they are given.
 BUDGET_LABELS = (
+    "dark and bias frames",
+    "exposing, frame not kept",
     "readout",
     "slew",
-    "roof not open",
+    "roof opening or closing",
+    "roof closed",
+    "filter change",
     "focus run, between frames",
     "in a task, camera idle",
     "no task running",
@@ -42,8 +53,12 @@ BUDGET_LABELS = (
 
 #: Telescope states that count as a slew.
 _MOVING = frozenset({"slewing", "initializing", "parking"})
+#: Roof states in which it moves.
+_ROOF_MOVING = frozenset({"moving", "parking", "initializing"})
 #: Camera states in which it is busy with a frame.
 _CAMERA_BUSY = frozenset({"exposing", "readout"})
+#: The event kind of a device's motion state.
+_MOTION = "MotionStatusChangedEvent"
 #: Focus frames closer than this (clock s) belong to one focus run.
 _FOCUS_RUN_GAP_S = 900.0
 
@@ -78,12 +93,17 @@ def time_budget(
     for kind in sorted({f.image_type for f in night.frames if f.light}):
         frames = [(f.start, f.end) for f in night.frames if f.light and f.image_type == kind]
         layers.append((f"exposing {kind}", frames))
+    records = night.records
     layers += [
-        ("readout", _camera(night.records, frozenset({"readout"}), end)),
-        ("slew", _slews(night.records, end)),
-        ("roof not open", subtract([(start, end)], roof_open_intervals(night.records, end))),
+        ("dark and bias frames", [(f.start, f.end) for f in night.frames if not f.light]),
+        ("exposing, frame not kept", _camera(records, frozenset({"exposing"}), end)),
+        ("readout", _camera(records, frozenset({"readout"}), end)),
+        ("slew", _slews(records, end)),
+        ("roof opening or closing", _states(records, "roof", _MOTION, "status", _ROOF_MOVING, end)),
+        ("roof closed", subtract([(start, end)], roof_open_intervals(records, end))),
+        ("filter change", _states(records, "filters", _MOTION, "status", frozenset({"moving"}), end)),
         ("focus run, between frames", _focus_runs(night)),
-        ("in a task, camera idle", [(r.start, _end(r, end)) for r in task_runs(night.records)]),
+        ("in a task, camera idle", [(r.start, _end(r, end)) for r in task_runs(records)]),
         ("no task running", [(start, end)]),
     ]
     spent: dict[str, float] = {}
@@ -146,7 +166,7 @@ def _states(
 
 
 def _slews(records: Sequence[Record], end: float) -> list[Interval]:
-    return _states(records, "telescope", "MotionStatusChangedEvent", "status", _MOVING, end)
+    return _states(records, "telescope", _MOTION, "status", _MOVING, end)
 
 
 def _camera(records: Sequence[Record], states: frozenset[str], end: float) -> list[Interval]:

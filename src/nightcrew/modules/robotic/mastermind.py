@@ -87,6 +87,7 @@ from nightcrew.robotic.mastermind import (
     abort_cause,
     decide,
     focus_field,
+    focus_now,
     interruption_reason,
     robotic_status,
     run_watched,
@@ -319,8 +320,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         slots, tasks = await self._schedule.read(conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
-        slots = self._early.mark(slots, tasks, conditions.now)
         while True:  # ends: each round takes one slot out
+            # Marked again after a slot is taken out: with a due task that may not start, the
+            # next one may start early at once, not only once a new plan leaves the first out.
+            slots = self._early.mark(slots, tasks, conditions.now)
             action = decide(
                 conditions,
                 slots,
@@ -343,7 +346,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             await self._focus(action.slot)
             return 0.0
         if isinstance(action, OpenUp):
-            return 1.0 if await self._observatory.open_up(conditions) else self._poll
+            point_at = self._first_pointing(action.slot, tasks[action.slot.task_id], conditions, focus_below)
+            return 1.0 if await self._observatory.open_up(conditions, point_at) else self._poll
         if isinstance(action, CloseAndPark):
             await self._observatory.close_and_park(action.reason)
             return self._poll
@@ -381,6 +385,17 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 slot.sun.describe(),
             )
         return slot
+
+    def _first_pointing(
+        self, slot: Slot, task: Task, conditions: Conditions, focus_below: float | None
+    ) -> tuple[float, float] | None:
+        """Where the telescope points first after opening up for ``slot``: the focus field if the
+        focus comes first, else the task's first target (None: a task without one, e.g. flats)."""
+        keeper = self._focus_keeper
+        if keeper is not None and focus_now(slot, conditions, focus_below):
+            return keeper.field_radec()
+        target = task.request.configurations[0].target if task.request.configurations else None
+        return None if target is None else (target.ra, target.dec)
 
     async def _sleep(self, seconds: float) -> None:
         """Wait ``seconds`` of clock time or until woken by an event."""

@@ -3,8 +3,9 @@
 It plans again when the archive's blocks change (polled), when a task fails (TaskFailedEvent: the
 block is left out for the rest of the night, unless the event says it was interrupted from outside
 and may run again, ``retryable``), when one starts or finishes (its slot is kept, done
-blocks leave), and when the weather turns good again (GoodWeatherEvent: from its ``eta`` on). The
-optimisation itself is :class:`nightcrew.robotic.scheduler.Scheduler`, run in a worker thread.
+blocks leave; a finished task re-plans at once), and when the weather turns good again
+(GoodWeatherEvent: from its ``eta`` on). The optimisation itself is
+:class:`nightcrew.robotic.scheduler.Scheduler`, run in a worker thread.
 """
 
 from __future__ import annotations
@@ -117,6 +118,9 @@ class SchedulerModule(Module, IRoboticScheduler):
         self._done.add(event.id)
         if self._in_progress is not None and self._in_progress.block_id == event.id:
             self._in_progress = None
+        # At once, not at the next poll: a task that ended before its slot leaves a gap that only
+        # a new plan fills (the next slot may be too far ahead to start early).
+        self._replan_wanted.set()
 
     async def on_good_weather(self, event: GoodWeatherEvent, sender: str) -> None:
         log.info("weather is good again: re-planning")

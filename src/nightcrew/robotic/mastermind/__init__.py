@@ -27,6 +27,7 @@ from nightcrew.robotic.mastermind._decide import (
     Wait,
     abort_cause,
     decide,
+    focus_now,
 )
 from nightcrew.robotic.mastermind._early_start import EarlyStarts
 from nightcrew.robotic.mastermind._focusing import FocusField, FocusKeeper, focus_field
@@ -75,6 +76,7 @@ __all__ = [
     "decide",
     "focus_due",
     "focus_field",
+    "focus_now",
     "interruption_reason",
     "kept_progress",
     "needs_focus",

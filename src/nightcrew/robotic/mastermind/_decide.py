@@ -53,6 +53,7 @@ __all__ = [
     "Wait",
     "abort_cause",
     "decide",
+    "focus_now",
 ]
 
 
@@ -252,7 +253,7 @@ def decide(
         return Wait("nothing scheduled")
     sharp = next((slot for slot in runnable if slot.start > now and slot.needs_focus), None)
     soon = sharp is not None and sharp.start <= now + keep_open
-    if sharp and soon and conditions.weather_good and _focus_now(sharp, conditions, focus_below):
+    if sharp and soon and conditions.weather_good and focus_now(sharp, conditions, focus_below):
         return _prepared_or_run(sharp, conditions, focus_below)  # opens up, then focuses
     return Wait(f"next: {upcoming.name} at {upcoming.start:%H:%M:%S}", until=upcoming.start)
 
@@ -281,7 +282,7 @@ def _sky_blocker(slot: Slot, conditions: Conditions) -> str:
 
 def _prepared_or_run(slot: Slot, conditions: Conditions, focus_below: float | None) -> Action:
     if _ready(conditions):
-        return Focus(slot) if _focus_now(slot, conditions, focus_below) else RunTask(slot)
+        return Focus(slot) if focus_now(slot, conditions, focus_below) else RunTask(slot)
     if conditions.roof in (RoofState.OPENING, RoofState.CLOSING):
         # Someone else moves it (a closing roof refuses to open): look again when it stopped.
         return Wait(f"the roof is {conditions.roof}")
@@ -293,7 +294,8 @@ def _ready(conditions: Conditions) -> bool:
     return conditions.weather_good and conditions.roof is RoofState.OPEN and conditions.telescope_ready
 
 
-def _focus_now(slot: Slot, conditions: Conditions, focus_below: float | None) -> bool:
+def focus_now(slot: Slot, conditions: Conditions, focus_below: float | None) -> bool:
+    """Whether the task of ``slot`` is focused for first (the focus is due and stars show)."""
     # Focus stars need a dark enough sky; a task run without a due focus beats not running it.
     return slot.needs_focus and focus_below is not None and conditions.sun_altitude <= focus_below
 

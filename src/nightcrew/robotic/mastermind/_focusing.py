@@ -153,6 +153,12 @@ class FocusKeeper:
             return
         self._focused, self._temperature, self._retry_at = True, temperature, None
 
+    def field_radec(self) -> tuple[float, float] | None:
+        """The focus field's (ra, dec) now; None without a field (focus wherever it points)."""
+        if self._field is None:
+            return None
+        return self._field.radec(self._observatory.site, self._host.clock.time())
+
     async def _tracked_series(self, autofocus: IAutoFocus) -> tuple[float, float]:
         field = self._field
         if field is not None:

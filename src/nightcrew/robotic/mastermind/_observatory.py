@@ -130,8 +130,13 @@ class ObservatoryControl:
 
     # --- acting --------------------------------------------------------------------------------
 
-    async def open_up(self, conditions: Conditions) -> bool:
-        """Open the roof and initialise the telescope at the same time; False (logged) if either failed."""
+    async def open_up(self, conditions: Conditions, point_at: tuple[float, float] | None = None) -> bool:
+        """Open the roof and initialise the telescope at the same time; False (logged) if either failed.
+
+        ``point_at``: ICRS (ra, dec) to slew to while the roof opens (where the task or the focus
+        will point first), so that the slew does not wait for the roof. A slew that fails is
+        only logged: the task's own slew tries again and reports it.
+        """
 
         async def open_roof() -> None:
             await (await self._host.proxy(self._roof, IRoof)).open_roof()
@@ -139,6 +144,11 @@ class ObservatoryControl:
         async def init_telescope() -> None:
             if not conditions.telescope_ready:
                 await (await self._host.proxy(self._telescope, ITelescope)).init()
+            if point_at is not None:
+                try:
+                    await self.track(*point_at)
+                except NightcrewError as exc:
+                    log.warning("%s: could not point while the roof opens: %s", self._name, exc)
 
         return await all_done(
             {"open the roof": open_roof(), "initialise the telescope": init_telescope()}, who=self._name
