@@ -1,5 +1,5 @@
-"""``nightcrew sim --archive``: a night's raw and reduced frames end in the image archive, linked,
-and the archive's web frontend (real Chromium) finds them.
+"""``nightcrew sim --archive``: a night's raw frames, the masters built from them and the reduced
+frames end in the image archive, linked, and the archive's web frontend (real Chromium) finds them.
 
 One short night (``--quick``: biases and darks, a focus series, two fields in V and R) runs once
 for the module; the archive it leaves in ``OUT/archive`` is opened again, as a user would with
@@ -43,11 +43,14 @@ async def _get(session: aiohttp.ClientSession, url: str) -> Any:
         return await response.json()
 
 
-async def test_every_frame_is_archived_and_every_science_frame_linked_to_its_reduced_frame(
+async def test_every_frame_is_archived_and_every_science_frame_linked_to_its_calibrated_frame(
     night: Path,
 ) -> None:
     raw = sorted((night / "frames").glob("*.fits"))
+    masters = sorted((night / "masters").glob("*.fits"))
     reduced = sorted((night / "reduced").glob("*.fits"))
+    # Built during the night from its 2 biases and 2 darks, before the first object frame.
+    assert [p.name for p in masters] == ["master_bias_1x1.fits", "master_dark_1x1_30s.fits"]
     science = [p for p in raw if fits.getheader(p)["IMAGETYP"] == "object"]
     assert len(science) == 4  # two fields in V and R
     assert {p.name for p in reduced} == {p.stem + "_red.fits" for p in science}
@@ -56,9 +59,9 @@ async def test_every_frame_is_archived_and_every_science_frame_linked_to_its_red
 
     async with running_archive(night / "archive") as archive, aiohttp.ClientSession() as session:
         page = await _get(session, f"{archive.url}/frames/?limit=1000")
-        assert page["count"] == len(raw) + len(reduced)
+        assert page["count"] == len(raw) + len(masters) + len(reduced)
         frames = {frame["basename"]: frame for frame in page["results"]}
-        for path in [*raw, *reduced]:
+        for path in [*raw, *masters, *reduced]:
             assert frames[path.name]["sha256"] == _sha256(path), path.name
         assert {frames[p.name]["RLEVEL"] for p in raw} == {0}
         assert {frames[p.name]["RLEVEL"] for p in reduced} == {91}
@@ -66,7 +69,11 @@ async def test_every_frame_is_archived_and_every_science_frame_linked_to_its_red
             related = await _get(session, frames[path.name]["related_url"])
             assert [(f["relation"], f["basename"]) for f in related] == [("reduced", path.stem + "_red.fits")]
             back = await _get(session, frames[path.stem + "_red.fits"]["related_url"])
-            assert ("raw", path.name) in [(f["relation"], f["basename"]) for f in back]
+            assert sorted((f["relation"], f["basename"]) for f in back) == [
+                ("bias", "master_bias_1x1.fits"),
+                ("dark", "master_dark_1x1_30s.fits"),
+                ("raw", path.name),
+            ]
 
 
 async def test_the_frontend_finds_the_night_s_reduced_frames_with_thumbnails(
@@ -78,7 +85,7 @@ async def test_the_frontend_finds_the_night_s_reduced_frames_with_thumbnails(
     assert in_v
     async with running_archive(night / "archive") as archive:
         await page.goto(archive.url)
-        total = len(list((night / "frames").glob("*.fits"))) + len(reduced)
+        total = sum(len(list((night / d).glob("*.fits"))) for d in ("frames", "masters", "reduced"))
         await expect(page.locator("#count")).to_have_text(f"{total} frames")
         await page.get_by_label("Level").select_option("91")
         await page.get_by_label("Filter", exact=True).fill("V")

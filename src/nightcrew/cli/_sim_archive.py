@@ -1,14 +1,14 @@
-"""``nightcrew sim --archive``: the night's frames reduced as they come and kept in an image archive.
+"""``nightcrew sim --archive``: the night's frames, masters and reduced frames in an image archive.
 
-During the night a :class:`~nightcrew.modules.image.Pipeline` reduces every object frame of the
-camera into ``--out/reduced`` (masters from ``--out/masters``, listed again for each frame). When
-the night has ended and the pipeline has reduced every frame it was given, an archive
-(``nightcrew archive``: SQLite ``--out/archive/archive.db``, frames in ``--out/archive/frames``)
-is started on a real-time loop, every raw and every reduced frame is copied into it through the
-``ArchiveFile`` VFS root and verified by the archive's checksum (copies only: the sim's own frames
-stay), and ``--out/archive/archive.yaml`` is written for ``nightcrew archive --config`` to browse
-it afterwards. The upload waits for the night's end because a night on the virtual clock may not
-wait on a real server's replies (docs/concepts.md#clock); uploading ~220 frames takes seconds.
+During the night a :class:`~nightcrew.cli._sim_pipeline.NightPipeline` builds masters into
+``--out/masters`` and reduces every object frame of the camera into ``--out/reduced``. When the
+night has ended and every frame is reduced, an archive (``nightcrew archive``: SQLite
+``--out/archive/archive.db``, frames in ``--out/archive/frames``) is started on a real-time loop;
+every raw frame, master and reduced frame is copied into it through the ``ArchiveFile`` VFS root
+and verified by the archive's checksum (copies only: the sim's own files stay), and
+``--out/archive/archive.yaml`` is written for ``nightcrew archive --config`` to browse it
+afterwards. The upload waits for the night's end because a night on the virtual clock may not wait
+on a real server's replies (docs/concepts.md#clock); uploading a whole night takes seconds.
 """
 
 from __future__ import annotations
@@ -17,51 +17,27 @@ import asyncio
 import hashlib
 import shutil
 import sys
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from nightcrew.clock import Clock
-from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.cli._sim_pipeline import MASTERS, REDUCED
 from nightcrew.errors import NightcrewError
-from nightcrew.modules import Module
-from nightcrew.modules.image import Pipeline
-from nightcrew.night.build import CAMERA, IMAGES_ROOT
 from nightcrew.night.engine import FRAMES
 from nightcrew.services.archive import DEFAULT_PORT, ArchiveServer, load_archive_config, write_new_token
 from nightcrew.vfs import ArchiveFile, LocalFile, VirtualFileSystem
 
 __all__ = [
     "ARCHIVE",
-    "MASTERS",
-    "REDUCED",
     "ArchivedNight",
-    "NightPipeline",
     "archive_and_show",
     "archive_night",
     "clear_archive_products",
-    "sim_pipeline",
 ]
 
-#: Directories in ``--out``: the archive (database, frames, config, token), reduced frames, masters.
-ARCHIVE, REDUCED, MASTERS = "archive", "reduced", "masters"
-#: The VFS root of ``--out`` in the pipeline's VFS.
+#: The archive's directory in ``--out``: database, frames, config, token.
+ARCHIVE = "archive"
+#: The VFS root of ``--out`` in the uploader's VFS.
 _NIGHT_ROOT = "night"
-#: Clock seconds the pipeline may take per frame still waiting when the night ends.
-_DRAIN_S_PER_FRAME = 300.0
-
-
-class NightPipeline(Pipeline):
-    """The Pipeline that, when closed, first reduces every frame still waiting (bounded)."""
-
-    async def close(self) -> None:
-        waiting = self._queue.qsize() + 1  # +1: the frame being reduced now
-        try:
-            async with self.clock.timeout(_DRAIN_S_PER_FRAME * waiting):
-                await self._queue.join()
-        except TimeoutError:
-            self.failed.append(f"{self._queue.qsize()} frames not reduced by the night's end")
-        await super().close()
 
 
 def clear_archive_products(out: Path) -> None:
@@ -69,26 +45,8 @@ def clear_archive_products(out: Path) -> None:
     shutil.rmtree(out / ARCHIVE, ignore_errors=True)
     for name in (REDUCED, MASTERS):
         (out / name).mkdir(parents=True, exist_ok=True)
-    for old in (out / REDUCED).glob("*.fits"):
+    for old in [*(out / REDUCED).glob("*.fits"), *(out / MASTERS).glob("*.fits")]:
         old.unlink()
-
-
-def sim_pipeline(out: Path, *, clock: Clock) -> Callable[[LocalNetwork], list[Module]]:
-    """What ``--archive`` adds to the night: a NightPipeline reducing the camera's object frames."""
-
-    def build(network: LocalNetwork) -> list[Module]:
-        vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(out / FRAMES)), _NIGHT_ROOT: LocalFile(str(out))})
-        pipeline = NightPipeline(
-            masters=f"/{_NIGHT_ROOT}/{MASTERS}",
-            output=f"/{_NIGHT_ROOT}/{REDUCED}",
-            sources=[CAMERA],
-            comm=LocalComm("pipeline", network=network),
-            clock=clock,
-            vfs=vfs,
-        )
-        return [pipeline]
-
-    return build
 
 
 @dataclass
@@ -99,6 +57,7 @@ class ArchivedNight:
     database: Path
     storage: Path
     raw: list[str] = field(default_factory=list)
+    masters: list[str] = field(default_factory=list)
     reduced: list[str] = field(default_factory=list)
     failed: list[str] = field(default_factory=list)  # "<file>: <why>"
 
@@ -106,9 +65,9 @@ class ArchivedNight:
 def archive_and_show(out: Path) -> bool:
     """Copy the night into its archive and say where it is; False when a frame did not go in."""
     archived = archive_night(out)
-    raw, reduced = len(archived.raw), len(archived.reduced)
+    raw, masters, reduced = len(archived.raw), len(archived.masters), len(archived.reduced)
     print(
-        f"  archive: {raw} raw and {reduced} reduced frames in {archived.storage} "
+        f"  archive: {raw} raw frames, {masters} masters, {reduced} reduced frames in {archived.storage} "
         f"(SQLite {archived.database})"
     )
     print(
@@ -146,7 +105,7 @@ async def _archive_night(out: Path) -> ArchivedNight:
     token = token_file.read_text(encoding="utf-8").strip()
     vfs = VirtualFileSystem({_NIGHT_ROOT: LocalFile(str(out)), ARCHIVE: ArchiveFile(url, token=token)})
     try:
-        for folder, names in ((FRAMES, result.raw), (REDUCED, result.reduced)):
+        for folder, names in ((FRAMES, result.raw), (MASTERS, result.masters), (REDUCED, result.reduced)):
             for path in sorted((out / folder).glob("*.fits")):
                 why = await _copy(vfs, f"/{_NIGHT_ROOT}/{folder}/{path.name}", f"/{ARCHIVE}/{path.name}")
                 if why is None:

@@ -313,7 +313,7 @@ def _pipeline(
     """With ``--archive``: the Pipeline reducing the night's object frames next to ``frames``."""
     if not getattr(args, "archive", False):
         return None
-    from nightcrew.cli._sim_archive import sim_pipeline
+    from nightcrew.cli._sim_pipeline import sim_pipeline
 
     return sim_pipeline(frames.parent, clock=clock)
 
