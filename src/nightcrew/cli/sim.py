@@ -14,8 +14,9 @@ darks, a few fields) for an hour after dusk. ``--indi PORT`` also serves the dev
 clients (KStars/Ekos, Stellarium) on 127.0.0.1:PORT and ``--console [PORT]`` the web console while
 the night runs (on an accelerated clock unless ``--speed`` says otherwise: 320x, ``--quick`` 60x).
 ``--archive`` reduces every object frame while the night runs (the Pipeline module, into
-``--out/reduced``) and at the night's end copies every raw and reduced frame into an image archive
-in ``--out/archive``, to browse with ``nightcrew archive --config OUT/archive/archive.yaml``.
+``--out/reduced``, with masters it builds in ``--out/masters``) and at the night's end copies every
+raw frame, master and reduced frame into an image archive in ``--out/archive``, to browse with
+``nightcrew archive --config OUT/archive/archive.yaml``.
 Progress is shown on stderr, a summary on stdout.
 """
 
@@ -123,8 +124,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "--archive",
         action="store_true",
-        help="reduce every object frame during the night (the Pipeline module, into --out/reduced) and "
-        "at its end copy every raw and reduced frame into an image archive in --out/archive "
+        help="reduce every object frame during the night (the Pipeline module: masters into --out/masters, "
+        "reduced frames into --out/reduced) and at its end copy every raw frame, master and reduced "
+        "frame into an image archive in --out/archive "
         "(browse it with nightcrew archive --config OUT/archive/archive.yaml); see docs/archive.md",
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
