@@ -99,3 +99,12 @@ async def test_the_frontend_finds_the_night_s_reduced_frames_with_thumbnails(
             "[...document.querySelectorAll('#rows img')].every(i => i.complete && i.naturalWidth > 0)"
         )
         await expect(page.locator("#rows img")).to_have_count(len(in_v))
+
+
+def test_archive_with_a_season_is_refused_before_the_night(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = main(["sim", "--quick", "--archive", "--nights", "2", "--out", str(tmp_path)])
+    assert code == 2
+    assert "--archive archives one night; leave out --nights" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
