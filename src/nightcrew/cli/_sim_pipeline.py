@@ -7,7 +7,8 @@ combination of ``nightcrew reduce``: :func:`~nightcrew.images.reduce.group_frame
 :func:`~nightcrew.images.calibration.build_master`) into ``--out/masters``, where the Pipeline
 finds them; a group is built once, from the frames taken until then (the sim takes its
 calibration frames in one series). And when it is closed at the night's end it first reduces
-every frame still waiting, so no frame of the night goes unreduced.
+every frame still waiting, so no frame of the night goes unreduced, then builds the masters of
+calibration frames no object frame came after (the morning's darks), for the archive.
 """
 
 from __future__ import annotations
@@ -85,12 +86,15 @@ class NightPipeline(Pipeline):
         await super().on_new_image(event, sender)
 
     async def reduce(self, path: str) -> str:
+        await self._build_masters()
+        return await super().reduce(path)
+
+    async def _build_masters(self) -> None:
         if self._calibration_frames:
             frames, self._calibration_frames = self._calibration_frames, []
             written = await asyncio.to_thread(_blocking_build_masters, frames, self._masters_dir, self._built)
             for name in written:
                 log.info("%s: built %s", self.name, name)
-        return await super().reduce(path)
 
     async def close(self) -> None:
         waiting = self._queue.qsize() + 1  # +1: the frame being reduced now
@@ -99,6 +103,12 @@ class NightPipeline(Pipeline):
                 await self._queue.join()
         except TimeoutError:
             log.error("%s: %d frames not reduced by the night's end", self.name, self._queue.qsize())
+        try:
+            await (
+                self._build_masters()
+            )  # e.g. the darks of the morning: no frame used them, the archive keeps them
+        except NightcrewError as exc:
+            log.error("%s: building the last masters failed: %s", self.name, exc)
         await super().close()
 
 
