@@ -91,6 +91,10 @@ def run_night_command(args: argparse.Namespace) -> int:
     directory: Path = args.configs or bundled_observatory()
     site = observatory_site(directory)
     setup = night_setup(args, site, args.date)
+    if args.archive:
+        from nightcrew.cli._sim_archive import clear_archive_products
+
+        clear_archive_products(args.out)
     with quiet_module_logs(args.verbose or args.debug):
         result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))
     report = write_report(args.out)
@@ -103,6 +107,13 @@ def run_night_command(args: argparse.Namespace) -> int:
     )
     print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
     print(f"  night report: {report}")
+    if args.archive:
+        from nightcrew.cli._sim_archive import archive_and_show
+
+        with quiet_module_logs(args.verbose or args.debug):
+            archived = archive_and_show(args.out)
+        if not archived:
+            return 1
     return 0 if result.completed else 130
 
 
@@ -296,11 +307,27 @@ def _console(
     return sim_console(args.console, clock=clock, site=site, images=frames)
 
 
+def _pipeline(
+    args: argparse.Namespace, clock: Clock, frames: Path
+) -> Callable[[LocalNetwork], list[Module]] | None:
+    """With ``--archive``: the Pipeline reducing the night's object frames next to ``frames``."""
+    if not getattr(args, "archive", False):
+        return None
+    from nightcrew.cli._sim_pipeline import sim_pipeline
+
+    return sim_pipeline(frames.parent, clock=clock)
+
+
 def _extras(
     args: argparse.Namespace, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
-    """The servers the options ask for (INDI, console), built on the night's network."""
-    wanted = (_indi(args, clock, site, frames), _console(args, clock, site, frames))
+    """The servers the options ask for (INDI, console), built on the night's network, and with
+    ``--archive`` the pipeline."""
+    wanted = (
+        _indi(args, clock, site, frames),
+        _console(args, clock, site, frames),
+        _pipeline(args, clock, frames),
+    )
     builders = [build for build in wanted if build is not None]
     if not builders:
         return None

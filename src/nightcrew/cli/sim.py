@@ -13,6 +13,10 @@ Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night
 darks, a few fields) for an hour after dusk. ``--indi PORT`` also serves the devices to INDI
 clients (KStars/Ekos, Stellarium) on 127.0.0.1:PORT and ``--console [PORT]`` the web console while
 the night runs (on an accelerated clock unless ``--speed`` says otherwise: 320x, ``--quick`` 60x).
+``--archive`` reduces every object frame while the night runs (the Pipeline module, into
+``--out/reduced``, with masters it builds in ``--out/masters``) and at the night's end copies every
+raw frame, master and reduced frame into an image archive in ``--out/archive``, to browse with
+``nightcrew archive --config OUT/archive/archive.yaml``.
 Progress is shown on stderr, a summary on stdout.
 """
 
@@ -24,6 +28,7 @@ from datetime import time as time_of_day
 from pathlib import Path
 from typing import Any
 
+from nightcrew.errors import ConfigError
 from nightcrew.night.plan import WEATHER_SCENARIOS
 
 __all__ = ["DEFAULT_NIGHT", "add_parser"]
@@ -116,6 +121,14 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         metavar="PORT",
         help="serve the web console on 127.0.0.1:PORT (default 37180; 0: a free one) to watch the night live",
     )
+    parser.add_argument(
+        "--archive",
+        action="store_true",
+        help="reduce every object frame during the night (the Pipeline module: masters into --out/masters, "
+        "reduced frames into --out/reduced) and at its end copy every raw frame, master and reduced "
+        "frame into an image archive in --out/archive "
+        "(browse it with nightcrew archive --config OUT/archive/archive.yaml); see docs/archive.md",
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="show the modules' log messages")
     alpaca = parser.add_argument_group("serving the devices to Alpaca clients (--alpaca)")
     alpaca.add_argument(
@@ -139,6 +152,8 @@ def _sim_command(args: argparse.Namespace) -> int:
         from nightcrew.cli._sim_alpaca import serve_alpaca_command
 
         return serve_alpaca_command(args)
+    if args.archive and args.nights > 1:
+        raise ConfigError("--archive archives one night; leave out --nights")
     if args.nights > 1:
         from nightcrew.cli._sim_season import run_season_command
 

@@ -12,6 +12,7 @@ holds (same sha256) succeeds: a retried copy is not an error. The archive keeps 
 
 from __future__ import annotations
 
+import io
 import json
 import posixpath
 from typing import Any
@@ -55,7 +56,7 @@ class ArchiveFile(FileRoot):
         url: str,
         path: str,
         *,
-        data: bytes | None = None,
+        data: io.BytesIO | None = None,
         params: dict[str, str] | None = None,
     ) -> tuple[int, bytes]:
         import aiohttp
@@ -111,8 +112,9 @@ class ArchiveFile(FileRoot):
     async def write_bytes(self, path: str, data: bytes | bytearray | memoryview) -> None:
         relative = normalise_relative(path)
         params = {"filename": posixpath.basename(relative)}
+        # A file object, not bytes: aiohttp warns that a large bytes body blocks the event loop.
         status, body = await self._request(
-            "POST", f"{self.url}/frames/upload/", relative, data=bytes(data), params=params
+            "POST", f"{self.url}/frames/upload/", relative, data=io.BytesIO(data), params=params
         )
         if status == 201:
             return
