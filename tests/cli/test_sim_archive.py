@@ -76,6 +76,12 @@ async def test_every_frame_is_archived_and_every_science_frame_linked_to_its_cal
             ]
 
 
+#: Every thumbnail in the table loaded and decoded as an image.
+_THUMBNAILS_LOADED = (
+    "[...document.querySelectorAll('#rows img')].every(i => i.complete && i.naturalWidth > 0)"
+)
+
+
 async def test_the_frontend_finds_the_night_s_reduced_frames_with_thumbnails(
     night: Path,
     page: Page,  # noqa: F811 - the fixture
@@ -87,6 +93,9 @@ async def test_the_frontend_finds_the_night_s_reduced_frames_with_thumbnails(
         await page.goto(archive.url)
         total = sum(len(list((night / d).glob("*.fits"))) for d in ("frames", "masters", "reduced"))
         await expect(page.locator("#count")).to_have_text(f"{total} frames")
+        # The first page's thumbnails are made on first request; a browser sends at most six
+        # requests to a host at once, so a search sent meanwhile queues behind them.
+        await page.wait_for_function(_THUMBNAILS_LOADED, timeout=120_000)
         await page.get_by_label("Level").select_option("91")
         await page.get_by_label("Filter", exact=True).fill("V")
         await page.get_by_role("button", name="Search").click()
@@ -95,9 +104,7 @@ async def test_the_frontend_finds_the_night_s_reduced_frames_with_thumbnails(
         await expect(rows).to_have_count(len(in_v))
         for path in in_v:
             await expect(rows.filter(has_text=path.name)).to_have_count(1)
-        await page.wait_for_function(  # every thumbnail loaded and decoded as an image
-            "[...document.querySelectorAll('#rows img')].every(i => i.complete && i.naturalWidth > 0)"
-        )
+        await page.wait_for_function(_THUMBNAILS_LOADED)
         await expect(page.locator("#rows img")).to_have_count(len(in_v))
 
 
