@@ -109,9 +109,9 @@ async def test_a_timeout_counts_clock_seconds_across_a_computing_section() -> No
     assert deadline.expired()
     # Wall-clock lag on a busy machine adds clock time here (x100, by the accelerated clock's
     # design), so the bounds tell the two behaviours apart instead: never early, and the 0.5 wall
-    # seconds of computing counted as 0.5 clock seconds, not as the 50 they would be if accelerated.
+    # seconds of computing counted as clock seconds, not as the 50 they would be if accelerated.
     elapsed = clock.time() - before
-    assert 0.5 + 5 + 10 - 0.01 <= elapsed < 50, elapsed
+    assert 0.3 + 5 + 10 - 0.01 <= elapsed < 50, elapsed  # the 0.2-s section is inside the 10 s
 
 
 async def test_a_timeout_can_be_moved_and_has_a_wall_grace() -> None:

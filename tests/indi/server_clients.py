@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import os
 import shutil
+import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
@@ -28,12 +29,12 @@ def require_clients() -> None:
 
 
 async def run(tool: str, *args: str, cwd: Path | None = None) -> tuple[int, str, str]:
-    process = await asyncio.create_subprocess_exec(
-        tool, *args, cwd=cwd, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE
+    # A blocking run in a thread: Python 3.11's asyncio may leave a quickly failing tool's
+    # subprocess transport unclosed (a ResourceWarning that fails whichever test is running).
+    result = await asyncio.to_thread(
+        subprocess.run, [tool, *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False
     )
-    out, err = await process.communicate()
-    assert process.returncode is not None
-    return process.returncode, out.decode(), err.decode()
+    return result.returncode, result.stdout, result.stderr
 
 
 async def getprop(port: str, *specs: str) -> dict[str, str]:

@@ -9,6 +9,8 @@ import sys
 
 import pytest
 
+from nightcrew.testing import wait_for
+
 from .conftest import REPOSITORY, SupervisedDirectory
 
 pytestmark = pytest.mark.xmpp
@@ -21,6 +23,13 @@ async def test_second_process_with_the_same_account(supervised: SupervisedDirect
     supervised.up()
     status = await supervised.wait_for_status(lambda s: s["roofish"]["state"] == "running", "running")
     first_pid = status["roofish"]["pid"]
+    # Running is not yet logged in: an intruder that logged in first would be the one kicked out.
+    log_file = supervised.log_dir / "roofish.log"
+    await wait_for(
+        lambda: log_file.exists() and "roofish is ready" in log_file.read_text(errors="replace"),
+        60,
+        message="the supervised roofish logged in",
+    )
 
     intruder = await asyncio.create_subprocess_exec(
         sys.executable, "-m", "nightcrew", "run", str(path),
