@@ -2,13 +2,47 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Iterator
+import faulthandler
+import os
+import sys
+import threading
+from collections.abc import AsyncIterator, Generator, Iterator
 
 import pytest
 
 from nightcrew.testing import Observatory
 from nightcrew.testing.solver import running_solver
 from nightcrew.vfs import MemoryFile
+
+#: Wall seconds beyond a test's own timeout after which the run ends with every thread's stack.
+#: pytest-timeout fails a test by raising inside it; a teardown stuck in an event loop that
+#: swallows that exception (a task that never ends while the loop cancels its tasks) would
+#: otherwise hang CI until its own limit, with no test named.
+HARD_LIMIT_GRACE_S = 120.0
+
+
+def _end_the_run(config: pytest.Config, nodeid: str) -> None:
+    # pytest captures fd 2 during a test: give the terminal back first, or the stacks are lost.
+    capture = config.pluginmanager.getplugin("capturemanager")
+    if capture is not None:
+        capture.suspend_global_capture(in_=False)
+    sys.stderr.write(f"\n{nodeid} is still running past its timeout: every thread's stack, then exit\n")
+    faulthandler.dump_traceback(file=sys.stderr, all_threads=True)
+    sys.stderr.flush()
+    os._exit(70)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item: pytest.Item) -> Generator[None, None, None]:
+    marker = item.get_closest_marker("timeout")
+    timeout = float(marker.args[0]) if marker and marker.args else float(item.config.getini("timeout"))
+    guard = threading.Timer(timeout + HARD_LIMIT_GRACE_S, _end_the_run, args=(item.config, item.nodeid))
+    guard.daemon = True
+    guard.start()
+    try:
+        yield
+    finally:
+        guard.cancel()
 
 
 @pytest.fixture
