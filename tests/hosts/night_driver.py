@@ -111,6 +111,12 @@ async def wait_copied(observatory: Observatory, frames: list[str], within: float
     return time.monotonic() - started
 
 
+def missing_providers(observatory: Observatory, frame: str) -> set[str]:
+    """The header providers that the SSH copy of ``frame`` names in HDRMISS."""
+    header = fits.getheader(observatory.ssh_copies / copy_name(frame))
+    return set(str(header.get("HDRMISS", "")).split(",")) - {""}
+
+
 def check_copies(observatory: Observatory, frames: list[str]) -> dict[str, int]:
     """Every frame is on both servers, alike, whole, and has the telescope's and the filter wheel's
     cards or names them in HDRMISS. Returns how many frames name each missing provider."""
@@ -124,7 +130,7 @@ def check_copies(observatory: Observatory, frames: list[str]) -> dict[str, int]:
             header = hdus[0].header
             assert hdus[0].data.shape == (header["NAXIS2"], header["NAXIS1"])
             assert header["IMAGETYP"] == "object"
-            absent = set(str(header.get("HDRMISS", "")).split(",")) - {""}
+            absent = missing_providers(observatory, frame)
             for provider in absent:
                 missing[provider] = missing.get(provider, 0) + 1
             if "telescope" not in absent:

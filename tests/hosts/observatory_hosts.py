@@ -123,6 +123,10 @@ class Observatory:
         reply = await send_request(self.sockets[host], {"command": "status", "module": None})
         return {module["name"]: module for module in reply["modules"]}
 
+    async def control(self, command: str, name: str) -> None:
+        """Ask module ``name``'s supervisor to ``stop`` it (by request: no restart) or ``start`` it."""
+        await send_request(self.sockets[HOST_OF[name]], {"command": command, "module": name})
+
 
 def start(directory: Path) -> Observatory:
     """Build everything; on failure, stop what was started."""
@@ -179,6 +183,7 @@ def _environments(observatory: Observatory) -> dict[str, dict[str, str]]:
         "SIM_WALL_START": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S"),
         "NC_FILECACHE_PORT": str(CACHE_PORT),
         "NC_FILECACHE_TOKEN": "cache-secret-for-tests",
+        "NC_FILECACHE_DIR": str(directory / "filecache"),
         "NC_FILECACHE_URL": f"http://{camera.address('office')}:{CACHE_PORT}",
     }
     office = {

@@ -7,7 +7,8 @@ import time
 
 import pytest
 
-from nightcrew.errors import AbortedError, DeviceBusyError, InvalidArgumentError
+from nightcrew.config import build_object
+from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, InvalidArgumentError
 from nightcrew.interfaces import Binning, ExposureStatus, ImageType, Window
 from nightcrew.testing import Observatory
 
@@ -156,3 +157,40 @@ async def test_a_frame_taken_while_a_header_provider_is_down_names_it(observator
     await observatory.start(HeaderPeer, "filters", cards={"FILTER": "R"})  # back
     third = (await observatory.vfs.read_fits(await camera.grab_data()))[0].header
     assert third["FILTER"] == "R" and "HDRMISS" not in third
+
+
+async def test_a_restarted_camera_names_an_expected_provider_that_is_down(observatory: Observatory) -> None:
+    peer = await observatory.start(HeaderPeer, "filters", cards={"FILTER": "R"})
+    await peer.close()
+    # Fresh cameras (as after a restart) have heard from nobody: only the configured one knows.
+    unaware = await observatory.start(GradientCamera, "unaware")
+    await unaware.set_exposure_time(1.0)
+    assert "HDRMISS" not in (await observatory.vfs.read_fits(await unaware.grab_data()))[0].header
+    camera = await observatory.start(GradientCamera, "camera", expect_headers_from=["filters"])
+    await camera.set_exposure_time(1.0)
+    first = (await observatory.vfs.read_fits(await camera.grab_data()))[0].header
+    assert "FILTER" not in first and first["HDRMISS"] == "filters"
+    await observatory.start(HeaderPeer, "filters", cards={"FILTER": "R"})
+    second = (await observatory.vfs.read_fits(await camera.grab_data()))[0].header
+    assert second["FILTER"] == "R" and "HDRMISS" not in second
+
+
+@pytest.mark.parametrize(
+    ("providers", "message"),
+    [
+        ("filters", r"expected list\[str\] \| None, got str 'filters'"),
+        (["filters", ""], "an empty module name"),
+        (["filters", "filters"], "names a module twice"),
+        (["camera"], "camera cannot provide headers to itself"),
+    ],
+)
+def test_expected_providers_are_checked_when_built(providers: object, message: str) -> None:
+    with pytest.raises(ConfigError, match=message) as info:
+        build_object(
+            {
+                "class": "tests.modules.devices.GradientCamera",
+                "name": "camera",
+                "expect_headers_from": providers,
+            }
+        )
+    assert info.value.key == "expect_headers_from"

@@ -6,6 +6,7 @@ The contract tests are imported from test_contract and run here with this module
 from __future__ import annotations
 
 from collections.abc import AsyncIterator
+from pathlib import Path
 
 import pytest
 
@@ -17,8 +18,8 @@ TOKEN = "contract-secret"
 
 
 @pytest.fixture
-async def server() -> AsyncIterator[FileCacheServer]:
-    cache = FileCacheServer(max_size=1 << 24, token=TOKEN)
+async def server(tmp_path: Path) -> AsyncIterator[FileCacheServer]:
+    cache = FileCacheServer(directory=str(tmp_path / "cache"), max_size=1 << 24, token=TOKEN)
     await cache.start()
     try:
         yield cache

@@ -71,6 +71,8 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
             (default ``/cache/{DATE-OBS}-{IMAGETYP}-{FILTER}.fits``).
         fits_headers: Fixed cards, e.g. ``{INSTRUME: ..., TELESCOP: ..., OBSERVER: ...}``.
         header_timeout: Clock seconds each header provider may take.
+        expect_headers_from: Modules whose cards every frame should carry; a frame without them
+            names them in ``HDRMISS`` (also the first after a restart of the camera).
         **kwargs: Module options.
     """
 

@@ -10,9 +10,10 @@
    opens, so DATE-OBS and the progress count from then, not from the call;
 4. ask IFitsHeaderAfter peers, await both header rounds (each peer bounded by ``header_timeout``);
 5. merge cards (static config < peers < driver < the camera's own), write the FITS file through the
-   VFS in one atomic write and announce it. A provider that answered for an earlier frame but not
-   for this one (down, restarting, failing) is named in the card ``HDRMISS``, and the log says so:
-   no frame silently lacks a provider's cards.
+   VFS in one atomic write and announce it. A provider named in ``expect_headers_from`` that answers
+   in neither round, or one that answered for an earlier frame but not for this one (down,
+   restarting, failing), is named in the card ``HDRMISS``, and the log says so: no frame silently
+   lacks a provider's cards, not even the first after the camera itself restarted.
 """
 
 from __future__ import annotations
@@ -64,6 +65,8 @@ class ExposingModule(Module, IAbortable, IExposure):
         filename_pattern: VFS path of new files, with FITS keywords as placeholders.
         fits_headers: Fixed cards for every file, e.g. ``{INSTRUME: SimCam, OBSERVER: robot}``.
         header_timeout: Clock seconds each header provider may take before it is left out.
+        expect_headers_from: Modules whose FITS cards every frame should carry (e.g. ``[telescope,
+            filters]``); a frame without them names them in ``HDRMISS``, from the first frame on.
         **kwargs: Module options.
     """
 
@@ -75,6 +78,7 @@ class ExposingModule(Module, IAbortable, IExposure):
         filename_pattern: str | None = None,
         fits_headers: dict[str, FitsValue] | None = None,
         header_timeout: float = 5.0,
+        expect_headers_from: list[str] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -88,13 +92,24 @@ class ExposingModule(Module, IAbortable, IExposure):
             bad = sorted(set(static) - set(self._static_cards))
             raise ConfigError(f"invalid FITS keywords or values: {', '.join(bad)}", key="fits_headers")
         self._header_timeout = float(header_timeout)
-        self._missing_headers = MissingHeaders()
+        self._missing_headers = MissingHeaders(self._check_expected_providers(expect_headers_from))
         self._exposure_status = ExposureStatus.IDLE
         self._busy = False
         self._exposure_task: asyncio.Task[Frame] | None = None
         self._aborted = False
         self._exposure_start = 0.0
         self._exposure_length = 0.0
+
+    def _check_expected_providers(self, names: list[str] | None) -> set[str]:
+        if names is None:
+            return set()
+        if not all(names):
+            raise ConfigError(f"an empty module name in {names}", key="expect_headers_from")
+        if len(set(names)) != len(names):
+            raise ConfigError(f"names a module twice: {names}", key="expect_headers_from")
+        if self.name in names:
+            raise ConfigError(f"{self.name} cannot provide headers to itself", key="expect_headers_from")
+        return set(names)
 
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
@@ -167,8 +182,7 @@ class ExposingModule(Module, IAbortable, IExposure):
             frame = await self._run_hook(expose)
             after = asyncio.create_task(self._headers("after"))
             before_replies, after_replies = await before, await after
-            missing = self._missing_headers.missing("before", before_replies)
-            missing |= self._missing_headers.missing("after", after_replies)
+            missing = self._missing_headers.missing(before_replies, after_replies)
             cards = {
                 **self._static_cards,
                 **before_replies.cards,

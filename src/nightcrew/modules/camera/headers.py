@@ -1,8 +1,10 @@
 """Asking the other modules for FITS header cards, all at once and each within a short timeout.
 
-:class:`MissingHeaders` remembers which providers ever answered, so that a frame taken while one of
-them is down (killed, restarting, offline) says so in its header instead of silently lacking
-its cards.
+:class:`MissingHeaders` knows the providers a camera expects (configured as ``expect_headers_from``)
+and remembers which others ever answered, so that a frame taken while one of them is down (killed,
+restarting, offline) says so in its header instead of silently lacking its cards. The configured
+ones matter after a restart of the camera itself: it has not yet heard from anybody, and a
+provider that is down then would otherwise go unnoticed.
 """
 
 from __future__ import annotations
@@ -36,16 +38,22 @@ class HeaderReplies:
 
 
 class MissingHeaders:
-    """The providers that answered before, per round (``before``/``after``): who is missing now."""
+    """Who is missing from a frame's header rounds: an ``expected`` provider that answered in
+    neither round, or one that answered a round (``before``/``after``) for an earlier frame but
+    not this time."""
 
-    def __init__(self) -> None:
+    def __init__(self, expected: set[str] | None = None) -> None:
+        self._expected = set(expected or ())
         self._known: dict[str, set[str]] = {"before": set(), "after": set()}
 
-    def missing(self, when: str, replies: HeaderReplies) -> set[str]:
-        """Providers known from earlier frames that did not answer this time (and learn the new)."""
-        known = self._known[when]
-        known |= replies.answered
-        return known - replies.answered
+    def missing(self, before: HeaderReplies, after: HeaderReplies) -> set[str]:
+        """The providers this frame lacks (and learn those that answered for the first time)."""
+        absent = self._expected - before.answered - after.answered
+        for when, replies in (("before", before), ("after", after)):
+            known = self._known[when]
+            known |= replies.answered
+            absent |= known - replies.answered
+        return absent
 
     @staticmethod
     def card(missing: set[str]) -> dict[str, FitsCard]:
