@@ -17,11 +17,13 @@ __all__ = ["Backoff", "PendingFile", "WatchState"]
 
 @dataclass
 class PendingFile:
-    """A file on its way: its size and checksum when first read, and where a verified copy is."""
+    """A file on its way: its size and checksum when first read, where a verified copy is, and
+    which destinations refused its content for good (destination → their reason)."""
 
     size: int
     checksum: str | None = None
     verified: set[str] = field(default_factory=set)
+    refused: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -32,7 +34,12 @@ class WatchState:
 
     def to_json(self) -> bytes:
         files = {
-            name: {"size": f.size, "checksum": f.checksum, "verified": sorted(f.verified)}
+            name: {
+                "size": f.size,
+                "checksum": f.checksum,
+                "verified": sorted(f.verified),
+                "refused": dict(sorted(f.refused.items())),
+            }
             for name, f in sorted(self.files.items())
         }
         return json.dumps({"version": 1, "files": files}, indent=1).encode()
@@ -45,7 +52,12 @@ class WatchState:
             raise ValueError("not an image watcher state (version 1)")
         return cls(
             {
-                name: PendingFile(int(f["size"]), f.get("checksum"), set(f.get("verified", [])))
+                name: PendingFile(
+                    int(f["size"]),
+                    f.get("checksum"),
+                    set(f.get("verified", [])),
+                    {str(d): str(why) for d, why in f.get("refused", {}).items()},
+                )
                 for name, f in loaded.get("files", {}).items()
             }
         )

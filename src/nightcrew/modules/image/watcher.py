@@ -5,8 +5,11 @@ since the previous sweep is complete; it is read once, then copied to each desti
 directories) and each copy is verified by size and checksum. Only when every destination holds a
 verified copy, and the original still has the checksum that was copied, is the original deleted.
 A destination that fails is left alone for a while (``retry_delay``, doubling up to
-``max_retry_delay``) and the file waits; the other destinations go on. Progress is saved in
-``state_file`` after every sweep (see :mod:`nightcrew.modules.image.watch_state`).
+``max_retry_delay``) and the file waits; the other destinations go on. A destination that refuses
+a file's content (an archive refusing a frame without its required keywords) is not down: that
+file is not offered to it again until its size changes, an error says why, it stays in the
+watched directory, and the files after it go on. Progress is saved in ``state_file`` after every
+sweep (see :mod:`nightcrew.modules.image.watch_state`).
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.image.watch_state import Backoff, PendingFile, WatchState
 from nightcrew.modules.module import Module
-from nightcrew.vfs import LocalFile, VfsError
+from nightcrew.vfs import LocalFile, VfsError, VfsFormatError
 
 __all__ = ["ImageWatcher"]
 
@@ -149,20 +152,29 @@ class ImageWatcher(Module):
 
     async def _deliver(self, name: str, pending: PendingFile) -> None:
         data: bytes | None = None
+        if pending.refused and await self._source.size(name) != pending.size:
+            pending.refused = {}  # rewritten: offer it again
         for destination in self._destinations:
             backoff = self._backoffs[destination]
-            if destination in pending.verified or not backoff.ready(self.clock.time()):
+            if destination in pending.verified or destination in pending.refused:
+                continue
+            if not backoff.ready(self.clock.time()):
                 continue
             if data is None:
                 data = await self._source.read_bytes(name)
                 checksum = hashlib.sha256(data).hexdigest()
                 if checksum != pending.checksum:  # first read, or rewritten: copies start afresh
-                    pending.size, pending.checksum, pending.verified = len(data), checksum, set()
+                    pending.size, pending.checksum = len(data), checksum
+                    pending.verified, pending.refused = set(), {}
             target = f"{destination}/{name}"
             try:
                 await self.vfs.write_bytes(target, data)
                 if await self.vfs.size(target) != len(data) or await self.vfs.checksum(target) != checksum:
                     raise VfsError("copy differs from the original", path=target)
+            except VfsFormatError as exc:  # the content, not the destination: trying again cannot help
+                pending.refused[destination] = exc.reason
+                log.error("%s: %s refused %s, which stays here: %s", self.name, destination, name, exc)
+                continue
             except Exception as exc:  # any failure of a destination: the file waits, nothing is lost
                 delay = backoff.failed(self.clock.time())
                 log.warning("%s: %s; retrying %s in %.0f s", self.name, exc, destination, delay)

@@ -8,7 +8,8 @@ Copies are made one at a time, in the order the images came. A copy that fails b
 original or the destination cannot be reached (server stopped, link down, a copy that differs)
 waits and is tried again after ``retry_delay`` clock seconds, doubling up to ``max_retry_delay``;
 images that come meanwhile wait behind it. Only a copy that cannot succeed (the original is gone
-or is not a FITS file) is dropped, with an error in the log.
+or is not a FITS file, or the destination refuses its content, as an archive refuses a frame
+without its required keywords) is dropped, with an error in the log; the original stays where it is.
 
 Events are not stored: one sent while the writer was down (killed, restarting) or cut off from
 the server never reaches it. With ``sweep`` (a glob of the originals, e.g. ``/images/*.fits``)
@@ -32,7 +33,7 @@ from nightcrew.events import NewImageEvent
 from nightcrew.interfaces import FitsValue, ImageType, ModuleState
 from nightcrew.modules.image.watch_state import Backoff
 from nightcrew.modules.module import Module
-from nightcrew.vfs import LocalFile, VfsError, VfsFileNotFoundError
+from nightcrew.vfs import LocalFile, VfsError, VfsFileNotFoundError, VfsFormatError
 from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 __all__ = ["ImageWriter", "read_header"]
@@ -185,7 +186,7 @@ class ImageWriter(Module):
                 data = await self.vfs.read_bytes(path)
                 header = _header_of(data)
                 await self._store(data, header)
-            except (VfsFileNotFoundError, _NotAnImage) as exc:
+            except (VfsFileNotFoundError, VfsFormatError, _NotAnImage) as exc:
                 log.error("%s: cannot copy %s: %s", self.name, path, exc)
             except NightcrewError as exc:
                 delay = self._backoff.failed(self.clock.time())
