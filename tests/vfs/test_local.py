@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import asyncio
 import os
 import stat
+import sys
 from pathlib import Path
 
 import pytest
@@ -160,12 +162,41 @@ async def test_without_mkdir_missing_directories_are_errors(tmp_path: Path) -> N
 
 
 async def test_permission_denied_is_translated(vfs: VirtualFileSystem, images: Path) -> None:
-    if os.geteuid() == 0:
-        pytest.skip("root ignores file permissions")
     await vfs.write_bytes("/cache/a.fits", b"x")
     (images / "a.fits").chmod(0)
-    with pytest.raises(VfsError, match=r"^/cache/a\.fits: permission denied$"):
-        await vfs.read_bytes("/cache/a.fits")
+    if os.geteuid() != 0:
+        with pytest.raises(VfsError, match=r"^/cache/a\.fits: permission denied$"):
+            await vfs.read_bytes("/cache/a.fits")
+        return
+    # Root ignores file permissions (CI runs as root): the read is made by a child without the
+    # capabilities that override them (setpriv, util-linux).
+    child = await asyncio.create_subprocess_exec(
+        "setpriv",
+        "--bounding-set=-dac_override,-dac_read_search",
+        sys.executable,
+        "-c",
+        READ_WITHOUT_OVERRIDE,
+        str(images),
+        stdout=asyncio.subprocess.PIPE,
+        stderr=asyncio.subprocess.PIPE,
+    )
+    stdout, stderr = await asyncio.wait_for(child.communicate(), 60)
+    assert stdout.decode() == "/cache/a.fits: permission denied\n", stderr.decode()
+
+
+READ_WITHOUT_OVERRIDE = """
+import asyncio, sys
+from nightcrew.vfs import LocalFile, VfsError, VirtualFileSystem
+
+async def main() -> None:
+    async with VirtualFileSystem({"cache": LocalFile(sys.argv[1])}) as vfs:
+        try:
+            await vfs.read_bytes("/cache/a.fits")
+        except VfsError as exc:
+            print(exc)
+
+asyncio.run(main())
+"""
 
 
 def test_constructor_validates_and_does_no_io(tmp_path: Path) -> None:
