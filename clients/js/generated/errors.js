@@ -151,6 +151,12 @@ export class AstrometryError extends ImageError {
 }
 
 /**
+ * No room without evicting files that no consumer has fetched yet.
+ */
+export class CacheFullError extends VfsError {
+}
+
+/**
  * No fitting master for a frame, or a master that cannot be used.
  */
 export class CalibrationError extends ImageError {
@@ -295,4 +301,4 @@ export class UnknownRootError extends VfsPathError {
 }
 
 /** Every error class, by the name a fault's `errorClass` carries. */
-export const ERRORS = {AbortedError, AcquisitionFailedError, AlpacaConnectionError, AlpacaNotConnectedError, AlpacaReplyError, AstrometryError, CalibrationError, CalibratorError, CodecError, ConfigError, DeviceBusyError, ExpressionError, FocusOutsideSeriesError, FocusSeriesError, ForbiddenError, GrabImageError, ImageDataError, ImageError, ImageFormatError, InitError, InterfaceError, InvalidArgumentError, InvalidTaskError, InvalidTransitionError, MissingWcsError, ModuleError, MotionError, MoveError, NightcrewError, NoSolutionError, NoStarsError, NotSupportedError, ParkError, PortalError, RemoteError, RemoteTimeoutError, ScriptError, SolverUnavailableError, SupervisorError, TaskError, TaskNotFoundError, TooLargeError, UnknownRootError, VfsError, VfsFileNotFoundError, VfsFormatError, VfsPathError, XmppAuthError};
+export const ERRORS = {AbortedError, AcquisitionFailedError, AlpacaConnectionError, AlpacaNotConnectedError, AlpacaReplyError, AstrometryError, CacheFullError, CalibrationError, CalibratorError, CodecError, ConfigError, DeviceBusyError, ExpressionError, FocusOutsideSeriesError, FocusSeriesError, ForbiddenError, GrabImageError, ImageDataError, ImageError, ImageFormatError, InitError, InterfaceError, InvalidArgumentError, InvalidTaskError, InvalidTransitionError, MissingWcsError, ModuleError, MotionError, MoveError, NightcrewError, NoSolutionError, NoStarsError, NotSupportedError, ParkError, PortalError, RemoteError, RemoteTimeoutError, ScriptError, SolverUnavailableError, SupervisorError, TaskError, TaskNotFoundError, TooLargeError, UnknownRootError, VfsError, VfsFileNotFoundError, VfsFormatError, VfsPathError, XmppAuthError};
