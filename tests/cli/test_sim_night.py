@@ -64,8 +64,9 @@ def test_the_roof_is_open_most_of_the_good_dark_time(night: tuple[int, Path, Nig
     assert numbers.good_dark_s > 2400.0
     assert numbers.roof_open_fraction >= 0.9, f"{100 * numbers.roof_open_fraction:.1f} %"
     # The camera's shutter: exposures cover most of it; the rest is read-outs, slews, the focus
-    # series at the start and the roof opening twice (the telescope slews meanwhile). The exposure
-    # the rain interrupts is stopped and kept (CUTSHORT), so its open time counts.
+    # series at the start and the roof opening twice (the telescope slews meanwhile). The exposures
+    # cut short by the rain and by the end of the run are stopped and kept (CUTSHORT), so their
+    # open time counts: 92.6 % on the virtual clock (88.4 % when they were aborted and lost).
     assert numbers.shutter_open_fraction >= 0.9, f"{100 * numbers.shutter_open_fraction:.1f} %"
 
 
