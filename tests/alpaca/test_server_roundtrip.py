@@ -8,19 +8,20 @@ simulated devices, and the frame the Alpaca camera writes must hold the simulate
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 
 import numpy as np
 import pytest
 
-from nightcrew.interfaces import ImageType
+from nightcrew.interfaces import ExposureStatus, ImageType
 from nightcrew.modules.alpaca.camera import AlpacaCamera
 from nightcrew.modules.alpaca.filterwheel import AlpacaFilterWheel
 from nightcrew.modules.alpaca.focuser import AlpacaFocuser
 from nightcrew.modules.alpaca.telescope import AlpacaTelescope
-from nightcrew.modules.sim import SimFilterWheel, SimFocuser, SimTelescope
-from nightcrew.testing import SITE, Observatory
+from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimFocuser, SimTelescope
+from nightcrew.testing import SITE, Observatory, wait_for
 
 from .served import MILKY_WAY, Served, served_observatory
 
@@ -77,3 +78,29 @@ async def test_the_alpaca_camera_writes_the_simulated_frame(both: Both) -> None:
     np.testing.assert_array_equal(client_file[0].data, served_file[0].data)
     assert served_file[0].header["IMAGETYP"] == "dark"
     assert (client_file[0].header["EXPTIME"], served_file[0].header["EXPTIME"]) == (0.2, 0.2)
+
+
+async def test_stop_exposure_through_alpaca_keeps_the_frame_cut_short(both: Both) -> None:
+    camera = await both.client.start(AlpacaCamera, "camera", server=both.served.url)
+    await camera.set_binning(4, 4)
+    await camera.set_exposure_time(30.0)
+    grab = asyncio.ensure_future(camera.grab_data(image_type=ImageType.OBJECT))
+    sim_camera = both.served.observatory.module("camera", SimCamera)
+    clock = both.served.observatory.clock
+
+    async def exposing() -> bool:
+        return await sim_camera.get_exposure_status() is ExposureStatus.EXPOSING
+
+    await wait_for(exposing, 10.0, clock=clock, message="the served camera exposes")
+    assert await camera.device.get("canstopexposure") is True
+    await camera.stop_exposure()
+    async with clock.timeout(20.0):
+        client_file = await grab
+
+    client = (await both.client.vfs.read_fits(client_file))[0].header
+    (served_path,) = await both.served.observatory.vfs.find("/cache/*.fits")
+    served = (await both.served.observatory.vfs.read_fits(served_path))[0].header
+    assert client["CUTSHORT"] is served["CUTSHORT"] is True
+    assert client["EXPREQ"] == served["EXPREQ"] == 30.0
+    assert served["EXPTIME"] < 20.0 and client["EXPTIME"] < 20.0
+    assert await camera.device.get("lastexposureduration") == served["EXPTIME"]

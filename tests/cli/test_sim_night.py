@@ -64,12 +64,10 @@ def test_the_roof_is_open_most_of_the_good_dark_time(night: tuple[int, Path, Nig
     assert numbers.good_dark_s > 2400.0
     assert numbers.roof_open_fraction >= 0.9, f"{100 * numbers.roof_open_fraction:.1f} %"
     # The camera's shutter: exposures cover most of it; the rest is read-outs, slews, the focus
-    # series at the start, the roof opening twice (the telescope slews meanwhile), and the two
-    # exposures cut short - by the rain and by the end of the run - whose frames are not kept
-    # (4.2 % of this short night; see "exposing, frame not kept" in the report). On the virtual
-    # clock that is 88.4 % on every machine; the goal of 90 % holds for the whole night
-    # (bench/night.py) and the season (bench/season.py), not for this 2.5-hour cut with rain.
-    assert numbers.shutter_open_fraction >= 0.88, f"{100 * numbers.shutter_open_fraction:.1f} %"
+    # series at the start and the roof opening twice (the telescope slews meanwhile). The exposures
+    # cut short by the rain and by the end of the run are stopped and kept (CUTSHORT), so their
+    # open time counts: 92.6 % on the virtual clock (88.4 % when they were aborted and lost).
+    assert numbers.shutter_open_fraction >= 0.9, f"{100 * numbers.shutter_open_fraction:.1f} %"
 
 
 def test_the_report_has_every_section(night: tuple[int, Path, NightNumbers]) -> None:

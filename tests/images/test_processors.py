@@ -10,6 +10,7 @@ import pytest
 from nightcrew.config import build_object, load_config
 from nightcrew.errors import ConfigError
 from nightcrew.images import Image, ImageDataError, ImageError, MissingWcsError, Pipeline
+from nightcrew.images.processors.detection._sep import detect_sources_sep
 from nightcrew.images.processors.misc import CreateFilename, Flip, Mask, Normalise, SoftBin
 from nightcrew.images.processors.offsets import AstrometryOffsets, FitsHeaderOffsets
 from nightcrew.images.processors.photometry import PhotutilsPhotometry, SepPhotometry
@@ -118,3 +119,12 @@ async def test_header_and_astrometry_offsets() -> None:
     assert (offsets.dx, offsets.dy) == pytest.approx((140.0 - 127.5, 120.0 - 127.5), abs=1e-6)
     with pytest.raises(MissingWcsError, match="needs a WCS"):
         await AstrometryOffsets()(Image(np.zeros((8, 8))))
+
+
+def test_sep_detection_grows_its_pixel_stack_for_a_source_larger_than_it() -> None:
+    # SEP's object-pixel stack starts small (it costs its size on every call) and grows on demand.
+    rng = np.random.default_rng(5)
+    data = rng.normal(1000.0, 10.0, (1000, 1000))
+    data[200:800, 200:800] += 500.0  # 360 000 connected pixels above the threshold, in one source
+    catalog = detect_sources_sep(data, threshold=5.0, box_size=1000)
+    assert int(np.max(catalog["npix"])) > 300_000

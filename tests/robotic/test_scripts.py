@@ -133,7 +133,7 @@ async def test_auto_focus_then_expose_in_one_task(sim: SimSetup) -> None:
     assert headers[0]["FOCUS"] == pytest.approx(25.0, abs=0.02)
 
 
-async def test_abort_mid_task_aborts_the_exposure_and_stops_guiding(sim: SimSetup) -> None:
+async def test_abort_mid_task_stops_the_exposure_keeps_the_frame_and_stops_guiding(sim: SimSetup) -> None:
     await sim.obs.start(
         SimCamera, "guider", detector=DETECTOR, catalog_depth=14.0, seed=3, readout_time=0.2, weather=None
     )
@@ -164,8 +164,11 @@ async def test_abort_mid_task_aborts_the_exposure_and_stops_guiding(sim: SimSetu
 
     assert await sim.camera.get_exposure_status() is ExposureStatus.IDLE
     assert not await guiding.is_running()
+    # The science frame was stopped, read out and kept, saying so; it is not counted as done.
     assert progress.last.exposures_done == ((1,),)
-    assert len(await sim.headers(1)) == 1  # the aborted frame was never written
+    whole, cut = await sim.headers(2)
+    assert "CUTSHORT" not in whole and whole["EXPTIME"] == 20.0
+    assert cut["CUTSHORT"] is True and cut["EXPREQ"] == 20.0 and 0.0 <= cut["EXPTIME"] < 20.0
 
 
 async def test_a_failing_step_fails_the_task_and_says_why(sim: SimSetup) -> None:

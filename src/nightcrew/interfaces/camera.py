@@ -26,6 +26,7 @@ __all__ = [
     "IExposureTime",
     "IGain",
     "IImageType",
+    "IStoppableExposure",
     "IVideo",
     "IWindow",
     "Window",
@@ -84,6 +85,18 @@ class IExposure(Interface):
 
 class ICamera(IData, IAbortable, IExposure):
     """A camera: takes images, can be aborted and watched."""
+
+
+class IStoppableExposure(Interface):
+    """An exposure that can be ended early and still read out (ASCOM's StopExposure, not AbortExposure).
+
+    The running ``grab_data`` then returns its frame as usual, with EXPTIME the seconds really
+    exposed, EXPREQ the seconds asked for and ``CUTSHORT = T``; an abort, by contrast, keeps nothing.
+    """
+
+    @abstractmethod
+    async def stop_exposure(self) -> None:
+        """Close the shutter now, read out and keep the frame; nothing happens when not exposing."""
 
 
 class IExposureTime(Interface):

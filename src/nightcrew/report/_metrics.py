@@ -2,7 +2,9 @@
 
 * **Roof open**: the part of the good-weather dark time (Sun below ``sun_limit``, weather not bad)
   in which the roof (the observatory's shutter) was open.
-* **Camera shutter open**: the part of the good-weather dark time covered by light exposures.
+* **Camera shutter open**: the part of the good-weather dark time covered by light exposures while
+  the roof was open (a frame cut short by bad weather counts up to the roof's closing, and only the
+  seconds its header says it exposed).
 * **Exposures while closed**: light frames whose exposure is not inside a roof-open interval.
 * **Roof-close delay**: from each BadWeatherEvent that found the roof open to the next
   RoofClosedEvent.
@@ -31,6 +33,7 @@ __all__ = [
     "exposures_while_closed",
     "good_dark_intervals",
     "intersect",
+    "light_intervals",
     "night_numbers",
     "roof_close_delays",
     "subtract",
@@ -75,12 +78,11 @@ def night_numbers(
     end = night.span[1]
     roof = roof_open_intervals(night.records, end)
     good_dark = good_dark_intervals(night, latitude=latitude, longitude=longitude, sun_limit=sun_limit)
-    light = [(f.start, f.end) for f in night.frames if f.light and f.exposure_time > 0]
     closed = exposures_while_closed(night.frames, roof)
     return NightNumbers(
         good_dark_s=total(good_dark),
         roof_open_s=total(intersect(roof, good_dark)),
-        shutter_open_s=total(intersect(union(light), good_dark)),
+        shutter_open_s=total(intersect(light_intervals(night.frames, roof), good_dark)),
         light_frames_while_closed=len(closed),
         science_frames_while_closed=sum(1 for f in closed if f.image_type == "object"),
         roof_close_delays_s=tuple(roof_close_delays(night.records)),
@@ -115,6 +117,11 @@ def dark_intervals(
     if since is not None:
         intervals.append((since, end))
     return intervals
+
+
+def light_intervals(frames: Sequence[Frame], roof_open: Sequence[Interval]) -> list[Interval]:
+    """When light reached the chip: light frames' exposures, only while the roof was open."""
+    return intersect(union([(f.start, f.end) for f in frames if f.light and f.exposure_time > 0]), roof_open)
 
 
 def exposures_while_closed(frames: Sequence[Frame], roof_open: Sequence[Interval]) -> list[Frame]:

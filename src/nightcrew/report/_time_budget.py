@@ -3,10 +3,12 @@
 :func:`time_budget` gives every instant of the good-weather dark time (Sun below ``sun_limit``,
 weather not bad) the first label of :data:`BUDGET_LABELS` that applies:
 
-* ``exposing <type>``: a light frame of that IMAGETYP (object, focus, acquisition, skyflat) exposes;
+* ``exposing <type>``: a light frame of that IMAGETYP (object, focus, acquisition, skyflat) exposes
+  with the roof open (a frame cut short by bad weather: the seconds it exposed);
 * ``dark and bias frames``: calibration frames taken in the dark time (the shutter stays closed);
 * ``exposing, frame not kept``: the camera exposes (its ExposureStatusChangedEvents) but no frame
-  was written: exposures cut short (bad weather, the end of the run), frames never written;
+  was written: exposures aborted (a camera that cannot stop and keep them, the end of the run),
+  frames never written;
 * ``readout``: the camera reads out;
 * ``slew``: the telescope slews, initialises or parks;
 * ``roof opening or closing``: the roof moves although the weather is good;
@@ -31,7 +33,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from nightcrew.report._data import Night, Record, TaskRun, roof_open_intervals, task_runs
-from nightcrew.report._metrics import good_dark_intervals, intersect, subtract, total, union
+from nightcrew.report._metrics import good_dark_intervals, intersect, light_intervals, subtract, total, union
 
 __all__ = ["BUDGET_LABELS", "Acquisition", "acquisitions", "time_budget"]
 
@@ -89,18 +91,19 @@ def time_budget(
     """
     start, end = night.span
     good = good_dark_intervals(night, latitude=latitude, longitude=longitude, sun_limit=sun_limit)
+    records = night.records
+    roof = roof_open_intervals(records, end)
     layers: list[tuple[str, list[Interval]]] = []
     for kind in sorted({f.image_type for f in night.frames if f.light}):
-        frames = [(f.start, f.end) for f in night.frames if f.light and f.image_type == kind]
-        layers.append((f"exposing {kind}", frames))
-    records = night.records
+        frames = [f for f in night.frames if f.image_type == kind]
+        layers.append((f"exposing {kind}", light_intervals(frames, roof)))
     layers += [
         ("dark and bias frames", [(f.start, f.end) for f in night.frames if not f.light]),
         ("exposing, frame not kept", _camera(records, frozenset({"exposing"}), end)),
         ("readout", _camera(records, frozenset({"readout"}), end)),
         ("slew", _slews(records, end)),
         ("roof opening or closing", _states(records, "roof", _MOTION, "status", _ROOF_MOVING, end)),
-        ("roof closed", subtract([(start, end)], roof_open_intervals(records, end))),
+        ("roof closed", subtract([(start, end)], roof)),
         ("filter change", _states(records, "filters", _MOTION, "status", frozenset({"moving"}), end)),
         ("focus run, between frames", _focus_runs(night)),
         ("in a task, camera idle", [(r.start, _end(r, end)) for r in task_runs(records)]),

@@ -5,7 +5,9 @@ the driver and applies them when an exposure starts; nightcrew keeps them on the
 So this device keeps the Alpaca values and hands them to the module in StartExposure (binning,
 window in unbinned pixels, exposure time, image type: light frames OBJECT, dark frames DARK,
 zero-second dark frames BIAS), then runs ``grab_data()`` in the background. Until a client sets
-the sub-frame, every exposure reads the full chip at the current binning.
+the sub-frame, every exposure reads the full chip at the current binning. StopExposure ends the
+exposure early and keeps it when the module can (IStoppableExposure; CanStopExposure says so), and
+LastExposureDuration is then the time the frame's header says it exposed.
 
 The camera writes its FITS file through the VFS as always; ImageArray reads that very file back
 through the server's own VFS (which must reach the camera's file roots) and serves its pixels,
@@ -39,6 +41,7 @@ from nightcrew.interfaces import (
     ICooling,
     IExposureTime,
     ImageType,
+    IStoppableExposure,
     IWindow,
     Window,
 )
@@ -66,6 +69,7 @@ class _Exposure:
     start_time: str
     path: str | None = None
     pixels: npt.NDArray[Any] | None = None
+    stopped: bool = False  # the duration comes from the file
 
 
 class ServedCamera(ServedDevice):
@@ -146,10 +150,12 @@ class ServedCamera(ServedDevice):
         return True
 
     async def get_canstopexposure(self, request: AlpacaRequest) -> bool:
+        return await self.optional(IStoppableExposure) is not None
+
+    async def get_canpulseguide(self, request: AlpacaRequest) -> bool:
         return False
 
-    get_cangetcoolerpower = get_cansetccdtemperature = get_canpulseguide = get_canstopexposure
-    get_canfastreadout = get_canstopexposure
+    get_cangetcoolerpower = get_cansetccdtemperature = get_canfastreadout = get_canpulseguide
 
     async def get_readoutmode(self, request: AlpacaRequest) -> int:
         return 0
@@ -275,6 +281,14 @@ class ServedCamera(ServedDevice):
             await camera.abort()
         await self.action.cancel()
 
+    async def put_stopexposure(self, request: AlpacaRequest) -> None:
+        stoppable = await self.optional(IStoppableExposure)
+        if stoppable is None:
+            raise NotSupportedError(f"module {self.module} cannot stop an exposure early; abort it")
+        if self.action.running and self._last is not None:
+            self._last.stopped = True
+            await stoppable.stop_exposure()
+
     async def get_camerastate(self, request: AlpacaRequest) -> int:
         if not self.action.running:
             return _IDLE
@@ -296,7 +310,10 @@ class ServedCamera(ServedDevice):
         return self._last
 
     async def get_lastexposureduration(self, request: AlpacaRequest) -> float:
-        return self._taken("lastexposureduration").duration
+        exposure = self._taken("lastexposureduration")
+        if exposure.stopped and await self.get_imageready(request):
+            await self._load(exposure)
+        return exposure.duration
 
     async def get_lastexposurestarttime(self, request: AlpacaRequest) -> str:
         return self._taken("lastexposurestarttime").start_time
@@ -305,6 +322,10 @@ class ServedCamera(ServedDevice):
         if not await self.get_imageready(request):
             raise DeviceBusyError(f"{self.describe()}: no image is ready (ImageReady is false)")
         exposure = self._taken("imagearray")
+        return ImageArray(await self._load(exposure))
+
+    async def _load(self, exposure: _Exposure) -> npt.NDArray[Any]:
+        """The exposure's pixels, read once from its file (a stopped one: its real duration too)."""
         if exposure.pixels is None:
             assert exposure.path is not None
             try:
@@ -313,12 +334,13 @@ class ServedCamera(ServedDevice):
                 raise GrabImageError(
                     f"cannot read the frame {exposure.path} through the server's VFS: {exc}"
                 ) from exc
-            exposure.pixels = await asyncio.to_thread(_blocking_pixels, payload, exposure.path)
-        return ImageArray(exposure.pixels)
+            pixels, exposed = await asyncio.to_thread(_blocking_pixels, payload, exposure.path)
+            exposure.pixels, exposure.duration = pixels, exposed if exposure.stopped else exposure.duration
+        return exposure.pixels
 
 
-def _blocking_pixels(payload: bytes, path: str) -> npt.NDArray[Any]:
-    """The primary image of a FITS file, as the camera wrote it (uint16 stays uint16)."""
+def _blocking_pixels(payload: bytes, path: str) -> tuple[npt.NDArray[Any], float]:
+    """The primary image of a FITS file, as the camera wrote it (uint16 stays uint16), and its EXPTIME."""
     from astropy.io import fits  # type: ignore[import-untyped]
 
     try:
@@ -327,6 +349,6 @@ def _blocking_pixels(payload: bytes, path: str) -> npt.NDArray[Any]:
             if data is None or data.ndim != 2:
                 raise GrabImageError(f"{path} holds no two-dimensional image")
             # BZERO-scaled uint16 comes back as uint16; anything else keeps its own type.
-            return np.array(data)
+            return np.array(data), float(hdul[0].header.get("EXPTIME", 0.0))
     except OSError as exc:
         raise GrabImageError(f"cannot read the frame {path}: {exc}") from exc

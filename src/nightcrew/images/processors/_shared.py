@@ -16,8 +16,7 @@ __all__ = ["Background", "estimate_background", "float_data", "saturation_level"
 
 FloatArray = npt.NDArray[np.float64]
 
-#: SEP's default object-pixel stack is too small for crowded 2k x 2k frames.
-sep.set_extract_pixstack(2_000_000)
+# The object-pixel stack grows as frames need it: see detection._sep._extract.
 sep.set_sub_object_limit(4096)
 
 

@@ -5,7 +5,10 @@ this driver only exposes: it sets binning and subframe (``BinX/BinY``, ``StartX/
 in binned pixels), calls ``StartExposure``, polls ``ImageReady`` and ``CameraState`` and downloads
 ``ImageArray`` as ImageBytes (JSON if the device offers nothing else). A download of the wrong size,
 a camera in error state or a device that goes away mid-exposure fails the exposure with one
-GrabImageError naming the device and the call; the base writes no file then.
+GrabImageError naming the device and the call; the base writes no file then. ``stop_exposure``
+(IStoppableExposure) calls ``StopExposure``: the device reads out early and the frame is kept with
+EXPTIME the seconds from the start to the stop; a device whose ``CanStopExposure`` is false refuses
+it with NotSupportedError (the scripts then abort).
 
 The chip size and binnings come from the device when it connects; until then the camera knows
 no chip (a 1x1 placeholder). Gain and offset follow IGain; the readout mode is the run-time config
@@ -30,7 +33,7 @@ from nightcrew.errors import (
     NightcrewError,
     NotSupportedError,
 )
-from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, IGain, Window
+from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, IGain, IStoppableExposure, Window
 from nightcrew.modules.alpaca.device import LOST_DEVICE_ERRORS, AlpacaModule
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
 
@@ -42,7 +45,7 @@ log = logging.getLogger(__name__)
 _READING, _ERROR = 3, 5
 
 
-class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
+class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
     """A camera reached over ASCOM Alpaca.
 
     Args:
@@ -58,6 +61,7 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         self._binnings = [Binning(1, 1)]
         self._gains: list[str] = []
         self._readout_modes: list[str] = []
+        self._can_stop = False
         super().__init__(**kwargs)
         if not readout_timeout > 0:
             raise ConfigError(f"must be > 0 seconds, got {readout_timeout}", key="readout_timeout")
@@ -75,8 +79,15 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         ]
         self._gains = await self._optional_list("gains")
         self._readout_modes = await self._optional_list("readoutmodes")
+        self._can_stop = await self._optional_flag("canstopexposure")
         if chip != self._chip:
             self._chip, self._window, self._binning = chip, chip, Binning(1, 1)
+
+    async def _optional_flag(self, member: str) -> bool:
+        try:
+            return bool(await self._get(member))
+        except NightcrewError:
+            return False
 
     async def _optional_list(self, member: str) -> list[str]:
         try:
@@ -110,11 +121,14 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         await self._put("numy", NumY=window.height // binning.y)
         await self._put("startexposure", Duration=settings.exposure_time, Light=settings.shutter_open)
         self._start_integration()
+        stopper = asyncio.ensure_future(self._stop_when_asked())
         try:
             await self._wait_for_image(settings.exposure_time)
         except asyncio.CancelledError:
             await asyncio.shield(self._put_best_effort("abortexposure"))
             raise
+        finally:
+            stopper.cancel()
         try:
             data = await self.device.image_array(time_limit=self._readout_timeout)
         except LOST_DEVICE_ERRORS as exc:
@@ -124,6 +138,20 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain):
         with contextlib.suppress(NotSupportedError):  # Alpaca makes the sensor optional
             cards["CCD-TEMP"] = (await self._get("ccdtemperature"), "CCD temperature [degC]")
         return Frame(_as_uint16(data, settings.shape, self.device.name), cards)
+
+    async def stop_exposure(self) -> None:
+        if not self._can_stop:
+            raise NotSupportedError(f"{self.device.name} cannot stop an exposure (CanStopExposure is false)")
+        await super().stop_exposure()
+
+    async def _stop_when_asked(self) -> None:
+        await self._stop_requested.wait()
+        try:
+            await self._put("stopexposure")
+        except NightcrewError as exc:  # the exposure runs to its end and is kept whole
+            log.warning("%s: stopping the exposure failed: %s", self.name, exc)
+            return
+        self._cut_short(self.clock.time() - self._exposure_start)  # the shutter closed now
 
     async def _wait_for_image(self, exposure_time: float) -> None:
         async def image_ready() -> None:

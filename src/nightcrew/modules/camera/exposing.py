@@ -7,7 +7,10 @@
 2. ask every IFitsHeaderBefore peer for cards *concurrently* with the exposure;
 3. expose through the driver's hook (abortable: the caller gets AbortedError); a driver that has
    work to do before the shutter opens calls :meth:`ExposingModule._start_integration` when it
-   opens, so DATE-OBS and the progress count from then, not from the call;
+   opens, so DATE-OBS and the progress count from then, not from the call. A driver that can end an
+   exposure early and keep it (IStoppableExposure) waits with :meth:`ExposingModule._integrate`, or
+   watches ``_stop_requested`` and reports the real time with :meth:`ExposingModule._cut_short`;
+   the frame then says so (EXPTIME real, EXPREQ asked for, CUTSHORT = T);
 4. ask IFitsHeaderAfter peers, await both header rounds (each peer bounded by ``header_timeout``);
 5. merge cards (static config < peers < driver < the camera's own), write the FITS file through the
    VFS in one atomic write and announce it. A provider named in ``expect_headers_from`` that answers
@@ -99,6 +102,8 @@ class ExposingModule(Module, IAbortable, IExposure):
         self._aborted = False
         self._exposure_start = 0.0
         self._exposure_length = 0.0
+        self._stop_requested = asyncio.Event()
+        self._exposed_until_stop: float | None = None
 
     def _check_expected_providers(self, names: list[str] | None) -> set[str]:
         if names is None:
@@ -150,6 +155,37 @@ class ExposingModule(Module, IAbortable, IExposure):
             task.cancel()
             await asyncio.wait([task])
 
+    async def stop_exposure(self) -> None:
+        """IStoppableExposure, for the subclasses that declare it (their drivers honour the request)."""
+        if self._exposure_status is ExposureStatus.EXPOSING and not self._stop_requested.is_set():
+            log.info("%s: stopping the exposure early; the frame is read out and kept", self.name)
+            self._stop_requested.set()
+
+    async def _integrate(self, exposure_time: float) -> float:
+        """Let the shutter stay open ``exposure_time`` clock seconds or until :meth:`stop_exposure`;
+        the seconds it was open (drivers that time the exposure themselves call this)."""
+        try:
+            async with self.clock.timeout(exposure_time):
+                await self._stop_requested.wait()
+        except TimeoutError:
+            return exposure_time
+        return self._cut_short(self.clock.time() - self._exposure_start)
+
+    def _cut_short(self, exposed: float) -> float:
+        """The exposure was stopped after ``exposed`` seconds: the frame's EXPTIME says so."""
+        self._exposed_until_stop = max(0.0, min(exposed, self._exposure_length))
+        return self._exposed_until_stop
+
+    def _cut_short_cards(self, asked: float) -> dict[str, FitsCard]:
+        exposed = self._exposed_until_stop
+        if exposed is None:
+            return {}
+        return {
+            "EXPTIME": (exposed, "Exposure time [s], cut short"),
+            "EXPREQ": (asked, "Exposure time asked for [s]"),
+            "CUTSHORT": (True, "Exposure stopped early (e.g. bad weather), frame kept"),
+        }
+
     # --- the exposure --------------------------------------------------------------------------
 
     def _check_not_busy(self) -> None:
@@ -174,6 +210,8 @@ class ExposingModule(Module, IAbortable, IExposure):
         self._check_not_busy()
         self._busy = True
         self._aborted = False
+        self._stop_requested.clear()
+        self._exposed_until_stop = None
         before = asyncio.create_task(self._headers("before"))
         after: asyncio.Task[HeaderReplies] | None = None
         try:
@@ -192,6 +230,7 @@ class ExposingModule(Module, IAbortable, IExposure):
                 **_time_cards(self._exposure_start),
             }
             cards.update(own_cards(frame))
+            cards.update(self._cut_short_cards(exposure_time))
             filename = format_filename(self._filename_pattern, {k: v for k, (v, _) in cards.items()})
             await self._write(filename, frame.data, cards)
         finally:

@@ -8,6 +8,9 @@ filter is in the beam (IFilters), whether the roof is open (IRoof) and how cloud
 calls. A device that is not configured (``None``) is simply absent; one that is configured but does
 not answer gives a warning (once) and a sensible default: no telescope means no light at all.
 
+Stopped early (IStoppableExposure: bad weather ends a science frame), the camera renders the
+frame anew for the seconds the shutter was open and keeps it.
+
 The frame carries the camera's own cards (gain, read noise, pixel size, focal length, pixel scale)
 and a few ``SIM-*`` cards with the simulator's truth (true pointing, FWHM, cloud cover) for tests
 and tutorials. It has no WCS: finding one is the plate solver's job.
@@ -20,7 +23,7 @@ import logging
 import math
 import threading
 from collections.abc import Awaitable, Callable, Mapping
-from dataclasses import fields
+from dataclasses import fields, replace
 from typing import Any, TypeVar
 
 import numpy as np
@@ -34,6 +37,7 @@ from nightcrew.interfaces import (
     IFilters,
     IFocuser,
     IRoof,
+    IStoppableExposure,
     MotionStatus,
     Window,
 )
@@ -53,7 +57,7 @@ M = TypeVar("M")
 _BINNINGS = (1, 2, 4)
 
 
-class SimCamera(BaseCamera):
+class SimCamera(BaseCamera, IStoppableExposure):
     """A camera in the simulated observatory.
 
     Args:
@@ -151,7 +155,13 @@ class SimCamera(BaseCamera):
         # fast clock the render time would otherwise show up as a long readout.
         render = asyncio.ensure_future(asyncio.to_thread(self._blocking_render, scene, settings, start, rng))
         try:
-            await self.clock.sleep(settings.exposure_time)
+            exposed = await self._integrate(settings.exposure_time)
+            if exposed < settings.exposure_time:  # stopped early: the chip saw light this long
+                render.cancel()  # its thread still draws from ``rng``: the new render gets its own
+                settings, rng = replace(settings, exposure_time=exposed), self._rng.spawn(1)[0]
+                render = asyncio.ensure_future(
+                    asyncio.to_thread(self._blocking_render, scene, settings, start, rng)
+                )
             await self._set_exposure_status(ExposureStatus.READOUT)
             await self.clock.sleep(self._readout_time)
             async with self.clock.work("simulate"):  # the rest of the render: not the sky's time

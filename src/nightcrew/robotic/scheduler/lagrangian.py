@@ -5,7 +5,10 @@ a dynamic programme over the slices solves exactly in linear time. Prices ``mu[b
 ``b`` turn the rule into a penalty; for any prices ``>= 0``, ``DP(w - mu) + sum(mu)`` is an upper
 bound, and subgradient steps on the prices drive the DP towards schedules that use every block at
 most once. Each DP schedule is repaired (repeated blocks dropped) and its gaps filled greedily, which
-gives the feasible schedules; the best one warms up the MIP's search and bounds its kernel.
+gives the feasible schedules; the best one is improved by local search (an unused block goes in
+where it is worth more than the blocks it pushes out). That schedule usually ends the search within
+the MIP's gap at once (the MIP took 2-3 s a plan, most of a simulated night's CPU); otherwise it
+bounds the MIP's kernel.
 Pure numpy on the variable arrays of :mod:`~nightcrew.robotic.scheduler.mip`.
 """
 
@@ -130,6 +133,34 @@ def _repair_and_fill(variables: IntervalVariables, chosen: IntArray, block_order
     return np.array(sorted(kept), dtype=np.int64)
 
 
+def _improve(
+    variables: IntervalVariables, chosen: IntArray, block_order: IntArray, *, passes: int = 20
+) -> IntArray:
+    """``chosen`` after local search: each unused block (in ``block_order``) takes its start where it
+    gains most over the chosen variables it overlaps, which are dropped, if that gain is positive."""
+    start, value, block = variables.start_of, variables.value_of, variables.block_of
+    end = start + variables.length_of
+    first = np.searchsorted(block, np.arange(variables.n_blocks + 1))
+    chosen = np.sort(chosen)
+    for _ in range(passes):
+        improved = False
+        for b in block_order:
+            if first[b] == first[b + 1] or np.any(block[chosen] == b):
+                continue
+            own = np.arange(first[b], first[b + 1])
+            overlaps = (start[own][:, None] < end[chosen][None, :]) & (
+                start[chosen][None, :] < end[own][:, None]
+            )
+            gain = value[own] - overlaps @ value[chosen]
+            best = int(np.argmax(gain))
+            if gain[best] > 1e-9:
+                chosen = np.sort(np.append(chosen[~overlaps[best]], own[best]))
+                improved = True
+        if not improved:
+            break
+    return chosen
+
+
 @dataclass(frozen=True)
 class LagrangianResult:
     """The best feasible variables found (``chosen``, worth ``value``), the best upper bound and
@@ -185,4 +216,7 @@ def lagrangian_schedule(
             break
         step = step_scale * (bound - best_value) / norm
         mu = np.maximum(0.0, mu - step * gradient)
+    improved = _improve(variables, best_vars, block_order)
+    if float(value[improved].sum()) > best_value:
+        best_vars, best_value = improved, float(value[improved].sum())
     return LagrangianResult(best_vars, best_value, upper, best_mu)

@@ -1,14 +1,29 @@
-"""The camera side of a script: set up an instrument configuration, take (and abort) exposures."""
+"""The camera side of a script: set up an instrument configuration, take (and abort) exposures.
+
+A science exposure interrupted by the script's cancellation (the mastermind aborts the task for
+bad weather, a closing roof or dawn) is stopped rather than aborted when the camera can
+(IStoppableExposure): the light it collected is read out and kept, its header says it was cut
+short. Other frames, and cameras that can only abort (INDI), are aborted and nothing is kept.
+"""
 
 from __future__ import annotations
 
+import asyncio
 import logging
 from dataclasses import dataclass
 
 from nightcrew.errors import NotSupportedError
-from nightcrew.interfaces import IBinning, ICamera, IExposureTime, IFilters, ImageType
+from nightcrew.interfaces import (
+    ExposureStatus,
+    IBinning,
+    ICamera,
+    IExposureTime,
+    IFilters,
+    ImageType,
+    IStoppableExposure,
+)
 from nightcrew.robotic.runner import Script
-from nightcrew.robotic.scripts._steps import step
+from nightcrew.robotic.scripts._steps import quietly, step
 from nightcrew.robotic.tasks import Configuration, InstrumentConfig
 
 __all__ = ["FILTER_ELEMENT", "Instrument", "instrument_supported"]
@@ -61,6 +76,7 @@ class Instrument:
     exposure_time: IExposureTime | None
     binning: IBinning | None
     filters: IFilters | None
+    stoppable: IStoppableExposure | None = None
 
     @classmethod
     async def connect(
@@ -72,6 +88,7 @@ class Instrument:
             exposure_time=await script.optional_proxy(camera, IExposureTime),
             binning=await script.optional_proxy(camera, IBinning),
             filters=await script.optional_proxy(filters, IFilters),
+            stoppable=await script.optional_proxy(camera, IStoppableExposure),
         )
 
     async def set_up(self, config: InstrumentConfig, *, timed: bool = True, use_filter: bool = True) -> None:
@@ -101,9 +118,35 @@ class Instrument:
             )
 
     async def expose(self, image_type: ImageType) -> str:
-        """Take one frame of ``image_type`` and return its VFS path; aborted when cancelled."""
-        return await step(
-            f"{image_type.value} exposure",
-            self.camera.grab_data(True, image_type),
-            on_cancel=self.camera.abort,
-        )
+        """Take one frame of ``image_type`` and return its VFS path; when cancelled, a science frame
+        is stopped and kept if the camera can, anything else aborted."""
+        what = f"{image_type.value} exposure"
+        if self.stoppable is None or image_type is not ImageType.OBJECT:
+            return await step(what, self.camera.grab_data(True, image_type), on_cancel=self.camera.abort)
+        # In its own task: cancelling the script must not cancel the exposure, which reads out.
+        stoppable = self.stoppable
+        grab = asyncio.ensure_future(self.camera.grab_data(True, image_type))
+        try:
+            return await step(what, asyncio.shield(grab))
+        except asyncio.CancelledError:
+            await quietly(
+                "stop the exposure and keep the frame", lambda: self._stop_and_keep(stoppable, grab)
+            )
+            raise
+
+    async def _stop_and_keep(self, stoppable: IStoppableExposure, grab: asyncio.Future[str]) -> None:
+        # Only light being collected is worth keeping; a frame not yet begun (the call may still be
+        # on its way) or already reading out is aborted, as it always was, so closing never waits.
+        exposing = await self.camera.get_exposure_status() is ExposureStatus.EXPOSING
+        if exposing:
+            try:
+                await stoppable.stop_exposure()
+            except NotSupportedError:  # this device cannot after all (Alpaca's CanStopExposure)
+                exposing = False
+        if not exposing:
+            grab.cancel()
+            await self.camera.abort()
+            await asyncio.wait({grab})
+            return
+        await asyncio.wait({grab})
+        log.info("kept the interrupted exposure: %s", grab.result())  # a failure: quietly() logs it

@@ -1,4 +1,4 @@
-"""The camera contract: settings, exposures, files, events, refusals and abort of an ICamera module."""
+"""The camera contract: settings, exposures, files, events, refusals, abort and stop of an ICamera module."""
 
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from nightcrew.interfaces import (
     IExposureTime,
     IImageType,
     ImageType,
+    IStoppableExposure,
     IWindow,
     Window,
 )
@@ -215,6 +216,27 @@ class CameraContract(DeviceContract):
         filename = await camera.grab_data()
         await contract.probe.wait_for_event(NewImageEvent, self.timeout, sender=contract.name)
         assert [e.filename for e in await self._new_images(contract)] == [filename]
+
+    async def test_a_stopped_exposure_is_read_out_and_kept_saying_so(
+        self, contract: ContractSetup[Any]
+    ) -> None:
+        names = await contract.probe.comm.get_interface_names(contract.name)
+        vfs = contract.module.vfs
+        if not isinstance(contract.module, IStoppableExposure):  # e.g. INDI: it can only abort
+            assert "IStoppableExposure" not in names
+            return
+        assert "IStoppableExposure" in names
+        await (await contract.proxy(IImageType)).set_image_type(ImageType.OBJECT)
+        await self._small_frame(contract)
+        grab = await self._start_long_exposure(contract)
+        await (await contract.proxy(IStoppableExposure)).stop_exposure()
+        filename = await grab
+        header = (await vfs.read_fits(filename))[0].header
+        assert header["CUTSHORT"] is True
+        assert header["EXPREQ"] == pytest.approx(self.long_exposure_time)
+        assert 0.0 <= header["EXPTIME"] < self.long_exposure_time
+        event = await contract.probe.wait_for_event(NewImageEvent, self.timeout, sender=contract.name)
+        assert event.filename == filename
 
     async def test_an_exposure_ends_within_the_timeout_it_announces(
         self, contract: ContractSetup[Any]

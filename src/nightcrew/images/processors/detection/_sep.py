@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import threading
 from typing import Any
 
 import numpy as np
@@ -73,7 +74,7 @@ def detect_sources_sep(
     # The threshold applies to the filtered image, whose noise is the pixel noise times the
     # kernel's root sum of squares: a true matched-filter significance.
     filtered_rms = background.global_rms * float(np.sqrt(np.sum(kernel**2)))
-    objects = sep.extract(
+    objects = _extract(
         data,
         threshold * filtered_rms,
         mask=sep_mask,
@@ -114,6 +115,32 @@ def detect_sources_sep(
             "npix": objects["npix"],
         }
     )
+
+
+#: SEP allocates and initialises its whole pixel stack on every call: 2 M pixels (what crowded
+#: 2k x 2k frames may need) cost ~50 ms, most of a seeing measurement on a 512-pixel window. So it
+#: starts small and grows when a frame needs more: it bounds the pixels above the threshold being
+#: assembled at once, not the result.
+_INITIAL_PIXSTACK = 1 << 16
+_pixstack_lock = threading.Lock()
+_pixstack_set = False
+
+
+def _extract(data: npt.NDArray[np.float64], threshold: float, **options: Any) -> Any:
+    """``sep.extract`` with a pixel stack grown (process-wide, never shrunk) as far as it needs."""
+    global _pixstack_set
+    with _pixstack_lock:
+        if not _pixstack_set:
+            sep.set_extract_pixstack(_INITIAL_PIXSTACK)
+            _pixstack_set = True
+    while True:
+        try:
+            return sep.extract(data, threshold, **options)
+        except Exception as exc:  # SEP raises a bare Exception
+            if "pixel buffer full" not in str(exc) or sep.get_extract_pixstack() >= data.size:
+                raise
+        with _pixstack_lock:
+            sep.set_extract_pixstack(min(data.size, 2 * sep.get_extract_pixstack()))
 
 
 def gaussian_kernel(fwhm: float) -> npt.NDArray[np.float64]:
