@@ -42,6 +42,7 @@ import { ISimTelescopeTruth } from "./interfaces/ISimTelescopeTruth.js";
 import { ISimWeatherTruth } from "./interfaces/ISimWeatherTruth.js";
 import { ISpectrograph } from "./interfaces/ISpectrograph.js";
 import { IStartStop } from "./interfaces/IStartStop.js";
+import { IStoppableExposure } from "./interfaces/IStoppableExposure.js";
 import { ISwitch } from "./interfaces/ISwitch.js";
 import { ISyncRaDec } from "./interfaces/ISyncRaDec.js";
 import { ITelescope } from "./interfaces/ITelescope.js";
@@ -52,8 +53,8 @@ import { IWindow } from "./interfaces/IWindow.js";
 export * from "./events.js";
 export * from "./errors.js";
 
-export { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocuser, IGain, IImageType, IModule, IMotion, IOffsetsAltAz, IOffsetsRaDec, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
+export { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocuser, IGain, IImageType, IModule, IMotion, IOffsetsAltAz, IOffsetsRaDec, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, IStoppableExposure, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
 /** Every interface class, by the name in its disco#info feature. */
-export const INTERFACES = { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocuser, IGain, IImageType, IModule, IMotion, IOffsetsAltAz, IOffsetsRaDec, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
+export const INTERFACES = { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocuser, IGain, IImageType, IModule, IMotion, IOffsetsAltAz, IOffsetsRaDec, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, IStoppableExposure, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
 /** Calls without an announcement may take this many clock seconds. */
 export const DEFAULT_TIMEOUT = 10.0;
