@@ -120,6 +120,15 @@ def test_progress_and_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     assert "17:49 UTC" in err and "Sun -20.4°" in err
     assert "night complete:" in out and "2 tasks started, weather clear" in out
     assert "17:49-18:49 UTC on virtual time" in out
+    # The summary counts the files the night wrote, the focus frames (not announced) among them.
+    written = [str(fits.getheader(path)["IMAGETYP"]) for path in (tmp_path / "frames").glob("*.fits")]
+    science = sum(1 for t in written if t in ("object", "bias", "dark", "skyflat"))
+    focus = sum(1 for t in written if t in ("focus", "acquisition"))
+    assert science == 3 and focus >= 4 and science + focus == len(written)  # 1 object, 1 bias, 1 dark
+    assert (
+        f"night complete: {len(written)} frames ({science} science and calibration, "
+        f"{focus} focus and acquisition), 2 tasks started" in out
+    )
     assert len(list((tmp_path / "frames").glob("*-object-V.fits"))) == 1
     assert (tmp_path / "report.html").is_file()
 

@@ -11,6 +11,7 @@ from nightcrew.report._data import (
     Frame,
     Night,
     bad_weather_intervals,
+    describe_frames,
     frame_of_header,
     roof_open_intervals,
     task_runs,
@@ -113,3 +114,12 @@ def test_svg_charts() -> None:
         [Band("Roof", [(0.0, 5.0, "open", "#0f0")])], start=0, end=10, x_format=str, x_ticks=[0, 5]
     )
     assert "<title>open</title>" in timeline
+
+
+def test_the_frames_are_told_apart_by_what_they_are_for() -> None:
+    types = ["object", "bias", "dark", "skyflat", "focus", "focus", "acquisition", "guiding", ""]
+    frames = [frame(10.0 * n, 1.0, image_type) for n, image_type in enumerate(types)]
+    assert describe_frames(frames) == (
+        "9 frames (4 science and calibration, 3 focus and acquisition, 1 without IMAGETYP, 1 guiding)"
+    )
+    assert describe_frames([]) == "0 frames (0 science and calibration, 0 focus and acquisition)"

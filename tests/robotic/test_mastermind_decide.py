@@ -31,6 +31,7 @@ from nightcrew.robotic.mastermind import (
     task_cards,
 )
 from nightcrew.robotic.tasks import (
+    CutShortFrame,
     Task,
     TaskProgress,
     TaskState,
@@ -382,6 +383,23 @@ def test_the_interruption_reason_says_what_was_done() -> None:
     )
 
 
+def test_the_interruption_reason_names_the_frames_cut_short_and_kept() -> None:
+    task = _task([DARK, EXPOSE])
+    request = task.request
+    progress = (
+        TaskProgress.nothing_done(request).with_exposures(request, 0, 0, 5).with_exposures(request, 1, 0)
+    )
+    once = progress.with_cut_short(request, 1, 0, 4.3)
+    # Cut short, not done: still 6 of 10, the kept light said with what was asked for.
+    assert interruption_reason("bad weather", task, once) == (
+        "interrupted by bad weather: 6 of 10 exposures done, 1 cut short after 4.3 of 10 s (kept)"
+    )
+    twice = once.with_cut_short(request, 1, 1, 2.0)
+    assert interruption_reason("the Sun at -1°", task, twice).endswith(
+        ": 6 of 10 exposures done, 2 cut short after 4.3 of 10 s and 2 of 5 s (kept)"
+    )
+
+
 def test_task_cards_name_the_task() -> None:
     cards = task_cards(_task([EXPOSE]))
     assert {key: value for key, (value, _) in cards.items()} == {
@@ -418,6 +436,11 @@ def test_the_recorded_progress_never_shrinks_when_a_retry_counts_from_zero() -> 
     assert kept_progress(first, TaskProgress(exposures_done=((3, 2),))) == TaskProgress(
         exposures_done=((3, 2),)
     )
+    # A frame cut short in a run stays recorded, also when a fresh runner then reports from zero.
+    cut = CutShortFrame(configuration=0, instrument_config=1, exposed=12.5)
+    interrupted = TaskProgress(exposures_done=((3, 1),), cut_short=(cut,))
+    assert kept_progress(first, interrupted) == interrupted
+    assert kept_progress(interrupted, retry) == TaskProgress(exposures_done=((3, 1),), cut_short=(cut,))
     assert kept_progress(TaskProgress(), retry) == retry
     assert kept_progress(first, TaskProgress()) == first
 

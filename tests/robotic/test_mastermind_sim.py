@@ -9,7 +9,10 @@ back. Times are asserted in clock seconds.
 
 from __future__ import annotations
 
+import re
 from datetime import datetime, timedelta
+
+import pytest
 
 from nightcrew.events import (
     BadWeatherEvent,
@@ -20,10 +23,11 @@ from nightcrew.events import (
     TaskFinishedEvent,
     TaskStartedEvent,
 )
-from nightcrew.robotic.archives import ScheduleEntry
+from nightcrew.robotic.archives import ScheduleEntry, SqliteTaskArchive
 from nightcrew.robotic.tasks import TaskState
 
 from .mastermind_night import (
+    EXPOSURE_TIME,
     EXPOSURES,
     HYADES,
     ORION,
@@ -97,18 +101,23 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
     assert failed - bad <= 10.0
     assert closed_after <= 60.0
     (failed_event,) = rec.of(TaskFailedEvent)
-    assert failed_event.reason.startswith("interrupted by bad weather: ") and failed_event.reason.endswith(
-        f" of {EXPOSURES} exposures done"
-    )
     assert failed_event.retryable  # so the scheduler plans it again
     reason = failed_event.reason
 
     # Every image: the task's cards, exposed entirely while the roof was open. The retry of b took
-    # only the frames the rain had kept it from taking; the frame the rain cut short was kept.
+    # only the frames the rain had kept it from taking; the frame the rain cut short was kept, and
+    # the reason says so with the seconds its header gives.
     headers = await site.headers()
-    assert 0 < int(reason.split(": ")[1].split(" ")[0]) < EXPOSURES
     (cut,) = [h for h in headers if h.get("CUTSHORT")]
     assert cut["TASK-ID"] == b.id and cut["EXPTIME"] < cut["EXPREQ"]
+    said = re.fullmatch(
+        rf"interrupted by bad weather: (\d+) of {EXPOSURES} exposures done, "
+        rf"1 cut short after ([\d.]+) of {EXPOSURE_TIME:.0f} s \(kept\)",
+        reason,
+    )
+    assert said is not None, reason
+    assert 0 < int(said[1]) < EXPOSURES
+    assert float(said[2]) == pytest.approx(cut["EXPTIME"], abs=0.5)  # rounded for reading
     assert len(headers) == 3 * EXPOSURES + 1
     ids = [h["TASK-ID"] for h in headers]
     assert ids == sorted(ids, key=[a.id, b.id, c.id].index) and set(ids) == {a.id, b.id, c.id}
@@ -127,10 +136,22 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
     focus = [t - t0 for t in rec.focus_runs]
     assert len(focus) == 2 and focus[1] > DRY_AT, focus
 
-    # The archive: all completed, b with its exposures, the last thing: closed and parked.
+    # The archive: all completed, b with its exposures and the frame cut short (not counted as
+    # done), also as a restarted mastermind would read it: the last thing: closed and parked.
     assert await site.closed_and_parked()
     tasks = [await site.archive.get_task(t.id) for t in site.tasks]
     assert [t.status.progress.total_exposures for t in tasks] == [EXPOSURES] * 3
+    reopened = SqliteTaskArchive(site.archive.path, clock=observatory.clock, poll_interval=0)
+    await reopened.open()
+    try:
+        stored = [(await reopened.get_task(t.id)).status.progress for t in site.tasks]
+    finally:
+        await reopened.close()
+    assert stored == [t.status.progress for t in tasks]
+    assert [len(p.cut_short) for p in stored] == [0, 1, 0]
+    (frame,) = stored[1].cut_short
+    assert (frame.configuration, frame.instrument_config) == (0, 0)
+    assert frame.exposed == pytest.approx(cut["EXPTIME"], abs=1e-6)
 
 
 def _open_intervals(rec: Recorder) -> list[tuple[float, float]]:

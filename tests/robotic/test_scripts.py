@@ -164,11 +164,15 @@ async def test_abort_mid_task_stops_the_exposure_keeps_the_frame_and_stops_guidi
 
     assert await sim.camera.get_exposure_status() is ExposureStatus.IDLE
     assert not await guiding.is_running()
-    # The science frame was stopped, read out and kept, saying so; it is not counted as done.
+    # The science frame was stopped, read out and kept, saying so; it is not counted as done, but
+    # the progress records it with the seconds its header gives.
     assert progress.last.exposures_done == ((1,),)
     whole, cut = await sim.headers(2)
     assert "CUTSHORT" not in whole and whole["EXPTIME"] == 20.0
     assert cut["CUTSHORT"] is True and cut["EXPREQ"] == 20.0 and 0.0 <= cut["EXPTIME"] < 20.0
+    (kept,) = progress.last.cut_short
+    assert (kept.configuration, kept.instrument_config) == (0, 0)
+    assert kept.exposed == pytest.approx(cut["EXPTIME"], abs=1e-6)
 
 
 async def test_a_failing_step_fails_the_task_and_says_why(sim: SimSetup) -> None:

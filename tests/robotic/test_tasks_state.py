@@ -10,6 +10,7 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.tasks import (
     ALLOWED_TRANSITIONS,
     FINAL_STATES,
+    CutShortFrame,
     InvalidTransitionError,
     TaskProgress,
     TaskState,
@@ -88,6 +89,34 @@ def test_progress_only_while_running_and_only_of_the_right_shape() -> None:
         TaskProgress(exposures_done=((1, 1),)).check_fits(task.request)
     with pytest.raises(ValueError, match="greater than or equal to 0"):
         TaskProgress(exposures_done=((-1,),))
+
+
+def test_a_frame_cut_short_is_recorded_but_not_done_and_survives_storage() -> None:
+    task = tasks_of_group(parse_request_group(valid_group_data()), "1", ["1", "2"])[0]
+    request = task.request  # EXPOSE (3 x 30 s, 1 x 20 s), then a SCRIPT
+    progress = TaskProgress().with_cut_short(request, 0, 0, 14.5).with_exposures(request, 0, 0)
+    assert progress.exposures_done == ((1, 0), ())  # the cut-short frame satisfies no exposure
+    assert progress.cut_short == (CutShortFrame(configuration=0, instrument_config=0, exposed=14.5),)
+    assert (progress.cut_short_count(0, 0), progress.cut_short_count(0, 1)) == (1, 0)
+    assert progress.cut_short_time == 14.5 and progress.exposure_time_done(request) == 30.0
+    assert progress.remaining(request, 0, 0) == 2  # the retry takes it again
+    progress.check_fits(request)
+    # One configuration seen alone (what a script runs) and put back: nothing lost or moved.
+    alone = progress.of_configuration(0)
+    assert alone.cut_short == progress.cut_short and progress.of_configuration(1).cut_short == ()
+    assert TaskProgress.nothing_done(request).with_configuration(0, alone) == progress
+    # Kept in the stored status (JSON, as the SQLite archive stores it); a row from before
+    # cut_short existed still reads, with none.
+    status = TaskStatus(state=S.FAILED, reason="rain", progress=progress)
+    assert TaskStatus.model_validate_json(status.model_dump_json()) == status
+    old_row = '{"state": "FAILED", "reason": "rain", "progress": {"exposures_done": [[1, 0], []]}}'
+    assert TaskStatus.model_validate_json(old_row).progress.cut_short == ()
+    with pytest.raises(
+        InvalidArgumentError, match=r"cut_short\[0\] names instrument config 2 of configuration 0"
+    ):
+        TaskProgress().with_cut_short(request, 0, 2, 1.0).check_fits(request)
+    with pytest.raises(ValueError, match="greater than or equal to 0"):
+        CutShortFrame(configuration=0, instrument_config=0, exposed=-1.0)
 
 
 def test_tasks_carry_their_group() -> None:

@@ -43,7 +43,7 @@ from nightcrew.night.engine import (
 )
 from nightcrew.night.fields import choose_targets, night_start, quick_groups
 from nightcrew.night.plan import night_span, weather_scenario
-from nightcrew.report import write_report
+from nightcrew.report import describe_frames, read_night, write_report
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 from nightcrew.vfs import LocalFile, VirtualFileSystem
@@ -97,11 +97,14 @@ def run_night_command(args: argparse.Namespace) -> int:
         clear_archive_products(args.out)
     with quiet_module_logs(args.verbose or args.debug):
         result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))
-    report = write_report(args.out)
+    # The files the night wrote, not the NewImageEvents: focus and acquisition frames are not announced.
+    recorded = read_night(args.out)
+    report = write_report(args.out, night=recorded)
     pace = describe_pace(night_speed(args))
     state = "night complete" if result.completed else "night stopped early"
     print(
-        f"{state}: {result.frames} frames, {result.tasks_started} tasks started, weather {setup.weather} "
+        f"{state}: {describe_frames(recorded.frames)}, {result.tasks_started} tasks started, "
+        f"weather {setup.weather} "
         f"(night of {setup.night}, {setup.start:%H:%M}-{setup.end:%H:%M} UTC {pace}; "
         f"{wall:.1f} s wall time)"
     )

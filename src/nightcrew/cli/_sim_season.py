@@ -22,6 +22,7 @@ from nightcrew.night.build import bundled_observatory, observatory_site
 from nightcrew.night.engine import FRAMES
 from nightcrew.report import (
     SeasonNight,
+    describe_frames,
     read_night,
     season_night,
     season_row,
@@ -51,11 +52,10 @@ def run_season_command(args: argparse.Namespace) -> int:
             out = args.out / f"night-{night.isoformat()}"
             result, wall = run_one_night(directory, args, site, setup, out, None, seed=base_seed + number)
             wall_total += wall
-            write_report(out, thumbnails=args.frames)
+            recorded = read_night(out)
+            write_report(out, thumbnails=args.frames, night=recorded)
             rows.append(
-                season_night(
-                    night.isoformat(), read_night(out), latitude=site.latitude, longitude=site.longitude
-                )
+                season_night(night.isoformat(), recorded, latitude=site.latitude, longitude=site.longitude)
             )
             row = rows[-1]
             (out / NIGHT_ROW).write_text(json.dumps(season_row(row), indent=1) + "\n", encoding="utf-8")
@@ -63,7 +63,8 @@ def run_season_command(args: argparse.Namespace) -> int:
                 shutil.rmtree(out / FRAMES, ignore_errors=True)
             print(
                 f"night {number + 1}/{args.nights} {night}: shutter {100 * row.shutter_fraction:.1f} % of "
-                f"{row.good_dark_s / 3600:.2f} h good dark, {result.frames} frames ({wall:.0f} s wall)",
+                f"{row.good_dark_s / 3600:.2f} h good dark, {describe_frames(recorded.frames)} "
+                f"({wall:.0f} s wall)",
                 file=sys.stderr,
                 flush=True,
             )

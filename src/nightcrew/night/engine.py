@@ -67,9 +67,9 @@ class NightProgress:
 
 @dataclass
 class WholeNight:
-    """How a night went: frames announced, tasks started, whether it ran to its end."""
+    """How a night went: tasks started, whether it ran to its end (its frames: the files it wrote,
+    :func:`nightcrew.report.describe_frames`; focus and acquisition frames are not announced)."""
 
-    frames: int = 0
     tasks_started: int = 0
     completed: bool = False
 
@@ -144,7 +144,7 @@ async def run_whole_night(
         result.completed = await watcher.watch(end, recorder, scheduler, progress, stop or asyncio.Event())
     finally:
         await _stop_safely(watcher, opened)
-        result.frames, result.tasks_started = watcher.frames, watcher.tasks_started
+        result.tasks_started = watcher.tasks_started
         await archive.close()
     return result
 
@@ -199,7 +199,7 @@ class _Watcher(Module):
     def __init__(self, comm: LocalComm, clock: Clock, site: Site) -> None:
         super().__init__(comm=comm, clock=clock)
         self._where = site
-        self.frames = 0
+        self.frames = 0  # announced (NewImageEvent): the progress line's live count
         self.tasks_started = 0
         self.task: str | None = None
 

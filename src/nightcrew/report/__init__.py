@@ -6,7 +6,7 @@ files. The data extraction (:mod:`nightcrew.report._data`), the numbers
 (:mod:`nightcrew.report._time_budget`) are pure; the charts are hand-written SVG.
 """
 
-from nightcrew.report._data import Frame, Night, Record, TaskRun, read_night
+from nightcrew.report._data import FRAME_KINDS, Frame, Night, Record, TaskRun, describe_frames, read_night
 from nightcrew.report._metrics import NightNumbers, night_numbers
 from nightcrew.report._season import (
     SeasonNight,
@@ -20,6 +20,7 @@ from nightcrew.report._time_budget import Acquisition, acquisitions, time_budget
 from nightcrew.report._write import NIGHT_RECORD, REPORT_FILE, night_site, write_report
 
 __all__ = [
+    "FRAME_KINDS",
     "NIGHT_RECORD",
     "REPORT_FILE",
     "Acquisition",
@@ -30,6 +31,7 @@ __all__ = [
     "SeasonNight",
     "TaskRun",
     "acquisitions",
+    "describe_frames",
     "night_numbers",
     "night_site",
     "read_night",

@@ -15,11 +15,13 @@ from pathlib import Path
 from typing import Any
 
 __all__ = [
+    "FRAME_KINDS",
     "Frame",
     "Night",
     "Record",
     "TaskRun",
     "bad_weather_intervals",
+    "describe_frames",
     "frame_of_header",
     "parse_time",
     "read_night",
@@ -125,6 +127,24 @@ def frame_of_header(name: str, header: dict[str, Any]) -> Frame:
         guide_rms=float(rms) if isinstance(rms, int | float) else None,
         focus=float(focus) if isinstance(focus, int | float) else None,
     )
+
+
+#: How a night's frames are told apart, by IMAGETYP: those the observing is for, and those that
+#: only serve it (written, but not announced with a NewImageEvent).
+FRAME_KINDS: tuple[tuple[str, frozenset[str]], ...] = (
+    ("science and calibration", frozenset({"object", "bias", "dark", "skyflat", "domeflat"})),
+    ("focus and acquisition", frozenset({"focus", "acquisition"})),
+)
+
+
+def describe_frames(frames: Sequence[Frame]) -> str:
+    """``225 frames (207 science and calibration, 18 focus and acquisition)``: the frames written,
+    by :data:`FRAME_KINDS`; any other IMAGETYP is named on its own (``3 guiding``)."""
+    parts = [f"{sum(1 for f in frames if f.image_type in types)} {kind}" for kind, types in FRAME_KINDS]
+    known = frozenset().union(*(types for _, types in FRAME_KINDS))
+    others = sorted({f.image_type for f in frames} - known)
+    parts += [f"{sum(1 for f in frames if f.image_type == t)} {t or 'without IMAGETYP'}" for t in others]
+    return f"{len(frames)} frames ({', '.join(parts)})"
 
 
 def parse_time(text: str) -> float:

@@ -46,9 +46,11 @@ def night_site(night: Night) -> tuple[float, float]:
     return 51.56, 9.94
 
 
-def write_report(out_dir: Path, *, thumbnails: bool = True) -> Path:
-    """Read the night in ``out_dir`` and write ``out_dir/report.html``; returns its path."""
-    night = read_night(out_dir)
+def write_report(out_dir: Path, *, thumbnails: bool = True, night: Night | None = None) -> Path:
+    """Read the night in ``out_dir`` (or take ``night``, read from there already) and write
+    ``out_dir/report.html``; returns its path."""
+    if night is None:
+        night = read_night(out_dir)
     latitude, longitude = night_site(night)
     numbers = night_numbers(night, latitude=latitude, longitude=longitude)
     spent = time_budget(night, latitude=latitude, longitude=longitude)

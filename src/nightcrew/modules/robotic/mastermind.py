@@ -19,7 +19,9 @@ Decisions:
   a stop and an error close at once. Roof and telescope also close and park by themselves on a
   BadWeatherEvent; the mastermind does not rely on them, nor they on it.
 * **Tasks**: an aborted task becomes FAILED with ``interrupted by <cause>: N of M exposures done``
-  and its progress - FAILED tasks are schedulable, so it is back in the pool, never lost. It may run
+  (and, when a science frame was stopped and kept, ``, 1 cut short after 143 of 300 s (kept)``: it
+  is in the progress too, but not done, so a retry takes it again) and its progress - FAILED tasks
+  are schedulable, so it is back in the pool, never lost. It may run
   again in the same slot once the cause has passed (good weather), or where the scheduler puts it.
   A task that failed by its own error is not retried in the same slot.
 * **Focus**: with an ``autofocus`` module, before the first task that images stars (not before

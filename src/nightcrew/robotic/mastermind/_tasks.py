@@ -167,11 +167,29 @@ def planned_exposures(request: Request) -> int:
 
 
 def interruption_reason(cause: str, task: Task, progress: TaskProgress) -> str:
-    """``interrupted by bad weather: 3 of 10 exposures done`` - the FAILED reason of an aborted task."""
-    return (
+    """``interrupted by bad weather: 3 of 10 exposures done`` - the FAILED reason of an aborted task.
+
+    Frames cut short and kept follow: ``..., 1 cut short after 143 of 300 s (kept)``.
+    """
+    reason = (
         f"interrupted by {cause}: {progress.total_exposures} of "
         f"{planned_exposures(task.request)} exposures done"
     )
+    if not progress.cut_short:
+        return reason
+    configurations = task.request.configurations
+    parts = [
+        f"{_seconds(f.exposed)} of "
+        f"{_seconds(configurations[f.configuration].instrument_configs[f.instrument_config].exposure_time)} s"
+        for f in progress.cut_short
+    ]
+    listed = parts[0] if len(parts) == 1 else f"{', '.join(parts[:-1])} and {parts[-1]}"
+    return f"{reason}, {len(parts)} cut short after {listed} (kept)"
+
+
+def _seconds(value: float) -> str:
+    """Whole seconds, or tenths below 10 s (a 0.4-s frame is not "0 s")."""
+    return f"{value:.0f}" if value >= 9.95 else f"{value:.1f}".removesuffix(".0")
 
 
 def task_cards(task: Task) -> dict[str, FitsCard]:
@@ -192,13 +210,16 @@ def kept_progress(recorded: TaskProgress, this_run: TaskProgress) -> TaskProgres
     A retry starts from the recorded progress (scripts take only the missing exposures), so this
     run's counts include the earlier ones; the maximum keeps the record from ever shrinking, also
     when a run reports before it has caught up with the archive (e.g. a fresh runner's zero).
+    Frames cut short: the longer of the two lists.
     """
     if not recorded.exposures_done:
         return this_run
     if not this_run.exposures_done:
         return recorded
     rows = zip(recorded.exposures_done, this_run.exposures_done, strict=True)
-    return TaskProgress(exposures_done=tuple(tuple(map(max, a, b)) for a, b in rows))
+    # Cut-short frames are only ever appended, to the record a run started from: the longer list.
+    cut_short = max(recorded.cut_short, this_run.cut_short, key=len)
+    return TaskProgress(exposures_done=tuple(tuple(map(max, a, b)) for a, b in rows), cut_short=cut_short)
 
 
 def focus_due(

@@ -13,17 +13,14 @@ def configuration_task(task: Task, index: int) -> Task:
     This is what one script runs: it never has to know where its configuration sits in the request.
     """
     request = task.request.model_copy(update={"configurations": (task.request.configurations[index],)})
-    recorded = task.status.progress.exposures_done
-    progress = TaskProgress(exposures_done=(recorded[index],)) if recorded else TaskProgress()
-    status = task.status.model_copy(update={"progress": progress})
+    status = task.status.model_copy(update={"progress": task.status.progress.of_configuration(index)})
     return task.model_copy(update={"request": request, "status": status})
 
 
 def merged_progress(progress: TaskProgress, index: int, part: TaskProgress) -> TaskProgress:
-    """``progress`` of the whole task with configuration ``index`` replaced by ``part``'s only row.
+    """``progress`` of the whole task with configuration ``index`` replaced by ``part``'s only row
+    (and its cut-short frames).
 
     ``progress`` must have one row per configuration (e.g. from ``TaskProgress.nothing_done``).
     """
-    rows = list(progress.exposures_done)
-    (rows[index],) = part.exposures_done
-    return TaskProgress(exposures_done=tuple(rows))
+    return progress.with_configuration(index, part)

@@ -87,7 +87,8 @@ def the_configuration(task: Task) -> Configuration:
 
 
 class ProgressReporter:
-    """Counts the exposures of one script run and reports the task's progress after each.
+    """Counts the exposures of one script run and reports the task's progress after each (and
+    after a frame cut short and kept).
 
     Counting starts from what the task has recorded (an earlier, interrupted attempt), so a script
     takes only :meth:`remaining` exposures and the reports never go back.
@@ -105,4 +106,10 @@ class ProgressReporter:
     async def add(self, instrument_config: int, count: int = 1) -> None:
         """``count`` more exposures of instrument config ``instrument_config`` are done."""
         self.progress = self.progress.with_exposures(self.request, 0, instrument_config, count)
+        await self._callback(self.progress)
+
+    async def add_cut_short(self, instrument_config: int, exposed: float) -> None:
+        """A frame of instrument config ``instrument_config`` was stopped after ``exposed`` seconds
+        and kept: recorded, but not an exposure done (its exposure time was not met)."""
+        self.progress = self.progress.with_cut_short(self.request, 0, instrument_config, exposed)
         await self._callback(self.progress)

@@ -3,13 +3,16 @@
 A science exposure interrupted by the script's cancellation (the mastermind aborts the task for
 bad weather, a closing roof or dawn) is stopped rather than aborted when the camera can
 (IStoppableExposure): the light it collected is read out and kept, its header says it was cut
-short. Other frames, and cameras that can only abort (INDI), are aborted and nothing is kept.
+short, and the script hears how much of its exposure time it got (the camera's own progress just
+before the stop), for the task's progress. Other frames, and cameras that can only abort (INDI),
+are aborted and nothing is kept.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 
 from nightcrew.errors import NotSupportedError
@@ -26,12 +29,15 @@ from nightcrew.robotic.runner import Script
 from nightcrew.robotic.scripts._steps import quietly, step
 from nightcrew.robotic.tasks import Configuration, InstrumentConfig
 
-__all__ = ["FILTER_ELEMENT", "Instrument", "instrument_supported"]
+__all__ = ["FILTER_ELEMENT", "CutShortCallback", "Instrument", "instrument_supported"]
 
 log = logging.getLogger(__name__)
 
 #: The optical element the scripts know how to set: ``optical_elements: {filter: V}``.
 FILTER_ELEMENT = "filter"
+
+#: Called with the fraction (0-1) of its exposure time a frame got before it was stopped and kept.
+CutShortCallback = Callable[[float], Awaitable[None]]
 
 
 async def instrument_supported(
@@ -117,9 +123,10 @@ class Instrument:
                 self.exposure_time.set_exposure_time(config.exposure_time),
             )
 
-    async def expose(self, image_type: ImageType) -> str:
+    async def expose(self, image_type: ImageType, *, cut_short: CutShortCallback | None = None) -> str:
         """Take one frame of ``image_type`` and return its VFS path; when cancelled, a science frame
-        is stopped and kept if the camera can, anything else aborted."""
+        is stopped and kept if the camera can (then ``cut_short`` hears how much of its exposure
+        time it got), anything else aborted."""
         what = f"{image_type.value} exposure"
         if self.stoppable is None or image_type is not ImageType.OBJECT:
             return await step(what, self.camera.grab_data(True, image_type), on_cancel=self.camera.abort)
@@ -130,15 +137,20 @@ class Instrument:
             return await step(what, asyncio.shield(grab))
         except asyncio.CancelledError:
             await quietly(
-                "stop the exposure and keep the frame", lambda: self._stop_and_keep(stoppable, grab)
+                "stop the exposure and keep the frame",
+                lambda: self._stop_and_keep(stoppable, grab, cut_short),
             )
             raise
 
-    async def _stop_and_keep(self, stoppable: IStoppableExposure, grab: asyncio.Future[str]) -> None:
+    async def _stop_and_keep(
+        self, stoppable: IStoppableExposure, grab: asyncio.Future[str], cut_short: CutShortCallback | None
+    ) -> None:
         # Only light being collected is worth keeping; a frame not yet begun (the call may still be
         # on its way) or already reading out is aborted, as it always was, so closing never waits.
         exposing = await self.camera.get_exposure_status() is ExposureStatus.EXPOSING
         if exposing:
+            # Asked right before the stop: the camera's own count, as its EXPTIME will say.
+            fraction = min(1.0, max(0.0, await self.camera.get_exposure_progress() / 100.0))
             try:
                 await stoppable.stop_exposure()
             except NotSupportedError:  # this device cannot after all (Alpaca's CanStopExposure)
@@ -150,3 +162,5 @@ class Instrument:
             return
         await asyncio.wait({grab})
         log.info("kept the interrupted exposure: %s", grab.result())  # a failure: quietly() logs it
+        if cut_short is not None:
+            await cut_short(fraction)

@@ -9,7 +9,7 @@ from typing import Any
 from nightcrew.errors import NotSupportedError
 from nightcrew.interfaces import IAcquisition, IAutoGuiding, ICamera, IFilters, ImageType, ITelescope
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
-from nightcrew.robotic.scripts._instrument import Instrument, instrument_supported
+from nightcrew.robotic.scripts._instrument import CutShortCallback, Instrument, instrument_supported
 from nightcrew.robotic.scripts._repeat import RepeatTiming
 from nightcrew.robotic.scripts._steps import quietly, step
 from nightcrew.robotic.tasks import (
@@ -18,6 +18,7 @@ from nightcrew.robotic.tasks import (
     ConfigurationType,
     GuidingConfig,
     GuidingMode,
+    InstrumentConfig,
     Task,
 )
 
@@ -151,7 +152,9 @@ class ImagingScript(Script):
                 continue  # taken in an earlier attempt
             await instrument.set_up(instrument_config)
             for _ in range(missing):
-                await instrument.expose(ImageType.OBJECT)
+                await instrument.expose(
+                    ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
+                )
                 await reporter.add(index)
 
     async def _expose_repeatedly(
@@ -173,7 +176,20 @@ class ImagingScript(Script):
                         return
                     if number == 0:
                         await instrument.set_up(instrument_config)
-                    await instrument.expose(ImageType.OBJECT)
+                    await instrument.expose(
+                        ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
+                    )
                     timing.record(started, self.clock.time(), exposure_time)
                     await reporter.add(index)
             cycles += 1
+
+
+def _recorder(
+    reporter: ProgressReporter, index: int, instrument_config: InstrumentConfig
+) -> CutShortCallback:
+    """Records a frame of instrument config ``index`` cut short after a fraction of its exposure time."""
+
+    async def record(fraction: float) -> None:
+        await reporter.add_cut_short(index, fraction * instrument_config.exposure_time)
+
+    return record

@@ -21,7 +21,7 @@ from typing import Annotated
 from pydantic import Field, Strict
 
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.robotic.tasks._base import TaskModel, UtcDatetime
+from nightcrew.robotic.tasks._base import Number, TaskModel, UtcDatetime
 from nightcrew.robotic.tasks._configuration import ConfigurationType
 from nightcrew.robotic.tasks._errors import InvalidTransitionError
 from nightcrew.robotic.tasks._request import Request
@@ -30,6 +30,7 @@ __all__ = [
     "ALLOWED_TRANSITIONS",
     "FINAL_STATES",
     "SCHEDULABLE_STATES",
+    "CutShortFrame",
     "TaskProgress",
     "TaskState",
     "TaskStatus",
@@ -67,16 +68,32 @@ SCHEDULABLE_STATES = frozenset({_S.PENDING, _S.SCHEDULED, _S.FAILED})
 _STATES_WITH_REASON = frozenset({_S.FAILED, _S.CANCELED})
 
 ExposureCount = Annotated[int, Strict(), Field(ge=0)]
+#: An index into the request's configurations or a configuration's instrument configs.
+Index = Annotated[int, Strict(), Field(ge=0)]
+
+
+class CutShortFrame(TaskModel):
+    """A frame of instrument config ``instrument_config`` of configuration ``configuration`` that
+    was stopped after ``exposed`` seconds (e.g. bad weather) and kept (its header: CUTSHORT = T).
+
+    It does not count as an exposure done: its exposure time was not met, so a retry takes it again.
+    """
+
+    configuration: Index
+    instrument_config: Index
+    exposed: Annotated[Number, Field(ge=0.0)]
 
 
 class TaskProgress(TaskModel):
-    """What was done: ``exposures_done[c][i]`` exposures of instrument config ``i`` of configuration ``c``.
+    """What was done: ``exposures_done[c][i]`` exposures of instrument config ``i`` of configuration ``c``,
+    and the frames cut short but kept (``cut_short``, in the order they were taken).
 
     Empty means nothing was recorded. Kept when a task fails, so a retry (or a person) knows what
-    is already there.
+    is already there. Rows stored before ``cut_short`` existed read as having none.
     """
 
     exposures_done: tuple[tuple[ExposureCount, ...], ...] = ()
+    cut_short: tuple[CutShortFrame, ...] = ()
 
     @classmethod
     def nothing_done(cls, request: Request) -> TaskProgress:
@@ -98,7 +115,57 @@ class TaskProgress(TaskModel):
             list(row) for row in (self.exposures_done or TaskProgress.nothing_done(request).exposures_done)
         ]
         done[configuration][instrument_config] += count
-        return TaskProgress(exposures_done=tuple(tuple(row) for row in done))
+        return self.model_copy(update={"exposures_done": tuple(tuple(row) for row in done)})
+
+    def with_cut_short(
+        self, request: Request, configuration: int, instrument_config: int, exposed: float
+    ) -> TaskProgress:
+        """A copy that also records a frame of one instrument config of ``request`` stopped after
+        ``exposed`` seconds and kept; the exposures done do not change."""
+        frame = CutShortFrame(
+            configuration=configuration, instrument_config=instrument_config, exposed=exposed
+        )
+        return self.or_nothing(request).model_copy(update={"cut_short": (*self.cut_short, frame)})
+
+    def cut_short_count(self, configuration: int, instrument_config: int) -> int:
+        """Frames of one instrument config cut short and kept."""
+        return sum(
+            1
+            for f in self.cut_short
+            if (f.configuration, f.instrument_config) == (configuration, instrument_config)
+        )
+
+    @property
+    def cut_short_time(self) -> float:
+        """Seconds the cut-short frames exposed (light kept, but no exposure done)."""
+        return sum(f.exposed for f in self.cut_short)
+
+    def of_configuration(self, configuration: int) -> TaskProgress:
+        """The progress of configuration ``configuration`` alone, as the progress of a request
+        holding only that configuration (nothing recorded stays nothing)."""
+        if not self.exposures_done:
+            return TaskProgress()
+        return TaskProgress(
+            exposures_done=(self.exposures_done[configuration],),
+            cut_short=tuple(
+                f.model_copy(update={"configuration": 0})
+                for f in self.cut_short
+                if f.configuration == configuration
+            ),
+        )
+
+    def with_configuration(self, configuration: int, part: TaskProgress) -> TaskProgress:
+        """A copy with configuration ``configuration`` replaced by ``part``, the progress of a
+        request holding only that configuration (:meth:`of_configuration` undone). ``self`` must
+        have one row per configuration (e.g. from :meth:`nothing_done`)."""
+        rows = list(self.exposures_done)
+        (rows[configuration],) = part.exposures_done
+        others = [f for f in self.cut_short if f.configuration != configuration]
+        ours = [f.model_copy(update={"configuration": configuration}) for f in part.cut_short]
+        return TaskProgress(
+            exposures_done=tuple(rows),
+            cut_short=tuple(sorted([*others, *ours], key=lambda f: f.configuration)),
+        )
 
     def or_nothing(self, request: Request) -> TaskProgress:
         """This progress, or :meth:`nothing_done` for ``request`` if nothing was recorded."""
@@ -148,6 +215,15 @@ class TaskProgress(TaskModel):
                 f"progress has {[len(row) for row in self.exposures_done]} instrument configs per "
                 f"configuration, the request {expected}"
             )
+        for n, frame in enumerate(self.cut_short):
+            if (
+                frame.configuration >= len(expected)
+                or frame.instrument_config >= expected[frame.configuration]
+            ):
+                raise InvalidArgumentError(
+                    f"progress cut_short[{n}] names instrument config {frame.instrument_config} of "
+                    f"configuration {frame.configuration}; the request has {expected} per configuration"
+                )
 
     def exposure_time_done(self, request: Request) -> float:
         """Seconds of exposure done."""
