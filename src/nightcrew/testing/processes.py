@@ -12,7 +12,15 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-__all__ = ["ChildServer", "Wrap", "descendants", "free_port", "listening_ports", "wait_until_listening"]
+__all__ = [
+    "ChildServer",
+    "Wrap",
+    "descendants",
+    "end_process",
+    "free_port",
+    "listening_ports",
+    "wait_until_listening",
+]
 
 _READY_TIMEOUT = 30.0  # wall seconds; the servers start within ~1 s on an idle machine
 _STOP_TIMEOUT = 10.0
@@ -63,6 +71,18 @@ def wait_until_listening(
                 f"{what} did not listen on port {port} (exit {process.returncode}): " + " | ".join(tail)
             )
         time.sleep(_POLL)
+
+
+def end_process(
+    process: subprocess.Popen[bytes], signal_number: int = signal.SIGTERM, *, timeout: float = _STOP_TIMEOUT
+) -> None:
+    """Send ``signal_number`` and wait for the exit; SIGKILL it if it is not gone within ``timeout``."""
+    process.send_signal(signal_number)
+    try:
+        process.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(timeout=timeout)
 
 
 def descendants(pid: int) -> list[int]:
@@ -134,9 +154,4 @@ class ChildServer:
         for child in descendants(process.pid):
             with contextlib.suppress(ProcessLookupError):
                 os.kill(child, signal.SIGKILL)
-        process.send_signal(signal.SIGTERM)
-        try:
-            process.wait(timeout=_STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=_STOP_TIMEOUT)
+        end_process(process)
