@@ -17,8 +17,8 @@ from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.errors import ConfigError
 from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole, hash_password, verify_password
-from nightcrew.modules.console._auth import LoginLimiter
 from nightcrew.modules.sim import SimTelescope
+from nightcrew.security import LoginLimiter
 
 from .conftest import OPERATOR, OPERATOR_PASSWORD, VIEWER, VIEWER_PASSWORD, ApiClient, Observatory
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 
 import numpy as np
@@ -17,6 +18,8 @@ import numpy.typing as npt
 import pytest
 from astropy.wcs import WCS  # type: ignore[import-untyped]
 
+import nightcrew.images.astrometry
+from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
 from nightcrew.images import Image, NoStarsError
 from nightcrew.images.astrometry import (
@@ -24,6 +27,7 @@ from nightcrew.images.astrometry import (
     CatalogAstrometry,
     CatalogMatcher,
     NoSolutionError,
+    SolveField,
     SolveFieldAstrometry,
     SolverUnavailableError,
     TanWcs,
@@ -123,9 +127,36 @@ async def test_astrometry_needs_detections_first(detected: Image) -> None:
 
 
 def test_bad_matcher_configuration_names_the_key() -> None:
+    config = {
+        "class": "nightcrew.images.astrometry.CatalogAstrometry",
+        "matcher": {"class": "nightcrew.images.astrometry.CatalogMatcher", "search_radius_arcmin": 0.0},
+    }
     with pytest.raises(ConfigError, match="search_radius_arcmin must be positive") as info:
-        CatalogAstrometry(search_radius_arcmin=0.0)
-    assert info.value.key == "search_radius_arcmin"
+        build_object(config)
+    assert info.value.key == "matcher"
+
+
+@pytest.mark.parametrize(
+    ("processor", "key", "solver"),
+    [
+        (
+            "CatalogAstrometry",
+            "search_radius_arcmin",
+            "matcher: {class: nightcrew.images.astrometry.CatalogMatcher",
+        ),
+        ("SolveFieldAstrometry", "timeout_s", "solver: {class: nightcrew.images.astrometry.SolveField"),
+        ("RemoteAstrometry", "url", "solver: {class: nightcrew.images.astrometry.RemoteSolver"),
+    ],
+)
+def test_a_solver_option_on_the_processor_says_where_it_goes_now(
+    processor: str, key: str, solver: str
+) -> None:
+    config = {"class": f"nightcrew.images.astrometry.{processor}", key: "http://127.0.0.1:1"}
+    with pytest.raises(ConfigError, match=re.escape(solver)) as info:
+        build_object(config)
+    assert info.value.key == key
+    with pytest.raises(ConfigError, match=re.escape(solver)):  # built in code: the same message
+        getattr(nightcrew.images.astrometry, processor)(**{key: 1.0})
 
 
 def test_matcher_solves_a_mirrored_camera() -> None:
@@ -169,13 +200,17 @@ def _mirrored_cd(pointing: Pointing) -> tuple[tuple[float, float], tuple[float, 
 @pytest.mark.solver
 async def test_solve_field_on_detected_stars_is_within_five_arcsec(detected: Image) -> None:
     solve_field_available()
-    solved = await SolveFieldAstrometry(pixel_scale_arcsec=SCALE, radius_deg=0.5, timeout_s=60.0)(detected)
+    solved = await SolveFieldAstrometry(
+        pixel_scale_arcsec=SCALE, radius_deg=0.5, solver=SolveField(timeout_s=60.0)
+    )(detected)
     assert solved.wcs is not None
     assert max_error_arcsec(solved.wcs) < 5.0
     assert solved.metadata["astrometry"].solver == "astrometry.net"
 
 
 async def test_missing_solve_field_is_one_clear_error(detected: Image) -> None:
-    solver = SolveFieldAstrometry(pixel_scale_arcsec=SCALE, executable="no-such-solve-field")
+    solver = SolveFieldAstrometry(
+        pixel_scale_arcsec=SCALE, solver=SolveField(executable="no-such-solve-field")
+    )
     with pytest.raises(SolverUnavailableError, match=r"no-such-solve-field not found: install"):
         await solver(detected)

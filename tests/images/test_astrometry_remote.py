@@ -29,6 +29,7 @@ from nightcrew.images.astrometry import (
     FirstSolution,
     NoSolutionError,
     RemoteAstrometry,
+    RemoteSolver,
     SolverUnavailableError,
 )
 from nightcrew.sim.catalog import StarCatalog
@@ -125,7 +126,9 @@ def error_arcsec(image: Image) -> float:
 
 async def test_remote_solver_round_trip(service: str) -> None:
     scale = GEOMETRY.pixel_scale_arcsec
-    solved = await RemoteAstrometry(url=service, pixel_scale_arcsec=scale, max_stars=150)(star_image())
+    solved = await RemoteAstrometry(solver=RemoteSolver(service, max_stars=150), pixel_scale_arcsec=scale)(
+        star_image()
+    )
     assert error_arcsec(solved) < 1.0
     assert solved.metadata["astrometry"].solver == "remote"
     (request,) = _SolveHandler.requests
@@ -138,17 +141,19 @@ async def test_remote_solver_round_trip(service: str) -> None:
 
 async def test_remote_no_solution_is_reported(service: str) -> None:
     with pytest.raises(NoSolutionError, match="needs a position hint"):
-        await RemoteAstrometry(url=service, pixel_scale_arcsec=1.16)(star_image(with_position=False))
+        await RemoteAstrometry(solver=RemoteSolver(service), pixel_scale_arcsec=1.16)(
+            star_image(with_position=False)
+        )
 
 
 async def test_remote_http_error_carries_the_service_message(service: str) -> None:
     with pytest.raises(AstrometryError, match="HTTP 400: unknown request /v2/solve"):
-        await RemoteAstrometry(url=f"{service}/v2", pixel_scale_arcsec=1.16)(star_image())
+        await RemoteAstrometry(solver=RemoteSolver(f"{service}/v2"), pixel_scale_arcsec=1.16)(star_image())
 
 
 async def test_unreachable_service_falls_back_to_the_next_solver(service: str) -> None:
     dead = service.rsplit(":", 1)[0] + ":9"  # the discard port: nothing listens on loopback
-    remote = RemoteAstrometry(url=dead, pixel_scale_arcsec=1.16, timeout_s=5.0)
+    remote = RemoteAstrometry(solver=RemoteSolver(dead, timeout_s=5.0), pixel_scale_arcsec=1.16)
     with pytest.raises(SolverUnavailableError, match="unreachable"):
         await remote(star_image())
     chained = FirstSolution([remote, CatalogAstrometry(pixel_scale_arcsec=GEOMETRY.pixel_scale_arcsec)])

@@ -56,7 +56,7 @@ async def test_the_remote_astrometry_processor_writes_the_wcs(solver_url: str, f
 
     catalog = Table({"x": field.x, "y": field.y, "flux": field.flux})
     image = Image(field.data, header={"RA": 100.1, "DEC": 30.05, "PIXSCALE": 1.16}, catalog=catalog)
-    solved = await RemoteAstrometry(url=solver_url)(image)
+    solved = await RemoteAstrometry(solver=RemoteSolver(solver_url))(image)
     ra, dec = solved.pixel_to_sky([(field.shape[1] - 1) / 2.0], [(field.shape[0] - 1) / 2.0])
     assert sky_distance_arcsec(float(ra[0]), float(dec[0]), 100.0, 30.0) < 1.0
 

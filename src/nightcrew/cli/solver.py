@@ -2,7 +2,8 @@
 
 Listens for ``POST /solve`` with a star list (JSON, see ``docs/pipeline.md``) and answers with
 FITS WCS cards, well under a second with a position hint. Point an astrometry processor at it with
-``nightcrew.images.astrometry.RemoteAstrometry`` (``url: http://HOST:PORT``), or ``nightcrew
+``nightcrew.images.astrometry.RemoteAstrometry`` (``solver: {class: ...RemoteSolver, url: http://HOST:PORT}``),
+or ``nightcrew
 reduce --solver URL``. Prints ``listening on URL`` once ready; stops on SIGINT/SIGTERM.
 """
 

@@ -105,7 +105,11 @@ def check_object(
         location = location_in(node, key, owner)
         parameter = spec.parameters.get(key)
         if parameter is None:
-            if not spec.open_ended:
+            # A class may say where a key it no longer takes has gone (e.g. into a nested object).
+            moved = getattr(cls, "config_moved_keys", {}).get(key)
+            if moved is not None:
+                yield _problem(f"key '{key}' of {path} {moved}", location, join_key(prefix, key))
+            elif not spec.open_ended:
                 close = difflib.get_close_matches(key, list(spec.parameters), n=1)
                 hint = f" (did you mean '{close[0]}'?)" if close else ""
                 yield _problem(f"unknown key '{key}' for {path}{hint}", location, join_key(prefix, key))

@@ -6,7 +6,7 @@ import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
-from nightcrew.comm.xmpp._settings import parse_jid
+from nightcrew.comm.xmpp import parse_jid
 from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
 

@@ -16,7 +16,7 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from nightcrew.comm.xmpp._settings import is_loopback
+from nightcrew.comm.xmpp import is_loopback
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.server._accounts import Account
 from nightcrew.server._tls import make_self_signed

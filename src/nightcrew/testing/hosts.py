@@ -94,11 +94,20 @@ class Host:
         return f"Host({self.name!r}, {self.addresses})"
 
     @property
-    def netns(self) -> str:
-        """Path of the namespace (``/proc/<holder>/ns/net``)."""
+    def holder_pid(self) -> int:
+        """PID of the process that holds the namespace."""
         if self._holder is None:
             raise RuntimeError(f"host {self.name} is not started")
-        return f"/proc/{self._holder.pid}/ns/net"
+        return self._holder.pid
+
+    @property
+    def started(self) -> bool:
+        return self._holder is not None
+
+    @property
+    def netns(self) -> str:
+        """Path of the namespace (``/proc/<holder>/ns/net``)."""
+        return f"/proc/{self.holder_pid}/ns/net"
 
     def address(self, seen_from: str) -> str:
         """This host's address as ``seen_from`` (a host name or :data:`OUTSIDE`) reaches it."""

@@ -3,16 +3,11 @@
 ``indiserver`` has no bind-address option: it listens on every interface of its network namespace.
 So it never runs in the host's namespace. The choice made here:
 
-* A **holder** process (``unshare --net``) owns a fresh network namespace; the namespace lives as
-  long as the holder does. The holder reads its stdin (a pipe from the test process) and exits at
-  end of file, and ``setpriv --pdeathsig KILL`` kills it if the test process dies: either way the
-  namespace and everything in it disappears by itself.
-* A **veth pair** links the namespace to the host: the host end gets ``10.a.b.1/30``, the
-  namespace end ``10.a.b.2/30`` (a random /30 not routed on this machine). Only the test's
-  own host end can reach the namespace, and deleting the namespace deletes the pair.
-* ``indiserver`` runs inside (``nsenter --net=/proc/HOLDER/ns/net``, which does not fork, so the
-  PID we hold is indiserver's own) with ``--pdeathsig KILL``. Its drivers exit when indiserver's
-  pipe to them closes.
+* The namespace is a :class:`~nightcrew.testing.hosts.Hosts` of one host with a veth link to the
+  test's own namespace (see there how its holder process makes it clean up by itself).
+* ``indiserver`` runs inside (``nsenter --net=...``, which does not fork, so the PID we hold is
+  indiserver's own) with ``--pdeathsig KILL``. Its drivers exit when indiserver's pipe to them
+  closes.
 
 So ordinary async tests in the test process reach the server at ``server.host:server.port``, like
 any remote indiserver a user points nightcrew at, and :meth:`IndiServer.kill` /
@@ -28,10 +23,7 @@ signal follows the thread that started the process.
 
 from __future__ import annotations
 
-import ipaddress
-import itertools
 import os
-import random
 import shutil
 import signal
 import socket
@@ -40,6 +32,9 @@ import time
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import IO
+
+from nightcrew.testing.hosts import OUTSIDE, Hosts, hosts_missing
+from nightcrew.testing.processes import descendants
 
 __all__ = [
     "SIMULATORS",
@@ -60,19 +55,15 @@ SIMULATORS: dict[str, str] = {
     "indi_simulator_rotator": "Rotator Simulator",
 }
 
-_TOOLS = ("ip", "unshare", "nsenter", "setpriv", "indiserver")
 _READY_TIMEOUT = 30.0  # wall seconds; indiserver and its drivers start within ~1 s on an idle machine
 _POLL = 0.02
-_interface_numbers = itertools.count()
+_HOST = "indi"
 
 
 def indi_missing() -> list[str]:
     """What this machine lacks to run indiserver in a namespace (empty when nothing)."""
-    missing = [tool for tool in _TOOLS if shutil.which(tool) is None]
-    missing += [driver for driver in SIMULATORS if shutil.which(driver) is None]
-    if os.geteuid() != 0:
-        missing.append("root (network namespaces)")
-    return missing
+    missing = [program for program in ("indiserver", *SIMULATORS) if shutil.which(program) is None]
+    return hosts_missing() + missing
 
 
 def indi_available() -> bool:
@@ -80,131 +71,44 @@ def indi_available() -> bool:
     return not indi_missing()
 
 
-def _run(*args: str) -> None:
-    result = subprocess.run(args, capture_output=True, text=True, timeout=30, check=False)
-    if result.returncode != 0:
-        raise RuntimeError(f"{' '.join(args)} failed: {result.stderr.strip() or result.returncode}")
-
-
-def _routed_networks() -> list[ipaddress.IPv4Network]:
-    out = subprocess.run(
-        ["ip", "-4", "route", "show", "table", "all"], capture_output=True, text=True, check=True
-    )
-    networks = []
-    for line in out.stdout.splitlines():
-        word = line.split()[0] if line.split() else ""
-        if word in ("broadcast", "local") and len(line.split()) > 1:
-            word = line.split()[1]
-        try:
-            networks.append(ipaddress.IPv4Network(word, strict=False))
-        except ValueError:
-            continue  # "default", "unreachable" ...
-    return networks
-
-
-def _free_subnet() -> ipaddress.IPv4Network:
-    routed = _routed_networks()
-    rng = random.Random()
-    for _ in range(100):
-        candidate = ipaddress.IPv4Network(
-            (f"10.{rng.randrange(64, 255)}.{rng.randrange(256)}.{rng.randrange(64) * 4}", 30)
-        )
-        if not any(candidate.overlaps(net) for net in routed if net.prefixlen > 0):
-            return candidate
-    raise RuntimeError("no free 10.x.y.z/30 subnet found for the test namespace")
-
-
 class PrivateNetwork:
     """A network namespace of its own, reachable from the host through a veth pair.
 
-    ``host`` is the namespace's address as seen from the test process.
+    ``host`` is the namespace's address as seen from the test process; ``host_side`` the veth
+    interface on the test's side.
     """
 
     def __init__(self) -> None:
-        self._holder: subprocess.Popen[bytes] | None = None
-        self.host = ""
-        self.host_side = ""
+        self._hosts = Hosts([_HOST], outside=[_HOST])
+
+    @property
+    def started(self) -> bool:
+        return self._hosts[_HOST].started
 
     @property
     def pid(self) -> int:
-        if self._holder is None:
-            raise RuntimeError("the private network is not started")
-        return self._holder.pid
+        """PID of the process that holds the namespace."""
+        return self._hosts[_HOST].holder_pid
 
     @property
-    def netns_path(self) -> str:
-        return f"/proc/{self.pid}/ns/net"
+    def host(self) -> str:
+        return self._hosts[_HOST].address(OUTSIDE)
+
+    @property
+    def host_side(self) -> str:
+        link = self._hosts.link(_HOST, OUTSIDE)
+        return link.interfaces[link.ends.index(OUTSIDE)]
 
     def start(self) -> None:
-        own = os.readlink("/proc/self/ns/net")
-        self._holder = subprocess.Popen(
-            ["setpriv", "--pdeathsig", "KILL", "unshare", "--net", "--", "sh", "-c", "exec cat >/dev/null"],
-            stdin=subprocess.PIPE,
-        )
-        deadline = time.monotonic() + _READY_TIMEOUT
-        while _netns_of(self.pid) in (own, None):
-            if self._holder.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError(f"unshare --net did not make a namespace (exit {self._holder.poll()})")
-            time.sleep(_POLL)
-        subnet = _free_subnet()
-        host_address, inner_address = list(subnet.hosts())
-        number = f"{os.getpid():x}{next(_interface_numbers):x}"
-        self.host_side, inner_side = f"nc{number}h", f"nc{number}n"
-        try:
-            _run(
-                "ip",
-                "link",
-                "add",
-                self.host_side,
-                "type",
-                "veth",
-                "peer",
-                "name",
-                inner_side,
-                "netns",
-                str(self.pid),
-            )
-            _run("ip", "addr", "add", f"{host_address}/30", "dev", self.host_side)
-            _run("ip", "link", "set", self.host_side, "up")
-            inside = ("nsenter", f"--net={self.netns_path}", "--")
-            _run(*inside, "ip", "link", "set", "lo", "up")
-            _run(*inside, "ip", "addr", "add", f"{inner_address}/30", "dev", inner_side)
-            _run(*inside, "ip", "link", "set", inner_side, "up")
-        except BaseException:
-            self.stop()
-            raise
-        self.host = str(inner_address)
+        self._hosts.start()
 
     def command(self, args: Sequence[str]) -> list[str]:
         """``args`` as a command that runs inside the namespace and dies with the test process."""
-        return ["nsenter", f"--net={self.netns_path}", "--", "setpriv", "--pdeathsig", "KILL", *args]
+        return self._hosts[_HOST].command(args)
 
     def stop(self) -> None:
-        """End the holder: the namespace and the veth pair go with it."""
-        holder, self._holder = self._holder, None
-        if holder is None:
-            return
-        if holder.stdin is not None:
-            holder.stdin.close()
-        try:
-            holder.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            holder.kill()
-            holder.wait(timeout=10)
-        # The kernel deletes the namespace, and with it the veth pair, shortly after its last process.
-        deadline = time.monotonic() + 10.0
-        while self.host_side and Path(f"/sys/class/net/{self.host_side}").exists():
-            if time.monotonic() > deadline:
-                _run("ip", "link", "del", self.host_side)
-                break
-            time.sleep(_POLL)
-
-
-def _netns_of(pid: int) -> str | None:
-    try:
-        return os.readlink(f"/proc/{pid}/ns/net")
-    except OSError:
-        return None
+        """End the namespace: the veth pair goes with it; safe to call twice."""
+        self._hosts.stop()
 
 
 class IndiServer:
@@ -254,7 +158,7 @@ class IndiServer:
         has defined its properties."""
         if self._process is not None and self._process.poll() is None:
             return
-        if self.network._holder is None:
+        if not self.network.started:
             self.network.start()
         output: IO[bytes] | int = subprocess.DEVNULL
         if self._log_dir is not None:
@@ -304,7 +208,7 @@ class IndiServer:
         if pid is None:
             return {}
         found = {}
-        for child in _children(pid):
+        for child in descendants(pid):
             try:
                 program = Path(f"/proc/{child}/cmdline").read_bytes().split(b"\0")[0].decode()
             except OSError:
@@ -318,16 +222,6 @@ class IndiServer:
         self.kill()
         if self._own_network:
             self.network.stop()
-
-
-def _children(pid: int) -> list[int]:
-    children = []
-    for task in Path(f"/proc/{pid}/task").glob("*"):
-        try:
-            children += [int(c) for c in (task / "children").read_text().split()]
-        except OSError:
-            continue
-    return children
 
 
 def _undefined_devices(host: str, port: int, devices: list[str], deadline: float) -> set[str]:

@@ -24,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from nightcrew.testing.processes import free_port, wait_until_listening
+from nightcrew.testing.processes import end_process, free_port, wait_until_listening
 
 __all__ = ["PostgresCluster", "postgres_missing"]
 
@@ -130,12 +130,7 @@ class PostgresCluster:
         process, self._process = self._process, None
         if process is None or process.poll() is not None:
             return
-        process.send_signal(signal.SIGINT)
-        try:
-            process.wait(timeout=_STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=_STOP_TIMEOUT)
+        end_process(process, signal.SIGINT, timeout=_STOP_TIMEOUT)
 
     async def create_database(self, prefix: str = "test") -> str:
         """A new empty database; return its DSN."""

@@ -1,15 +1,29 @@
-"""Helpers for test fixtures that run servers as child processes: ports, readiness, descendants."""
+"""Helpers for test fixtures that run servers as child processes: ports, readiness, descendants,
+and :class:`ChildServer`, the start-wait-stop life of one such server."""
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
 import socket
 import subprocess
 import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
-__all__ = ["descendants", "free_port", "listening_ports", "wait_until_listening"]
+__all__ = [
+    "ChildServer",
+    "Wrap",
+    "descendants",
+    "end_process",
+    "free_port",
+    "listening_ports",
+    "wait_until_listening",
+]
 
 _READY_TIMEOUT = 30.0  # wall seconds; the servers start within ~1 s on an idle machine
+_STOP_TIMEOUT = 10.0
 _POLL = 0.02
 _LISTEN = "0A"  # TCP state LISTEN in /proc/net/tcp
 
@@ -59,6 +73,18 @@ def wait_until_listening(
         time.sleep(_POLL)
 
 
+def end_process(
+    process: subprocess.Popen[bytes], signal_number: int = signal.SIGTERM, *, timeout: float = _STOP_TIMEOUT
+) -> None:
+    """Send ``signal_number`` and wait for the exit; SIGKILL it if it is not gone within ``timeout``."""
+    process.send_signal(signal_number)
+    try:
+        process.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(timeout=timeout)
+
+
 def descendants(pid: int) -> list[int]:
     """PIDs of every process below ``pid`` (children first, then theirs)."""
     found: list[int] = []
@@ -73,3 +99,59 @@ def descendants(pid: int) -> list[int]:
             found += children
             queue += children
     return found
+
+
+#: Turns a command into one that runs elsewhere, e.g. :meth:`nightcrew.testing.hosts.Host.command`.
+Wrap = Callable[[Sequence[str]], list[str]]
+
+
+class ChildServer:
+    """A server run as a child process on ``host:port`` with its files in ``directory``.
+
+    Subclasses write their configuration and call :meth:`_spawn`; :meth:`stop` ends the server and
+    its per-client children by PID (SIGTERM ends only the listener, and the sessions would live on in
+    its children), so clients lose their links at once.
+
+    Args:
+        directory: Where config, log and served files go.
+        host: Address to listen on (a loopback one, or a simulated host's address).
+        port: TCP port; a free one on ``host`` by default.
+        wrap: Turns the command into one running elsewhere (a network namespace); as is by default.
+    """
+
+    def __init__(
+        self, directory: Path, *, host: str = "127.0.0.1", port: int | None = None, wrap: Wrap | None = None
+    ) -> None:
+        self.directory = directory
+        self.host = host
+        self.port = port or free_port(host)
+        self._wrap = wrap or list
+        self._process: subprocess.Popen[bytes] | None = None
+
+    @property
+    def pid(self) -> int | None:
+        """The server's PID while it runs."""
+        process = self._process
+        return process.pid if process is not None and process.poll() is None else None
+
+    def _spawn(self, command: Sequence[str], *, what: str, log: Path, new_session: bool = False) -> None:
+        """Run ``command`` (wrapped) with its output appended to ``log``; return once it listens."""
+        with open(log, "ab") as output:
+            self._process = subprocess.Popen(
+                self._wrap(command),
+                stdin=subprocess.DEVNULL,
+                stdout=output,
+                stderr=output,
+                start_new_session=new_session,
+            )
+        wait_until_listening(self._process, self.port, what=what, log=log)
+
+    def stop(self) -> None:
+        """Stop the server and its children by PID; safe to call twice."""
+        process, self._process = self._process, None
+        if process is None or process.poll() is not None:
+            return
+        for child in descendants(process.pid):
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(child, signal.SIGKILL)
+        end_process(process)

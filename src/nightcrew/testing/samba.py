@@ -13,23 +13,16 @@ network namespace (:meth:`nightcrew.testing.hosts.Host.command`).
 
 from __future__ import annotations
 
-import contextlib
 import getpass
-import os
-import signal
 import subprocess
-from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from nightcrew.testing.processes import descendants, free_port, wait_until_listening
+from nightcrew.testing.processes import ChildServer
 
 __all__ = ["SMBD", "SambaServer", "samba_missing"]
 
 SMBD = "/usr/sbin/smbd"
 _PDBEDIT = "/usr/bin/pdbedit"
-_STOP_TIMEOUT = 10.0
-
-Wrap = Callable[[Sequence[str]], list[str]]
 
 
 def samba_missing() -> list[str]:
@@ -37,28 +30,16 @@ def samba_missing() -> list[str]:
     return [f"{tool} (apt-get install samba)" for tool in (SMBD, _PDBEDIT) if not Path(tool).is_file()]
 
 
-class SambaServer:
+class SambaServer(ChildServer):
     """smbd on ``host:port`` sharing ``files/`` as ``[files]`` to ``username``/``password``.
 
-    Args:
-        directory: Where config, state, log and the shared files go (created if missing).
-        host: Address to listen on (a loopback one, or a simulated host's address).
-        port: TCP port; a free loopback port by default.
-        wrap: Turns the command into one running elsewhere (a network namespace); as is by default.
+    Config, state, log and the shared files go in ``directory`` (created if missing); the arguments
+    are :class:`~nightcrew.testing.processes.ChildServer`'s.
     """
 
     share = "files"
     username = "observer"
     password = "secret-for-tests"
-
-    def __init__(
-        self, directory: Path, *, host: str = "127.0.0.1", port: int | None = None, wrap: Wrap | None = None
-    ) -> None:
-        self.directory = directory
-        self.host = host
-        self.port = port or free_port(host)
-        self._wrap = wrap or list
-        self._process: subprocess.Popen[bytes] | None = None
 
     @property
     def config(self) -> Path:
@@ -68,12 +49,6 @@ class SambaServer:
     def files(self) -> Path:
         """The shared directory, as seen on this machine."""
         return self.directory / "files"
-
-    @property
-    def pid(self) -> int | None:
-        """smbd's PID while it runs."""
-        process = self._process
-        return process.pid if process is not None and process.poll() is None else None
 
     def prepare(self) -> None:
         """Write smb.conf and add the account (once)."""
@@ -132,31 +107,10 @@ class SambaServer:
             return
         if not self.config.exists():
             self.prepare()
-        log = self.directory / "smbd.out"
-        with open(log, "ab") as output:
-            self._process = subprocess.Popen(
-                self._wrap(
-                    [SMBD, "--foreground", "--no-process-group", "--debug-stdout", "-s", str(self.config)]
-                ),
-                stdin=subprocess.DEVNULL,
-                stdout=output,
-                stderr=output,
-                # smbd signals its whole process group when it ends: give it one of its own.
-                start_new_session=True,
-            )
-        wait_until_listening(self._process, self.port, what="smbd", log=log)
-
-    def stop(self) -> None:
-        """Stop smbd and its per-client processes by PID, so clients lose their links at once."""
-        process, self._process = self._process, None
-        if process is None or process.poll() is not None:
-            return
-        for child in descendants(process.pid):
-            with contextlib.suppress(ProcessLookupError):
-                os.kill(child, signal.SIGKILL)
-        process.send_signal(signal.SIGTERM)
-        try:
-            process.wait(timeout=_STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=_STOP_TIMEOUT)
+        # smbd signals its whole process group when it ends: give it one of its own.
+        self._spawn(
+            [SMBD, "--foreground", "--no-process-group", "--debug-stdout", "-s", str(self.config)],
+            what="smbd",
+            log=self.directory / "smbd.out",
+            new_session=True,
+        )

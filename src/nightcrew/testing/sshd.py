@@ -13,24 +13,17 @@ network namespace (:meth:`nightcrew.testing.hosts.Host.command`).
 
 from __future__ import annotations
 
-import contextlib
 import getpass
-import os
 import shutil
-import signal
 import subprocess
-from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from nightcrew.testing.processes import descendants, free_port, wait_until_listening
+from nightcrew.testing.processes import ChildServer, Wrap
 
 __all__ = ["SSHD", "SshServer", "sshd_missing"]
 
 SSHD = "/usr/sbin/sshd"
 _TOOLS = ("ssh-keygen",)
-_STOP_TIMEOUT = 10.0
-
-Wrap = Callable[[Sequence[str]], list[str]]
 
 
 def sshd_missing() -> list[str]:
@@ -39,25 +32,18 @@ def sshd_missing() -> list[str]:
     return missing + [tool for tool in _TOOLS if shutil.which(tool) is None]
 
 
-class SshServer:
+class SshServer(ChildServer):
     """sshd on ``host:port`` with files in ``directory``.
 
-    Args:
-        directory: Where config, keys, log and served files go (created if missing).
-        host: Address to listen on (a loopback one, or a simulated host's address).
-        port: TCP port; a free loopback port by default.
-        wrap: Turns the command into one running elsewhere (a network namespace); as is by default.
+    Config, keys, log and served files go in ``directory`` (created if missing); the arguments are
+    :class:`~nightcrew.testing.processes.ChildServer`'s.
     """
 
     def __init__(
         self, directory: Path, *, host: str = "127.0.0.1", port: int | None = None, wrap: Wrap | None = None
     ) -> None:
-        self.directory = directory
-        self.host = host
-        self.port = port or free_port(host)
+        super().__init__(directory, host=host, port=port, wrap=wrap)
         self.username = getpass.getuser()
-        self._wrap = wrap or list
-        self._process: subprocess.Popen[bytes] | None = None
 
     @property
     def client_key(self) -> Path:
@@ -73,12 +59,6 @@ class SshServer:
     def files(self) -> Path:
         """A directory clients may use for their files."""
         return self.directory / "files"
-
-    @property
-    def pid(self) -> int | None:
-        """sshd's PID while it runs."""
-        process = self._process
-        return process.pid if process is not None and process.poll() is None else None
 
     def prepare(self) -> None:
         """Write config and keys (once; a restart keeps the host key, as a real server does)."""
@@ -119,35 +99,11 @@ class SshServer:
             return
         self.prepare()
         Path("/run/sshd").mkdir(mode=0o755, exist_ok=True)  # sshd's privilege-separation directory
-        log = self.directory / "sshd.log"
-        with open(log, "ab") as output:
-            self._process = subprocess.Popen(
-                self._wrap([SSHD, "-D", "-e", "-f", str(self.directory / "sshd_config")]),
-                stdin=subprocess.DEVNULL,
-                stdout=output,
-                stderr=output,
-            )
-        wait_until_listening(self._process, self.port, what="sshd", log=log)
-
-    def stop(self) -> None:
-        """Stop sshd and its per-connection processes by PID, so clients lose their links at once."""
-        process, self._process = self._process, None
-        if process is None or process.poll() is not None:
-            return
-        # SIGTERM ends only the listener: sessions live on in its children, so end those first.
-        for child in descendants(process.pid):
-            _kill(child)
-        process.send_signal(signal.SIGTERM)
-        try:
-            process.wait(timeout=_STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=_STOP_TIMEOUT)
-
-
-def _kill(pid: int) -> None:
-    with contextlib.suppress(ProcessLookupError):
-        os.kill(pid, signal.SIGKILL)
+        self._spawn(
+            [SSHD, "-D", "-e", "-f", str(self.directory / "sshd_config")],
+            what="sshd",
+            log=self.directory / "sshd.log",
+        )
 
 
 def _run(*args: str) -> None:

@@ -15,8 +15,8 @@ from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole
-from nightcrew.modules.console._auth import hash_password
 from nightcrew.modules.sim import SimCamera, SimFilterWheel, SimFocuser, SimRoof, SimTelescope
+from nightcrew.security import hash_password
 from nightcrew.site import Site
 from nightcrew.vfs import MemoryFile, VirtualFileSystem
 

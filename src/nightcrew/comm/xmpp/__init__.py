@@ -14,5 +14,6 @@ The wire protocol is in docs/protocol.md. slixmpp is imported only when a comm o
 
 from nightcrew.comm.xmpp._comm import XmppComm
 from nightcrew.comm.xmpp._errors import XmppAuthError
+from nightcrew.comm.xmpp._settings import XmppSettings, is_loopback, parse_jid
 
-__all__ = ["XmppAuthError", "XmppComm"]
+__all__ = ["XmppAuthError", "XmppComm", "XmppSettings", "is_loopback", "parse_jid"]

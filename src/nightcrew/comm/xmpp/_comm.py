@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.comm.base import Comm, PendingCall
-from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings, is_loopback, parse_jid, parse_server
+from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.interfaces.base import interface_by_name
 from nightcrew.security import Policy
@@ -83,30 +83,18 @@ class XmppComm(Comm):
         if dialect not in DIALECTS:
             raise ConfigError(f"unknown dialect '{dialect}' (known: {', '.join(DIALECTS)})", key="dialect")
         self._dialect = dialect
-        local, domain, resource = parse_jid(jid)
-        host, port = parse_server(server, domain)
-        if not password:
-            raise ConfigError("an XmppComm needs a password", key="password")
-        if require_tls is False and not is_loopback(host):
-            raise ConfigError(f"TLS cannot be turned off off loopback ({host})", key="require_tls")
-        if ping_interval is not None and not ping_interval > 0:
-            raise ConfigError(f"must be > 0 seconds or null, got {ping_interval}", key="ping_interval")
-        if not ping_timeout > 0:
-            raise ConfigError(f"must be > 0 seconds, got {ping_timeout}", key="ping_timeout")
-        self._settings = XmppSettings(
-            local=local,
-            domain=domain,
-            resource=resource or (PYOBS_RESOURCE if dialect == "pyobs" else DEFAULT_RESOURCE),
-            password=password,
-            host=host,
-            port=port,
-            room_jid=(room if "@" in room else f"{room}@conference.{domain}").lower(),
-            require_tls=not is_loopback(host) if require_tls is None else require_tls,
+        self._settings = XmppSettings.from_options(
+            jid,
+            password,
+            resource=PYOBS_RESOURCE if dialect == "pyobs" else DEFAULT_RESOURCE,
+            room=room,
+            server=server,
+            require_tls=require_tls,
             verify_tls=verify_tls,
             ca_file=ca_file,
             connect_timeout=connect_timeout,
-            ping_interval=None if ping_interval is None else float(ping_interval),
-            ping_timeout=float(ping_timeout),
+            ping_interval=ping_interval,
+            ping_timeout=ping_timeout,
         )
         self._connection: XmppConnection | None = None
         self._rpc: RpcChannel | None = None

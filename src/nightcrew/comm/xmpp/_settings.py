@@ -68,6 +68,53 @@ class XmppSettings:
     ping_interval: float | None = 10.0
     ping_timeout: float = 10.0
 
+    @classmethod
+    def from_options(
+        cls,
+        jid: str,
+        password: str,
+        *,
+        resource: str,
+        room: str | None,
+        server: str | None = None,
+        require_tls: bool | None = None,
+        verify_tls: bool = True,
+        ca_file: str | None = None,
+        connect_timeout: float = 10.0,
+        ping_interval: float | None = 10.0,
+        ping_timeout: float = 10.0,
+    ) -> XmppSettings:
+        """Settings from a config's keys, each checked (ConfigError naming the key).
+
+        ``resource`` is used when the JID names none; ``room`` is a room JID or a name in the
+        domain's ``conference.`` service (None: no room).
+        """
+        local, domain, own_resource = parse_jid(jid)
+        host, port = parse_server(server, domain)
+        if not password:
+            raise ConfigError(f"{local}@{domain} needs a password", key="password")
+        if require_tls is False and not is_loopback(host):
+            raise ConfigError(f"TLS cannot be turned off off loopback ({host})", key="require_tls")
+        if ping_interval is not None and not ping_interval > 0:
+            raise ConfigError(f"must be > 0 seconds or null, got {ping_interval}", key="ping_interval")
+        if not ping_timeout > 0:
+            raise ConfigError(f"must be > 0 seconds, got {ping_timeout}", key="ping_timeout")
+        return cls(
+            local=local,
+            domain=domain,
+            resource=own_resource or resource,
+            password=password,
+            host=host,
+            port=port,
+            room_jid="" if room is None else (room if "@" in room else f"{room}@conference.{domain}").lower(),
+            require_tls=not is_loopback(host) if require_tls is None else require_tls,
+            verify_tls=verify_tls,
+            ca_file=ca_file,
+            connect_timeout=connect_timeout,
+            ping_interval=None if ping_interval is None else float(ping_interval),
+            ping_timeout=float(ping_timeout),
+        )
+
     @property
     def bare_jid(self) -> str:
         return f"{self.local}@{self.domain}"

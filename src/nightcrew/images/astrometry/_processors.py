@@ -5,11 +5,14 @@ From YAML, after a detection step::
     - class: nightcrew.images.astrometry.CatalogAstrometry
       pixel_scale_arcsec: 1.16        # unbinned; times XBINNING
     - class: nightcrew.images.astrometry.SolveFieldAstrometry
-      timeout_s: 60
+      solver: {class: nightcrew.images.astrometry.SolveField, timeout_s: 60}
     - class: nightcrew.images.astrometry.RemoteAstrometry
-      url: http://solver.example.org:8080
+      solver: {class: nightcrew.images.astrometry.RemoteSolver, url: "http://solver.example.org:8080"}
     - class: nightcrew.images.astrometry.FirstSolution   # the first solver that succeeds
       solvers: [{class: ...CatalogAstrometry}, {class: ...SolveFieldAstrometry}]
+
+Each processor takes its configured solver object (``matcher`` or ``solver``) and keeps only what
+it reads from the image (hints, catalog, star column); the solver's own options are set on it.
 
 The result is also in ``image.metadata["astrometry"]`` (:class:`AstrometryResult`).
 """
@@ -17,9 +20,10 @@ The result is also in ``image.metadata["astrometry"]`` (:class:`AstrometryResult
 from __future__ import annotations
 
 import asyncio
+import inspect
 import threading
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, ClassVar
 
 from astropy.io import fits  # type: ignore[import-untyped]
 
@@ -59,6 +63,23 @@ def _configured(build: Any, **arguments: Any) -> Any:
         raise ConfigError(str(exc), key=name if name in arguments else None) from exc
 
 
+def _moved_into(solver: type, key: str) -> dict[str, str]:
+    """The solver's options, once the processor's own keys, → where they are set now."""
+    return {
+        name: f"is an option of the solver object now: {key}: "
+        f"{{class: nightcrew.images.astrometry.{solver.__name__}, {name}: ...}}"
+        for name in inspect.signature(solver).parameters
+    }
+
+
+def _reject_moved(processor: type, options: Mapping[str, Any]) -> None:
+    """A clear error for a moved key given in code (a config file's is reported by the validator)."""
+    moved: dict[str, str] = getattr(processor, "config_moved_keys", {})
+    for name in options:
+        if name in moved:
+            raise ConfigError(f"key '{name}' of {processor.__name__} {moved[name]}", key=name)
+
+
 class CatalogAstrometry(ImageProcessor):
     """Fast solve near the header's RA/DEC against the star catalog (:class:`CatalogMatcher`).
 
@@ -71,8 +92,12 @@ class CatalogAstrometry(ImageProcessor):
             are real, so a matcher with another seed than the camera's sees other faint stars and
             fails on most frames.
         flux_column: Catalog column ranking the detected stars.
-        **matcher: Options of :class:`CatalogMatcher` (``search_radius_arcmin``, ...).
+        matcher: The configured :class:`CatalogMatcher` (``search_radius_arcmin``, ...); its defaults
+            when None.
+        **kwargs: Processor options.
     """
+
+    config_moved_keys: ClassVar[dict[str, str]] = _moved_into(CatalogMatcher, "matcher")
 
     def __init__(
         self,
@@ -81,15 +106,10 @@ class CatalogAstrometry(ImageProcessor):
         catalog_depth: float | None = None,
         catalog_seed: int | None = None,
         flux_column: str = "flux",
-        bright_stars: int = 40,
-        fit_stars: int = 400,
-        search_radius_arcmin: float = 15.0,
-        scale_tolerance: float = 0.03,
-        match_radius_px: float = 2.0,
-        min_matches: int = 10,
-        allow_flip: bool = True,
+        matcher: CatalogMatcher | None = None,
         **kwargs: Any,
     ) -> None:
+        _reject_moved(CatalogAstrometry, kwargs)
         super().__init__(**kwargs)
         require(
             pixel_scale_arcsec is None or pixel_scale_arcsec > 0,
@@ -103,16 +123,7 @@ class CatalogAstrometry(ImageProcessor):
         _configured(StarCatalog, depth=_DEFAULT_DEPTH if catalog_depth is None else catalog_depth)
         self._catalogs: dict[tuple[float, int], StarCatalog] = {}
         self._catalog_lock = threading.Lock()
-        self.matcher: CatalogMatcher = _configured(
-            CatalogMatcher,
-            bright_stars=bright_stars,
-            fit_stars=fit_stars,
-            search_radius_arcmin=search_radius_arcmin,
-            scale_tolerance=scale_tolerance,
-            match_radius_px=match_radius_px,
-            min_matches=min_matches,
-            allow_flip=allow_flip,
-        )
+        self.matcher = matcher or CatalogMatcher()
 
     async def __call__(self, image: Image) -> Image:
         match = await asyncio.to_thread(self._blocking_solve, image)
@@ -204,9 +215,12 @@ class SolveFieldAstrometry(_HintedSolver):
         scale_tolerance: Relative uncertainty of the scale hint.
         radius_deg: Search radius around the header's position.
         use_pixels: Let solve-field find the stars even when the image has a catalog.
-        executable, timeout_s, cpu_limit_s, max_stars, tweak_order, downsample, config:
-            See :class:`SolveField`.
+        solver: The configured :class:`SolveField` (``timeout_s``, ``config``, ...); its defaults
+            when None.
+        **kwargs: Processor options.
     """
+
+    config_moved_keys: ClassVar[dict[str, str]] = _moved_into(SolveField, "solver")
 
     def __init__(
         self,
@@ -216,15 +230,10 @@ class SolveFieldAstrometry(_HintedSolver):
         radius_deg: float = 1.0,
         flux_column: str = "flux",
         use_pixels: bool = False,
-        executable: str = "solve-field",
-        timeout_s: float = 120.0,
-        cpu_limit_s: float = 60.0,
-        max_stars: int = 200,
-        tweak_order: int = 2,
-        downsample: int = 2,
-        config: str | None = None,
+        solver: SolveField | None = None,
         **kwargs: Any,
     ) -> None:
+        _reject_moved(SolveFieldAstrometry, kwargs)
         super().__init__(
             pixel_scale_arcsec=pixel_scale_arcsec,
             scale_tolerance=scale_tolerance,
@@ -233,16 +242,7 @@ class SolveFieldAstrometry(_HintedSolver):
             **kwargs,
         )
         self.use_pixels = use_pixels
-        self.solver: SolveField = _configured(
-            SolveField,
-            executable=executable,
-            timeout_s=timeout_s,
-            cpu_limit_s=cpu_limit_s,
-            max_stars=max_stars,
-            tweak_order=tweak_order,
-            downsample=downsample,
-            config=config,
-        )
+        self.solver = solver or SolveField()
 
     async def __call__(self, image: Image) -> Image:
         hints = self.hints(image)
@@ -259,24 +259,29 @@ class RemoteAstrometry(_HintedSolver):
     """A remote solve service (:class:`RemoteSolver`, JSON API documented there) on the detected stars.
 
     Args:
-        url: Base URL of the service.
-        timeout_s: Limit of one request.
-        max_stars: Brightest stars sent.
+        solver: The configured :class:`RemoteSolver` (``url``, ``timeout_s``, ``max_stars``).
         pixel_scale_arcsec, scale_tolerance, radius_deg: Hints, as for :class:`SolveFieldAstrometry`.
+        **kwargs: Processor options.
     """
+
+    config_moved_keys: ClassVar[dict[str, str]] = _moved_into(RemoteSolver, "solver")
 
     def __init__(
         self,
         *,
-        url: str,
-        timeout_s: float = 60.0,
-        max_stars: int = 200,
+        solver: RemoteSolver | None = None,
         pixel_scale_arcsec: float | None = None,
         scale_tolerance: float = 0.1,
         radius_deg: float = 1.0,
         flux_column: str = "flux",
         **kwargs: Any,
     ) -> None:
+        _reject_moved(RemoteAstrometry, kwargs)
+        if solver is None:
+            raise ConfigError(
+                "name the service: solver: {class: nightcrew.images.astrometry.RemoteSolver, url: ...}",
+                key="solver",
+            )
         super().__init__(
             pixel_scale_arcsec=pixel_scale_arcsec,
             scale_tolerance=scale_tolerance,
@@ -284,13 +289,11 @@ class RemoteAstrometry(_HintedSolver):
             flux_column=flux_column,
             **kwargs,
         )
-        self.client: RemoteSolver = _configured(
-            RemoteSolver, url=url, timeout_s=timeout_s, max_stars=max_stars
-        )
+        self.solver = solver
 
     async def __call__(self, image: Image) -> Image:
         x, y, flux = image_stars(image, self.flux_column)
-        cards = await self.client.solve_stars(x, y, flux, shape=image.shape, hints=self.hints(image))
+        cards = await self.solver.solve_stars(x, y, flux, shape=image.shape, hints=self.hints(image))
         return with_wcs(image, cards, AstrometryResult("remote"))
 
 

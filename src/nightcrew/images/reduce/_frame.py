@@ -20,6 +20,8 @@ from nightcrew.images.astrometry import (
     CatalogAstrometry,
     FirstSolution,
     RemoteAstrometry,
+    RemoteSolver,
+    SolveField,
     SolveFieldAstrometry,
 )
 from nightcrew.images.calibration import calibrate_image
@@ -73,10 +75,14 @@ class ReductionSteps:
         """The catalog matcher first, then the solve service at ``solver_url``, then solve-field."""
         solvers: list[ImageProcessor] = [CatalogAstrometry(pixel_scale_arcsec=pixel_scale_arcsec)]
         if solver_url is not None:
-            solvers.append(RemoteAstrometry(url=solver_url, pixel_scale_arcsec=pixel_scale_arcsec))
+            solvers.append(
+                RemoteAstrometry(solver=RemoteSolver(solver_url), pixel_scale_arcsec=pixel_scale_arcsec)
+            )
         if solve_field:
             solvers.append(
-                SolveFieldAstrometry(pixel_scale_arcsec=pixel_scale_arcsec, timeout_s=solve_timeout_s)
+                SolveFieldAstrometry(
+                    pixel_scale_arcsec=pixel_scale_arcsec, solver=SolveField(timeout_s=solve_timeout_s)
+                )
             )
         return cls(
             detection=SepSourceDetection(threshold=detection_threshold),

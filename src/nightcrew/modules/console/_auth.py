@@ -1,43 +1,34 @@
 """Who may use the console: accounts with hashed passwords, sessions, and a brake on guessing.
 
-Passwords are stored as ``scrypt$N$r$p$SALT$HASH`` (salt and hash base64): stdlib
-:func:`hashlib.scrypt`, a memory-hard key derivation made for passwords, so no extra dependency.
+Passwords are hashed and checked by :mod:`nightcrew.security` (scrypt), which the chat modules share.
 Sessions live in memory (a restart logs everyone out) and are identified by a random token in an
 HttpOnly cookie; each carries its own CSRF token. Wall time throughout: logins are about people.
 """
 
 from __future__ import annotations
 
-import base64
-import hashlib
-import hmac
 import secrets
 import time
-from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
 
 from nightcrew.errors import ConfigError
+from nightcrew.security import check_password_hash, dummy_password_hash, verify_password
 
 __all__ = [
     "Account",
-    "LoginLimiter",
     "Role",
     "Session",
     "Sessions",
     "accounts_from_config",
     "check_login",
-    "hash_password",
     "is_read_method",
-    "verify_password",
 ]
 
-_SCRYPT = {"n": 2**14, "r": 8, "p": 1}
 #: Read methods (by name) a viewer may call; everything else changes something.
 _READ_PREFIXES = ("get_", "is_", "list_")
-_MAX_TRACKED_KEYS = 10_000
 
 
 class Role(StrEnum):
@@ -50,34 +41,6 @@ class Role(StrEnum):
 def is_read_method(method: str) -> bool:
     """Whether ``method`` only reads (by the house's naming: get_*, is_*, list_*, *_status)."""
     return method.startswith(_READ_PREFIXES) or method.endswith("_status")
-
-
-def hash_password(password: str, *, salt: bytes | None = None) -> str:
-    """The stored form of ``password`` (a fresh random salt unless given)."""
-    salt = salt if salt is not None else secrets.token_bytes(16)
-    digest = hashlib.scrypt(password.encode(), salt=salt, dklen=32, **_SCRYPT)
-    encoded = [base64.b64encode(x).decode() for x in (salt, digest)]
-    return f"scrypt${_SCRYPT['n']}${_SCRYPT['r']}${_SCRYPT['p']}${encoded[0]}${encoded[1]}"
-
-
-def _parse_hash(stored: str) -> tuple[int, int, int, bytes, bytes]:
-    """The parameters of a stored hash; ValueError when it is not one."""
-    parts = stored.split("$")
-    if len(parts) != 6 or parts[0] != "scrypt":
-        raise ValueError("expected scrypt$N$r$p$SALT$HASH (make one with: nightcrew console --hash-password)")
-    n, r, p = (int(x) for x in parts[1:4])
-    return n, r, p, base64.b64decode(parts[4], validate=True), base64.b64decode(parts[5], validate=True)
-
-
-def verify_password(password: str, stored: str) -> bool:
-    """Whether ``password`` matches the stored hash (constant-time comparison)."""
-    n, r, p, salt, digest = _parse_hash(stored)
-    candidate = hashlib.scrypt(password.encode(), salt=salt, n=n, r=r, p=p, dklen=len(digest), maxmem=2**26)
-    return hmac.compare_digest(candidate, digest)
-
-
-#: Checked against when the user name is unknown, so that a wrong name costs as long as a wrong password.
-_DUMMY_HASH = hash_password("", salt=b"\0" * 16)
 
 
 @dataclass(frozen=True)
@@ -106,7 +69,7 @@ def accounts_from_config(config: Mapping[str, Any]) -> dict[str, Account]:
         if not isinstance(stored, str):
             raise ConfigError("missing password_hash", key=f"{key}.password_hash")
         try:
-            _parse_hash(stored)
+            check_password_hash(stored)
         except ValueError as exc:
             raise ConfigError(f"not a password hash: {exc}", key=f"{key}.password_hash") from None
         try:
@@ -123,7 +86,7 @@ def accounts_from_config(config: Mapping[str, Any]) -> dict[str, Account]:
 def check_login(accounts: Mapping[str, Account], user: str, password: str) -> Account | None:
     """The account if ``user`` and ``password`` match, else None (same cost either way)."""
     account = accounts.get(user)
-    ok = verify_password(password, account.password_hash if account else _DUMMY_HASH)
+    ok = verify_password(password, account.password_hash if account else dummy_password_hash())
     return account if ok and account is not None else None
 
 
@@ -171,41 +134,3 @@ class Sessions:
 
     def end(self, token: str) -> None:
         self._sessions.pop(token, None)
-
-
-class LoginLimiter:
-    """At most ``attempts`` failed logins per key (user name, client address) in ``window`` seconds."""
-
-    def __init__(self, attempts: int, window: float, *, now: Callable[[], float] = time.monotonic) -> None:
-        self._attempts = attempts
-        self._window = window
-        self._now = now
-        self._failures: dict[str, deque[float]] = {}
-
-    def retry_after(self, keys: list[str]) -> float:
-        """Seconds until any of ``keys`` may try again; 0 when all may now."""
-        now = self._now()
-        wait = 0.0
-        for key in keys:
-            failures = self._recent(key, now)
-            if len(failures) >= self._attempts:
-                wait = max(wait, failures[0] + self._window - now)
-        return wait
-
-    def failed(self, keys: list[str]) -> None:
-        now = self._now()
-        if len(self._failures) > _MAX_TRACKED_KEYS:  # many names tried: drop the stale ones
-            for key in list(self._failures):
-                self._recent(key, now)
-        for key in keys:
-            self._failures.setdefault(key, deque()).append(now)
-
-    def _recent(self, key: str, now: float) -> deque[float]:
-        failures = self._failures.get(key)
-        if failures is None:
-            return deque()
-        while failures and failures[0] <= now - self._window:
-            failures.popleft()
-        if not failures:
-            del self._failures[key]
-        return failures

@@ -1,31 +1,37 @@
 """Interfaces, methods and events described as JSON for the pages, and values turned into JSON.
 
 The pages build themselves from these descriptions (a camera without IWindow has no
-``set_window`` here, so no window controls) and the shell completes from them.
+``set_window`` here, so no window controls) and the shell completes from them. They are a view of
+the catalogue (:mod:`nightcrew.comm.catalogue`), which describes methods and events once: types
+are written back from its JSON Schemas as a person writes them (``ImageType | None``).
 """
 
 from __future__ import annotations
 
 import base64
 import dataclasses
-import enum
-import inspect
-import re
-import types
-import typing
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable, Mapping
 from datetime import datetime
 from functools import cache
 from typing import Any
 
-from nightcrew.comm.codec import encode, method_parameters
+from nightcrew.comm.catalogue import event_schemas, methods_document
+from nightcrew.comm.codec import encode
 from nightcrew.events.base import Event, event_by_name, event_names
 from nightcrew.interfaces.base import Interface, interface_methods
 from nightcrew.modules.console._auth import is_read_method
 
-__all__ = ["describe_event_types", "describe_methods", "parameter", "to_json", "type_text"]
+__all__ = ["describe_event_types", "describe_methods", "to_json"]
 
-_DOTTED = re.compile(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)")
+#: JSON Schema types by the Python names the pages show.
+_TYPE_NAMES = {"integer": "int", "number": "float", "string": "str", "boolean": "bool", "null": "None"}
+_FORMAT_NAMES = {
+    "date-time": "datetime",
+    "date": "date",
+    "time": "time",
+    "binary": "bytes",
+    "base64url": "bytes",
+}
 
 
 def to_json(value: Any) -> Any:
@@ -47,88 +53,96 @@ def _wire_to_json(value: Any) -> Any:
     return value
 
 
-def type_text(hint: Any) -> str:
-    """A type hint as a person writes it: ``float``, ``ImageType | None``, ``list[str]``."""
-    if hint is inspect.Parameter.empty or hint is Any:
+def _schema_text(schema: Mapping[str, Any]) -> str:
+    """A catalogue schema as a person writes its type: ``float``, ``ImageType | None``, ``list[str]``."""
+    if "$ref" in schema:
+        return str(schema["$ref"]).rsplit("/", 1)[-1]
+    if "anyOf" in schema:
+        return " | ".join(_schema_text(option) for option in schema["anyOf"])
+    kind = schema.get("type")
+    if kind == "array":
+        if "prefixItems" in schema:
+            return f"tuple[{', '.join(_schema_text(item) for item in schema['prefixItems'])}]"
+        return f"list[{_schema_text(schema['items'])}]" if "items" in schema else "list"
+    if kind == "object" and "additionalProperties" in schema:
+        values = schema["additionalProperties"]
+        return f"dict[str, {_schema_text(values if isinstance(values, Mapping) else {})}]"
+    if not isinstance(kind, str):
         return "Any"
-    if typing.get_origin(hint) is typing.Annotated:  # units and bounds are not part of the type's name
-        return type_text(typing.get_args(hint)[0])
-    if hint is None or hint is type(None):
-        return "None"
-    if isinstance(hint, type) and not typing.get_args(hint):
-        return hint.__name__
-    return _DOTTED.sub(r"\1", str(hint).replace("typing.", "")).replace("NoneType", "None")
+    return _FORMAT_NAMES.get(str(schema.get("format")), _TYPE_NAMES.get(kind, "Any"))
 
 
-def _enum_in(hint: Any) -> type[enum.Enum] | None:
-    if isinstance(hint, type) and issubclass(hint, enum.Enum):
-        return hint
-    if typing.get_origin(hint) in (typing.Union, types.UnionType):
-        for arg in typing.get_args(hint):
-            found = _enum_in(arg)
-            if found is not None:
-                return found
+def _choices(schema: Mapping[str, Any], definitions: Mapping[str, Any]) -> list[Any] | None:
+    """The values of the first enum in ``schema`` (followed through references), if any."""
+    if "enum" in schema:
+        return list(schema["enum"])
+    if "$ref" in schema:
+        return _choices(definitions.get(str(schema["$ref"]).rsplit("/", 1)[-1], {}), definitions)
+    for option in schema.get("anyOf", ()):
+        found = _choices(option, definitions)
+        if found is not None:
+            return found
     return None
 
 
-def parameter(name: str, hint: Any, default: Any) -> dict[str, Any]:
+def _parameter(
+    name: str, schema: Mapping[str, Any], required: bool, definitions: Mapping[str, Any]
+) -> dict[str, Any]:
     """One parameter (of a method or an event) as the pages see it."""
-    choices = _enum_in(hint)
-    required = default is inspect.Parameter.empty or default is dataclasses.MISSING
     return {
         "name": name,
-        "type": type_text(hint),
+        "type": _schema_text(schema),
         "required": required,
-        "default": None if required else _default_json(default),
-        "choices": [to_json(member) for member in choices] if choices is not None else None,
+        "default": None if required else schema.get("default"),
+        "choices": _choices(schema, definitions),
     }
-
-
-def _default_json(default: Any) -> Any:
-    try:
-        return to_json(default)
-    except Exception:  # a default the wire cannot carry (never the case in the catalogue)
-        return repr(default)
 
 
 def describe_methods(interfaces: Iterable[type[Interface]]) -> dict[str, dict[str, Any]]:
     """Method name → interface, doc, parameters, return type, whether a viewer may call it."""
-    return {name: _describe_method(name, declaration) for name, declaration in _methods(tuple(interfaces))}
+    return dict(_describe_methods(tuple(interfaces)))
 
 
 @cache
-def _methods(interfaces: tuple[type[Interface], ...]) -> tuple[tuple[str, Callable[..., object]], ...]:
-    return tuple(sorted(interface_methods(interfaces).items()))
-
-
-@cache
-def _describe_method(name: str, declaration: Callable[..., object]) -> dict[str, Any]:
-    params, returns = method_parameters(declaration)
+def _describe_methods(interfaces: tuple[type[Interface], ...]) -> dict[str, dict[str, Any]]:
+    document = methods_document("console", 1, interface_methods(interfaces), "")
+    definitions = document["components"]["schemas"]
     return {
-        "interface": declaration.__qualname__.split(".")[0],
-        "doc": inspect.getdoc(declaration) or "",
-        "params": [parameter(p.name, p.hint, p.default) for p in params],
-        "returns": type_text(returns),
-        "read": is_read_method(name),
+        method["name"]: {
+            "interface": method["x-interface"],
+            "doc": method["description"],
+            "params": [
+                _parameter(p["name"], p["schema"], p["required"], definitions) for p in method["params"]
+            ],
+            "returns": _schema_text(method["result"]["schema"]),
+            "read": is_read_method(method["name"]),
+        }
+        for method in document["methods"]
     }
 
 
 def describe_event_types() -> dict[str, dict[str, Any]]:
     """Every event type this process knows, with its fields."""
+    known = ((name, event_by_name(name)) for name in event_names())
+    return dict(
+        _describe_events(tuple((name, event_type) for name, event_type in known if event_type is not None))
+    )
+
+
+@cache
+def _describe_events(known: tuple[tuple[str, type[Event]], ...]) -> dict[str, dict[str, Any]]:
+    definitions = event_schemas(event_type for _, event_type in known)["$defs"]
     described = {}
-    for name in event_names():
-        event_type = event_by_name(name)
-        if event_type is not None:
-            described[name] = _describe_event(event_type)
+    for name, event_type in known:
+        schema = definitions[event_type.__name__]
+        required = set(schema.get("required", ()))
+        fields = [
+            _parameter(field_name, field, field_name in required, definitions)
+            for field_name, field in schema.get("properties", {}).items()
+        ]
+        for field in dataclasses.fields(event_type):  # the schema has no default made by a factory
+            if field.default_factory is not dataclasses.MISSING:
+                described_field = next(f for f in fields if f["name"] == field.name)
+                described_field["default"] = to_json(field.default_factory())
+        described[name] = {"doc": schema.get("description", ""), "fields": fields}
     return described
-
-
-def _describe_event(event_type: type[Event]) -> dict[str, Any]:
-    hints = typing.get_type_hints(event_type)
-    fields = []
-    for field in dataclasses.fields(event_type):
-        default: Any = field.default
-        if field.default_factory is not dataclasses.MISSING:
-            default = field.default_factory()
-        fields.append(parameter(field.name, hints.get(field.name, Any), default))
-    return {"doc": inspect.getdoc(event_type) or "", "fields": fields}

@@ -35,13 +35,14 @@ from nightcrew.events.base import event_by_name, event_names
 from nightcrew.interfaces import IWeather, ModuleState
 from nightcrew.log import current_module
 from nightcrew.modules.console._api import build_app
-from nightcrew.modules.console._auth import Account, LoginLimiter, Sessions, accounts_from_config
+from nightcrew.modules.console._auth import Account, Sessions, accounts_from_config
 from nightcrew.modules.console._describe import to_json
 from nightcrew.modules.console._directory import ModuleDirectory, ModuleEntry
 from nightcrew.modules.console._images import Frame, View, frame_from_hdul, render_png
 from nightcrew.modules.console._relay import Relay
 from nightcrew.modules.console._robotic import WeatherVerdicts, robotic_view
 from nightcrew.modules.module import Module
+from nightcrew.security import LoginLimiter
 
 __all__ = ["STATIC_DIR", "WebConsole"]
 

@@ -21,7 +21,6 @@ from nightcrew.comm.codec import encode
 from nightcrew.comm.rpc import shorten
 from nightcrew.errors import ForbiddenError, InterfaceError, InvalidArgumentError, NightcrewError, RemoteError
 from nightcrew.interfaces.base import interface_methods
-from nightcrew.modules.console._auth import LoginLimiter, verify_password
 from nightcrew.modules.notify._commands import (
     HELP,
     Exec,
@@ -32,8 +31,8 @@ from nightcrew.modules.notify._commands import (
     Modules,
     parse_command,
 )
-from nightcrew.modules.notify._users import ChatUser, dummy_hash
-from nightcrew.security import is_state_changing
+from nightcrew.modules.notify._users import ChatUser
+from nightcrew.security import LoginLimiter, dummy_password_hash, is_state_changing, verify_password
 
 __all__ = ["CommandDispatcher", "Session", "execute_as"]
 
@@ -162,7 +161,8 @@ class CommandDispatcher:
             return f"Too many wrong secrets; try again in {wait:.0f} s."
         user = self._users.get(key)
         # scrypt takes ~50 ms on purpose: not on the event loop.
-        matches = await asyncio.to_thread(verify_password, secret, user.secret_hash if user else dummy_hash())
+        stored = user.secret_hash if user else dummy_password_hash()
+        matches = await asyncio.to_thread(verify_password, secret, stored)
         if user is None or not matches:
             self._limiter.failed([key])
             log.warning("wrong secret in /login on %s from %s", self._channel, shorten(key, 60))

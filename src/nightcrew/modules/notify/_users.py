@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 from nightcrew.errors import ConfigError
-from nightcrew.modules.console._auth import _parse_hash, hash_password
+from nightcrew.security import check_password_hash
 
-__all__ = ["ChatUser", "dummy_hash", "users_from_config"]
+__all__ = ["ChatUser", "users_from_config"]
 
 
 @dataclass(frozen=True)
@@ -44,14 +43,8 @@ def users_from_config(config: Mapping[Any, Any], *, normalise: Any = str) -> dic
         if not isinstance(stored, str):
             raise ConfigError("missing secret_hash", key=f"{where}.secret_hash")
         try:
-            _parse_hash(stored)
+            check_password_hash(stored)
         except ValueError as exc:
             raise ConfigError(f"not a secret hash: {exc}", key=f"{where}.secret_hash") from None
         users[key] = ChatUser(key, account, stored)
     return users
-
-
-@functools.cache
-def dummy_hash() -> str:
-    """Checked against for an unknown user, so that an unknown user costs as long as a wrong secret."""
-    return hash_password("", salt=b"\0" * 16)

@@ -22,7 +22,7 @@ import xml.etree.ElementTree as ET
 from datetime import UTC, datetime
 from typing import TYPE_CHECKING, Any
 
-from nightcrew.comm.xmpp._settings import XmppSettings, is_loopback, parse_jid, parse_server
+from nightcrew.comm.xmpp import XmppSettings, parse_jid
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.modules.notify._module import ChatModule
 from nightcrew.modules.notify._users import users_from_config
@@ -75,26 +75,19 @@ class XmppChat(ChatModule):
         connect_timeout: float = 10.0,
         **kwargs: Any,
     ) -> None:
-        local, domain, resource = parse_jid(jid)
-        host, port = parse_server(server, domain)
-        if not password:
-            raise ConfigError("the chat account needs a password", key="password")
-        if require_tls is False and not is_loopback(host):
-            raise ConfigError(f"TLS cannot be turned off off loopback ({host})", key="require_tls")
-        super().__init__(users=users_from_config(users, normalise=_bare_jid), **kwargs)
-        self._settings = XmppSettings(
-            local=local,
-            domain=domain,
-            resource=resource or "chat",
-            password=password,
-            host=host,
-            port=port,
-            room_jid="",  # no room: people are written to one by one
-            require_tls=not is_loopback(host) if require_tls is None else require_tls,
+        settings = XmppSettings.from_options(
+            jid,
+            password,
+            resource="chat",
+            room=None,  # no room: people are written to one by one
+            server=server,
+            require_tls=require_tls,
             verify_tls=verify_tls,
             ca_file=ca_file,
             connect_timeout=connect_timeout,
         )
+        super().__init__(users=users_from_config(users, normalise=_bare_jid), **kwargs)
+        self._settings = settings
         self._connection: XmppConnection | None = None
 
     @property
