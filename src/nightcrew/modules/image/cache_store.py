@@ -171,4 +171,3 @@ def _blocking_scan(files: Path) -> list[tuple[str, tuple[int, float]]]:
             info = full.stat()
             found.append((full.relative_to(files).as_posix(), (info.st_size, info.st_mtime)))
     return sorted(found, key=lambda item: (item[1][1], item[0]))
-
