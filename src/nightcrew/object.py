@@ -4,6 +4,11 @@ An :class:`Object` receives the comm, the clock, the observatory site and the vi
 and passes them on to the children it adds. It runs background tasks that are restarted with
 backoff when they crash (and logged), all cancelled by one :meth:`close`, which is safe to call
 twice. Constructors do no I/O and start nothing; :meth:`open` does.
+
+A VFS belongs to whoever built it. An object that builds its own - from a description (its YAML
+``vfs:``), or the empty default - closes it in :meth:`close`, after its tasks and children; one
+handed to it ready-made (shared by the modules of a one-process observatory) is left open for
+the code that made it to close, after the modules; children share their parent's and never close it.
 """
 
 from __future__ import annotations
@@ -11,7 +16,7 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections.abc import Callable, Coroutine
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 from nightcrew.clock import Clock, RealClock
 from nightcrew.comm.base import Comm
@@ -49,6 +54,9 @@ class Object:
         timezone: The observatory's time zone name, e.g. ``Europe/Berlin`` (for display).
     """
 
+    #: Built here, not by the config builder, so that the object owns (and closes) the VFS.
+    config_builds_itself: ClassVar[frozenset[str]] = frozenset({"vfs"})
+
     def __init__(
         self,
         *,
@@ -61,6 +69,7 @@ class Object:
         self._comm: Comm | None = _built(comm, Comm, "comm")
         self._clock: Clock | None = _built(clock, Clock, "clock")
         self._vfs: VirtualFileSystem | None = _built(vfs, VirtualFileSystem, "vfs")
+        self._owns_vfs = self._vfs is not None and not isinstance(vfs, VirtualFileSystem)
         self._site: Site | None = Site(**site) if isinstance(site, dict) else site
         self.timezone = timezone
         self._children: list[Object] = []
@@ -84,7 +93,7 @@ class Object:
     @property
     def vfs(self) -> VirtualFileSystem:
         if self._vfs is None:
-            self._vfs = VirtualFileSystem()
+            self._vfs, self._owns_vfs = VirtualFileSystem(), True
         return self._vfs
 
     @property
@@ -197,16 +206,21 @@ class Object:
             self._start_task(*factory)
 
     async def close(self) -> None:
-        """Cancel background tasks and close children; safe to call twice."""
-        if not self._is_open:
-            return
-        self._is_open = False
-        tasks, self._tasks = self._tasks, []
-        for task in tasks:
-            task.cancel()
-        await asyncio.gather(*tasks, return_exceptions=True)
-        for child in reversed(self._children):
-            await child.close()
+        """Cancel background tasks, close children, then the VFS this object built; safe to call
+        twice (the VFS is closed even if the object never opened: it may have been used)."""
+        try:
+            if not self._is_open:
+                return
+            self._is_open = False
+            tasks, self._tasks = self._tasks, []
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+            for child in reversed(self._children):
+                await child.close()
+        finally:
+            if self._owns_vfs and self._vfs is not None:
+                await self._vfs.close()  # logs a root that fails to close, never raises
 
 
 def _built(value: Any, expected: type[T], key: str) -> T | None:
@@ -216,7 +230,12 @@ def _built(value: Any, expected: type[T], key: str) -> T | None:
     if isinstance(value, dict):
         from nightcrew.config import build_object
 
-        built = build_object(value, expected)
+        try:
+            built = build_object(value, expected)
+        except ConfigError as exc:  # name the key from the object's own description on
+            raise ConfigError(
+                exc.message, file=exc.file, line=exc.line, key=f"{key}.{exc.key}" if exc.key else key
+            ) from exc
         if not isinstance(built, expected):
             raise ConfigError(f"expected a {expected.__name__}, got {type(built).__name__}", key=key)
         return built

@@ -1,4 +1,5 @@
-"""Faults shared by the SSH and SMB root tests: a write cut off by a server that dies under it."""
+"""Faults shared by the SSH and SMB root tests: a server restarted under a root, and a write cut
+off by a server that dies under it."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from nightcrew.vfs import FileRoot, VfsError
+from nightcrew.vfs import FileRoot, VfsError, VirtualFileSystem
 
 #: Large enough that the copy is still under way when the server is stopped.
 BIG = 96 << 20
@@ -28,12 +29,41 @@ async def wait_until(condition: Callable[[], bool], what: str) -> None:
         await asyncio.sleep(0.001)
 
 
+async def reconnects_after_the_server_restarts(
+    root: FileRoot, server: str, stop: Callable[[], None], start: Callable[[], None]
+) -> None:
+    """``root`` fails naming the ``server`` (a regex) while it is down, and works again once it is
+    back, also when the connection looked alive when it went."""
+    async with VirtualFileSystem({"remote": root}) as vfs:
+        await vfs.write_bytes("/remote/a.fits", b"1")
+        stop()
+        with pytest.raises(
+            VfsError, match=rf"^/remote/a\.fits: (cannot reach|lost the connection to) {server}"
+        ):
+            await vfs.read_bytes("/remote/a.fits")
+        start()
+        assert await vfs.read_bytes("/remote/a.fits") == b"1"
+        stop()  # and once more while the connection is idle and thought alive
+        start()
+        await vfs.write_bytes("/remote/b.fits", b"2")  # the lost link is noticed and replaced
+        assert await vfs.listdir("/remote") == ["a.fits", "b.fits"]
+
+
 async def write_cut_off_by_a_dead_server(
     root: FileRoot, directory: Path, stop: Callable[[], None], start: Callable[[], None]
 ) -> int:
     """Stop the server while ``root`` writes a big file over an old one; check nothing half-written
     shows, and that after a restart the same root writes it. Returns the bytes on the server's disk
-    in the orphaned temporary file when the server stopped."""
+    in the orphaned temporary file when the server stopped. Closes ``root``."""
+    try:
+        return await _write_cut_off(root, directory, stop, start)
+    finally:
+        await root.close()
+
+
+async def _write_cut_off(
+    root: FileRoot, directory: Path, stop: Callable[[], None], start: Callable[[], None]
+) -> int:
     await root.write_bytes("night/a.fits", b"old content")
     target = directory / "night" / "a.fits"
     new = bytes(range(256)) * (BIG // 256)

@@ -170,18 +170,20 @@ async def test_permission_denied_is_translated(vfs: VirtualFileSystem, images: P
         return
     # Root ignores file permissions (CI runs as root): the read is made by a child without the
     # capabilities that override them (setpriv, util-linux).
+    stdout, stderr = await _child(
+        "setpriv", "--bounding-set=-dac_override,-dac_read_search", sys.executable, "-c",
+        READ_WITHOUT_OVERRIDE, str(images),
+    )  # fmt: skip
+    assert stdout == "/cache/a.fits: permission denied\n", stderr
+
+
+async def _child(*command: str) -> tuple[str, str]:
+    """Run ``command`` as a child process; return what it printed and its errors."""
     child = await asyncio.create_subprocess_exec(
-        "setpriv",
-        "--bounding-set=-dac_override,-dac_read_search",
-        sys.executable,
-        "-c",
-        READ_WITHOUT_OVERRIDE,
-        str(images),
-        stdout=asyncio.subprocess.PIPE,
-        stderr=asyncio.subprocess.PIPE,
+        *command, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE
     )
     stdout, stderr = await asyncio.wait_for(child.communicate(), 60)
-    assert stdout.decode() == "/cache/a.fits: permission denied\n", stderr.decode()
+    return stdout.decode(), stderr.decode()
 
 
 READ_WITHOUT_OVERRIDE = """
@@ -204,3 +206,30 @@ def test_constructor_validates_and_does_no_io(tmp_path: Path) -> None:
     assert not (tmp_path / "never").exists()
     with pytest.raises(InvalidArgumentError, match="non-empty directory path"):
         LocalFile("")
+
+
+async def test_a_write_the_disk_refuses_midway_leaves_the_old_file_and_no_temp(images: Path) -> None:
+    """A real failure halfway through the data: the child may write files of 64 KiB at most
+    (RLIMIT_FSIZE; Python ignores SIGXFSZ, so write() fails with EFBIG after the first 64 KiB)."""
+    (images / "a.fits").write_bytes(b"old content")
+    stdout, stderr = await _child(sys.executable, "-c", WRITE_WITH_A_SIZE_LIMIT, str(images))
+    assert stdout == "/cache/a.fits: File too large\n", stderr
+    assert (images / "a.fits").read_bytes() == b"old content"
+    assert _leftovers(images) == []
+    assert sorted(os.listdir(images)) == ["a.fits"]
+
+
+WRITE_WITH_A_SIZE_LIMIT = """
+import asyncio, resource, sys
+from nightcrew.vfs import LocalFile, VfsError, VirtualFileSystem
+
+async def main() -> None:
+    resource.setrlimit(resource.RLIMIT_FSIZE, (64 << 10, 64 << 10))
+    async with VirtualFileSystem({"cache": LocalFile(sys.argv[1])}) as vfs:
+        try:
+            await vfs.write_bytes("/cache/a.fits", bytes(1 << 20))
+        except VfsError as exc:
+            print(exc)
+
+asyncio.run(main())
+"""

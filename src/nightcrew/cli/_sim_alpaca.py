@@ -33,6 +33,7 @@ from nightcrew.night.build import (
     TELESCOPE,
     build_observatory,
     bundled_observatory,
+    images_vfs,
     observatory_site,
     park_and_close,
 )
@@ -62,8 +63,8 @@ def serve_alpaca_command(args: argparse.Namespace) -> int:
 
 async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedClock) -> None:
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
-    modules = build_observatory(directory, clock=clock, out_dir=args.out, seed=args.seed, network=network)
-    vfs = modules[0].vfs  # the one VFS of the observatory: the server reads the camera's frames
+    vfs = images_vfs(args.out)  # the one VFS of the observatory: the server reads the camera's frames
+    modules = build_observatory(directory, clock=clock, vfs=vfs, seed=args.seed, network=network)
     devices: dict[str, str | list[str]] = {
         "telescope": TELESCOPE,
         "camera": CAMERA,
@@ -112,6 +113,7 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         finally:
             for module in reversed(opened):
                 await module.close()
+            await vfs.close()
 
 
 def _pixel_size(directory: Path) -> float:

@@ -5,7 +5,10 @@ member a value is for), and converts where a hint asks for it: a description bec
 an ``int`` for ``float`` a float, a list for ``tuple``/``set`` a tuple/set, a name or value for an
 ``Enum`` its member. Located nodes become plain dicts and lists, so constructors get ordinary data.
 Values for parameters without a hint (or typed ``Any``/``dict``) are passed as data: a description
-there is not built (the receiving class may build it itself with :func:`build_object`).
+there is not built (the receiving class may build it itself with :func:`build_object`). So is a
+description for a parameter the class lists in ``config_builds_itself`` (validated like any other):
+the class builds it, and owns and closes what it built (:class:`~nightcrew.object.Object`'s
+``vfs``), while an object handed to it ready-made stays its maker's.
 """
 
 from __future__ import annotations
@@ -63,9 +66,13 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
     path = node["class"]
     cls = import_class(path)
     parameters = constructor_spec(cls).parameters
+    # Descriptions the class builds itself go to it unbuilt, located (its errors name file and line).
+    builds_itself: frozenset[str] = getattr(cls, "config_builds_itself", frozenset())
     kwargs: dict[str, Any] = {}
     for key, value in node.items():
-        if key != "class":
+        if key in builds_itself and is_class_description(value):
+            kwargs[key] = value
+        elif key != "class":
             parameter = parameters.get(key)
             hint = parameter.hint if parameter else Any
             kwargs[key] = _build_value(value, hint, join_key(prefix, key), location_in(node, key, owner))

@@ -126,7 +126,8 @@ class Module(Object, IModule, IConfig):
         log.info("%s is ready", self.name)
 
     async def close(self) -> None:
-        """Stop tasks, close children and disconnect; safe to call twice."""
+        """Stop tasks, close children and the VFS the module built, then disconnect; safe to call
+        twice."""
         if self._state in (ModuleState.CLOSING, ModuleState.CLOSED):
             return
         self._enter(ModuleState.CLOSING)

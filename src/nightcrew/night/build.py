@@ -2,7 +2,8 @@
 
 :func:`build_observatory` builds every top-level module file of a directory (by default the
 bundled :func:`bundled_observatory`) on a private in-process network, all sharing one clock and
-one VFS whose ``images`` root is the output directory; :func:`observatory_site` reads its site.
+one VFS whose ``images`` root is the output directory (:func:`images_vfs`, made and closed by the
+caller, after the modules); :func:`observatory_site` reads its site.
 :func:`park_and_close` is how every night ends: telescope parked and roof closed at once.
 """
 
@@ -28,6 +29,7 @@ __all__ = [
     "SIM_RPC_GRACE",
     "build_observatory",
     "bundled_observatory",
+    "images_vfs",
     "observatory_site",
     "park_and_close",
 ]
@@ -48,6 +50,11 @@ def bundled_observatory() -> Path:
     return Path(__file__).resolve().with_name("observatory")
 
 
+def images_vfs(frames: Path) -> VirtualFileSystem:
+    """The observatory's VFS: its ``images`` root in ``frames``. The caller closes it."""
+    return VirtualFileSystem({IMAGES_ROOT: LocalFile(str(frames))})
+
+
 def observatory_site(directory: Path) -> Site:
     """The observatory's site: the one the telescope's file gives."""
     path = directory / "telescope.yaml"
@@ -66,17 +73,18 @@ def build_observatory(
     directory: Path,
     *,
     clock: Clock,
-    out_dir: Path,
+    vfs: VirtualFileSystem,
     seed: int | None = None,
     network: LocalNetwork,
     overrides: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> list[Module]:
     """Validate, then build the modules of the top-level ``*.yaml`` files of ``directory``.
 
-    Every module gets ``clock``, a VFS with the ``images`` root in ``out_dir`` and a comm on
-    ``network`` named after its file; ``seed`` replaces the seed of every file that sets one, and
-    ``overrides`` (by module name) replace keys after validation (objects the file cannot say).
-    Nothing is opened. Files in subdirectories (fragments, extras) are not modules of the night.
+    Every module gets ``clock``, ``vfs`` (shared, not closed by the modules: the caller closes it
+    after them) and a comm on ``network`` named after its file; ``seed`` replaces the seed of
+    every file that sets one, and ``overrides`` (by module name) replace keys after validation
+    (objects the file cannot say). Nothing is opened. Files in subdirectories (fragments,
+    extras) are not modules of the night.
     """
     paths = sorted(directory.glob("*.yaml"))
     if not paths:
@@ -84,7 +92,6 @@ def build_observatory(
     configs = [load_config(path) for path in paths]
     for config in configs:
         validate_config(config, Module)
-    vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(out_dir))})
     modules = []
     for path, config in zip(paths, configs, strict=True):
         given: dict[str, Any] = {

@@ -30,7 +30,7 @@ from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.night.blocks import NightBlockSource
-from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, park_and_close
+from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, images_vfs, park_and_close
 from nightcrew.night.plan import one_window_each, samples_for_night, survey_groups
 from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
@@ -110,6 +110,7 @@ async def run_whole_night(
         samples = samples_for_night(load_samples(), night, site)
         tasks = [*(part for group in samples for part in one_window_each(group)), *survey_groups(night)]
     archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, tasks)
+    vfs = images_vfs(out_dir / FRAMES)  # the modules share it; closed here, after them
     opened: list[Module] = []
     result = WholeNight()
     try:
@@ -124,7 +125,7 @@ async def run_whole_night(
         }
         common: dict[str, Any] = {
             "clock": clock,
-            "out_dir": out_dir / FRAMES,
+            "vfs": vfs,
             "seed": seed,
             "network": network,
         }
@@ -145,6 +146,7 @@ async def run_whole_night(
     finally:
         await _stop_safely(watcher, opened)
         result.tasks_started = watcher.tasks_started
+        await vfs.close()
         await archive.close()
     return result
 

@@ -40,7 +40,9 @@ class Observatory:
         clock: The clock to use instead, e.g. a RealClock for devices that run in real time.
         epoch: Start of the clock.
         site: Where the observatory stands; None for modules that need no site.
-        vfs: The file system; by default one in-memory root ``/cache``.
+        vfs: The file system; by default one in-memory root ``/cache``. The modules share it and
+            do not close it: :meth:`close` closes the default one; one given here is the caller's
+            to close (after this observatory).
 
     Example::
 
@@ -60,7 +62,10 @@ class Observatory:
     ) -> None:
         self.clock: Clock = clock if clock is not None else _clock(epoch, speed)
         self.site = site
-        self.vfs = vfs if vfs is not None else VirtualFileSystem({"cache": MemoryFile()})
+        self._own_vfs: VirtualFileSystem | None = None  # the default, made (and closed) here
+        if vfs is None:
+            vfs = self._own_vfs = VirtualFileSystem({"cache": MemoryFile()})
+        self.vfs = vfs
         self.network = LocalNetwork()
         self._modules: list[Module] = []
 
@@ -96,9 +101,14 @@ class Observatory:
         return module
 
     async def close(self) -> None:
-        """Close every started module, the last started first (safe to call twice)."""
-        while self._modules:
-            await self._modules.pop().close()
+        """Close every started module, the last started first, then the default VFS if this
+        observatory made it (safe to call twice)."""
+        try:
+            while self._modules:
+                await self._modules.pop().close()
+        finally:
+            if self._own_vfs is not None:
+                await self._own_vfs.close()
 
     async def wait_for(
         self, condition: Condition, clock_seconds: float, *, interval: float | None = None, message: str = ""

@@ -17,10 +17,10 @@ import json
 import posixpath
 from typing import Any
 
-from nightcrew.errors import InvalidArgumentError
 from nightcrew.vfs._errors import VfsError, VfsFileNotFoundError, VfsFormatError
+from nightcrew.vfs._http_client import HttpClientRoot
 from nightcrew.vfs._paths import normalise_relative
-from nightcrew.vfs._root import FileRoot, new_hash
+from nightcrew.vfs._root import new_hash
 
 __all__ = ["ArchiveFile"]
 
@@ -28,7 +28,7 @@ _PAGE = 1000
 _REFUSED_CONTENT = (400, 413, 415, 422)
 
 
-class ArchiveFile(FileRoot):
+class ArchiveFile(HttpClientRoot):
     """Frames in an image archive.
 
     Args:
@@ -37,18 +37,10 @@ class ArchiveFile(FileRoot):
         timeout: Wall seconds one request may take.
     """
 
-    def __init__(self, url: str, *, token: str | None = None, timeout: float = 120.0) -> None:
-        if not isinstance(url, str) or not url.startswith(("http://", "https://")):
-            raise InvalidArgumentError(f"ArchiveFile url must start with http:// or https://, got {url!r}")
-        if not timeout > 0:
-            raise InvalidArgumentError(f"ArchiveFile timeout must be > 0 seconds, got {timeout}")
-        self.url = url.rstrip("/")
-        self._token = token
-        self._timeout = float(timeout)
-        self._session: Any = None  # aiohttp.ClientSession, made on first use (in the running loop)
+    server_name = "the archive"
 
-    def __repr__(self) -> str:
-        return f"ArchiveFile({self.url!r})"
+    def __init__(self, url: str, *, token: str | None = None, timeout: float = 120.0) -> None:
+        super().__init__(url, token=token, timeout=timeout)
 
     async def _request(
         self,
@@ -59,19 +51,8 @@ class ArchiveFile(FileRoot):
         data: io.BytesIO | None = None,
         params: dict[str, str] | None = None,
     ) -> tuple[int, bytes]:
-        import aiohttp
-
-        if self._session is None:
-            self._session = aiohttp.ClientSession(timeout=aiohttp.ClientTimeout(total=self._timeout))
-        headers = {"Authorization": f"Bearer {self._token}"} if self._token and data is not None else {}
-        try:
-            async with self._session.request(
-                method, url, data=data, params=params, headers=headers
-            ) as response:
-                return response.status, await response.read()
-        except (aiohttp.ClientError, TimeoutError) as exc:
-            why = str(exc) or type(exc).__name__
-            raise VfsError(f"cannot reach the archive at {self.url}: {why}", path=path) from exc
+        # The token is an upload token: sent with uploads only.
+        return await self._send(method, url, path, data=data, params=params, authorised=data is not None)
 
     async def _frame(self, path: str) -> dict[str, Any]:
         """The archive's record of the frame at ``path`` (by basename)."""
@@ -161,11 +142,6 @@ class ArchiveFile(FileRoot):
             return str((await self._frame(path))["sha256"])
         digest.update(await self.read_bytes(path))
         return digest.hexdigest()
-
-    async def close(self) -> None:
-        session, self._session = self._session, None
-        if session is not None:
-            await session.close()
 
 
 def _json(body: bytes) -> dict[str, Any]:

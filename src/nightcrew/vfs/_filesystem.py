@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 from collections.abc import AsyncIterator, Iterator, Mapping, Sequence
 from types import MappingProxyType, TracebackType
 from typing import IO, TYPE_CHECKING, Any, BinaryIO, Literal, Self, TextIO, overload
@@ -23,6 +24,8 @@ if TYPE_CHECKING:
     from astropy.io.fits import HDUList  # type: ignore[import-untyped]
 
 __all__ = ["VirtualFileSystem"]
+
+log = logging.getLogger(__name__)
 
 
 @contextlib.contextmanager
@@ -48,7 +51,9 @@ class VirtualFileSystem:
     Paths are checked before any root is touched: ``..`` may not climb out of its root, and NUL
     bytes, backslashes and control characters are refused (:class:`VfsPathError`); an unknown
     root raises :class:`UnknownRootError` naming the known ones. The constructor does no I/O;
-    :meth:`close` (or ``async with``) releases the roots.
+    :meth:`close` (or ``async with``) releases the roots. Whoever builds a VFS closes it: a
+    module closes the VFS it built from its configuration (or its empty default) when it closes;
+    a VFS built in code and handed to modules is closed by that code, after the modules.
     """
 
     def __init__(self, roots: Mapping[str, FileRoot] | None = None) -> None:
@@ -80,12 +85,23 @@ class VirtualFileSystem:
     # --- lifecycle -----------------------------------------------------------------------------
 
     async def close(self) -> None:
-        """Close every root (TempFile roots delete their files); safe to call twice."""
+        """Close every root once (TempFile roots delete their files); safe to call twice.
+
+        A root whose close fails is logged and the others are still closed: closing runs while a
+        module shuts down, where one dead server must not keep the other connections open.
+        """
         if self._closed:
             return
         self._closed = True
-        for root in self._roots.values():
-            await root.close()
+        closed: set[int] = set()
+        for name, root in self._roots.items():
+            if id(root) in closed:
+                continue  # one root mounted under two names
+            closed.add(id(root))
+            try:
+                await root.close()
+            except Exception:
+                log.exception("closing VFS root /%s (%r) failed", name, root)
 
     async def __aenter__(self) -> Self:
         return self

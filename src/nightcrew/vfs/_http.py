@@ -19,8 +19,9 @@ from nightcrew.vfs._errors import (
     VfsFormatError,
     VfsPathError,
 )
+from nightcrew.vfs._http_client import HttpClientRoot
 from nightcrew.vfs._paths import normalise_relative
-from nightcrew.vfs._root import FileRoot, new_hash
+from nightcrew.vfs._root import new_hash
 
 __all__ = ["HttpFile"]
 
@@ -30,7 +31,7 @@ _ERRORS: dict[str, type[VfsError]] = {
 }
 
 
-class HttpFile(FileRoot):
+class HttpFile(HttpClientRoot):
     """Files on an HTTP file cache.
 
     Args:
@@ -39,18 +40,10 @@ class HttpFile(FileRoot):
         timeout: Wall seconds one request may take.
     """
 
-    def __init__(self, url: str, *, token: str | None = None, timeout: float = 60.0) -> None:
-        if not isinstance(url, str) or not url.startswith(("http://", "https://")):
-            raise InvalidArgumentError(f"HttpFile url must start with http:// or https://, got {url!r}")
-        if not timeout > 0:
-            raise InvalidArgumentError(f"HttpFile timeout must be > 0 seconds, got {timeout}")
-        self.url = url.rstrip("/")
-        self._token = token
-        self._timeout = float(timeout)
-        self._session: Any = None  # aiohttp.ClientSession, made on first use (in the running loop)
+    server_name = "the file cache"
 
-    def __repr__(self) -> str:
-        return f"HttpFile({self.url!r})"
+    def __init__(self, url: str, *, token: str | None = None, timeout: float = 60.0) -> None:
+        super().__init__(url, token=token, timeout=timeout)
 
     async def _request(
         self,
@@ -61,25 +54,12 @@ class HttpFile(FileRoot):
         data: bytes | None = None,
         params: dict[str, str] | None = None,
     ) -> bytes:
-        import aiohttp
-
         relative = normalise_relative(path)
-        if self._session is None:
-            headers = {"Authorization": f"Bearer {self._token}"} if self._token else {}
-            self._session = aiohttp.ClientSession(
-                headers=headers, timeout=aiohttp.ClientTimeout(total=self._timeout)
-            )
-        try:
-            async with self._session.request(
-                method, f"{self.url}/{route}/{quote(relative)}", data=data, params=params
-            ) as response:
-                body: bytes = await response.read()
-                if response.status >= 400:
-                    raise _error(response.status, body, relative)
-                return body
-        except (aiohttp.ClientError, TimeoutError) as exc:
-            why = str(exc) or type(exc).__name__
-            raise VfsError(f"cannot reach the file cache at {self.url}: {why}", path=relative) from exc
+        url = f"{self.url}/{route}/{quote(relative)}"
+        status, body = await self._send(method, url, relative, data=data, params=params)
+        if status >= 400:
+            raise _error(status, body, relative)
+        return body
 
     async def _meta(self, op: str, path: str, params: dict[str, str] | None = None) -> Any:
         import json
@@ -110,11 +90,6 @@ class HttpFile(FileRoot):
     async def checksum(self, path: str, algorithm: str = "sha256") -> str:
         new_hash(algorithm)  # an unknown algorithm fails here, with the local error
         return str(await self._meta("checksum", path, {"algorithm": algorithm}))
-
-    async def close(self) -> None:
-        session, self._session = self._session, None
-        if session is not None:
-            await session.close()
 
 
 def _error(status: int, body: bytes, path: str) -> Exception:

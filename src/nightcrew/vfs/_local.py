@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
 import os
 import stat
@@ -16,9 +15,9 @@ from typing import TypeVar
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.vfs._errors import VfsError, VfsFileNotFoundError, VfsPathError
 from nightcrew.vfs._paths import normalise_relative
-from nightcrew.vfs._root import FileRoot, new_hash
+from nightcrew.vfs._root import FileRoot, in_thread, new_hash
 
-__all__ = ["TEMP_PREFIX", "DiskRoot", "LocalFile"]
+__all__ = ["TEMP_PREFIX", "DiskRoot", "LocalFile", "blocking_sync_directory"]
 
 _T = TypeVar("_T")
 
@@ -52,13 +51,23 @@ def _os_error(exc: OSError, path: str) -> VfsError:
     return VfsError(exc.strerror or str(exc), path=path)
 
 
+def blocking_sync_directory(directory: Path) -> None:
+    """Flush ``directory``'s entries to disk (a rename into it, a file removed from it)."""
+    descriptor = os.open(directory, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        os.fsync(descriptor)
+    finally:
+        os.close(descriptor)
+
+
 class DiskRoot(FileRoot):
     """Files in a directory on the local disk; subclasses say which directory.
 
     Every path is resolved (symlinks followed) and must stay inside the resolved root, so a link
     to ``/etc`` inside the root is refused with :class:`VfsPathError`. Writes go to a temporary
-    file in the target's directory, are flushed to disk and then renamed over the target, so a
-    crash leaves the old file or the new one, never half of one.
+    file in the target's directory, are flushed to disk (fsync) and then renamed over the target,
+    and the directory is flushed too, so a crash leaves the old file or the new one, never half of
+    one, and a write that returned survives a power cut.
     """
 
     #: Create the root and missing parent directories when writing.
@@ -83,7 +92,7 @@ class DiskRoot(FileRoot):
     async def _in_thread(self, path: str, call: Callable[[], _T]) -> _T:
         """Run blocking ``call()`` about ``path`` in a worker thread, translating OSError."""
         try:
-            return await asyncio.to_thread(call)
+            return await in_thread(call)
         except OSError as exc:
             raise _os_error(exc, normalise_relative(path)) from exc
 
@@ -120,6 +129,7 @@ class DiskRoot(FileRoot):
             with contextlib.suppress(OSError):
                 os.unlink(temp_name)
             raise
+        blocking_sync_directory(target.parent)  # the rename itself on disk: it outlives a power cut
 
     async def exists(self, path: str) -> bool:
         return await self._in_thread(path, partial(self._blocking_exists, path))

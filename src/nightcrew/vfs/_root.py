@@ -8,13 +8,18 @@ safe. Writes must be atomic: a reader sees the old content or the new one, never
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 from abc import ABC, abstractmethod
+from collections.abc import Callable
+from typing import TypeVar
 
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.vfs._paths import glob_regex, normalise_relative, static_prefix
 
-__all__ = ["FileRoot", "new_hash"]
+__all__ = ["FileRoot", "in_thread", "new_hash"]
+
+_T = TypeVar("_T")
 
 
 def new_hash(algorithm: str) -> hashlib._Hash:
@@ -24,6 +29,16 @@ def new_hash(algorithm: str) -> hashlib._Hash:
     except ValueError as exc:
         known = ", ".join(sorted(hashlib.algorithms_guaranteed))
         raise InvalidArgumentError(f"unknown checksum algorithm {algorithm!r}; known: {known}") from exc
+
+
+async def in_thread(call: Callable[[], _T]) -> _T:
+    """Run blocking ``call()`` in the loop's default executor, *without* the caller's context.
+
+    The roots' one way to block. Not :func:`asyncio.to_thread`: that copies the context variables,
+    so every record a library logs in the thread would count as the calling module's and be sent
+    as its LogEvent - and smbprotocol logs each file it opens or closes at INFO.
+    """
+    return await asyncio.get_running_loop().run_in_executor(None, call)
 
 
 class FileRoot(ABC):

@@ -2,7 +2,8 @@
 
 Chosen: smbprotocol, the maintained pure-Python SMB 2/3 client; its ``smbclient`` API mirrors
 ``os`` and ``open`` (errors are ``OSError`` subclasses with the usual errno). It blocks, so every
-call runs in a worker thread, in the ``_blocking_*`` functions below.
+call runs in a worker thread, in the ``_blocking_*`` functions below (through
+:func:`~nightcrew.vfs._root.in_thread`, which leaves smbprotocol's chatty log out of the module's).
 
 * **Login** by user name and password (NTLM), on the server's port (445 by default).
 * **Reconnect.** The root keeps its own connection cache (not smbclient's process-wide one).
@@ -33,7 +34,7 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.vfs._errors import VfsError, VfsFileNotFoundError
 from nightcrew.vfs._local import TEMP_PREFIX
 from nightcrew.vfs._paths import normalise_relative
-from nightcrew.vfs._root import FileRoot, new_hash
+from nightcrew.vfs._root import FileRoot, in_thread, new_hash
 
 __all__ = ["SMBFile"]
 
@@ -153,7 +154,7 @@ class SMBFile(FileRoot):
                 return blocking(cache, unc)
 
             try:
-                return await asyncio.wait_for(_in_thread(run), self._timeout)
+                return await asyncio.wait_for(in_thread(run), self._timeout)
             except _LoginError as exc:
                 self._abandon(cache)
                 reason = (
@@ -316,23 +317,13 @@ class SMBFile(FileRoot):
         if not cache:
             return
         try:
-            await asyncio.wait_for(_in_thread(partial(self._blocking_disconnect, cache)), _CLOSE_TIMEOUT)
+            await asyncio.wait_for(in_thread(partial(self._blocking_disconnect, cache)), _CLOSE_TIMEOUT)
         except Exception:  # a dead server: just drop the sockets
             self._abandon(cache)
 
     def _blocking_disconnect(self, cache: dict[str, Any]) -> None:
         smbclient = _smbclient()
         smbclient.reset_connection_cache(fail_on_error=False, connection_cache=cache)
-
-
-async def _in_thread(call: Callable[[], _T]) -> _T:
-    """Run ``call()`` in the default executor *without* the caller's context variables.
-
-    Not asyncio.to_thread: that copies the context, so smbprotocol's log records from the thread
-    would count as the module's and reach its LogEvent forwarder, which needs the event loop and
-    raises in a thread (RuntimeError: no running event loop, inside smbprotocol's logging call).
-    """
-    return await asyncio.get_running_loop().run_in_executor(None, call)
 
 
 def _smbclient() -> Any:

@@ -2,15 +2,16 @@
 
 from __future__ import annotations
 
-import asyncio
 import shutil
 import tempfile
 import threading
+from functools import partial
 from pathlib import Path
 
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.vfs._errors import VfsError
 from nightcrew.vfs._local import DiskRoot
+from nightcrew.vfs._root import in_thread
 
 __all__ = ["TempFile"]
 
@@ -55,7 +56,7 @@ class TempFile(DiskRoot):
             directory, self._directory = self._directory, None
             self._closed = True
         if directory is not None:
-            await asyncio.to_thread(self._blocking_remove_tree, directory)
+            await in_thread(partial(self._blocking_remove_tree, directory))
 
     @staticmethod
     def _blocking_remove_tree(directory: Path) -> None:

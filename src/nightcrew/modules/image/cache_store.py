@@ -99,8 +99,7 @@ class CacheStore:
             raise TooLargeError(f"{len(data)} bytes exceed the cache size of {self.max_size}", path=key)
         async with self._lock:
             evicted = await self._make_room(key, len(data))
-            await self.root.write_bytes(key, data)
-            await asyncio.to_thread(_blocking_sync_directory, self.directory / "files" / key)
+            await self.root.write_bytes(key, data)  # durable: LocalFile flushes file and directory
             self.total += len(data) - self._written.pop(key, (0, 0.0))[0]
             self._written[key] = (len(data), time.time())
             if key in self._fetched:  # rewritten: a new file nobody has fetched
@@ -172,12 +171,3 @@ def _blocking_scan(files: Path) -> list[tuple[str, tuple[int, float]]]:
             info = full.stat()
             found.append((full.relative_to(files).as_posix(), (info.st_size, info.st_mtime)))
     return sorted(found, key=lambda item: (item[1][1], item[0]))
-
-
-def _blocking_sync_directory(file: Path) -> None:
-    """Flush the directory entry of ``file`` (the rename), so the file outlives a power cut."""
-    descriptor = os.open(file.parent, os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        os.fsync(descriptor)
-    finally:
-        os.close(descriptor)
