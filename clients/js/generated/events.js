@@ -376,10 +376,12 @@ export class SafetyClearedEvent extends Event {
 export class TaskFailedEvent extends Event {
   static eventName = "TaskFailedEvent";
   /**
-   * @param {{id: string, name: string, reason: string, retryable?: boolean}} [fields]
+   * @param {{device_fault?: boolean, id: string, name: string, reason: string, retryable?: boolean}} [fields]
    */
   constructor(fields = {}) {
     super();
+    /** @type {boolean} */
+    this.device_fault = fields.device_fault ?? false;
     /** @type {string} */
     this.id = fields.id ?? undefined;
     /** @type {string} */
@@ -428,6 +430,24 @@ export class TaskStartedEvent extends Event {
 }
 
 /**
+ * Tasks were added to, changed in or withdrawn from a task archive: planners look again now
+ * instead of at their next poll.
+ */
+export class TasksChangedEvent extends Event {
+  static eventName = "TasksChangedEvent";
+  /**
+   * @param {{change: string, ids: Array<string>}} [fields]
+   */
+  constructor(fields = {}) {
+    super();
+    /** @type {string} */
+    this.change = fields.change ?? undefined;
+    /** @type {Array<string>} */
+    this.ids = fields.ids ?? undefined;
+  }
+}
+
+/**
  * Sent by tests and by ``nightcrew`` diagnostics.
  */
 export class TestEvent extends Event {
@@ -443,7 +463,7 @@ export class TestEvent extends Event {
 }
 
 /** Every event class, by the name it travels under. */
-export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TestEvent};
+export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent};
 
 /** JSON Schema of every event and of the types they use (`$defs`, as in the catalogue). */
 export const EVENT_SCHEMAS = {
@@ -913,6 +933,11 @@ export const EVENT_SCHEMAS = {
   "TaskFailedEvent": {
     "description": "A task ended early.",
     "properties": {
+      "device_fault": {
+        "default": false,
+        "title": "Device Fault",
+        "type": "boolean"
+      },
       "id": {
         "title": "Id",
         "type": "string"
@@ -990,6 +1015,29 @@ export const EVENT_SCHEMAS = {
       "id"
     ],
     "title": "TaskStartedEvent",
+    "type": "object",
+    "x-persistent": false
+  },
+  "TasksChangedEvent": {
+    "description": "Tasks were added to, changed in or withdrawn from a task archive: planners look again now\ninstead of at their next poll.",
+    "properties": {
+      "change": {
+        "title": "Change",
+        "type": "string"
+      },
+      "ids": {
+        "items": {
+          "type": "string"
+        },
+        "title": "Ids",
+        "type": "array"
+      }
+    },
+    "required": [
+      "ids",
+      "change"
+    ],
+    "title": "TasksChangedEvent",
     "type": "object",
     "x-persistent": false
   },

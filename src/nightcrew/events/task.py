@@ -7,7 +7,7 @@ from datetime import datetime
 
 from nightcrew.events.base import Event
 
-__all__ = ["TaskFailedEvent", "TaskFinishedEvent", "TaskStartedEvent"]
+__all__ = ["TaskFailedEvent", "TaskFinishedEvent", "TaskStartedEvent", "TasksChangedEvent"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -37,3 +37,15 @@ class TaskFailedEvent(Event):
     # True when the task was interrupted from outside (weather, roof, dawn, shutdown) and may run
     # again later; False when it failed by itself and should not be planned again tonight.
     retryable: bool = False
+    # True when a device (camera, mount, ...) failed under the task, not the task's own content: the
+    # scheduler retries it later the same night with a back-off instead of dropping it.
+    device_fault: bool = False
+
+
+@dataclass(frozen=True, kw_only=True)
+class TasksChangedEvent(Event):
+    """Tasks were added to, changed in or withdrawn from a task archive: planners look again now
+    instead of at their next poll."""
+
+    ids: tuple[str, ...]  # the archive's ids of the tasks concerned
+    change: str  # "added", "changed" or "cancelled"

@@ -54,6 +54,7 @@ from nightcrew.interfaces.robotic import (
     PlannedTask,
     RoboticStatus,
     RoboticTask,
+    UnplannedTask,
 )
 from nightcrew.interfaces.roof import IDome, IRoof
 from nightcrew.interfaces.rotator import IRotator
@@ -128,6 +129,7 @@ __all__ = [
     "RoboticTask",
     "SensorValue",
     "SwitchInfo",
+    "UnplannedTask",
     "WeatherReport",
     "WeatherSensor",
     "Window",

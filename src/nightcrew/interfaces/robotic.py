@@ -19,6 +19,7 @@ __all__ = [
     "PlannedTask",
     "RoboticStatus",
     "RoboticTask",
+    "UnplannedTask",
 ]
 
 
@@ -93,6 +94,15 @@ class PlannedTask:
 
 
 @dataclass(frozen=True)
+class UnplannedTask:
+    """A task the plan leaves out, and why (for a person: the constraint that keeps it out)."""
+
+    task_id: str
+    reason: str
+    name: str | None = None
+
+
+@dataclass(frozen=True)
 class Plan:
     """A scheduler's latest plan of the night, with the solver's objective and proven bound."""
 
@@ -106,6 +116,7 @@ class Plan:
     gap: float | None
     wall_time_s: float
     slots: tuple[PlannedTask, ...]
+    unplanned: tuple[UnplannedTask, ...] = ()
 
 
 class IRoboticScheduler(Interface):

@@ -4,11 +4,15 @@ import { RemoteInterface } from "../../src/remote.js";
 
 /**
  * A scheduler's latest plan of the night, with the solver's objective and proven bound.
- * @typedef {{bound: number|null, gap: number|null, night_end: Date|string, night_start: Date|string, objective: number, planned_at: Date|string, slots: Array<PlannedTask>, solver: string, status: string, wall_time_s: number}} Plan
+ * @typedef {{bound: number|null, gap: number|null, night_end: Date|string, night_start: Date|string, objective: number, planned_at: Date|string, slots: Array<PlannedTask>, solver: string, status: string, unplanned?: Array<UnplannedTask>, wall_time_s: number}} Plan
  */
 /**
  * One task placed in a plan; ``name`` when the planner knows it.
  * @typedef {{end: Date|string, name?: string|null, priority?: number|null, start: Date|string, task_id: string}} PlannedTask
+ */
+/**
+ * A task the plan leaves out, and why (for a person: the constraint that keeps it out).
+ * @typedef {{name?: string|null, reason: string, task_id: string}} UnplannedTask
  */
 /**
  * A module planning the night, which can show its plan.
@@ -105,6 +109,14 @@ IRoboticScheduler.spec = {
           "title": "Status",
           "type": "string"
         },
+        "unplanned": {
+          "default": [],
+          "items": {
+            "$ref": "#/components/schemas/UnplannedTask"
+          },
+          "title": "Unplanned",
+          "type": "array"
+        },
         "wall_time_s": {
           "title": "Wall Time S",
           "type": "number"
@@ -173,6 +185,37 @@ IRoboticScheduler.spec = {
         "end"
       ],
       "title": "PlannedTask",
+      "type": "object"
+    },
+    "UnplannedTask": {
+      "description": "A task the plan leaves out, and why (for a person: the constraint that keeps it out).",
+      "properties": {
+        "name": {
+          "anyOf": [
+            {
+              "type": "string"
+            },
+            {
+              "type": "null"
+            }
+          ],
+          "default": null,
+          "title": "Name"
+        },
+        "reason": {
+          "title": "Reason",
+          "type": "string"
+        },
+        "task_id": {
+          "title": "Task Id",
+          "type": "string"
+        }
+      },
+      "required": [
+        "task_id",
+        "reason"
+      ],
+      "title": "UnplannedTask",
       "type": "object"
     }
   },
