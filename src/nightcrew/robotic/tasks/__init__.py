@@ -58,7 +58,11 @@ from nightcrew.robotic.tasks._state import (
     TaskStatus,
 )
 from nightcrew.robotic.tasks._task import Task, tasks_of_group
-from nightcrew.robotic.tasks._validation import load_request_group_file, parse_request_group
+from nightcrew.robotic.tasks._validation import (
+    load_request_group_file,
+    parse_request_group,
+    request_group_schema,
+)
 
 __all__ = [
     "ALLOWED_TRANSITIONS",
@@ -95,5 +99,6 @@ __all__ = [
     "estimate_duration",
     "load_request_group_file",
     "parse_request_group",
+    "request_group_schema",
     "tasks_of_group",
 ]

@@ -21,7 +21,13 @@ from nightcrew.robotic.tasks._base import FieldError
 from nightcrew.robotic.tasks._errors import InvalidTaskError, TaskProblem
 from nightcrew.robotic.tasks._request import RequestGroup
 
-__all__ = ["load_request_group_file", "parse_request_group", "problems_of"]
+__all__ = ["load_request_group_file", "parse_request_group", "problems_of", "request_group_schema"]
+
+
+def request_group_schema() -> dict[str, Any]:
+    """The request format as JSON Schema (draft 2020-12), from the model the validator uses, so
+    a form, a client or a document built from it cannot drift from what is accepted."""
+    return RequestGroup.model_json_schema()
 
 
 def parse_request_group(data: object, *, prefix: str = "", source: str = "") -> RequestGroup:
