@@ -9,12 +9,14 @@ from __future__ import annotations
 import asyncio
 import json
 from collections.abc import AsyncIterator, Callable
+from pathlib import Path
 from typing import Any
 
 import aiohttp
 import pytest
 
 from nightcrew.modules.console import WebConsole, hash_password
+from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.testing import SITE
 from nightcrew.testing import Observatory as ModulesObservatory
 
@@ -125,6 +127,19 @@ async def observatory() -> AsyncIterator[Observatory]:
         yield obs
     finally:
         await obs.close()
+
+
+@pytest.fixture
+async def archive(tmp_path: Path, observatory: Observatory) -> AsyncIterator[SqliteTaskArchive]:
+    """An opened SQLite task archive in ``tmp_path/tasks.sqlite`` on the observatory's clock, closed
+    after the observatory's modules (which may use it)."""
+    opened = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=observatory.clock, poll_interval=0)
+    await opened.open()
+    try:
+        yield opened
+    finally:
+        await observatory.close()
+        await opened.close()
 
 
 @pytest.fixture

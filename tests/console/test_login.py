@@ -18,6 +18,7 @@ from nightcrew.errors import ConfigError
 from nightcrew.modules import Module
 from nightcrew.modules.console import WebConsole, hash_password, verify_password
 from nightcrew.modules.sim import SimTelescope
+from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.security import LoginLimiter
 
 from .conftest import OPERATOR, OPERATOR_PASSWORD, VIEWER, VIEWER_PASSWORD, ApiClient, Observatory
@@ -195,6 +196,7 @@ async def test_the_page_options_are_public_and_widgets_need_a_session(
             "show_events": True,
             "show_status": True,
             "show_modules": ["camera"],
+            "show_tasks": False,
             "widgets": {"camera": {"title": "Dewar", "url": "/api/widgets/camera"}},
         },
     )
@@ -243,6 +245,7 @@ def test_the_example_configuration_builds_a_console() -> None:
     console = build_object({**config, "name": "console"}, Module)
     assert isinstance(console, WebConsole) and console.port == 37180
     assert {a.role.value for a in console.accounts.values()} == {"operator", "viewer"}
+    assert isinstance(console.task_archive, SqliteTaskArchive)  # built, opened only with the console
 
 
 async def test_behind_a_tls_proxy_the_cookie_is_secure(

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable
+from collections.abc import Callable
 from datetime import datetime, timedelta
-from pathlib import Path
 
 import pytest
 
@@ -34,17 +33,6 @@ class ListArchive:
 
     async def block_names(self) -> dict[str, str]:
         return {block.id: f"field {block.id}" for block in self.blocks}
-
-
-@pytest.fixture
-async def archive(tmp_path: Path, observatory: Observatory) -> AsyncIterator[SqliteTaskArchive]:
-    opened = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=observatory.clock, poll_interval=0)
-    await opened.open()
-    try:
-        yield opened
-    finally:
-        await observatory.close()  # the mastermind first, then its archive
-        await opened.close()
 
 
 async def test_the_pages_see_what_the_mastermind_does_and_what_the_scheduler_plans(

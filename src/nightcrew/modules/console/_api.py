@@ -31,6 +31,7 @@ from nightcrew.modules.console._http import (
 from nightcrew.modules.console._images import View
 from nightcrew.modules.console._relay import Client
 from nightcrew.modules.console._sky import sky_now
+from nightcrew.modules.console._tasks_api import add_task_routes
 
 if TYPE_CHECKING:
     from nightcrew.modules.console.console import WebConsole
@@ -77,6 +78,7 @@ def build_app(console: WebConsole, static_dir: Path) -> web.Application:
         ("GET", "/api/widgets/{module}", routes.widget),
     ):
         add(method, path, handler)
+    add_task_routes(app, console)
     app.on_shutdown.append(routes.close_sockets)
     return app
 
@@ -258,8 +260,7 @@ class _Routes:
             event = event_type.from_dict(fields)
         except TypeError as exc:  # a missing field
             raise InvalidArgumentError(f"{name}: {exc}") from None
-        await self.console.comm.send_event(event)
-        await self.console.on_event(event, self.console.name)  # the bus does not echo it back
+        await self.console.announce(event)
         return web.json_response({"ok": True})
 
     async def log(self, request: web.Request) -> web.Response:

@@ -52,12 +52,22 @@ Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
 class ApiError(Exception):
     """A request the console refuses, with its HTTP status and error class."""
 
-    def __init__(self, status: int, error_class: str, message: str, *, headers: dict[str, str] | None = None):
+    def __init__(
+        self,
+        status: int,
+        error_class: str,
+        message: str,
+        *,
+        headers: dict[str, str] | None = None,
+        details: dict[str, Any] | None = None,
+    ):
         super().__init__(message)
         self.status = status
         self.error_class = error_class
         self.message = message
         self.headers = headers or {}
+        #: More fields of the error body (e.g. ``problems``: every field of a request group at fault).
+        self.details = details or {}
 
 
 def status_of(exc: NightcrewError) -> int:
@@ -74,8 +84,10 @@ def status_of(exc: NightcrewError) -> int:
     return 502
 
 
-def error_body(error_class: str, message: str, module: str | None = None) -> dict[str, Any]:
-    return {"error": {"class": error_class, "message": message, "module": module}}
+def error_body(
+    error_class: str, message: str, module: str | None = None, details: dict[str, Any] | None = None
+) -> dict[str, Any]:
+    return {"error": {"class": error_class, "message": message, "module": module, **(details or {})}}
 
 
 def _error_response(status: int, body: dict[str, Any], headers: dict[str, str] | None = None) -> web.Response:
@@ -87,7 +99,8 @@ async def error_middleware(request: web.Request, handler: Handler) -> web.Stream
     try:
         return await handler(request)
     except ApiError as exc:
-        return _error_response(exc.status, error_body(exc.error_class, exc.message), exc.headers)
+        body = error_body(exc.error_class, exc.message, details=exc.details)
+        return _error_response(exc.status, body, exc.headers)
     except NightcrewError as exc:
         return _error_response(status_of(exc), error_body(type(exc).__name__, exc.message, exc.module))
     except web.HTTPException as exc:

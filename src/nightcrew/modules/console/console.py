@@ -41,6 +41,7 @@ from nightcrew.modules.console._directory import ModuleDirectory, ModuleEntry
 from nightcrew.modules.console._images import Frame, View, frame_from_hdul, render_png
 from nightcrew.modules.console._relay import Relay
 from nightcrew.modules.console._robotic import WeatherVerdicts, robotic_view
+from nightcrew.modules.console._tasks import EditableTaskArchive, build_task_archive
 from nightcrew.modules.module import Module
 from nightcrew.security import LoginLimiter
 
@@ -78,6 +79,9 @@ class WebConsole(Module):
             as many per client address) within this many wall seconds.
         status_interval: Wall seconds between two polls of module states and the robotic status.
         weather_interval: Clock seconds between two polls of the weather modules.
+        tasks: The task archive for the Tasks page (e.g. ``{class:
+            nightcrew.robotic.archives.SqliteTaskArchive, path: tasks.sqlite}``), opened and closed
+            by the console; None: no Tasks page.
         **kwargs: Module options (``site`` for the Sun and Moon, ``vfs`` to read the cameras' frames).
     """
 
@@ -99,6 +103,7 @@ class WebConsole(Module):
         login_window: float = 300.0,
         status_interval: float = 2.0,
         weather_interval: float = 60.0,
+        tasks: EditableTaskArchive | dict[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -118,12 +123,14 @@ class WebConsole(Module):
             raise ConfigError("must be true, false or a list of module names", key="show_modules")
         self.accounts: dict[str, Account] = accounts_from_config(accounts or {})
         self.widgets = _checked_widgets(widgets or {})
+        self.task_archive = build_task_archive(tasks, self.clock) if tasks is not None else None
         self.page_config: dict[str, Any] = {
             "title": title,
             "show_shell": show_shell,
             "show_events": show_events,
             "show_status": show_status,
             "show_modules": show_modules,
+            "show_tasks": self.task_archive is not None,
             "widgets": {
                 m: {"title": w["title"], "url": f"/api/widgets/{m}"} for m, w in self.widgets.items()
             },
@@ -165,11 +172,17 @@ class WebConsole(Module):
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
             return
-        await self._start_server()
+        if self.task_archive is not None:
+            await self.task_archive.open()
         try:
-            await super().open()
+            await self._start_server()
+            try:
+                await super().open()
+            except BaseException:
+                await self._stop_server()
+                raise
         except BaseException:
-            await self._stop_server()
+            await self._close_task_archive()
             raise
         comm = self.comm
         await comm.register_event(ModuleOpenedEvent, self.on_module_opened)
@@ -182,7 +195,14 @@ class WebConsole(Module):
 
     async def close(self) -> None:
         await self._stop_server()  # first: no request meets a module half closed
-        await super().close()
+        try:
+            await super().close()
+        finally:
+            await self._close_task_archive()
+
+    async def _close_task_archive(self) -> None:
+        if self.task_archive is not None:
+            await self.task_archive.close()
 
     async def _start_server(self) -> None:
         runner = web.AppRunner(build_app(self, STATIC_DIR), access_log=None)
@@ -219,6 +239,11 @@ class WebConsole(Module):
             self.relay.send({"type": "module_left", "name": sender})
 
     # --- events and log records ----------------------------------------------------------------
+
+    async def announce(self, event: Event) -> None:
+        """Send ``event`` as the console, and list it (the bus does not echo it back)."""
+        await self.comm.send_event(event)
+        await self.on_event(event, self.name)
 
     async def on_event(self, event: Event, sender: str) -> None:
         if isinstance(event, LogEvent):
