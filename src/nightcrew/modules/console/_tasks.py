@@ -138,6 +138,7 @@ def _row(task: Task, plan: PlanView) -> dict[str, Any]:
         "proposal": task.proposal,
         "observation_type": task.observation_type.value,
         "priority": task.effective_priority,
+        "telescope_class": request.location.telescope_class,
         "state": status.state.value,
         "reason": status.reason,
         "ended": status.state in FINAL_STATES,

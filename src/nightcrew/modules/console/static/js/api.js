@@ -10,6 +10,7 @@ export class ApiError extends Error {
     this.status = status;
     this.errorClass = error.class || `HTTP ${status}`;
     this.module = error.module || null;
+    this.problems = error.problems || []; // [{path, message}] of an invalid request group
   }
   /** "MoveError from telescope: ..." — what a person needs to see. */
   describe() {
@@ -21,15 +22,16 @@ export function setCsrfToken(token) {
   csrfToken = token || "";
 }
 
-async function request(method, path, body) {
+async function request(method, path, body, contentType = "application/json") {
   const headers = { Accept: "application/json" };
   if (method !== "GET") {
-    headers["Content-Type"] = "application/json";
+    headers["Content-Type"] = contentType;
     headers["X-CSRF-Token"] = csrfToken;
   }
+  const sent = body === undefined || contentType !== "application/json" ? body : JSON.stringify(body);
   let response;
   try {
-    response = await fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body), credentials: "same-origin" });
+    response = await fetch(path, { method, headers, body: sent, credentials: "same-origin" });
   } catch (exc) {
     throw new ApiError(0, { error: { class: "NetworkError", message: `the console cannot be reached (${exc.message})` } });
   }
@@ -56,6 +58,8 @@ export function whenLoggedOut(callback) {
 
 export const get = (path) => request("GET", path);
 export const post = (path, body) => request("POST", path, body ?? {});
+/** POST a text body as it is (e.g. YAML with ``application/yaml``). */
+export const postText = (path, text, contentType) => request("POST", path, text, contentType);
 
 /** Call ``module.method`` with positional (list) or named (object) arguments; returns the result. */
 export async function call(module, method, args = []) {

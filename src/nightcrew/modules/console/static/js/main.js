@@ -10,6 +10,7 @@ import { modulePage } from "./pages/module.js";
 import { shellPage } from "./pages/shell.js";
 import { eventsPage } from "./pages/events.js";
 import { statusPage } from "./pages/status.js";
+import { tasksPage } from "./pages/tasks.js";
 
 let cleanup = () => {};
 let frame = null;
@@ -53,6 +54,7 @@ function started(session) {
 function specialPages() {
   const c = state.config;
   return [
+    c.show_tasks && ["tasks", "Tasks", tasksPage],
     c.show_shell !== false && ["shell", "Shell", shellPage],
     c.show_events !== false && ["events", "Events", eventsPage],
     c.show_status !== false && ["status", "Status", statusPage],

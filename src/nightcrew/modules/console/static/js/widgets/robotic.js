@@ -3,7 +3,7 @@
 
 import * as api from "../api.js";
 import { clock, h, replace, show } from "../dom.js";
-import { card, readout } from "./context.js";
+import { card, messageLine, readout } from "./context.js";
 import { linePlot, seconds } from "./plots.js";
 
 /** Keep ``render(body)`` fed with /api/robotic: now and on every `robotic` message. */
@@ -21,6 +21,7 @@ export function mastermindCard(ctx) {
   const progress = h("progress#mm-progress", { max: 1, value: 0 });
   const line = timeline("The night: plan, Sun and weather"); // the plan it follows, beside what it does
   ctx.cleanup(() => line.destroy());
+  const mode = startStop(ctx);
   followRobotic(ctx, (body) => {
     line.update(body);
     const s = body.mastermind?.module === ctx.name ? body.mastermind.status : null;
@@ -34,7 +35,25 @@ export function mastermindCard(ctx) {
     progress.value = t?.exposures_done || 0;
     setCond(`Sun ${show(s.sun_altitude, 3)}°, weather ${s.weather_good === null ? "?" : s.weather_good ? "good" : "bad"}, roof ${show(s.roof)}, telescope ${s.telescope_ready ? "ready" : "not ready"}`);
   });
-  return card("Mastermind", description, h("div.readouts", actionEl, whyEl, taskEl, condEl), progress, line.element);
+  return card("Mastermind", description, mode, h("div.readouts", actionEl, whyEl, taskEl, condEl), progress, line.element);
+}
+
+/** Robotic mode (IStartStop): running or stopped, and the buttons an operator starts and stops it with. */
+function startStop(ctx) {
+  if (!ctx.has("start")) return null;
+  const [modeEl, setMode] = readout("Robotic mode", "mm-mode");
+  const message = messageLine();
+  ctx.poll([["is_running"]], (v) => {
+    if (v.is_running === undefined) return;
+    setMode(v.is_running ? "running" : "stopped");
+    modeEl.dataset.running = v.is_running;
+  });
+  const said = (text) => () => (message.textContent = text);
+  return h("div.robotic-mode",
+    h("div.buttons", modeEl,
+      ctx.action("Start robotic mode", "start", () => [], { message, id: "mm-start", then: said("robotic mode started") }),
+      ctx.action("Stop robotic mode", "stop", () => [], { message, id: "mm-stop", then: said("robotic mode stopped: the running task is aborted, the roof closes, the telescope parks") })),
+    message);
 }
 
 const TASK_COLOURS = ["#4e9af1", "#5fbf6f", "#f1a14e", "#a78bfa", "#d65f8f", "#6fd3d3"];
