@@ -19,7 +19,7 @@ from nightcrew.modules.robotic.mastermind import Mastermind
 from nightcrew.robotic import samples
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.runner import TaskRunner
-from nightcrew.robotic.tasks import TaskState
+from nightcrew.robotic.tasks import TaskState, load_request_group_file
 
 from .observatory import EPOCH, VIEWER, Observatory, login
 
@@ -50,6 +50,7 @@ async def observatory(database: Path) -> AsyncIterator[Observatory]:
             runner=TaskRunner(scripts={}),
             weather=None,
             autostart=False,
+            poll_interval=60.0,  # it has nothing to do: it need not look often
         )
         await obs.start_console(tasks=description)
         yield obs
@@ -212,8 +213,11 @@ async def test_an_operator_starts_and_stops_robotic_mode(page: Page, observatory
     await page.click("#module-list li[data-module='mastermind'] a")
     mode = page.locator("#mm-mode")
     await expect(mode).to_have_text("stopped")
+    await expect(page.locator("#mm-stop")).to_be_disabled()  # nothing to stop
     await page.click("#mm-start")
     await expect(mode).to_have_text("running")
+    await expect(page.locator("#mm-message")).to_have_text("robotic mode started")
+    await expect(page.locator("#mm-start")).to_be_disabled()
     assert await mastermind.is_running()
     await expect(page.locator("#mm-action")).not_to_have_text("stopped")  # the robotic status follows
     await page.click("#mm-stop")
@@ -226,11 +230,7 @@ async def test_a_viewer_sees_tasks_and_robotic_mode_but_the_console_refuses_chan
     page: Page, observatory: Observatory, database: Path
 ) -> None:
     async with SqliteTaskArchive(database, poll_interval=0) as archive:
-        text = (Path(samples.__file__).parent / "m31-andromeda-galaxy.yaml").read_text()
-        from nightcrew.config import parse_data
-        from nightcrew.robotic.tasks import parse_request_group
-
-        await archive.add_request_group(parse_request_group(parse_data(text, "m31")))
+        await archive.add_request_group(load_request_group_file(M31))
     await login(page, observatory.url, VIEWER)
     await page.click("#nav-tasks")
     row = page.locator("#tasks-table tr[data-task='1']")
@@ -261,6 +261,5 @@ async def test_a_viewer_sees_tasks_and_robotic_mode_but_the_console_refuses_chan
     mastermind = observatory.modules["mastermind"]
     assert isinstance(mastermind, Mastermind) and not await mastermind.is_running()
     tasks = await stored(database)
-    assert (
-        list(tasks) == ["M31 Andromeda galaxy"] and tasks["M31 Andromeda galaxy"].state is TaskState.PENDING
-    )
+    assert list(tasks) == ["M31 Andromeda galaxy"]
+    assert tasks["M31 Andromeda galaxy"].state is TaskState.PENDING

@@ -43,17 +43,19 @@ function startStop(ctx) {
   if (!ctx.has("start")) return null;
   const [modeEl, setMode] = readout("Robotic mode", "mm-mode");
   const message = messageLine();
+  message.id = "mm-message";
+  const said = (text) => () => (message.textContent = text);
+  const start = ctx.action("Start robotic mode", "start", () => [], { message, id: "mm-start", then: said("robotic mode started") });
+  const stop = ctx.action("Stop robotic mode", "stop", () => [], { message, id: "mm-stop", then: said("robotic mode stopped: the running task is aborted, the roof closes, the telescope parks") });
   ctx.poll([["is_running"]], (v) => {
     if (v.is_running === undefined) return;
     setMode(v.is_running ? "running" : "stopped");
     modeEl.dataset.running = v.is_running;
+    // Only the button that changes something; neither for a viewer.
+    start.disabled = v.is_running || !ctx.can("start");
+    stop.disabled = !v.is_running || !ctx.can("stop");
   });
-  const said = (text) => () => (message.textContent = text);
-  return h("div.robotic-mode",
-    h("div.buttons", modeEl,
-      ctx.action("Start robotic mode", "start", () => [], { message, id: "mm-start", then: said("robotic mode started") }),
-      ctx.action("Stop robotic mode", "stop", () => [], { message, id: "mm-stop", then: said("robotic mode stopped: the running task is aborted, the roof closes, the telescope parks") })),
-    message);
+  return h("div.robotic-mode", h("div.buttons", modeEl, start, stop), message);
 }
 
 const TASK_COLOURS = ["#4e9af1", "#5fbf6f", "#f1a14e", "#a78bfa", "#d65f8f", "#6fd3d3"];
