@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Callable
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,7 @@ from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.robotic import samples
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.tasks import TaskState, request_group_schema
+from nightcrew.testing import EPOCH
 
 from .conftest import (
     OPERATOR,
@@ -190,6 +192,9 @@ async def test_an_operator_cancels_and_the_scheduler_hears_of_it(
     assert console.task_archive is not None
     [stored] = await console.task_archive.list_tasks()
     assert stored.state is TaskState.CANCELED
+    # Built from its description, the archive keeps the console's clock (a simulated night's time).
+    assert stored.status.finished_at is not None
+    assert datetime.fromisoformat(EPOCH) <= stored.status.finished_at <= observatory.clock.now()
 
     status, body = await operator.post(f"/api/tasks/{task['id']}/cancel", {})
     assert status == 409 and "cannot become CANCELED" in body["error"]["message"]
