@@ -3,7 +3,9 @@
     .venv/bin/python -m tests.console.browser.screenshots [--out docs/img]
 
 Starts ``nightcrew sim --console`` (as the test does), waits until the mastermind runs a science
-task, then visits the pages in headless Chromium and saves docs/img/console-*.png.
+task, then visits the pages in headless Chromium and saves docs/img/console-*.png. The Tasks page
+is taken on the tests' small observatory with the sample tasks, a scheduler and a console with
+the task archive (``nightcrew sim --console`` has no task archive of its own).
 """
 
 from __future__ import annotations
@@ -15,9 +17,14 @@ from pathlib import Path
 
 from playwright.async_api import Page, expect
 
+from nightcrew.clock import AcceleratedClock
+from nightcrew.modules.robotic import SchedulerModule
+from nightcrew.robotic import samples
+from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.robotic.tasks import load_request_group_file
 from nightcrew.testing.browser import launch_chromium
 
-from .observatory import login
+from .observatory import Observatory, login
 from .test_sim_console import PASSWORD, sim_night
 
 WIDTH, HEIGHT = 1400, 900
@@ -106,6 +113,29 @@ async def main(out: Path, tmp: Path) -> None:
         assert not errors, f"script errors in the console: {errors}"
 
 
+async def tasks_page(out: Path, tmp: Path) -> None:
+    """The Tasks page with the sample tasks at 18:00 UTC on their night, one "why not" unfolded."""
+    database = tmp / "tasks.sqlite"
+    obs = Observatory()
+    obs.clock = AcceleratedClock("2026-11-10T18:00:00+00:00", speed=30)
+    async with SqliteTaskArchive(database, clock=obs.clock, poll_interval=0) as archive:
+        for path in sorted(Path(samples.__file__).parent.glob("*.yaml")):
+            await archive.add_request_group(load_request_group_file(path))
+        try:
+            await obs.start(SchedulerModule, "scheduler", archive=archive, store=archive, time_limit_s=5.0)
+            description = {"class": "nightcrew.robotic.archives.SqliteTaskArchive", "path": str(database)}
+            await obs.start_console(tasks=description)
+            async with launch_chromium() as browser:
+                page = await browser.new_page(viewport={"width": WIDTH, "height": HEIGHT})
+                await login(page, obs.url)
+                await page.click("#nav-tasks")
+                await expect(page.locator("#tasks-table td.tonight time").first).to_be_visible()
+                await page.locator("#tasks-table details.why summary").first.click()
+                await shoot(page, out, "tasks")
+        finally:
+            await obs.close()
+
+
 if __name__ == "__main__":
     import tempfile
 
@@ -115,3 +145,4 @@ if __name__ == "__main__":
     args.out.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         asyncio.run(main(args.out, Path(tmp)))
+        asyncio.run(tasks_page(args.out, Path(tmp)))
