@@ -132,6 +132,11 @@ async def test_tasks_show_their_next_planned_time_and_why_they_are_left_out(
     reasons = {u.task_id: u.reason for u in plan.unplanned}
     assert by_id[southern["id"]]["why_not"] == reasons.get(southern["id"])  # None until it records one
 
+    # Cancelled, it is planned no more, even by a plan made before.
+    assert (await operator.post(f"/api/tasks/{pleiades['id']}/cancel", {}))[0] == 200
+    row = (await rows())[pleiades["id"]]
+    assert row["ended"] and row["next_start"] is None and row["why_not"] is None
+
 
 async def test_a_group_is_validated_as_nightcrew_tasks_add_does_and_nothing_is_stored_on_error(
     console: WebConsole, operator: ApiClient

@@ -4,6 +4,7 @@ an operator changes, a viewer only sees."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import AsyncIterator
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
@@ -139,6 +140,8 @@ async def test_an_operator_lists_adds_and_cancels_tasks_and_sees_why_one_is_not_
 
     # A whole group as YAML, as in a task file.
     await page.click("#task-raw summary")
+    await page.click("#task-raw-from-form")  # the form's group as a start
+    await expect(page.locator("#task-raw-text")).to_have_value(re.compile(r'"name": "Southern field"'))
     await page.fill("#task-raw-text", M31.read_text())
     await page.click("#task-raw-add")
     await expect(page.locator("#task-message")).to_have_text("added “M31 Andromeda galaxy”: task 3")

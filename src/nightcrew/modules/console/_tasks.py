@@ -130,7 +130,8 @@ def _newest_first(task: Task) -> tuple[int, str]:
 
 def _row(task: Task, plan: PlanView) -> dict[str, Any]:
     status, request = task.status, task.request
-    slot = plan.next_slot(task.id)
+    # A plan made before the task ended may still hold it: an ended task is planned no more.
+    slot = plan.next_slot(task.id) if status.state not in FINAL_STATES else None
     return {
         "id": task.id,
         "group_id": task.group_id,
@@ -152,7 +153,7 @@ def _row(task: Task, plan: PlanView) -> dict[str, Any]:
         "finished_at": _iso(status.finished_at),
         "next_start": _iso(slot[0] if slot else None),
         "next_end": _iso(slot[1] if slot else None),
-        "why_not": None if slot else plan.why_not(task.id),
+        "why_not": plan.why_not(task.id) if task.schedulable and not slot else None,
     }
 
 

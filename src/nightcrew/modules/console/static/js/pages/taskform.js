@@ -78,7 +78,7 @@ export function taskForm(added) {
 
   function show(error) {
     message.className = "message error";
-    message.textContent = error.describe ? error.describe() : String(error);
+    message.textContent = error.describe ? error.describe() : error.message;
     const unplaced = [];
     for (const problem of error.problems || []) {
       const input = inputs.get(problem.path);
@@ -100,14 +100,14 @@ export function taskForm(added) {
       input.closest("label").querySelector(".field-error").textContent = "";
     }
   }
-  /** The group the form describes; null (with the fields marked) when a field breaks the schema. */
-  function group() {
+  /** The group the form describes; with ``check``, null (the fields marked) when a field breaks the schema. */
+  function group(check = true) {
     const result = {};
     let valid = true;
     for (const [path, input] of inputs) {
       const floor = input.dataset.exclusiveMinimum;
       input.setCustomValidity(floor !== undefined && input.value !== "" && !(Number(input.value) > Number(floor)) ? `must be > ${floor}` : "");
-      if (!input.checkValidity()) {
+      if (check && !input.checkValidity()) {
         mark(input, input.validationMessage);
         valid = false;
       }
@@ -147,7 +147,7 @@ export function taskForm(added) {
     raw,
     h("div.buttons",
       h("button#task-raw-add", { type: "button", disabled: !isOperator(), onclick: () => submit(() => api.postText("/api/tasks", raw.value, "application/yaml")) }, "Add from text"),
-      h("button#task-raw-from-form", { type: "button", onclick: () => (raw.value = JSON.stringify(group() || {}, null, 2)) }, "Start from the form")));
+      h("button#task-raw-from-form", { type: "button", onclick: () => (raw.value = JSON.stringify(group(false), null, 2)) }, "Start from the form")));
 
   api.get("/api/tasks/schema").then((loaded) => {
     schema = loaded;
