@@ -8,6 +8,7 @@ from collections.abc import Awaitable, Callable
 
 import pytest
 
+from nightcrew.bridges.alpaca import AlpacaClient
 from nightcrew.clock import RealClock
 from nightcrew.errors import GrabImageError, ModuleError
 from nightcrew.interfaces import ExposureStatus, ICamera, IFilters, IFocuser, IModule, ITelescope, ModuleState
@@ -93,3 +94,27 @@ def camera_exposing(camera: AlpacaCamera) -> Callable[[], Awaitable[bool]]:
         )
 
     return exposing
+
+
+async def test_a_new_camera_module_aborts_the_exposure_a_killed_one_left_running(
+    start_alpaca_simulator: Callable[..., AlpacaSimulator],
+) -> None:
+    simulator = start_alpaca_simulator()
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        killed = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        await killed.set_exposure_time(600.0)
+        exposure = asyncio.ensure_future(killed.grab_data())
+        await wait_for(camera_exposing(killed), 10.0, message="exposing")
+        # As kill -9 would: from now on nothing of this module reaches the device, not even an abort.
+        await killed.device.client.close()
+        exposure.cancel()
+        await asyncio.wait({exposure})
+    async with AlpacaClient(simulator.url) as client:
+        assert await client.device("camera").get("camerastate") == 2  # still exposing, unattended
+
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        assert camera.state is ModuleState.READY
+        assert await camera.device.get("camerastate") == 0  # aborted before it said ready
+        await camera.set_exposure_time(0.2)
+        assert (await camera.grab_data()).endswith(".fits")
