@@ -24,6 +24,12 @@ Decisions:
   are schedulable, so it is back in the pool, never lost. It may run
   again in the same slot once the cause has passed (good weather), or where the scheduler puts it.
   A task that failed by its own error is not retried in the same slot.
+* **Device faults**: when a device fails under a task (its module offline, restarting or in error,
+  a device error, a call that timed out - :func:`~nightcrew.robotic.mastermind.device_fault`), the
+  mastermind waits up to ``device_wait`` clock seconds for that module to be back and READY and
+  then restarts the task from its progress (at most ``device_retries`` times per run). A device
+  that stays away fails the task with ``TaskFailedEvent(retryable=True, device_fault=True)``: the
+  scheduler plans it again later the same night. A device fault never closes the roof.
 * **Focus**: with an ``autofocus`` module, before the first task that images stars (not before
   twilight flats) and whenever the temperature moved by more than ``refocus_temperature_change``
   since the last focus - once the Sun is below ``focus_max_sun_altitude``, and already while
@@ -51,6 +57,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+from collections.abc import Coroutine
 from dataclasses import replace
 from datetime import datetime, timedelta
 from typing import Any
@@ -72,6 +79,7 @@ from nightcrew.interfaces import (
     RoboticStatus,
 )
 from nightcrew.modules.module import Module
+from nightcrew.modules.robotic.device_watch import DeviceWatch
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
@@ -88,9 +96,11 @@ from nightcrew.robotic.mastermind import (
     TaskRecorder,
     abort_cause,
     decide,
+    device_fault,
     focus_field,
     focus_now,
     interruption_reason,
+    resumed,
     robotic_status,
     run_watched,
     task_cards,
@@ -134,6 +144,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         focus_azimuth: Azimuth of the focus field, degrees east of north; None: the meridian on
             the equator's side (180 at a northern site).
         focus_retry_interval: Clock seconds after a failed focus before it is tried again.
+        device_wait: Clock seconds to wait for a device module that failed under a task to be
+            back and READY before the task is given up.
+        device_retries: How often a task is restarted in one run after a device came back.
         autostart: Start robotic mode when the module opens.
         **kwargs: Module options (``site`` is required: the Sun decides a lot).
     """
@@ -164,6 +177,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         focus_altitude: float | None = 75.0,
         focus_azimuth: float | None = None,
         focus_retry_interval: float = 1800.0,
+        device_wait: float = 60.0,
+        device_retries: int = 2,
         autostart: bool = True,
         **kwargs: Any,
     ) -> None:
@@ -210,6 +225,12 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         )
         if not early_start >= 0:
             raise ConfigError(f"must be >= 0 seconds, got {early_start}", key="early_start")
+        if not device_wait >= 0:
+            raise ConfigError(f"must be >= 0 seconds, got {device_wait}", key="device_wait")
+        if isinstance(device_retries, bool) or not isinstance(device_retries, int) or device_retries < 0:
+            raise ConfigError(f"must be an integer >= 0, got {device_retries!r}", key="device_retries")
+        self._device_wait, self._device_retries = float(device_wait), device_retries
+        self._devices = DeviceWatch(self)
         self._keep_open = timedelta(seconds=keep_open)
         self._early = EarlyStarts(site, timedelta(seconds=early_start), keep_open=self._keep_open)
         self._schedule = ScheduleReader(
@@ -237,6 +258,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     async def open(self) -> None:
         await self._archive.open()  # idempotent; a shared archive may be open already
         await super().open()
+        await self._devices.open()
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
@@ -422,29 +444,62 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._task_times = (self.clock.now(), slot.end)
         reason: str | None = None
         interrupted = True  # from outside (weather, roof, Sun, shutdown): it may run again later
+        by_device = False
         try:
-            cause = await run_watched(
-                self._runner.run_task(task, recorder.on_progress),
-                lambda: self._abort_cause(slot),
-                wake=self._wake,
-                clock=self.clock,
-                poll_interval=self._poll,
-                abort_timeout=self._abort_timeout,
-            )
+            cause = await self._run_through_device_faults(slot, task)
             if cause is not None:
                 reason = interruption_reason(cause, task, recorder.progress)
         except asyncio.CancelledError:
             reason = interruption_reason("the mastermind shutting down", task, recorder.progress)
             raise
-        except Exception as exc:  # the task's own failure: not again in this slot
+        except Exception as exc:  # not again in this slot: a device fault is planned again later
             self._schedule.failed_in(task.id, slot.start)
-            interrupted = False
+            by_device = interrupted = device_fault(exc) is not None
             reason = str(exc) or type(exc).__name__
             if not isinstance(exc, NightcrewError):
                 raise  # a bug: the loop's fail-safe closes and parks
         finally:
             self._task_times = None
-            await recorder.ended(task, reason, retryable=interrupted)
+            await recorder.ended(task, reason, retryable=interrupted, device_fault=by_device)
+
+    async def _run_through_device_faults(self, slot: Slot, task: Task) -> str | None:
+        """Run the task under watch; after a device fault wait for the device and restart the task
+        from its progress (``device_retries`` times). The cause if it was stopped, as run_watched.
+
+        Raises:
+            NightcrewError: The task's own failure, or a device fault the device did not recover from.
+        """
+        restarts = 0
+        while True:  # bounded: each round is a restart
+            try:
+                return await self._watched(self._runner.run_task(task, self._recorder.on_progress), slot)
+            except NightcrewError as exc:
+                fault = device_fault(exc)
+                if fault is None or restarts >= self._device_retries:
+                    raise
+                restarts += 1
+                log.warning("%s: task %s: a device failed: %s", self.name, task.id, fault.reason)
+
+                async def device_back(error: NightcrewError = exc, module: str | None = fault.module) -> None:
+                    if not await self._devices.wait_back(module, self._device_wait):
+                        raise error
+
+                cause = await self._watched(device_back(), slot)
+                if cause is not None:
+                    return cause
+                task = resumed(task, self._recorder.progress)
+                log.info("%s: restarting task %s from its progress", self.name, task.id)
+
+    async def _watched(self, work: Coroutine[Any, Any, Any], slot: Slot) -> str | None:
+        """``work`` under watch for ``slot``'s abort causes (see run_watched)."""
+        return await run_watched(
+            work,
+            lambda: self._abort_cause(slot),
+            wake=self._wake,
+            clock=self.clock,
+            poll_interval=self._poll,
+            abort_timeout=self._abort_timeout,
+        )
 
     async def _can_run(self, task: Task) -> bool:
         try:
