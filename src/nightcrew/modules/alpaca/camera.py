@@ -89,6 +89,7 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
             self._chip, self._window, self._binning = chip, chip, Binning(1, 1)
         if not self._busy:  # a reconnect during our own exposure: that exposure fails by itself
             await self._abort_leftover_exposure()
+        await self._restore_cooling()
 
     async def _abort_leftover_exposure(self) -> None:
         """Abort an exposure the device still runs that no exposure of ours waits for."""

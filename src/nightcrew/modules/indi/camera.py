@@ -11,7 +11,8 @@ zlib-compressed BLOBs (``CCD_COMPRESSION``), which the client inflates.
 
 On every (re)connection, before the module is ready, an exposure the driver still runs
 (``CCD_EXPOSURE`` Busy, e.g. started by a camera module that was killed) is aborted
-(``CCD_ABORT_EXPOSURE``), so the next exposure does not find the camera busy.
+(``CCD_ABORT_EXPOSURE``), so the next exposure does not find the camera busy, and cooling this
+module had switched on is switched on again at its set point.
 
 Example (``examples/indi/camera.yaml``)::
 
@@ -205,6 +206,7 @@ class IndiCamera(IndiModule, BaseCamera):
             await indi.client.wait(
                 indi.device, "CCD_EXPOSURE", lambda v: v.state is not PropertyState.BUSY, wait, "the abort"
             )
+        await self._restore_cooling()  # a restarted driver comes back with its cooler off
 
     async def _send_gain(self, gain: float) -> None:
         if not self._indi.has("CCD_GAIN"):
@@ -268,10 +270,11 @@ class IndiCamera(IndiModule, BaseCamera):
     async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
         if not self._indi.has("CCD_TEMPERATURE"):
             raise NotSupportedError(f"{self._indi.where} has no cooling (CCD_TEMPERATURE)")
+        # The driver ramps to the setpoint, its cooler and temperature Busy until there (the
+        # simulator's for minutes): do not wait for that.
         if self._indi.has("CCD_COOLER"):
-            await self._indi.switch("CCD_COOLER", "COOLER_ON" if enabled else "COOLER_OFF", wait=30.0)
+            await self._indi.switch("CCD_COOLER", "COOLER_ON" if enabled else "COOLER_OFF")
         if enabled:
-            # The driver ramps to the setpoint (Busy until there): do not wait for that.
             await self._indi.send("CCD_TEMPERATURE", {"CCD_TEMPERATURE_VALUE": setpoint})
 
     async def _hw_cooling_power(self) -> float:
