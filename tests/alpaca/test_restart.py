@@ -128,6 +128,10 @@ async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
         focuser = await obs.start(AlpacaFocuser, "focuser", server=simulator.url, **_QUICK)
         wheel = await obs.start(AlpacaFilterWheel, "filters", server=simulator.url, **_QUICK)
         camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        telescope = await obs.start(AlpacaTelescope, "telescope", server=simulator.url, **_QUICK)
+        await telescope.init()
+        target = await telescope.get_radec()  # where it points after unparking: above the horizon
+        await telescope.move_radec(*target)
         focus = await focuser.get_focus() + 1.5
         await focuser.set_focus(focus)
         chosen = (await wheel.list_filters())[-1]
@@ -139,7 +143,7 @@ async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
         simulator.stop()
         await wait_for(lambda: focuser.state is ModuleState.ERROR, 30.0, message="focuser in ERROR")
         simulator.start()
-        modules = (focuser, wheel, camera)
+        modules = (focuser, wheel, camera, telescope)
         await wait_for(lambda: all(m.state is ModuleState.READY for m in modules), 30.0, message="READY")
         # The devices came back in their defaults, and each module set again what it had set.
         assert "focuser: the focuser came back at" in caplog.text
@@ -150,3 +154,9 @@ async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
         assert await wheel.get_filter() == chosen
         assert await camera.device.get("cooleron") is True
         assert await camera.device.get("setccdtemperature") == pytest.approx(-12.0)
+        assert "telescope: the mount came back: tracking RA" in caplog.text
+        assert (
+            await telescope.device.get("tracking") is True and await telescope.device.get("atpark") is False
+        )
+        ra, dec = await telescope.get_radec()
+        assert (ra, dec) == pytest.approx(target, abs=0.05)
