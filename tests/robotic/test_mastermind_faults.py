@@ -27,6 +27,7 @@ from nightcrew.events import (
     TaskFinishedEvent,
     TaskStartedEvent,
 )
+from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.sim import SimCamera
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind import DeviceFault, device_fault
@@ -172,3 +173,23 @@ async def test_a_tasks_own_error_is_no_device_fault(parts: Parts) -> None:
     assert not failed.retryable and not failed.device_fault
     assert "binning 5x5 is not supported" in failed.reason
     assert len(night.recorder.of(TaskStartedEvent)) == 1  # not restarted
+
+
+async def test_a_task_due_while_a_device_module_restarts_waits_for_it(parts: Parts) -> None:
+    night = await start_night(parts, [group(PLEIADES)], DRY)
+    obs, archive, (task,) = night.obs, night.archive, night.tasks
+    now = obs.clock.now()
+    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await start_mastermind(night, device_wait=60.0)
+
+    async def opening() -> bool:
+        return await night.roof.get_motion_status() is not MotionStatus.PARKED
+
+    await obs.wait_for(opening, 600.0, interval=1.0, message="roof opening")
+    await obs.module("camera", SimCamera).close()  # away when the task is due (roof: 30 s to open)
+    await obs.clock.sleep(50.0)
+    await obs.start(SimCamera, "camera", roof="roof", **CAMERA)
+
+    await obs.wait_for(lambda: night.recorder.of(TaskFinishedEvent) != [], 1800.0, interval=2.0)
+    assert night.recorder.of(TaskFailedEvent) == []
+    assert (await archive.get_task(task.id)).state is TaskState.COMPLETED

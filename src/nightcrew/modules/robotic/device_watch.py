@@ -38,6 +38,11 @@ class DeviceWatch:
         await self._host.comm.register_event(ModuleClosedEvent, self.on_module_closed)
         await self._host.comm.register_event(ModuleOpenedEvent, self.on_module_opened)
 
+    @property
+    def away(self) -> frozenset[str]:
+        """The modules that went offline and have not come back."""
+        return frozenset(self._away)
+
     async def on_module_closed(self, event: ModuleClosedEvent, sender: str) -> None:
         self._away.add(sender)
 

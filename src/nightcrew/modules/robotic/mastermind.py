@@ -57,13 +57,12 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from collections.abc import Coroutine
 from dataclasses import replace
 from datetime import datetime, timedelta
 from typing import Any
 
 from nightcrew.config import build_object
-from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.errors import ConfigError
 from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent
 from nightcrew.interfaces import (
     FitsCard,
@@ -79,7 +78,7 @@ from nightcrew.interfaces import (
     RoboticStatus,
 )
 from nightcrew.modules.module import Module
-from nightcrew.modules.robotic.device_watch import DeviceWatch
+from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
@@ -96,13 +95,9 @@ from nightcrew.robotic.mastermind import (
     TaskRecorder,
     abort_cause,
     decide,
-    device_fault,
     focus_field,
     focus_now,
-    interruption_reason,
-    resumed,
     robotic_status,
-    run_watched,
     task_cards,
     time_left,
     within_constraints,
@@ -225,12 +220,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         )
         if not early_start >= 0:
             raise ConfigError(f"must be >= 0 seconds, got {early_start}", key="early_start")
-        if not device_wait >= 0:
-            raise ConfigError(f"must be >= 0 seconds, got {device_wait}", key="device_wait")
-        if isinstance(device_retries, bool) or not isinstance(device_retries, int) or device_retries < 0:
-            raise ConfigError(f"must be an integer >= 0, got {device_retries!r}", key="device_retries")
-        self._device_wait, self._device_retries = float(device_wait), device_retries
-        self._devices = DeviceWatch(self)
         self._keep_open = timedelta(seconds=keep_open)
         self._early = EarlyStarts(site, timedelta(seconds=early_start), keep_open=self._keep_open)
         self._schedule = ScheduleReader(
@@ -246,10 +235,21 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._running = autostart
         self._stop_cause: str | None = None  # why a running task must stop (operator)
         self._wake = asyncio.Event()
+        self._task_runs = TaskRuns(
+            self,
+            self._runner,
+            self._recorder,
+            self._schedule,
+            self._abort_cause,
+            self._wake,
+            poll_interval=self._poll,
+            abort_timeout=self._abort_timeout,
+            device_wait=device_wait,
+            device_retries=device_retries,
+        )
         self._safe_since_stop = False
         self._last_action: Action | None = None
         self._conditions: Conditions | None = None  # of the last look at the world
-        self._task_times: tuple[datetime, datetime] | None = None  # (start, eta) of the running task
         self._unfit_logged: set[tuple[str, datetime]] = set()  # (task, slot start) said not to fit
         self.add_background_task(self._robotic_loop, name="robotic loop")
 
@@ -258,7 +258,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     async def open(self) -> None:
         await self._archive.open()  # idempotent; a shared archive may be open already
         await super().open()
-        await self._devices.open()
+        await self._task_runs.open()
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
@@ -306,7 +306,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         return task_cards(task) if task is not None else {}
 
     async def get_robotic_status(self) -> RoboticStatus:
-        started, eta = self._task_times or (None, None)
+        started, eta = self._task_runs.times or (None, None)
         return robotic_status(
             self.clock.now(),
             running=self._running,
@@ -364,7 +364,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             log.info("%s: %s", self.name, action.describe())
             self._last_action = action
         if isinstance(action, RunTask):
-            await self._run(action.slot, tasks[action.slot.task_id])
+            await self._task_runs.run(action.slot, tasks[action.slot.task_id])
             return 0.0
         if isinstance(action, Focus):
             await self._focus(action.slot)
@@ -430,83 +430,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._wake.clear()
 
     # --- running a task ------------------------------------------------------------------------
-
-    async def _run(self, slot: Slot, task: Task) -> None:
-        """Run the task of ``slot`` under watch and record how it ended; focus first if due."""
-        if not await self._can_run(task):
-            log.warning(
-                "%s: the runner cannot run task %s (%s); skipping its slot", self.name, task.id, task.name
-            )
-            self._schedule.failed_in(task.id, slot.start)
-            return
-        recorder = self._recorder
-        task = await recorder.started(task, eta=slot.end)
-        self._task_times = (self.clock.now(), slot.end)
-        reason: str | None = None
-        interrupted = True  # from outside (weather, roof, Sun, shutdown): it may run again later
-        by_device = False
-        try:
-            cause = await self._run_through_device_faults(slot, task)
-            if cause is not None:
-                reason = interruption_reason(cause, task, recorder.progress)
-        except asyncio.CancelledError:
-            reason = interruption_reason("the mastermind shutting down", task, recorder.progress)
-            raise
-        except Exception as exc:  # not again in this slot: a device fault is planned again later
-            self._schedule.failed_in(task.id, slot.start)
-            by_device = interrupted = device_fault(exc) is not None
-            reason = str(exc) or type(exc).__name__
-            if not isinstance(exc, NightcrewError):
-                raise  # a bug: the loop's fail-safe closes and parks
-        finally:
-            self._task_times = None
-            await recorder.ended(task, reason, retryable=interrupted, device_fault=by_device)
-
-    async def _run_through_device_faults(self, slot: Slot, task: Task) -> str | None:
-        """Run the task under watch; after a device fault wait for the device and restart the task
-        from its progress (``device_retries`` times). The cause if it was stopped, as run_watched.
-
-        Raises:
-            NightcrewError: The task's own failure, or a device fault the device did not recover from.
-        """
-        restarts = 0
-        while True:  # bounded: each round is a restart
-            try:
-                return await self._watched(self._runner.run_task(task, self._recorder.on_progress), slot)
-            except NightcrewError as exc:
-                fault = device_fault(exc)
-                if fault is None or restarts >= self._device_retries:
-                    raise
-                restarts += 1
-                log.warning("%s: task %s: a device failed: %s", self.name, task.id, fault.reason)
-
-                async def device_back(error: NightcrewError = exc, module: str | None = fault.module) -> None:
-                    if not await self._devices.wait_back(module, self._device_wait):
-                        raise error
-
-                cause = await self._watched(device_back(), slot)
-                if cause is not None:
-                    return cause
-                task = resumed(task, self._recorder.progress)
-                log.info("%s: restarting task %s from its progress", self.name, task.id)
-
-    async def _watched(self, work: Coroutine[Any, Any, Any], slot: Slot) -> str | None:
-        """``work`` under watch for ``slot``'s abort causes (see run_watched)."""
-        return await run_watched(
-            work,
-            lambda: self._abort_cause(slot),
-            wake=self._wake,
-            clock=self.clock,
-            poll_interval=self._poll,
-            abort_timeout=self._abort_timeout,
-        )
-
-    async def _can_run(self, task: Task) -> bool:
-        try:
-            return await self._runner.can_run(task)
-        except NightcrewError as exc:
-            log.warning("%s: cannot check task %s: %s", self.name, task.id, exc)
-            return False
 
     async def _abort_cause(self, slot: Slot) -> str | None:
         return self._stop_cause or abort_cause(await self._observatory.observe(), slot)
