@@ -32,7 +32,7 @@ from nightcrew.modules.sim import SimCamera
 from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind import DeviceFault, device_fault
 from nightcrew.robotic.runner import ScriptError
-from nightcrew.robotic.tasks import TaskState
+from nightcrew.robotic.tasks import Task, TaskState
 
 from .mastermind_night import (
     DETECTOR,
@@ -85,6 +85,17 @@ def test_a_device_failure_is_told_from_the_tasks_own(
             assert found == fault
 
 
+async def _run_for_an_hour(night: Night) -> Task:
+    """Schedule the night's one task from now for an hour and start the mastermind."""
+    (task,) = night.tasks
+    now = night.obs.clock.now()
+    await night.archive.write_schedule(
+        [ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now
+    )
+    await start_mastermind(night, device_wait=60.0)
+    return task
+
+
 async def _camera_away(night: Night, images: int, clock_seconds: float) -> float:
     """Close the camera module after ``images`` frames, start a new one ``clock_seconds`` later;
     returns the clock time it went away."""
@@ -102,10 +113,7 @@ async def _camera_away(night: Night, images: int, clock_seconds: float) -> float
 
 async def test_a_camera_module_that_restarts_mid_task_costs_at_most_the_frame_in_flight(parts: Parts) -> None:
     night = await start_night(parts, [group(PLEIADES)], DRY)
-    obs, archive, (task,) = night.obs, night.archive, night.tasks
-    now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
-    await start_mastermind(night, device_wait=60.0)
+    obs, archive, task = night.obs, night.archive, await _run_for_an_hour(night)
 
     await _camera_away(night, 2, 20.0)
     await obs.wait_for(
@@ -164,10 +172,8 @@ async def test_a_tasks_own_error_is_no_device_fault(parts: Parts) -> None:
     unknown_binning = group(PLEIADES)
     unknown_binning["requests"][0]["configurations"][0]["instrument_configs"][0]["binning"] = 5
     night = await start_night(parts, [unknown_binning], DRY)
-    obs, archive, (task,) = night.obs, night.archive, night.tasks
-    now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
-    await start_mastermind(night, device_wait=60.0)
+    obs = night.obs
+    await _run_for_an_hour(night)
     await obs.wait_for(lambda: night.recorder.of(TaskFailedEvent) != [], 600.0, interval=2.0)
     (failed,) = night.recorder.of(TaskFailedEvent)
     assert not failed.retryable and not failed.device_fault
@@ -177,10 +183,7 @@ async def test_a_tasks_own_error_is_no_device_fault(parts: Parts) -> None:
 
 async def test_a_task_due_while_a_device_module_restarts_waits_for_it(parts: Parts) -> None:
     night = await start_night(parts, [group(PLEIADES)], DRY)
-    obs, archive, (task,) = night.obs, night.archive, night.tasks
-    now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
-    await start_mastermind(night, device_wait=60.0)
+    obs, archive, task = night.obs, night.archive, await _run_for_an_hour(night)
 
     async def opening() -> bool:
         return await night.roof.get_motion_status() is not MotionStatus.PARKED
