@@ -96,10 +96,17 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
         state = await self._get("camerastate")
         if not _WAITING <= state <= _READING:
             return
-        log.warning(
-            "%s: %s is still exposing (CameraState %s): aborting it", self.name, self.device.name, state
-        )
-        await self._put("abortexposure" if await self._optional_flag("canabortexposure") else "stopexposure")
+        if await self._optional_flag("canabortexposure"):
+            how = "abortexposure"
+        elif self._can_stop:
+            how = "stopexposure"
+        else:  # it ends by itself; until then an exposure fails as a device fault and is retried
+            log.warning(
+                "%s: %s is still exposing and can neither abort nor stop", self.name, self.device.name
+            )
+            return
+        log.warning("%s: %s is still exposing (CameraState %s): %s", self.name, self.device.name, state, how)
+        await self._put(how)
         await self._poll_until(
             "camerastate",
             lambda s: s == _IDLE,
