@@ -196,3 +196,18 @@ async def test_a_task_due_while_a_device_module_restarts_waits_for_it(parts: Par
     await obs.wait_for(lambda: night.recorder.of(TaskFinishedEvent) != [], 1800.0, interval=2.0)
     assert night.recorder.of(TaskFailedEvent) == []
     assert (await archive.get_task(task.id)).state is TaskState.COMPLETED
+
+
+async def test_a_camera_module_restarted_between_two_calls_is_set_up_again(parts: Parts) -> None:
+    night = await start_night(parts, [group(PLEIADES)], DRY)
+    obs, archive, task = night.obs, night.archive, await _run_for_an_hour(night)
+    await obs.wait_for(lambda: len(night.recorder.of(NewImageEvent)) >= 2, 600.0, interval=1.0)
+    # The old module goes without failing a call; the new one starts with a 1-s exposure time.
+    await obs.module("camera", SimCamera).close()
+    await obs.start(SimCamera, "camera", roof="roof", **CAMERA)
+
+    await obs.wait_for(lambda: night.recorder.of(TaskFinishedEvent) != [], 1800.0, interval=2.0)
+    assert night.recorder.of(TaskFailedEvent) == []
+    stored = await archive.get_task(task.id)
+    assert stored.state is TaskState.COMPLETED and stored.status.progress.total_exposures == EXPOSURES
+    assert {h["EXPTIME"] for h in await night.headers()} == {EXPOSURE_TIME}

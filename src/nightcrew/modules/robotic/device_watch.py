@@ -8,10 +8,11 @@ device server restarts, is usually back within seconds, and the task can go on.
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 
 from nightcrew.errors import NightcrewError
 from nightcrew.events import ModuleClosedEvent, ModuleOpenedEvent
-from nightcrew.interfaces import IModule, ModuleState
+from nightcrew.interfaces import ICamera, IModule, ModuleState
 from nightcrew.object import Object
 
 __all__ = ["DeviceWatch"]
@@ -27,11 +28,13 @@ class DeviceWatch:
 
     Args:
         host: The module whose comm and clock are used.
+        on_return: Called when a module that went offline comes back (a restart).
     """
 
-    def __init__(self, host: Object) -> None:
-        self._host = host
+    def __init__(self, host: Object, on_return: Callable[[], None] | None = None) -> None:
+        self._host, self._on_return = host, on_return
         self._away: set[str] = set()
+        self._returns: dict[str, int] = {}  # module -> how often it came back (one entry a module)
 
     async def open(self) -> None:
         """Start listening to modules going and coming (after the host's comm is open)."""
@@ -47,7 +50,30 @@ class DeviceWatch:
         self._away.add(sender)
 
     async def on_module_opened(self, event: ModuleOpenedEvent, sender: str) -> None:
-        self._away.discard(sender)
+        if sender in self._away:
+            self._away.discard(sender)
+            self._returns[sender] = self._returns.get(sender, 0) + 1
+            if self._on_return is not None:
+                self._on_return()
+
+    def returns(self) -> dict[str, int]:
+        """How often each module came back so far (compare two of these: who restarted between)."""
+        return dict(self._returns)
+
+    async def restarted_camera(self, since: dict[str, int]) -> str | None:
+        """A camera module that came back since ``since`` (see :meth:`returns`), or None.
+
+        A restarted camera module starts from its defaults (exposure time, binning, window): what a
+        running task set up there is gone, so the task must set it up again.
+        """
+        for name, count in self._returns.items():
+            if count > since.get(name, 0):
+                try:
+                    if ICamera.__name__ in await self._host.comm.get_interface_names(name):
+                        return name
+                except NightcrewError:
+                    continue  # gone again: its next call fails, a device fault
+        return None
 
     async def wait_back(self, module: str | None, within: float) -> bool:
         """Wait up to ``within`` clock seconds until ``module`` - or, when the failure named none,

@@ -7,7 +7,9 @@ under it (:func:`~nightcrew.robotic.mastermind.device_fault`) the task is not gi
 device module gets ``device_wait`` clock seconds to be back and READY (:class:`DeviceWatch`), then
 the task restarts from its progress, at most ``device_retries`` times. A device that stays away
 fails the task as a device fault (retryable: the scheduler plans it again the same night); the
-task's own failure is not retried. Either way it does not run again in this slot.
+task's own failure is not retried. Either way it does not run again in this slot. A camera module
+that restarts while the task runs (its frame in flight lost, its settings back to defaults) makes
+the task restart from its progress at once, so it sets the camera up again.
 """
 
 from __future__ import annotations
@@ -18,10 +20,11 @@ from collections.abc import Awaitable, Callable, Coroutine
 from datetime import datetime
 from typing import Any
 
-from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.errors import ConfigError, ModuleError, NightcrewError
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic.device_watch import DeviceWatch
 from nightcrew.robotic.mastermind import (
+    AbortCheck,
     ScheduleReader,
     Slot,
     TaskRecorder,
@@ -76,7 +79,7 @@ class TaskRuns:
         self._abort_cause, self._wake = abort_cause, wake
         self._poll, self._abort_timeout = poll_interval, abort_timeout
         self._device_wait, self._device_retries = float(device_wait), device_retries
-        self._devices = DeviceWatch(host)
+        self._devices = DeviceWatch(host, on_return=wake.set)
         self.times: tuple[datetime, datetime] | None = None  # (start, eta) of the running task
 
     async def open(self) -> None:
@@ -127,8 +130,17 @@ class TaskRuns:
         """
         restarts = 0
         while True:  # bounded: each round is a restart
+            since, restarted = self._devices.returns(), list[str]()
+
+            async def check(since: dict[str, int] = since, restarted: list[str] = restarted) -> str | None:
+                camera = await self._devices.restarted_camera(since)
+                if camera is None:
+                    return await self._abort_cause(slot)
+                restarted.append(camera)
+                return f"a restart of {camera}"
+
             try:
-                return await self._watched(self._runner.run_task(task, self._recorder.on_progress), slot)
+                cause = await self._watched(self._runner.run_task(task, self._recorder.on_progress), check)
             except NightcrewError as exc:
                 fault = device_fault(exc)
                 if fault is None or restarts >= self._device_retries:
@@ -140,17 +152,24 @@ class TaskRuns:
                     if not await self._devices.wait_back(module, self._device_wait):
                         raise error
 
-                cause = await self._watched(device_back(), slot)
+                cause = await self._watched(device_back(), lambda: self._abort_cause(slot))
                 if cause is not None:
                     return cause
-                task = resumed(task, self._recorder.progress)
-                log.info("%s: restarting task %s from its progress", self._name, task.id)
+            else:
+                if not restarted:
+                    return cause
+                # A camera module restarted under the task: what the task set up there is gone.
+                if restarts >= self._device_retries:
+                    raise ModuleError(f"{restarted[0]} restarted during the task", module=restarted[0])
+                restarts += 1
+            task = resumed(task, self._recorder.progress)
+            log.info("%s: restarting task %s from its progress", self._name, task.id)
 
-    async def _watched(self, work: Coroutine[Any, Any, Any], slot: Slot) -> str | None:
-        """``work`` under watch for ``slot``'s abort causes (see run_watched)."""
+    async def _watched(self, work: Coroutine[Any, Any, Any], check: AbortCheck) -> str | None:
+        """``work`` under watch: stopped when ``check`` gives a cause (see run_watched)."""
         return await run_watched(
             work,
-            lambda: self._abort_cause(slot),
+            check,
             wake=self._wake,
             clock=self._host.clock,
             poll_interval=self._poll,
@@ -169,7 +188,7 @@ class TaskRuns:
         async def wait() -> None:
             back.append(await self._devices.wait_back(None, self._device_wait))
 
-        cause = await self._watched(wait(), slot)
+        cause = await self._watched(wait(), lambda: self._abort_cause(slot))
         return cause is None and back == [True] and await self._can_run(task)
 
     async def _can_run(self, task: Task) -> bool:

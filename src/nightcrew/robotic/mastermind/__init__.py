@@ -37,7 +37,7 @@ from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
 from nightcrew.robotic.mastermind._status import robotic_status
-from nightcrew.robotic.mastermind._supervision import all_done, run_watched
+from nightcrew.robotic.mastermind._supervision import AbortCheck, all_done, run_watched
 from nightcrew.robotic.mastermind._tasks import (
     focus_due,
     interruption_reason,
@@ -57,6 +57,7 @@ from nightcrew.robotic.mastermind._tasks import (
 )
 
 __all__ = [
+    "AbortCheck",
     "Action",
     "CloseAndPark",
     "Conditions",
