@@ -29,7 +29,9 @@ Decisions:
   mastermind waits up to ``device_wait`` clock seconds for that module to be back and READY and
   then restarts the task from its progress (at most ``device_retries`` times per run). A device
   that stays away fails the task with ``TaskFailedEvent(retryable=True, device_fault=True)``: the
-  scheduler plans it again later the same night. A device fault never closes the roof.
+  scheduler plans it again later the same night. A device fault never closes the roof. A camera
+  module that restarts under a running task restarts the task too (its settings were lost). See
+  :class:`~nightcrew.modules.robotic.task_runs.TaskRuns`.
 * **Focus**: with an ``autofocus`` module, before the first task that images stars (not before
   twilight flats) and whenever the temperature moved by more than ``refocus_temperature_change``
   since the last focus - once the Sun is below ``focus_max_sun_altitude``, and already while
