@@ -152,3 +152,22 @@ async def test_a_hanging_device_is_a_timeout_and_the_module_in_error(
     assert camera.state is ModuleState.ERROR
     assert "lost camera 0 at" in await camera.get_error_string()
     assert await observatory.vfs.listdir("/cache") == []
+
+
+@pytest.mark.parametrize(
+    ("can_abort", "can_stop", "sent"),
+    [(True, True, ["abortexposure"]), (False, True, ["stopexposure"]), (False, False, [])],
+)
+async def test_an_exposure_left_running_is_aborted_or_stopped_before_the_camera_is_ready(
+    device: FaultyServer, observatory: Observatory, can_abort: bool, can_stop: bool, sent: list[str]
+) -> None:
+    states = iter([2, 0])  # exposing for a camera module that was killed; idle once aborted
+    device.replies.update(canabortexposure=value(can_abort), canstopexposure=value(can_stop))
+
+    async def camera_state(request: Any) -> Any:
+        return await value(next(states, 0))(request)
+
+    device.replies["camerastate"] = camera_state
+    camera = await start_camera(observatory, device)
+    assert camera.state is ModuleState.READY
+    assert [m for method, m, _ in device.requests if method == "PUT" and m.endswith("exposure")] == sent

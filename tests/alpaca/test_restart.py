@@ -8,6 +8,7 @@ from collections.abc import Awaitable, Callable
 
 import pytest
 
+from nightcrew.bridges.alpaca import AlpacaClient
 from nightcrew.clock import RealClock
 from nightcrew.errors import GrabImageError, ModuleError
 from nightcrew.interfaces import ExposureStatus, ICamera, IFilters, IFocuser, IModule, ITelescope, ModuleState
@@ -93,3 +94,69 @@ def camera_exposing(camera: AlpacaCamera) -> Callable[[], Awaitable[bool]]:
         )
 
     return exposing
+
+
+async def test_a_new_camera_module_aborts_the_exposure_a_killed_one_left_running(
+    start_alpaca_simulator: Callable[..., AlpacaSimulator],
+) -> None:
+    simulator = start_alpaca_simulator()
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        killed = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        await killed.set_exposure_time(600.0)
+        exposure = asyncio.ensure_future(killed.grab_data())
+        await wait_for(camera_exposing(killed), 10.0, message="exposing")
+        # As kill -9 would: from now on nothing of this module reaches the device, not even an abort.
+        await killed.device.client.close()
+        exposure.cancel()
+        await asyncio.wait({exposure})
+    async with AlpacaClient(simulator.url) as client:
+        assert await client.device("camera").get("camerastate") == 2  # still exposing, unattended
+
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        assert camera.state is ModuleState.READY
+        assert await camera.device.get("camerastate") == 0  # aborted before it said ready
+        await camera.set_exposure_time(0.2)
+        assert (await camera.grab_data()).endswith(".fits")
+
+
+async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
+    start_alpaca_simulator: Callable[..., AlpacaSimulator], caplog: pytest.LogCaptureFixture
+) -> None:
+    simulator = start_alpaca_simulator()
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        focuser = await obs.start(AlpacaFocuser, "focuser", server=simulator.url, **_QUICK)
+        wheel = await obs.start(AlpacaFilterWheel, "filters", server=simulator.url, **_QUICK)
+        camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
+        telescope = await obs.start(AlpacaTelescope, "telescope", server=simulator.url, **_QUICK)
+        await telescope.init()
+        target = await telescope.get_radec()  # where it points after unparking: above the horizon
+        await telescope.move_radec(*target)
+        focus = await focuser.get_focus() + 1.5
+        await focuser.set_focus(focus)
+        chosen = (await wheel.list_filters())[-1]
+        await wheel.set_filter(chosen)
+        await camera.set_cooling(True, -12.0)
+        steps = await focuser.device.get("position")
+        assert await wheel.device.get("position") != 0  # the wheel restarts in slot 0
+
+        simulator.stop()
+        await wait_for(lambda: focuser.state is ModuleState.ERROR, 30.0, message="focuser in ERROR")
+        simulator.start()
+        modules = (focuser, wheel, camera, telescope)
+        await wait_for(lambda: all(m.state is ModuleState.READY for m in modules), 30.0, message="READY")
+        # The devices came back in their defaults, and each module set again what it had set.
+        assert "focuser: the focuser came back at" in caplog.text
+        assert "filters: the wheel came back at" in caplog.text
+        assert await focuser.device.get("position") == steps
+        assert await focuser.get_focus() == pytest.approx(focus)
+        assert (await wheel.device.get("names"))[await wheel.device.get("position")] == chosen
+        assert await wheel.get_filter() == chosen
+        assert await camera.device.get("cooleron") is True
+        assert await camera.device.get("setccdtemperature") == pytest.approx(-12.0)
+        assert "telescope: the mount came back: tracking RA" in caplog.text
+        assert (
+            await telescope.device.get("tracking") is True and await telescope.device.get("atpark") is False
+        )
+        ra, dec = await telescope.get_radec()
+        assert (ra, dec) == pytest.approx(target, abs=0.05)

@@ -19,6 +19,8 @@ from typing import Any
 
 import pytest
 
+from nightcrew.comm.xmpp import XmppComm
+from nightcrew.modules import Module
 from nightcrew.server import Account, init_server, register_account, start_server, stop_server
 from nightcrew.supervisor import send_request
 from nightcrew.testing.processes import free_port
@@ -88,7 +90,8 @@ class SupervisedDirectory:
         )
 
     def env(self) -> dict[str, str]:
-        return {**os.environ, "PYTHONPATH": str(REPOSITORY)}
+        # This checkout's code, also where the venv's editable install is another checkout's.
+        return {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPOSITORY / "src"), str(REPOSITORY)])}
 
     def write_module(self, name: str, cls: str = "nightcrew.modules.Module", **options: Any) -> Path:
         """A module file ``name.yaml`` on the test's server and room (its account registered)."""
@@ -150,3 +153,23 @@ async def supervised(prosody: Prosody, tmp_path: Path) -> AsyncIterator[Supervis
         yield supervised
     finally:
         supervised.kill()  # after a failure: nothing outlives the test (children die with it)
+
+
+@pytest.fixture
+async def operator(supervised: SupervisedDirectory) -> AsyncIterator[Module]:
+    """A module in the test's room, to see the supervised modules come and go."""
+    prosody = supervised.prosody
+    prosody.account("operator")
+    comm = XmppComm(
+        f"operator@{DOMAIN}",
+        PASSWORD,
+        server=prosody.address,
+        room=supervised.room,
+        ca_file=str(prosody.ca_file),
+    )
+    module = Module(comm=comm)
+    await module.open()
+    try:
+        yield module
+    finally:
+        await module.close()

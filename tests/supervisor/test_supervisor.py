@@ -8,41 +8,19 @@ import os
 import signal
 import subprocess
 import sys
-from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
 
-from nightcrew.comm.xmpp import XmppComm
 from nightcrew.interfaces import IModule
 from nightcrew.modules import Module
 from nightcrew.supervisor import SupervisorError
 from nightcrew.testing import wait_for
-from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+from tests.comm.xmpp_servers import DOMAIN
 
 from .conftest import START_TIMEOUT, Prosody, SupervisedDirectory
 
 pytestmark = pytest.mark.xmpp
-
-
-@pytest.fixture
-async def operator(supervised: SupervisedDirectory) -> AsyncIterator[Module]:
-    """A module in the test's room, to see the supervised modules come and go."""
-    prosody = supervised.prosody
-    prosody.account("operator")
-    comm = XmppComm(
-        f"operator@{DOMAIN}",
-        PASSWORD,
-        server=prosody.address,
-        room=supervised.room,
-        ca_file=str(prosody.ca_file),
-    )
-    module = Module(comm=comm)
-    await module.open()
-    try:
-        yield module
-    finally:
-        await module.close()
 
 
 def alive(pid: int) -> bool:

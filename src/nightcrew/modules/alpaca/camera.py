@@ -13,6 +13,11 @@ it with NotSupportedError (the scripts then abort).
 The chip size and binnings come from the device when it connects; until then the camera knows
 no chip (a 1x1 placeholder). Gain and offset follow IGain; the readout mode is the run-time config
 option ``readout_mode`` (choices: the device's ReadoutModes).
+
+On every (re)connect, before the module reports ready, an exposure the device is still running
+(CameraState waiting, exposing or reading - e.g. started by a camera module that was killed) is
+aborted (``AbortExposure``, else ``StopExposure``), so the next ``grab_data`` does not find the
+camera busy. After a server restart the cooler and its set point are set again as they were.
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ __all__ = ["AlpacaCamera"]
 log = logging.getLogger(__name__)
 
 #: Alpaca CameraStates.
-_READING, _ERROR = 3, 5
+_IDLE, _WAITING, _READING, _ERROR = 0, 1, 3, 5
 
 
 class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
@@ -82,6 +87,33 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
         self._can_stop = await self._optional_flag("canstopexposure")
         if chip != self._chip:
             self._chip, self._window, self._binning = chip, chip, Binning(1, 1)
+        if not self._busy:  # a reconnect during our own exposure: that exposure fails by itself
+            await self._abort_leftover_exposure()
+        await self._restore_cooling()
+
+    async def _abort_leftover_exposure(self) -> None:
+        """Abort an exposure the device still runs that no exposure of ours waits for."""
+        state = await self._get("camerastate")
+        if not _WAITING <= state <= _READING:
+            return
+        if await self._optional_flag("canabortexposure"):
+            how = "abortexposure"
+        elif self._can_stop:
+            how = "stopexposure"
+        else:  # it ends by itself; until then an exposure fails as a device fault and is retried
+            log.warning(
+                "%s: %s is still exposing and can neither abort nor stop", self.name, self.device.name
+            )
+            return
+        log.warning("%s: %s is still exposing (CameraState %s): %s", self.name, self.device.name, state, how)
+        await self._put(how)
+        await self._poll_until(
+            "camerastate",
+            lambda s: s == _IDLE,
+            self._readout_timeout,
+            "aborting the exposure",
+            GrabImageError,
+        )
 
     async def _optional_flag(self, member: str) -> bool:
         try:

@@ -3,7 +3,8 @@
 Filter names come from the device (``Names``) unless the configuration gives its own (one per
 slot, same count). Changing filters sets ``Position`` and polls it until the wheel reports the
 new slot (it reports -1 while moving). The device's ``FocusOffsets`` (focuser steps) are the
-read-only config option ``focus_offsets`` (filter name -> steps).
+read-only config option ``focus_offsets`` (filter name -> steps). After a reconnect (e.g. the
+server restarted) the filter last asked for is moved back into the beam before the module is ready.
 """
 
 from __future__ import annotations
@@ -53,6 +54,7 @@ class AlpacaFilterWheel(AlpacaModule, BaseFilterWheel):
         position = int(await self._get("position"))
         if 0 <= position < len(self._filters):
             self._filter = self._filters[position]
+        await self._restore_filter()
 
     async def _hw_move_filter(self, filter_name: str) -> None:
         slot = self._filters.index(filter_name)

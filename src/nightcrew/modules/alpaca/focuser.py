@@ -4,7 +4,8 @@
 range is 0..MaxStep steps. An absolute focuser moves with ``Move(position)``; a relative one with
 ``Move(steps)`` in chunks of at most ``MaxIncrement``, its position counted from where it was at
 connect (0). Moves poll ``IsMoving``; stop_motion sends ``Halt``. ``Temperature`` is offered as
-ITemperatures (for the focus model) and as the FITS card FOCTEMP.
+ITemperatures (for the focus model) and as the FITS card FOCTEMP. After a reconnect (e.g. the
+server restarted) an absolute focuser moves back to the position last set before the module is ready.
 """
 
 from __future__ import annotations
@@ -59,6 +60,8 @@ class AlpacaFocuser(AlpacaModule, BaseFocuser, ITemperatures):
         if self._absolute:
             self._steps = int(await self._get("position"))
         self._focus = self._mm(self._steps) - self._offset
+        if self._absolute:  # a relative focuser that restarted does not know where it is
+            await self._restore_focus()
 
     def _mm(self, steps: int) -> float:
         return steps * self._step_um / 1000.0

@@ -79,6 +79,7 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
                 site.latitude,
                 site.longitude,
             )
+        await self._restore_tracking()
 
     # --- motions -------------------------------------------------------------------------------
 

@@ -216,6 +216,13 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         await self._hw_set_cooling(enabled, setpoint)
         self._cooling = CoolingStatus(enabled=enabled, setpoint=float(setpoint), power=self._cooling.power)
 
+    async def _restore_cooling(self) -> None:
+        """Switch the cooler on at the set point again if this module had (a device that restarted
+        comes back with its cooler off); drivers call this after reading the device."""
+        if self._cooling.enabled:
+            log.info("%s: cooling to %g °C again", self.name, self._cooling.setpoint)
+            await self._hw_set_cooling(True, self._cooling.setpoint)
+
     async def get_cooling(self) -> CoolingStatus:
         power = await self._hw_cooling_power() if self._cooling.enabled else 0.0
         return CoolingStatus(enabled=self._cooling.enabled, setpoint=self._cooling.setpoint, power=power)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 from abc import abstractmethod
 from typing import Any
 
@@ -11,6 +12,8 @@ from nightcrew.interfaces import FitsCard, IFilters, IFitsHeaderBefore, MotionSt
 from nightcrew.modules.motion import BaseMotion
 
 __all__ = ["BaseFilterWheel"]
+
+log = logging.getLogger(__name__)
 
 
 class BaseFilterWheel(BaseMotion, IFilters, IFitsHeaderBefore):
@@ -38,6 +41,7 @@ class BaseFilterWheel(BaseMotion, IFilters, IFitsHeaderBefore):
             )
         self._filters = names
         self._filter = current
+        self._chosen: str | None = None  # the filter last asked for (restored after a device restart)
 
     @abstractmethod
     async def _hw_move_filter(self, filter_name: str) -> None:
@@ -55,6 +59,7 @@ class BaseFilterWheel(BaseMotion, IFilters, IFitsHeaderBefore):
                 f"unknown filter {filter_name!r}; known filters: {', '.join(self._filters)}"
             )
         self._motion.check_idle()
+        self._chosen = filter_name
         if filter_name == self._filter:
             return
 
@@ -68,6 +73,16 @@ class BaseFilterWheel(BaseMotion, IFilters, IFitsHeaderBefore):
             await self.comm.send_event(FilterChangedEvent(filter_name=filter_name))
 
         await self._run_motion(f"moving to filter {filter_name}", motion())
+
+    async def _restore_filter(self) -> None:
+        """Put the filter last asked for back in the beam if the device moved away from it, e.g. it
+        came back from a restart in its default slot (drivers call this after reading the device)."""
+        chosen = self._chosen
+        if chosen is None or chosen == self._filter or chosen not in self._filters:
+            return
+        log.warning("%s: the wheel came back at %s: moving back to %s", self.name, self._filter, chosen)
+        await self._hw_move_filter(chosen)
+        self._filter = chosen
 
     async def init(self) -> None:
         await self._set_motion_status(MotionStatus.IDLE)

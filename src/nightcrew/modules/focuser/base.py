@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 from abc import abstractmethod
 from typing import Any
@@ -11,6 +12,11 @@ from nightcrew.interfaces import FitsCard, IFitsHeaderBefore, IFocuser, MotionSt
 from nightcrew.modules.motion import BaseMotion
 
 __all__ = ["BaseFocuser"]
+
+log = logging.getLogger(__name__)
+
+#: Positions closer than this (mm) are the same (a device reports whole steps).
+_SAME_POSITION_MM = 1e-3
 
 
 class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
@@ -38,6 +44,7 @@ class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
         self._min_focus, self._max_focus = float(min_focus), float(max_focus)
         self._focus = float(start)
         self._offset = 0.0
+        self._chosen: tuple[float, float] | None = None  # (focus, offset) last moved to
 
     @abstractmethod
     async def _hw_move_focus(self, position: float) -> None:
@@ -57,10 +64,27 @@ class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
         async def motion() -> None:
             await self._set_motion_status(MotionStatus.MOVING)
             await self._guarded(self._hw_move_focus(position), f"focuser failed to move to {position:.4f} mm")
-            self._focus, self._offset = focus, offset
+            self._focus, self._offset = self._chosen = focus, offset
             await self._set_motion_status(MotionStatus.IDLE)
 
         await self._run_motion("moving focus", motion())
+
+    async def _restore_focus(self) -> None:
+        """Move back to the position last moved to if the device is elsewhere, e.g. it came back from
+        a restart at its default position (drivers call this after reading the device)."""
+        if self._chosen is None:
+            return
+        focus, offset = self._chosen
+        if abs((focus + offset) - (self._focus + self._offset)) < _SAME_POSITION_MM:
+            return
+        log.warning(
+            "%s: the focuser came back at %.4f mm: moving back to %.4f mm",
+            self.name,
+            self._focus + self._offset,
+            focus + offset,
+        )
+        await self._hw_move_focus(focus + offset)
+        self._focus, self._offset = focus, offset
 
     async def set_focus(self, focus: float) -> None:
         await self._move(focus, self._offset)

@@ -9,6 +9,11 @@ so its headers are nightcrew's (telescope, filter, focus, weather ... from the h
 and nothing is half-written when the BLOB is bad. ``compress: true`` asks the driver for
 zlib-compressed BLOBs (``CCD_COMPRESSION``), which the client inflates.
 
+On every (re)connection, before the module is ready, an exposure the driver still runs
+(``CCD_EXPOSURE`` Busy, e.g. started by a camera module that was killed) is aborted
+(``CCD_ABORT_EXPOSURE``), so the next exposure does not find the camera busy, and cooling this
+module had switched on is switched on again at its set point.
+
 Example (``examples/indi/camera.yaml``)::
 
     class: nightcrew.modules.indi.IndiCamera
@@ -26,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from nightcrew.bridges.indi import Blob, IndiError, Vector
+from nightcrew.bridges.indi import Blob, IndiError, PropertyState, Vector
 from nightcrew.errors import ConfigError, GrabImageError, NotSupportedError
 from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, ImageType, Window
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
@@ -195,6 +200,13 @@ class IndiCamera(IndiModule, BaseCamera):
             )
         if self._gain is not None:
             await self._send_gain(self._gain)
+        if not self._busy and indi.is_busy("CCD_EXPOSURE"):  # not ours: ours fails by itself
+            log.warning("%s: %s is still exposing: aborting it", self.name, indi.where)
+            await self._abort_exposure()
+            await indi.client.wait(
+                indi.device, "CCD_EXPOSURE", lambda v: v.state is not PropertyState.BUSY, wait, "the abort"
+            )
+        await self._restore_cooling()  # a restarted driver comes back with its cooler off
 
     async def _send_gain(self, gain: float) -> None:
         if not self._indi.has("CCD_GAIN"):
@@ -249,7 +261,7 @@ class IndiCamera(IndiModule, BaseCamera):
         return frame
 
     async def _abort_exposure(self) -> None:
-        if self._indi.ready and self._indi.has("CCD_ABORT_EXPOSURE"):
+        if self._indi.readable and self._indi.has("CCD_ABORT_EXPOSURE"):
             try:
                 await self._indi.send("CCD_ABORT_EXPOSURE", {"ABORT": True})
             except IndiError as exc:
@@ -258,10 +270,11 @@ class IndiCamera(IndiModule, BaseCamera):
     async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
         if not self._indi.has("CCD_TEMPERATURE"):
             raise NotSupportedError(f"{self._indi.where} has no cooling (CCD_TEMPERATURE)")
+        # The driver ramps to the setpoint, its cooler and temperature Busy until there (the
+        # simulator's for minutes): do not wait for that.
         if self._indi.has("CCD_COOLER"):
-            await self._indi.switch("CCD_COOLER", "COOLER_ON" if enabled else "COOLER_OFF", wait=30.0)
+            await self._indi.switch("CCD_COOLER", "COOLER_ON" if enabled else "COOLER_OFF")
         if enabled:
-            # The driver ramps to the setpoint (Busy until there): do not wait for that.
             await self._indi.send("CCD_TEMPERATURE", {"CCD_TEMPERATURE_VALUE": setpoint})
 
     async def _hw_cooling_power(self) -> float:

@@ -67,6 +67,7 @@ class IndiFilterWheel(IndiModule, BaseFilterWheel):
         self._read_names(self._indi.vector(_NAMES))
         self._read_slot(self._indi.vector(_SLOT))
         if not self._motion.busy:
+            await self._restore_filter()  # a restarted driver comes back in its default slot
             await self._set_motion_status(MotionStatus.IDLE)
 
     async def _on_indi_update(self, update: IndiUpdate) -> None:

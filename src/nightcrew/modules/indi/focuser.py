@@ -47,6 +47,7 @@ class IndiFocuser(IndiModule, BaseFocuser):
         # The device knows where it is; the offset stays what nightcrew set.
         self._focus = self._indi.vector(_POSITION).number(_MEMBER) / self._steps_per_mm - self._offset
         if not self._motion.busy:
+            await self._restore_focus()  # a restarted driver comes back at its default position
             await self._set_motion_status(MotionStatus.IDLE)
 
     async def _on_indi_update(self, update: IndiUpdate) -> None:

@@ -66,6 +66,7 @@ class IndiTelescope(IndiModule, BaseTelescope):
                 {"LAT": site.latitude, "LONG": site.longitude % 360.0, "ELEV": site.elevation},
                 wait=indi.connect_timeout,
             )
+        await self._restore_tracking()  # before the status is read from the (restarted) device
         if not self._motion.busy:
             await self._set_motion_status(self._device_status())
 

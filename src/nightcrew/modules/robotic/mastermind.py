@@ -24,6 +24,14 @@ Decisions:
   are schedulable, so it is back in the pool, never lost. It may run
   again in the same slot once the cause has passed (good weather), or where the scheduler puts it.
   A task that failed by its own error is not retried in the same slot.
+* **Device faults**: when a device fails under a task (its module offline, restarting or in error,
+  a device error, a call that timed out - :func:`~nightcrew.robotic.mastermind.device_fault`), the
+  mastermind waits up to ``device_wait`` clock seconds for that module to be back and READY and
+  then restarts the task from its progress (at most ``device_retries`` times per run). A device
+  that stays away fails the task with ``TaskFailedEvent(retryable=True, device_fault=True)``: the
+  scheduler plans it again later the same night. A device fault never closes the roof. A camera
+  module that restarts under a running task restarts the task too (its settings were lost). See
+  :class:`~nightcrew.modules.robotic.task_runs.TaskRuns`.
 * **Focus**: with an ``autofocus`` module, before the first task that images stars (not before
   twilight flats) and whenever the temperature moved by more than ``refocus_temperature_change``
   since the last focus - once the Sun is below ``focus_max_sun_altitude``, and already while
@@ -56,7 +64,7 @@ from datetime import datetime, timedelta
 from typing import Any
 
 from nightcrew.config import build_object
-from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.errors import ConfigError
 from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent
 from nightcrew.interfaces import (
     FitsCard,
@@ -72,6 +80,7 @@ from nightcrew.interfaces import (
     RoboticStatus,
 )
 from nightcrew.modules.module import Module
+from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
     Action,
@@ -90,9 +99,7 @@ from nightcrew.robotic.mastermind import (
     decide,
     focus_field,
     focus_now,
-    interruption_reason,
     robotic_status,
-    run_watched,
     task_cards,
     time_left,
     within_constraints,
@@ -134,6 +141,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         focus_azimuth: Azimuth of the focus field, degrees east of north; None: the meridian on
             the equator's side (180 at a northern site).
         focus_retry_interval: Clock seconds after a failed focus before it is tried again.
+        device_wait: Clock seconds to wait for a device module that failed under a task to be
+            back and READY before the task is given up.
+        device_retries: How often a task is restarted in one run after a device came back.
         autostart: Start robotic mode when the module opens.
         **kwargs: Module options (``site`` is required: the Sun decides a lot).
     """
@@ -164,6 +174,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         focus_altitude: float | None = 75.0,
         focus_azimuth: float | None = None,
         focus_retry_interval: float = 1800.0,
+        device_wait: float = 60.0,
+        device_retries: int = 2,
         autostart: bool = True,
         **kwargs: Any,
     ) -> None:
@@ -225,10 +237,21 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._running = autostart
         self._stop_cause: str | None = None  # why a running task must stop (operator)
         self._wake = asyncio.Event()
+        self._task_runs = TaskRuns(
+            self,
+            self._runner,
+            self._recorder,
+            self._schedule,
+            self._abort_cause,
+            self._wake,
+            poll_interval=self._poll,
+            abort_timeout=self._abort_timeout,
+            device_wait=device_wait,
+            device_retries=device_retries,
+        )
         self._safe_since_stop = False
         self._last_action: Action | None = None
         self._conditions: Conditions | None = None  # of the last look at the world
-        self._task_times: tuple[datetime, datetime] | None = None  # (start, eta) of the running task
         self._unfit_logged: set[tuple[str, datetime]] = set()  # (task, slot start) said not to fit
         self.add_background_task(self._robotic_loop, name="robotic loop")
 
@@ -237,6 +260,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     async def open(self) -> None:
         await self._archive.open()  # idempotent; a shared archive may be open already
         await super().open()
+        await self._task_runs.open()
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
@@ -284,7 +308,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         return task_cards(task) if task is not None else {}
 
     async def get_robotic_status(self) -> RoboticStatus:
-        started, eta = self._task_times or (None, None)
+        started, eta = self._task_runs.times or (None, None)
         return robotic_status(
             self.clock.now(),
             running=self._running,
@@ -342,7 +366,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             log.info("%s: %s", self.name, action.describe())
             self._last_action = action
         if isinstance(action, RunTask):
-            await self._run(action.slot, tasks[action.slot.task_id])
+            await self._task_runs.run(action.slot, tasks[action.slot.task_id])
             return 0.0
         if isinstance(action, Focus):
             await self._focus(action.slot)
@@ -408,50 +432,6 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._wake.clear()
 
     # --- running a task ------------------------------------------------------------------------
-
-    async def _run(self, slot: Slot, task: Task) -> None:
-        """Run the task of ``slot`` under watch and record how it ended; focus first if due."""
-        if not await self._can_run(task):
-            log.warning(
-                "%s: the runner cannot run task %s (%s); skipping its slot", self.name, task.id, task.name
-            )
-            self._schedule.failed_in(task.id, slot.start)
-            return
-        recorder = self._recorder
-        task = await recorder.started(task, eta=slot.end)
-        self._task_times = (self.clock.now(), slot.end)
-        reason: str | None = None
-        interrupted = True  # from outside (weather, roof, Sun, shutdown): it may run again later
-        try:
-            cause = await run_watched(
-                self._runner.run_task(task, recorder.on_progress),
-                lambda: self._abort_cause(slot),
-                wake=self._wake,
-                clock=self.clock,
-                poll_interval=self._poll,
-                abort_timeout=self._abort_timeout,
-            )
-            if cause is not None:
-                reason = interruption_reason(cause, task, recorder.progress)
-        except asyncio.CancelledError:
-            reason = interruption_reason("the mastermind shutting down", task, recorder.progress)
-            raise
-        except Exception as exc:  # the task's own failure: not again in this slot
-            self._schedule.failed_in(task.id, slot.start)
-            interrupted = False
-            reason = str(exc) or type(exc).__name__
-            if not isinstance(exc, NightcrewError):
-                raise  # a bug: the loop's fail-safe closes and parks
-        finally:
-            self._task_times = None
-            await recorder.ended(task, reason, retryable=interrupted)
-
-    async def _can_run(self, task: Task) -> bool:
-        try:
-            return await self._runner.can_run(task)
-        except NightcrewError as exc:
-            log.warning("%s: cannot check task %s: %s", self.name, task.id, exc)
-            return False
 
     async def _abort_cause(self, slot: Slot) -> str | None:
         return self._stop_cause or abort_cause(await self._observatory.observe(), slot)

@@ -8,6 +8,9 @@ Decisions (documented for drivers and callers):
 * Targets below ``min_altitude`` are refused with MoveError before anything moves.
 * Offsets: RA/Dec offsets apply while tracking an RA/Dec target, Alt/Az offsets while pointing at an
   Alt/Az position; a new move resets both.
+* A mount that comes back from a restart of its server while the module was tracking an RA/Dec
+  target is unparked and tracks it again before the module is ready (drivers call
+  ``_restore_tracking``).
 * On BadWeatherEvent and on SafetyAlarmEvent (the safety watchdog's) the telescope parks by itself
   (aborting any slew), and so it does after ``park_when_offline`` clock seconds (default 300)
   without a connection to the other modules (see nightcrew.modules.motion.base).
@@ -142,6 +145,19 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         return {}
 
     # --- helpers -------------------------------------------------------------------------------
+
+    async def _restore_tracking(self) -> None:
+        """Track the RA/Dec target (with its offsets) again if this module was tracking it, e.g.
+        after the mount's server restarted and it came back parked; drivers call this after reading
+        the device, before they report ready again."""
+        target = self._target_radec
+        if target is None or self._motion_status is not MotionStatus.TRACKING or self._motion.busy:
+            return
+        dra, ddec = self._offsets_radec
+        ra, dec = (target[0] + dra) % 360.0, max(-90.0, min(90.0, target[1] + ddec))
+        log.warning("%s: the mount came back: tracking RA %.4f°, Dec %.4f° again", self.name, ra, dec)
+        await self._hw_init()
+        await self._hw_move_radec(ra, dec)
 
     def _altaz_of(self, ra: float, dec: float) -> tuple[float, float]:
         site = self.observatory

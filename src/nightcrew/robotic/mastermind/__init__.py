@@ -8,7 +8,8 @@ run) and cancels it as soon as a check finds a cause; :class:`ObservatoryControl
 weather, roof, telescope and Sun through proxies and opens up or closes down; :class:`FocusKeeper`
 knows when a focus is due and runs it on a tracked :class:`FocusField`; :class:`ScheduleReader`
 reads the slots around now, :class:`EarlyStarts` marks the next one that may start early, and
-:class:`TaskRecorder` records a task's start, progress and end in the archive and on the bus. The
+:class:`TaskRecorder` records a task's start, progress and end in the archive and on the bus;
+:func:`device_fault` tells a device's failure under a task from the task's own. The
 module :class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
 """
 
@@ -30,12 +31,13 @@ from nightcrew.robotic.mastermind._decide import (
     focus_now,
 )
 from nightcrew.robotic.mastermind._early_start import EarlyStarts
+from nightcrew.robotic.mastermind._faults import DeviceFault, device_fault, resumed
 from nightcrew.robotic.mastermind._focusing import FocusField, FocusKeeper, focus_field
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
 from nightcrew.robotic.mastermind._status import robotic_status
-from nightcrew.robotic.mastermind._supervision import all_done, run_watched
+from nightcrew.robotic.mastermind._supervision import AbortCheck, all_done, run_watched
 from nightcrew.robotic.mastermind._tasks import (
     focus_due,
     interruption_reason,
@@ -55,9 +57,11 @@ from nightcrew.robotic.mastermind._tasks import (
 )
 
 __all__ = [
+    "AbortCheck",
     "Action",
     "CloseAndPark",
     "Conditions",
+    "DeviceFault",
     "EarlyStarts",
     "Focus",
     "FocusField",
@@ -74,6 +78,7 @@ __all__ = [
     "abort_cause",
     "all_done",
     "decide",
+    "device_fault",
     "focus_due",
     "focus_field",
     "focus_now",
@@ -83,6 +88,7 @@ __all__ = [
     "needs_sky",
     "observable_since",
     "planned_exposures",
+    "resumed",
     "robotic_status",
     "run_watched",
     "slot_for",

@@ -53,10 +53,13 @@ class TaskRecorder:
         if self._writer is None or self._writer.done():
             self._writer = asyncio.create_task(self._write_progress(task))
 
-    async def ended(self, task: Task, reason: str | None, *, retryable: bool = False) -> None:
+    async def ended(
+        self, task: Task, reason: str | None, *, retryable: bool = False, device_fault: bool = False
+    ) -> None:
         """Mark the task finished (``reason`` None) or failed in the archive, and tell everybody.
 
-        ``retryable``: it was interrupted from outside and may be planned again (see TaskFailedEvent).
+        ``retryable``: it was interrupted from outside and may be planned again; ``device_fault``:
+        a device failed under it (see TaskFailedEvent).
         """
         self.current = None
         writer, self._writer = self._writer, None
@@ -75,7 +78,9 @@ class TaskRecorder:
             event: TaskFinishedEvent | TaskFailedEvent = TaskFinishedEvent(name=task.name, id=task.id)
         else:
             log.warning("%s: task %s (%s) failed: %s", name, task.id, task.name, reason)
-            event = TaskFailedEvent(name=task.name, id=task.id, reason=reason, retryable=retryable)
+            event = TaskFailedEvent(
+                name=task.name, id=task.id, reason=reason, retryable=retryable, device_fault=device_fault
+            )
         try:
             await self._host.comm.send_event(event)
         except NightcrewError as exc:

@@ -13,7 +13,7 @@ from typing import Any
 
 from nightcrew.clock import Clock
 
-__all__ = ["all_done", "run_watched"]
+__all__ = ["AbortCheck", "all_done", "run_watched"]
 
 log = logging.getLogger(__name__)
 
