@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import functools
 import logging
 from collections.abc import Callable, Sequence
 from datetime import datetime, timedelta
@@ -31,6 +32,7 @@ from nightcrew.robotic.scheduler.ports import (
     night_around,
 )
 from nightcrew.robotic.scheduler.scheduler import SolverName
+from nightcrew.robotic.scheduler.sky import GridFit
 
 __all__ = ["SchedulerModule"]
 
@@ -72,7 +74,10 @@ class SchedulerModule(Module, IRoboticScheduler):
         # Archives of nightcrew.robotic.archives are wrapped by the adapters; open them with us.
         archive_object = self.add_child(_built(archive, "archive"))
         store_object = self.add_child(_built(store or MemoryScheduleStore(), "store"))
-        self._archive: BlockSource = _adapted(as_block_source, archive_object, "archive")
+        fit = GridFit(step_s=step_s, slew_overhead_s=slew_overhead_s)
+        self._archive: BlockSource = _adapted(
+            functools.partial(as_block_source, site=self.site, fit=fit), archive_object, "archive"
+        )
         self._store: ScheduleWriter = _adapted(as_schedule_writer, store_object, "store")
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
