@@ -29,7 +29,7 @@ from nightcrew.robotic.tasks._task import Task
 from nightcrew.robotic.tasks.calibration import NOTHING_LEFT_S, calibration_block
 from nightcrew.site import Site
 
-__all__ = ["NOTHING_LEFT_S", "ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of"]
+__all__ = ["NOTHING_LEFT_S", "ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of", "every_block"]
 
 
 def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
@@ -83,6 +83,23 @@ def blocks_of(tasks: Iterable[Task], overheads: OverheadModel = DEFAULT_OVERHEAD
     return BlockConversion(tuple(blocks), tuple(left_out))
 
 
+def every_block(
+    tasks: Iterable[Task],
+    site: Site | None,
+    *,
+    fit: GridFit | None = None,
+    overheads: OverheadModel = DEFAULT_OVERHEADS,
+) -> list[SchedulableBlock]:
+    """A block for every task of ``tasks`` (in order): by :func:`block_of`, else a calibration block."""
+    blocks = []
+    for task in tasks:
+        block = block_of(task, overheads)
+        if block is None:
+            block = calibration_block(task, site, fit=fit, overheads=overheads)
+        blocks.append(block)
+    return blocks
+
+
 class ArchiveBlockSource:
     """The scheduler's view of a task archive: ``await source.get_schedulable_blocks()``.
 
@@ -111,13 +128,8 @@ class ArchiveBlockSource:
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
         """Blocks of the archive's schedulable tasks, calibrations included."""
-        blocks = []
-        for task in await self.archive.get_schedulable_tasks():
-            block = block_of(task, self.overheads)
-            if block is None:
-                block = calibration_block(task, self.site, fit=self.fit, overheads=self.overheads)
-            blocks.append(block)
-        return blocks
+        tasks = await self.archive.get_schedulable_tasks()
+        return every_block(tasks, self.site, fit=self.fit, overheads=self.overheads)
 
     async def block_names(self) -> dict[str, str]:
         """Block id → task name (a block's id is its task's)."""
