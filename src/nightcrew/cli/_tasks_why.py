@@ -34,7 +34,14 @@ __all__ = ["SITE_FILES", "add_why_parser", "load_site"]
 SITE_FILES = ("site.yaml", "shared/site.yaml")
 
 
-def add_why_parser(actions: Any, db: argparse.ArgumentParser, run: Callable[[Any], Any]) -> None:
+def add_why_parser(
+    actions: Any,
+    db: argparse.ArgumentParser,
+    run: Callable[[Any], Any],
+    database_path: Callable[[argparse.Namespace], Path],
+) -> None:
+    """The ``why`` action (``db``: the --db option's parser, ``run``: wraps the coroutine,
+    ``database_path``: the database the arguments name)."""
     why = actions.add_parser(
         "why", parents=[db], help="when a task is planned in a night, or why not", description=__doc__
     )
@@ -48,14 +55,12 @@ def add_why_parser(actions: Any, db: argparse.ArgumentParser, run: Callable[[Any
     why.add_argument(
         "--max-sun-altitude", type=float, default=-12.0, help="the night's Sun limit, degrees (default -12)"
     )
-    why.set_defaults(func=run(_why))
+    why.set_defaults(func=run(_why), database_path=database_path)
 
 
 async def _why(args: argparse.Namespace) -> int:
-    from nightcrew.cli.tasks import database_path
-
     site = load_site(args.site)
-    path = database_path(args)
+    path = args.database_path(args)
     async with SqliteTaskArchive(path, poll_interval=0) as archive:
         task = await archive.get_task(args.task_id)  # an unknown id: one line, exit 1
         tasks = await archive.list_tasks(states=SCHEDULABLE_STATES)

@@ -73,7 +73,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     add_comm_argument(cancel)
     cancel.set_defaults(func=_run(_cancel))
 
-    add_why_parser(actions, db, _run)
+    add_why_parser(actions, db, _run, database_path)
 
     schema = actions.add_parser("schema", help="print the request format as JSON Schema")
     schema.set_defaults(func=_schema)
