@@ -27,6 +27,7 @@ import yaml
 from nightcrew.cli._operator import add_comm_argument, load_comm, operator_module
 from nightcrew.cli._tasks_why import add_why_parser
 from nightcrew.comm.base import Comm
+from nightcrew.errors import NightcrewError
 from nightcrew.events import TasksChangedEvent
 from nightcrew.robotic.archives import DEFAULT_TASKS_DB, SqliteTaskArchive
 from nightcrew.robotic.tasks import (
@@ -96,6 +97,7 @@ def _run(action: Any) -> Any:
 
 
 async def _add(args: argparse.Namespace) -> int:
+    comm = _comm(args)  # a bad comm file fails before anything is stored
     groups: list[RequestGroup] = []
     invalid: list[InvalidTaskError] = []
     for path in args.files:
@@ -122,7 +124,7 @@ async def _add(args: argparse.Namespace) -> int:
                 print("  defaults filled in:")
                 for path, value in defaults:
                     print(f"    {path}: {json.dumps(value, ensure_ascii=False)}")
-    await _tell_scheduler(args, added, "added")
+    await _tell_scheduler(comm, added, "added")
     return 0
 
 
@@ -173,10 +175,11 @@ async def _show(args: argparse.Namespace) -> int:
 
 
 async def _cancel(args: argparse.Namespace) -> int:
+    comm = _comm(args)
     async with _archive(args) as archive:
         task = await archive.cancel(args.task_id, args.reason)
     print(f"task {task.id} ({task.name}): {task.state.value}")
-    await _tell_scheduler(args, [task.id], "cancelled")
+    await _tell_scheduler(comm, [task.id], "cancelled")
     return 0
 
 
@@ -185,12 +188,22 @@ def _schema(args: argparse.Namespace) -> int:
     return 0
 
 
-async def _tell_scheduler(args: argparse.Namespace, ids: list[str], change: str) -> None:
-    """Send TasksChangedEvent on the operator's comm, if one is configured; else say so."""
-    if not args.comm:
+def _comm(args: argparse.Namespace) -> Comm | None:
+    """The operator's comm from --comm / $NIGHTCREW_COMM (built, not connected), or None."""
+    return load_comm(args.comm) if args.comm else None
+
+
+async def _tell_scheduler(comm: Comm | None, ids: list[str], change: str) -> None:
+    """Send TasksChangedEvent on the operator's comm, if one is configured; else say so. The tasks
+    are stored already: a comm that cannot connect is reported, not an error."""
+    if comm is None:
         print("the scheduler will see it at its next poll (no --comm or $NIGHTCREW_COMM to tell it now)")
         return
-    await announce_change(load_comm(args.comm), ids, change)
+    try:
+        await announce_change(comm, ids, change)
+    except NightcrewError as exc:
+        print(f"could not tell the scheduler ({exc}): it will see it at its next poll")
+        return
     print(f"told the scheduler: tasks {', '.join(ids)} {change}")
 
 
