@@ -1,4 +1,4 @@
-"""Why a block is left out of a plan: one test per reason."""
+"""Why a block is left out of a plan (one test per reason), and the device faults' back-off."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ from datetime import timedelta
 
 from nightcrew.astro import moon_radec
 from nightcrew.robotic.scheduler import Constraints, Night, SchedulableBlock, Scheduler, Target
+from nightcrew.robotic.scheduler.faults import DeviceFaults
 from tests.robotic.test_scheduler import CIRCUMPOLAR, NIGHT, QUICK, block, hours
 
 SCHEDULER = Scheduler(time_limit_s=QUICK)
@@ -67,3 +68,19 @@ def test_every_reason_that_applies_is_given() -> None:
 def test_after_the_night_every_block_is_left_out_because_it_is_over() -> None:
     assert why([block("late")], now=NIGHT.end + timedelta(minutes=1)) == {"late": "the night is over"}
     assert CIRCUMPOLAR.dec == 80.0
+
+
+def test_device_faults_back_off_doubling_then_give_up_and_are_forgotten_the_next_night() -> None:
+    faults = DeviceFaults(backoff_s=300.0, limit=3)
+    faults.start_night(NIGHT.end)
+    assert faults.record("t", hours(1)) == hours(1) + timedelta(minutes=5)
+    assert faults.record("t", hours(2)) == hours(2) + timedelta(minutes=10)
+    (held,) = faults.hold_back([block("t")], NIGHT)
+    assert held.windows == ((hours(2) + timedelta(minutes=10), NIGHT.end),)
+    (untouched,) = faults.hold_back([block("u")], NIGHT)
+    assert untouched.windows == ()
+    assert faults.record("t", hours(3)) is None  # the third fault: given up
+    faults.start_night(NIGHT.end + timedelta(seconds=30))  # the same night, planned later
+    assert faults.counts == {"t": 3}
+    faults.start_night(NIGHT.end + timedelta(days=1))
+    assert faults.counts == {} and faults.record("t", hours(25)) == hours(25) + timedelta(minutes=5)

@@ -205,6 +205,7 @@ class SchedulerModule(Module, IRoboticScheduler):
         if self.site is None:
             raise ConfigError("the scheduler needs the observatory's site", key="site")
         night = night_around(self.site, start, max_sun_altitude=self._max_sun_altitude)
+        self._faults.start_night(night.end)
         exclude = frozenset(self._failed.keys() | self._done)
         held_back = self._faults.hold_back(blocks, night)
         names = await self._archive.block_names() if isinstance(self._archive, NamedBlockSource) else {}

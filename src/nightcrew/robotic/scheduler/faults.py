@@ -5,7 +5,8 @@ lost its server) is not at fault itself: it should run again the same night, but
 device may still be coming back) and not forever (a device that keeps failing wastes the night).
 :class:`DeviceFaults` counts the faults of each task and holds its block back: the block may start
 no earlier than ``backoff_s`` after the fault, doubled for each further fault of that task, and
-after ``limit`` faults it is given up for the night. Pure: the caller passes the times.
+after ``limit`` faults it is given up for the night; the next night starts the count afresh. Pure:
+the caller passes the times.
 """
 
 from __future__ import annotations
@@ -38,6 +39,15 @@ class DeviceFaults:
         self.counts: dict[str, int] = {}
         #: Task id → the earliest time it may start again.
         self.retry_at: dict[str, datetime] = {}
+        self._night_end: datetime | None = None
+
+    def start_night(self, night_end: datetime) -> None:
+        """Forget every fault when the night ending at ``night_end`` is another than the last one's
+        (the ends of one night, planned at different times, differ by seconds, not hours)."""
+        if self._night_end is not None and abs((night_end - self._night_end).total_seconds()) > 3600:
+            self.counts.clear()
+            self.retry_at.clear()
+        self._night_end = night_end
 
     def record(self, task_id: str, now: datetime) -> datetime | None:
         """Count a fault of ``task_id`` at ``now``: when it may run again, or None when given up."""
