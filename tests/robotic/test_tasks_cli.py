@@ -70,9 +70,10 @@ def test_an_invalid_file_stores_nothing_and_exits_2(
     captured = capsys.readouterr()
     assert captured.out == ""
     assert captured.err.splitlines() == [
-        f"nightcrew: error: {bad}: requests[0].configurations[0].instrument_configs[1].exposure_time:"
-        " must be > 0; nothing was stored",
-        f"nightcrew: error: {bad}: requests[1].windows: must have at least 1 entry; nothing was stored",
+        f"nightcrew: error: {bad}: invalid request group:"
+        " requests[0].configurations[0].instrument_configs[1].exposure_time: must be > 0; nothing was stored",
+        f"nightcrew: error: {bad}: invalid request group:"
+        " requests[1].windows: must have at least 1 entry; nothing was stored",
     ]
     assert main(["tasks", "--db", db, "list"]) == 0
     assert "(no tasks)" in capsys.readouterr().out

@@ -59,8 +59,8 @@ def test_an_unknown_field_is_one_line_naming_it_and_the_file(
     captured = capsys.readouterr()
     assert captured.out == ""
     assert captured.err.splitlines() == [
-        f"nightcrew: error: {typo}: requests[0].configurations[0].constraints.min_lunar_distanse:"
-        " unknown field; nothing was stored"
+        f"nightcrew: error: {typo}: invalid request group:"
+        " requests[0].configurations[0].constraints.min_lunar_distanse: unknown field; nothing was stored"
     ]
     assert main(["tasks", "list"]) == 0
     assert "(no tasks)" in capsys.readouterr().out

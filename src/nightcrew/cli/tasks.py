@@ -108,7 +108,10 @@ async def _add(args: argparse.Namespace) -> int:
     if invalid:
         for error in invalid:
             for problem in error.problems:  # one line each: the file, the field and what is wrong
-                print(f"nightcrew: error: {error.source}: {problem}; nothing was stored", file=sys.stderr)
+                print(
+                    f"nightcrew: error: {error.source}: invalid request group: {problem}; nothing was stored",
+                    file=sys.stderr,
+                )
         return 2
     added: list[str] = []
     async with _archive(args) as archive:
