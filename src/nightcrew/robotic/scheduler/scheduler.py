@@ -154,8 +154,10 @@ class Scheduler:
         """Block id → why it is not in ``schedule``, for every block of ``blocks`` that may still be
         planned and is not (see :mod:`.why`); the arguments are those ``schedule`` was made with."""
         start, candidates = _remaining(blocks, night, now, exclude, in_progress)
+        planned = {slot.block_id for slot in schedule.slots}
+        if all(b.id in planned for b in candidates):
+            return {}  # the common case: no second look at the sky
         if start >= night.end:
-            planned = {slot.block_id for slot in schedule.slots}
             return {b.id: NIGHT_OVER for b in candidates if b.id not in planned}
         return unplanned_reasons(
             self.problem(candidates, night, start=start),
