@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import logging
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
@@ -153,11 +154,30 @@ async def few() -> AsyncIterator[Setup]:
         yield Setup(scheduler, sender, archive, store)
 
 
-async def test_the_plan_names_every_task_it_leaves_out_with_the_reason(few: Setup) -> None:
+async def test_the_plan_names_every_task_it_leaves_out_with_the_reason(
+    few: Setup, caplog: pytest.LogCaptureFixture
+) -> None:
     plan = await few.scheduler.get_plan()
     assert plan is not None and {slot.task_id for slot in plan.slots} == {"a", "b", "c"}
     assert [u.task_id for u in plan.unplanned] == ["south"]
     assert plan.unplanned[0].reason.startswith("never above the airmass limit")
+    # Logged once per change of the reason, not with every plan.
+    caplog.set_level(logging.INFO, logger="nightcrew.modules.robotic.scheduler")
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("a",), change="changed"))
+    await few.store.next_write()
+    assert not [r for r in caplog.records if "not planned" in r.getMessage()]
+    few.archive.blocks = [NEVER_UP]
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("a", "b", "c"), change="cancelled"))
+    await few.store.next_write()
+    assert not [r for r in caplog.records if "not planned" in r.getMessage()]  # the same reason
+    few.archive.blocks = [
+        NEVER_UP,
+        SchedulableBlock(id="long", priority=1.0, duration_s=20 * 3600.0, target=FEW[0].target),
+    ]
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("long",), change="added"))
+    await few.store.next_write()
+    (logged,) = [r.getMessage() for r in caplog.records if "not planned" in r.getMessage()]
+    assert logged.startswith("task long (?) not planned: longer (")
 
 
 async def test_a_task_added_is_planned_at_once_on_the_event(few: Setup) -> None:
