@@ -38,6 +38,19 @@ def test_the_moon_closer_than_the_limit_all_night() -> None:
     assert why([near]) == {"near": "Moon closer than 30° all night (min_lunar_distance)"}
 
 
+def test_the_moon_too_bright_all_night() -> None:
+    dark = block("dark", constraints=Constraints(max_moon_illumination=0.01))  # the Moon is ~25 % lit
+    assert why([dark]) == {"dark": "Moon more than 0.01 illuminated all night (max_lunar_phase)"}
+
+
+def test_constraints_that_hold_but_never_together() -> None:
+    # M31 is high in a January evening and low before dawn; its window is before dawn: each of
+    # the two holds at some time, never both.
+    m31 = Target(ra=10.68, dec=41.27)
+    reasons = why([block("m31", target=m31, windows=((hours(11), hours(12.5)),))])
+    assert reasons == {"m31": "its constraints never hold at the same time in the night"}
+
+
 def test_a_window_outside_the_night() -> None:
     tomorrow = (hours(20), hours(21))
     reasons = why([block("later", windows=(tomorrow,))])
