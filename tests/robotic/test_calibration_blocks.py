@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.night.blocks import NightBlockSource
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
@@ -22,6 +23,7 @@ from nightcrew.robotic.tasks.calibration import (
     twilights,
 )
 from nightcrew.site import Site
+from nightcrew.testing import Observatory
 from tests.robotic.test_archives_sqlite import NIGHT, ManualClock
 
 GOETTINGEN = Site(latitude=51.56, longitude=9.94, elevation=201.0)
@@ -117,3 +119,29 @@ async def test_a_plain_archive_gives_calibration_blocks_with_the_schedulers_site
     (flats,) = [b for b in plain if b.id == flats_id]
     assert flats.priority == 4 * CALIBRATION_WEIGHT
     assert flats.windows == tuple(twilights(GOETTINGEN, *flats.windows[0], -9.0, -3.0)) + flats.windows[1:]
+
+
+async def test_a_scheduler_on_a_plain_archive_plans_the_flats_in_its_sites_twilight(tmp_path: Path) -> None:
+    """As a real observatory's file says it: ``archive: SqliteTaskArchive``, the site the scheduler's."""
+    epoch = datetime(2026, 11, 10, 14, 0, tzinfo=UTC)
+    path = tmp_path / "tasks.sqlite"
+    async with (
+        Observatory(epoch=epoch, site=GOETTINGEN) as obs,
+        SqliteTaskArchive(path, clock=obs.clock, poll_interval=0) as archive,
+    ):
+        (flats,) = await archive.add_request_group(load_samples()["twilight-sky-flats"])
+        scheduler = await obs.start(
+            SchedulerModule,
+            "scheduler",
+            archive=archive,
+            store=archive,
+            max_sun_altitude=-3.0,
+            time_limit_s=2.0,
+        )
+        await obs.wait_for(lambda: scheduler.schedule is not None, 60.0)
+        assert scheduler.schedule is not None
+        (slot,) = [s for s in scheduler.schedule.slots if s.block_id == flats.id]
+        spans = [s for w in flats.request.windows for s in twilights(GOETTINGEN, w.start, w.end, -9.0, -3.0)]
+        assert len(spans) == 2  # dusk and dawn
+        assert any(start <= slot.start and slot.end <= end for start, end in spans), (slot, spans)
+        assert slot.end - slot.start < timedelta(seconds=SKY_FLAT_SECONDS)  # not the 30 min without a site

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import functools
 import logging
 from collections.abc import Callable, Sequence
 from datetime import datetime, timedelta
@@ -90,14 +89,14 @@ class SchedulerModule(Module, IRoboticScheduler):
         # Archives of nightcrew.robotic.archives are wrapped by the adapters; open them with us.
         archive_object = self.add_child(_built(archive, "archive"))
         store_object = self.add_child(_built(store or MemoryScheduleStore(), "store"))
-        fit = GridFit(step_s=step_s, slew_overhead_s=slew_overhead_s)
-        self._archive: BlockSource = _adapted(
-            functools.partial(as_block_source, site=self.site, fit=fit), archive_object, "archive"
-        )
+        self._archive: BlockSource = _adapted(as_block_source, archive_object, "archive")
         self._store: ScheduleWriter = _adapted(as_schedule_writer, store_object, "store")
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
         )
+        # Calibration tasks (no target) are placed at our site, sky flats fitted to our grid.
+        fit = GridFit(step_s=step_s, slew_overhead_s=slew_overhead_s)
+        self._archive = as_block_source(self._archive, site=self.site, fit=fit)
         self._poll_interval = poll_interval_s
         self._max_sun_altitude = max_sun_altitude
         self._replan_wanted = asyncio.Event()
