@@ -40,8 +40,10 @@ def test_add_prints_the_defaults_it_filled_in_and_uses_tasks_sqlite_here(
     assert (tmp_path / DEFAULT_TASKS_DB).is_file() and DEFAULT_TASKS_DB == "tasks.sqlite"
     assert out[0] == "added 'M15 globular cluster' (group 1): task 1"
     assert out[1] == "  defaults filled in:"
-    assert "    requests[0].configurations[0].constraints.min_lunar_distance: 30.0" in out
-    assert "    requests[0].configurations[0].constraints.max_sun_altitude: -12.0" in out
+    excluding = "  (can keep a target out of the plan)"
+    assert f"    requests[0].configurations[0].constraints.min_lunar_distance: 30.0{excluding}" in out
+    assert f"    requests[0].configurations[0].constraints.max_sun_altitude: -12.0{excluding}" in out
+    assert "    requests[0].configurations[0].target.epoch: 2000.0" in out
     assert "    requests[0].configurations[0].constraints.max_airmass: 1.6" not in out  # the file gives it
     assert (
         out[-1] == "the scheduler will see it at its next poll (no --comm or $NIGHTCREW_COMM to tell it now)"

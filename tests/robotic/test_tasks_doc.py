@@ -93,7 +93,7 @@ def test_the_first_task_and_commands_run_as_written(
         assert words[0] == "nightcrew"
         assert main(words[1:]) == 0, line
         outputs.append(capsys.readouterr().out)
-    assert "requests[0].configurations[0].constraints.min_lunar_distance: 30.0" in outputs[0]
+    assert "constraints.min_lunar_distance: 30.0  (can keep a target out of the plan)" in outputs[0]
     assert (tmp_path / "tasks.sqlite").is_file()
     assert ": planned 2026-11-10 " in outputs[2]
     assert outputs[-1].startswith("task 1 (M15 globular cluster): CANCELED")

@@ -126,7 +126,8 @@ async def _add(args: argparse.Namespace) -> int:
             if defaults:
                 print("  defaults filled in:")
                 for path, value in defaults:
-                    print(f"    {path}: {json.dumps(value, ensure_ascii=False)}")
+                    note = "  (can keep a target out of the plan)" if _can_exclude(path) else ""
+                    print(f"    {path}: {json.dumps(value, ensure_ascii=False)}{note}")
     await _tell_scheduler(comm, added, "added")
     return 0
 
@@ -184,6 +185,18 @@ async def _cancel(args: argparse.Namespace) -> int:
     print(f"task {task.id} ({task.name}): {task.state.value}")
     await _tell_scheduler(comm, [task.id], "cancelled")
     return 0
+
+
+#: Constraints whose defaults can exclude a target without the file saying so (docs/tasks.md).
+_EXCLUDING_DEFAULTS = (
+    "constraints.min_lunar_distance",
+    "constraints.max_airmass",
+    "constraints.max_sun_altitude",
+)
+
+
+def _can_exclude(path: str) -> bool:
+    return path.endswith(_EXCLUDING_DEFAULTS)
 
 
 def _schema(args: argparse.Namespace) -> int:
