@@ -8,7 +8,7 @@ run (best of ``--repeat``) and gives their ratio and the largest difference of t
 
 - single calls: the formula through numpy on a lone value (a 0-d array: what every call cost while
   the package computed with numpy only) against the float path;
-- loops over times: one scalar call per time, as ``_twilight_seconds`` (every minute of a window)
+- loops over times: one scalar call per time, as the sky flats' twilight (every minute of a window)
   and ``SkyGrid`` (Sun and Moon at every edge of the scheduler's grid) did, against one array call.
 
 The second table times the users whole, in the new way only: the scheduler's ``night_around``, its
@@ -36,11 +36,11 @@ from nightcrew.astro import (
     radec_to_altaz,
     sun_altitude,
 )
-from nightcrew.night.blocks import _twilight_seconds
 from nightcrew.robotic.scheduler import Night
 from nightcrew.robotic.scheduler.ports import night_around
 from nightcrew.robotic.scheduler.sky import SkyGrid, TimeGrid
 from nightcrew.robotic.scheduler.synthetic import synthetic_blocks
+from nightcrew.robotic.tasks.calibration import _blocking_twilights
 from nightcrew.site import Site
 
 SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0)
@@ -84,7 +84,7 @@ GRID = TimeGrid.covering(T, NIGHT.end.timestamp(), 300.0)
 WHOLE: dict[str, Case] = {
     "night_around (scheduler)": lambda: night_around(SITE, datetime(2024, 1, 15, 12, tzinfo=UTC)),
     "SkyGrid 500 blocks x 157": lambda: SkyGrid(GRID, SITE, BLOCKS),
-    "_twilight_seconds 13 h": lambda: _twilight_seconds.__wrapped__(
+    "twilights 13 h (sky flats)": lambda: _blocking_twilights.__wrapped__(
         SITE, NIGHT.start, NIGHT.end, -12.0, -3.0
     ),
 }

@@ -3,16 +3,17 @@
 from __future__ import annotations
 
 import asyncio
+import logging
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
 
 import pytest
 
-from nightcrew.events import GoodWeatherEvent, TaskFailedEvent
+from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TasksChangedEvent
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.robotic.scheduler import Night, SchedulableBlock
+from nightcrew.robotic.scheduler import Night, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, night_around
 from nightcrew.robotic.scheduler.synthetic import synthetic_blocks
 from nightcrew.testing import SITE, Observatory
@@ -124,3 +125,111 @@ def test_the_night_is_found_around_now() -> None:
     afternoon = night_around(SITE, datetime(2024, 1, 15, 12, 0, tzinfo=UTC))
     dusk = datetime(2024, 1, 15, 17, 0, tzinfo=UTC)  # nautical twilight ends about then
     assert dusk - timedelta(minutes=30) < afternoon.start < dusk + timedelta(minutes=30)
+
+
+# --- why tasks are left out, tasks changed by event, device faults ---------------------------------
+
+FEW = [
+    SchedulableBlock(id=name, priority=1.0, duration_s=1200.0, target=Target(ra=60.0, dec=80.0))
+    for name in ("a", "b", "c")
+]
+NEVER_UP = SchedulableBlock(id="south", priority=1.0, duration_s=600.0, target=Target(ra=0.0, dec=-80.0))
+
+
+@pytest.fixture
+async def few() -> AsyncIterator[Setup]:
+    """Three short circumpolar blocks and one that never rises; polling too rare to matter."""
+    async with Observatory(epoch=EPOCH) as obs:
+        archive, store = ListArchive([*FEW, NEVER_UP]), CountingStore()
+        sender = await obs.start(Module, "mastermind")
+        scheduler = await obs.start(
+            SchedulerModule,
+            "scheduler",
+            archive=archive,
+            store=store,
+            time_limit_s=2.0,
+            poll_interval_s=3600.0,
+        )
+        await asyncio.wait_for(store.written.wait(), timeout=20)
+        yield Setup(scheduler, sender, archive, store)
+
+
+async def test_the_plan_names_every_task_it_leaves_out_with_the_reason(
+    few: Setup, caplog: pytest.LogCaptureFixture
+) -> None:
+    plan = await few.scheduler.get_plan()
+    assert plan is not None and {slot.task_id for slot in plan.slots} == {"a", "b", "c"}
+    assert [u.task_id for u in plan.unplanned] == ["south"]
+    assert plan.unplanned[0].reason.startswith("never above the airmass limit")
+    # Logged once per change of the reason, not with every plan.
+    caplog.set_level(logging.INFO, logger="nightcrew.modules.robotic.scheduler")
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("a",), change="changed"))
+    await few.store.next_write()
+    assert not [r for r in caplog.records if "not planned" in r.getMessage()]
+    few.archive.blocks = [NEVER_UP]
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("a", "b", "c"), change="cancelled"))
+    await few.store.next_write()
+    assert not [r for r in caplog.records if "not planned" in r.getMessage()]  # the same reason
+    few.archive.blocks = [
+        NEVER_UP,
+        SchedulableBlock(id="long", priority=1.0, duration_s=20 * 3600.0, target=FEW[0].target),
+    ]
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("long",), change="added"))
+    await few.store.next_write()
+    (logged,) = [r.getMessage() for r in caplog.records if "not planned" in r.getMessage()]
+    assert logged.startswith("task long (?) not planned: longer (")
+
+
+async def test_a_task_added_is_planned_at_once_on_the_event(few: Setup) -> None:
+    clock = few.scheduler.clock
+    new = SchedulableBlock(id="new", priority=5.0, duration_s=600.0, target=Target(ra=60.0, dec=80.0))
+    few.archive.blocks.append(new)
+    added = clock.now()
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("new",), change="added"))
+    await few.store.next_write()
+    plan = await few.scheduler.get_plan()
+    assert plan is not None and "new" in {slot.task_id for slot in plan.slots}
+    reaction = (plan.planned_at - added).total_seconds()
+    available = (clock.now() - added).total_seconds()
+    # The re-plan starts on the event (the poll is an hour away); the plan is ready after the
+    # solve, which a virtual clock charges at its modelled cost (WORK_COSTS["schedule"]).
+    print(
+        f"\ntask added -> re-planned with it: {reaction:.2f} clock s"
+        f" (plan ready after {available:.1f} clock s)"
+    )
+    assert reaction <= 2.0
+
+
+async def test_a_device_fault_plans_the_task_again_after_a_doubling_back_off(few: Setup) -> None:
+    clock = few.scheduler.clock
+    task = few.store.slots[0].block_id
+    for fault, backoff in enumerate((300.0, 600.0), start=1):
+        at = clock.now()
+        event = TaskFailedEvent(
+            name=task, id=task, reason="camera is not idle", retryable=True, device_fault=True
+        )
+        await few.sender.comm.send_event(event)
+        await few.store.next_write()
+        (slot,) = [slot for slot in few.store.slots if slot.block_id == task]
+        assert slot.start >= at + timedelta(seconds=backoff), f"fault {fault}"
+    await few.sender.comm.send_event(
+        TaskFailedEvent(name=task, id=task, reason="camera is not idle", device_fault=True)
+    )
+    await few.store.next_write()
+    plan = await few.scheduler.get_plan()
+    assert plan is not None and task not in {slot.task_id for slot in plan.slots}
+    assert {u.task_id: u.reason for u in plan.unplanned}[task] == (
+        "left out after 3 device faults (camera is not idle)"
+    )
+
+
+async def test_a_device_fault_is_not_a_failure_of_the_task(few: Setup) -> None:
+    """Without device_fault and retryable, the task is dropped for the night, as before."""
+    task = few.store.slots[0].block_id
+    await few.sender.comm.send_event(TaskFailedEvent(name=task, id=task, reason="bad script"))
+    await few.store.next_write()
+    plan = await few.scheduler.get_plan()
+    assert (
+        plan is not None
+        and {u.task_id: u.reason for u in plan.unplanned}[task] == "failed tonight (bad script)"
+    )

@@ -16,7 +16,10 @@ def _sample(stem: str) -> str:
     return str(next(path for path in sample_paths() if path.stem == stem))
 
 
-def test_add_list_show_cancel(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_add_list_show_cancel(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("NIGHTCREW_COMM", raising=False)
     db = str(tmp_path / "tasks.sqlite")
     assert main(["tasks", "--db", db, "add", _sample("double-cluster"), _sample("algol-light-curve")]) == 0
     out = capsys.readouterr().out
@@ -40,7 +43,7 @@ def test_add_list_show_cancel(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     assert "2026-11-10 21:00 - 2026-11-11 01:00" in lines[3]
 
     assert main(["tasks", "--db", db, "cancel", "2", "--reason", "clouds all night"]) == 0
-    assert capsys.readouterr().out.strip() == "task 2 (Double cluster h and chi Persei): CANCELED"
+    assert capsys.readouterr().out.splitlines()[0] == "task 2 (Double cluster h and chi Persei): CANCELED"
 
     assert main(["tasks", "--db", db, "show", "2"]) == 0
     shown = capsys.readouterr().out
@@ -67,10 +70,10 @@ def test_an_invalid_file_stores_nothing_and_exits_2(
     captured = capsys.readouterr()
     assert captured.out == ""
     assert captured.err.splitlines() == [
-        f"nightcrew: error: {bad}: invalid request group:",
-        "  requests[0].configurations[0].instrument_configs[1].exposure_time: must be > 0",
-        "  requests[1].windows: must have at least 1 entry",
-        "nothing was stored",
+        f"nightcrew: error: {bad}: invalid request group:"
+        " requests[0].configurations[0].instrument_configs[1].exposure_time: must be > 0; nothing was stored",
+        f"nightcrew: error: {bad}: invalid request group:"
+        " requests[1].windows: must have at least 1 entry; nothing was stored",
     ]
     assert main(["tasks", "--db", db, "list"]) == 0
     assert "(no tasks)" in capsys.readouterr().out

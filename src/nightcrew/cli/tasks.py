@@ -1,15 +1,20 @@
-"""``nightcrew tasks``: add, list, show and cancel tasks in the SQLite task archive.
+"""``nightcrew tasks``: add, list, show, cancel and explain tasks in the SQLite task archive.
 
 ``add FILE...`` validates request group files (YAML or JSON) and stores each with one task per
-request; if any file is invalid, every problem is printed with its field path, nothing is stored and
-the exit code is 2. ``list`` prints a table, ``show ID`` one task in full, ``cancel ID`` withdraws a
-task. The database is ``--db PATH``, else ``$NIGHTCREW_TASKS_DB``, else ``./nightcrew-tasks.sqlite``.
+request, printing the defaults it filled in; if any file is invalid, every problem is printed on one
+line with the file and its field path, nothing is stored and the exit code is 2. ``list`` prints a
+table, ``show ID`` one task in full, ``cancel ID`` withdraws a task, ``why ID`` says when the task
+is planned in a night or why not, ``schema`` prints the request format as JSON Schema. The database
+is ``--db PATH``, else ``$NIGHTCREW_TASKS_DB``, else ``./tasks.sqlite`` (run it in the observatory
+directory). With ``--comm FILE`` (or ``$NIGHTCREW_COMM``), ``add`` and ``cancel`` tell the
+scheduler at once (TasksChangedEvent); without, it sees the change at its next poll.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import json
 import os
 import sys
 from collections.abc import Sequence
@@ -19,19 +24,23 @@ from typing import Any
 
 import yaml
 
-from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.cli._operator import add_comm_argument, load_comm, operator_module
+from nightcrew.cli._tasks_why import add_why_parser
+from nightcrew.comm.base import Comm
+from nightcrew.errors import NightcrewError
+from nightcrew.events import TasksChangedEvent
+from nightcrew.robotic.archives import DEFAULT_TASKS_DB, SqliteTaskArchive
 from nightcrew.robotic.tasks import (
     InvalidTaskError,
     RequestGroup,
     TaskState,
     estimate_duration,
+    filled_defaults,
     load_request_group_file,
+    request_group_schema,
 )
 
-__all__ = ["DEFAULT_DB", "add_parser"]
-
-#: The database used without --db and $NIGHTCREW_TASKS_DB.
-DEFAULT_DB = "nightcrew-tasks.sqlite"
+__all__ = ["add_parser", "announce_change", "database_path"]
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -46,6 +55,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
     add = actions.add_parser("add", parents=[db], help="validate request group files and store them")
     add.add_argument("files", metavar="FILE", type=Path, nargs="+", help="request group (YAML or JSON)")
+    add_comm_argument(add)
     add.set_defaults(func=_run(_add))
 
     listing = actions.add_parser("list", parents=[db], help="print a table of the tasks")
@@ -61,15 +71,21 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     cancel = actions.add_parser("cancel", parents=[db], help="cancel a task that has not ended")
     cancel.add_argument("task_id", metavar="ID")
     cancel.add_argument("--reason", default="canceled from the command line", help="why (stored with it)")
+    add_comm_argument(cancel)
     cancel.set_defaults(func=_run(_cancel))
+
+    add_why_parser(actions, db, _run, database_path)
+
+    schema = actions.add_parser("schema", help="print the request format as JSON Schema")
+    schema.set_defaults(func=_schema)
     return parser
 
 
 def database_path(args: argparse.Namespace) -> Path:
-    """--db, else $NIGHTCREW_TASKS_DB, else ./nightcrew-tasks.sqlite."""
+    """--db, else $NIGHTCREW_TASKS_DB, else ./tasks.sqlite."""
     if args.db is not None:
         return Path(args.db)
-    return Path(os.environ.get("NIGHTCREW_TASKS_DB") or DEFAULT_DB)
+    return Path(os.environ.get("NIGHTCREW_TASKS_DB") or DEFAULT_TASKS_DB)
 
 
 def _run(action: Any) -> Any:
@@ -81,6 +97,7 @@ def _run(action: Any) -> Any:
 
 
 async def _add(args: argparse.Namespace) -> int:
+    comm = _comm(args)  # a bad comm file fails before anything is stored
     groups: list[RequestGroup] = []
     invalid: list[InvalidTaskError] = []
     for path in args.files:
@@ -90,18 +107,28 @@ async def _add(args: argparse.Namespace) -> int:
             invalid.append(exc)
     if invalid:
         for error in invalid:
-            print(f"nightcrew: error: {error.source}: invalid request group:", file=sys.stderr)
-            for problem in error.problems:
-                print(f"  {problem}", file=sys.stderr)
-        print("nothing was stored", file=sys.stderr)
+            for problem in error.problems:  # one line each: the file, the field and what is wrong
+                print(
+                    f"nightcrew: error: {error.source}: invalid request group: {problem}; nothing was stored",
+                    file=sys.stderr,
+                )
         return 2
+    added: list[str] = []
     async with _archive(args) as archive:
         for group in groups:
             tasks = await archive.add_request_group(group)
+            added += [task.id for task in tasks]
             ids = ", ".join(task.id for task in tasks)
             print(
                 f"added {group.name!r} (group {tasks[0].group_id}): task{'s' if len(tasks) > 1 else ''} {ids}"
             )
+            defaults = filled_defaults(group)
+            if defaults:
+                print("  defaults filled in:")
+                for path, value in defaults:
+                    note = "  (can keep a target out of the plan)" if _can_exclude(path) else ""
+                    print(f"    {path}: {json.dumps(value, ensure_ascii=False)}{note}")
+    await _tell_scheduler(comm, added, "added")
     return 0
 
 
@@ -152,10 +179,55 @@ async def _show(args: argparse.Namespace) -> int:
 
 
 async def _cancel(args: argparse.Namespace) -> int:
+    comm = _comm(args)
     async with _archive(args) as archive:
         task = await archive.cancel(args.task_id, args.reason)
     print(f"task {task.id} ({task.name}): {task.state.value}")
+    await _tell_scheduler(comm, [task.id], "cancelled")
     return 0
+
+
+#: Constraints whose defaults can exclude a target without the file saying so (docs/tasks.md).
+_EXCLUDING_DEFAULTS = (
+    "constraints.min_lunar_distance",
+    "constraints.max_airmass",
+    "constraints.max_sun_altitude",
+)
+
+
+def _can_exclude(path: str) -> bool:
+    return path.endswith(_EXCLUDING_DEFAULTS)
+
+
+def _schema(args: argparse.Namespace) -> int:
+    print(json.dumps(request_group_schema(), indent=2, ensure_ascii=False))
+    return 0
+
+
+def _comm(args: argparse.Namespace) -> Comm | None:
+    """The operator's comm from --comm / $NIGHTCREW_COMM (built, not connected), or None."""
+    return load_comm(args.comm) if args.comm else None
+
+
+async def _tell_scheduler(comm: Comm | None, ids: list[str], change: str) -> None:
+    """Send TasksChangedEvent on the operator's comm, if one is configured; else say so. The tasks
+    are stored already: a comm that cannot connect is reported, not an error."""
+    if comm is None:
+        print("the scheduler will see it at its next poll (no --comm or $NIGHTCREW_COMM to tell it now)")
+        return
+    try:
+        await announce_change(comm, ids, change)
+    except NightcrewError as exc:
+        print(f"could not tell the scheduler ({exc}): it will see it at its next poll")
+        return
+    print(f"told the scheduler: tasks {', '.join(ids)} {change}")
+
+
+async def announce_change(comm: Comm, ids: Sequence[str], change: str) -> None:
+    """Tell every module on ``comm`` (the scheduler) that tasks ``ids`` were ``change``d, as the
+    operator; the comm is opened and closed here."""
+    async with operator_module(comm) as module:
+        await module.comm.send_event(TasksChangedEvent(ids=tuple(ids), change=change))
 
 
 def _archive(args: argparse.Namespace) -> SqliteTaskArchive:

@@ -5,6 +5,6 @@
 - :mod:`~nightcrew.night.engine`: run the robotic night (scheduler + mastermind) until its end.
 - :mod:`~nightcrew.night.plan`, :mod:`~nightcrew.night.fields`: the night's span, weather
   scenarios and task lists (the samples, the survey, the ``--quick`` preset).
-- :mod:`~nightcrew.night.blocks`: the scheduler's block source that times calibration tasks.
+- :mod:`~nightcrew.night.blocks`: NightBlockSource, the archive block source under its old name.
 - :mod:`~nightcrew.night.recorder`: the module that writes every event to events.jsonl.
 """

@@ -1,11 +1,15 @@
 """The scheduler module: keeps a schedule of the night in a store, re-planning when things change.
 
-It plans again when the archive's blocks change (polled), when a task fails (TaskFailedEvent: the
+It plans again when the archive's blocks change (polled), at once when tasks are added or withdrawn
+(TasksChangedEvent, e.g. from ``nightcrew tasks add``), when a task fails (TaskFailedEvent: the
 block is left out for the rest of the night, unless the event says it was interrupted from outside
-and may run again, ``retryable``), when one starts or finishes (its slot is kept, done
-blocks leave; a finished task re-plans at once), and when the weather turns good again
-(GoodWeatherEvent: from its ``eta`` on). The optimisation itself is
-:class:`nightcrew.robotic.scheduler.Scheduler`, run in a worker thread.
+and may run again, ``retryable``, or that a device failed under it, ``device_fault``: then it is
+planned again no earlier than a back-off that doubles with each fault of that task, and left out
+after ``max_device_faults``), when one starts or finishes (its slot is kept, done blocks leave; a
+finished task re-plans at once), and when the weather turns good again (GoodWeatherEvent: from its
+``eta`` on). Every plan names each task it leaves out with the reason (``Plan.unplanned``, logged
+when it changes). The optimisation itself is :class:`nightcrew.robotic.scheduler.Scheduler`, run in
+a worker thread.
 """
 
 from __future__ import annotations
@@ -18,11 +22,18 @@ from datetime import datetime, timedelta
 from typing import Any, TypeVar
 
 from nightcrew.errors import ConfigError
-from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
-from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask
+from nightcrew.events import (
+    GoodWeatherEvent,
+    TaskFailedEvent,
+    TaskFinishedEvent,
+    TasksChangedEvent,
+    TaskStartedEvent,
+)
+from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask, UnplannedTask
 from nightcrew.modules.module import Module
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
 from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_writer
+from nightcrew.robotic.scheduler.faults import DeviceFaults
 from nightcrew.robotic.scheduler.ports import (
     BlockSource,
     MemoryScheduleStore,
@@ -31,6 +42,7 @@ from nightcrew.robotic.scheduler.ports import (
     night_around,
 )
 from nightcrew.robotic.scheduler.scheduler import SolverName
+from nightcrew.robotic.scheduler.sky import GridFit
 
 __all__ = ["SchedulerModule"]
 
@@ -53,6 +65,9 @@ class SchedulerModule(Module, IRoboticScheduler):
         time_limit_s: Time the MIP may take, wall seconds.
         poll_interval_s: How often to look for changed blocks, clock seconds.
         max_sun_altitude: The night is while the Sun is below this altitude (degrees).
+        device_fault_backoff_s: After a device failed under a task, it is planned again no earlier
+            than this many clock seconds later, doubled for each further fault of that task.
+        max_device_faults: After this many device faults a task is left out for the night.
     """
 
     def __init__(
@@ -66,6 +81,8 @@ class SchedulerModule(Module, IRoboticScheduler):
         time_limit_s: float = 10.0,
         poll_interval_s: float = 60.0,
         max_sun_altitude: float = -12.0,
+        device_fault_backoff_s: float = 300.0,
+        max_device_faults: int = 3,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -77,11 +94,16 @@ class SchedulerModule(Module, IRoboticScheduler):
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
         )
+        # Calibration tasks (no target) are placed at our site, sky flats fitted to our grid.
+        fit = GridFit(step_s=step_s, slew_overhead_s=slew_overhead_s)
+        self._archive = as_block_source(self._archive, site=self.site, fit=fit)
         self._poll_interval = poll_interval_s
         self._max_sun_altitude = max_sun_altitude
         self._replan_wanted = asyncio.Event()
         self._not_before: datetime | None = None  # after bad weather: plan from the eta on
-        self._failed: set[str] = set()
+        self._failed: dict[str, str] = {}  # task id → why it is left out for the night
+        self._faults = DeviceFaults(backoff_s=device_fault_backoff_s, limit=max_device_faults)
+        self._logged_reasons: dict[str, str] = {}
         self._done: set[str] = set()
         self._in_progress: ScheduledSlot | None = None
         self._last_blocks: tuple[SchedulableBlock, ...] | None = None
@@ -96,15 +118,28 @@ class SchedulerModule(Module, IRoboticScheduler):
         await self.comm.register_event(TaskStartedEvent, self.on_task_started)
         await self.comm.register_event(TaskFinishedEvent, self.on_task_finished)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
+        await self.comm.register_event(TasksChangedEvent, self.on_tasks_changed)
 
     # --- events ---------------------------------------------------------------------------------
 
     async def on_task_failed(self, event: TaskFailedEvent, sender: str) -> None:
-        if event.retryable:  # interrupted (weather, dawn ...): plan it again with what is left
+        if event.device_fault:  # the device failed, not the task: again later, within a limit
+            retry_at = self._faults.record(event.id, self.clock.now())
+            if retry_at is None:
+                log.info("task %s: device fault (%s), the last allowed: left out", event.id, event.reason)
+                self._failed[event.id] = f"left out after {self._faults.limit} device faults ({event.reason})"
+            else:
+                log.info(
+                    "task %s: device fault (%s): planned again from %s",
+                    event.id,
+                    event.reason,
+                    f"{retry_at:%H:%M:%S}",
+                )
+        elif event.retryable:  # interrupted (weather, dawn ...): plan it again with what is left
             log.info("task %s was interrupted (%s): re-planning with it", event.id, event.reason)
         else:
             log.info("task %s failed (%s): re-planning without it", event.id, event.reason)
-            self._failed.add(event.id)
+            self._failed[event.id] = f"failed tonight ({event.reason})"
         if self._in_progress is not None and self._in_progress.block_id == event.id:
             self._in_progress = None
         self._replan_wanted.set()
@@ -120,6 +155,10 @@ class SchedulerModule(Module, IRoboticScheduler):
             self._in_progress = None
         # At once, not at the next poll: a task that ended before its slot leaves a gap that only
         # a new plan fills (the next slot may be too far ahead to start early).
+        self._replan_wanted.set()
+
+    async def on_tasks_changed(self, event: TasksChangedEvent, sender: str) -> None:
+        log.info("tasks %s (%s by %s): re-planning", event.change, ", ".join(event.ids), sender)
         self._replan_wanted.set()
 
     async def on_good_weather(self, event: GoodWeatherEvent, sender: str) -> None:
@@ -154,7 +193,7 @@ class SchedulerModule(Module, IRoboticScheduler):
         """
         if self.schedule is None or self._in_progress is not None:
             return None
-        settled = self._done | self._failed
+        settled = self._done | self._failed.keys()
         ends = [slot.end for slot in self.schedule.slots if slot.block_id not in settled]
         return min(ends, default=None)
 
@@ -165,14 +204,23 @@ class SchedulerModule(Module, IRoboticScheduler):
         if self.site is None:
             raise ConfigError("the scheduler needs the observatory's site", key="site")
         night = night_around(self.site, start, max_sun_altitude=self._max_sun_altitude)
-        exclude = frozenset(self._failed | self._done)
-        async with self.clock.work("schedule"):
-            schedule = await asyncio.to_thread(
-                self._blocking_solve, list(blocks), night, start, exclude, self._in_progress
-            )
-        self.schedule = schedule
+        self._faults.start_night(night.end)
+        exclude = frozenset(self._failed.keys() | self._done)
+        held_back = self._faults.hold_back(blocks, night)
         names = await self._archive.block_names() if isinstance(self._archive, NamedBlockSource) else {}
-        self._plan = plan_of(schedule, blocks, night, now, names)
+        async with self.clock.work("schedule"):
+            schedule, reasons = await asyncio.to_thread(
+                self._blocking_solve, held_back, night, start, exclude, self._in_progress, names
+            )
+        known = {block.id for block in blocks}
+        reasons.update({task_id: why for task_id, why in self._failed.items() if task_id in known})
+        for task_id in reasons.keys() & self._faults.retry_at.keys():
+            retry_at = self._faults.retry_at[task_id]
+            if retry_at > start:  # the back-off is what keeps it out
+                reasons[task_id] = f"device fault: not before {retry_at:%H:%M:%S} UTC; " + reasons[task_id]
+        self.schedule = schedule
+        self._plan = plan_of(schedule, blocks, night, now, names, reasons)
+        self._log_reasons(reasons, names)
         await self._store.set_schedule(schedule.slots, now)
         log.info(
             "planned %d blocks from %s (%s, objective %.2f, %.1f s)",
@@ -187,6 +235,13 @@ class SchedulerModule(Module, IRoboticScheduler):
     async def get_plan(self) -> Plan | None:
         return self._plan
 
+    def _log_reasons(self, reasons: dict[str, str], names: dict[str, str]) -> None:
+        """Log why each task is left out, once per change of its reason."""
+        for task_id, reason in sorted(reasons.items()):
+            if self._logged_reasons.get(task_id) != reason:
+                log.info("task %s (%s) not planned: %s", task_id, names.get(task_id, "?"), reason)
+        self._logged_reasons = dict(reasons)
+
     def _blocking_solve(
         self,
         blocks: list[SchedulableBlock],
@@ -194,8 +249,14 @@ class SchedulerModule(Module, IRoboticScheduler):
         start: datetime,
         exclude: frozenset[str],
         in_progress: ScheduledSlot | None,
-    ) -> Schedule:
-        return self._scheduler.schedule(blocks, night, now=start, exclude=exclude, in_progress=in_progress)
+        names: dict[str, str],
+    ) -> tuple[Schedule, dict[str, str]]:
+        scheduler = self._scheduler
+        schedule = scheduler.schedule(blocks, night, now=start, exclude=exclude, in_progress=in_progress)
+        reasons = scheduler.explain(
+            blocks, night, schedule, now=start, exclude=exclude, in_progress=in_progress, names=names
+        )
+        return schedule, reasons
 
 
 def plan_of(
@@ -204,8 +265,10 @@ def plan_of(
     night: Night,
     planned_at: datetime,
     names: dict[str, str] | None = None,
+    reasons: dict[str, str] | None = None,
 ) -> Plan:
-    """The plan as IRoboticScheduler shows it (``names``: block id → task name, where known)."""
+    """The plan as IRoboticScheduler shows it (``names``: block id → task name, where known;
+    ``reasons``: task id → why it is left out)."""
     names = names or {}
     priorities = {block.id: block.priority for block in blocks}
     return Plan(
@@ -227,6 +290,10 @@ def plan_of(
                 name=names.get(s.block_id),
             )
             for s in schedule.slots
+        ),
+        unplanned=tuple(
+            UnplannedTask(task_id=task_id, reason=reason, name=names.get(task_id))
+            for task_id, reason in sorted((reasons or {}).items())
         ),
     )
 

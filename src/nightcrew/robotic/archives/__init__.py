@@ -1,7 +1,8 @@
 """Task archives (where tasks come from, where their fate goes) and schedule stores.
 
 - :class:`TaskArchive` / :class:`ScheduleStore`: the abstract interfaces.
-- :class:`SqliteTaskArchive`: the embedded default (one file; ``nightcrew tasks`` works on it).
+- :class:`SqliteTaskArchive`: the embedded default (one file; ``nightcrew tasks`` works on it),
+  :data:`DEFAULT_TASKS_DB` by name in the observatory directory.
 - :class:`YamlTaskArchive`: request groups in a YAML file written by hand, reloaded on change.
 - :class:`LcoPortalArchive`: an LCO observation portal over its HTTP API.
 """
@@ -21,7 +22,12 @@ from nightcrew.robotic.archives._local import LocalTaskArchive
 from nightcrew.robotic.archives._sqlite import SqliteTaskArchive
 from nightcrew.robotic.archives._yaml import YamlTaskArchive
 
+#: The task database's file name, shared by ``nightcrew tasks`` (in the directory it runs in, the
+#: observatory directory), the scheduler's and mastermind's module files and the examples.
+DEFAULT_TASKS_DB = "tasks.sqlite"
+
 __all__ = [
+    "DEFAULT_TASKS_DB",
     "LcoPortalArchive",
     "LcoPortalClient",
     "LocalTaskArchive",

@@ -12,7 +12,9 @@ from datetime import datetime
 from nightcrew.robotic import archives
 from nightcrew.robotic.scheduler.blocks import ScheduledSlot
 from nightcrew.robotic.scheduler.ports import BlockSource, ScheduleWriter
+from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks.blocks import ArchiveBlockSource
+from nightcrew.site import Site
 
 __all__ = ["ArchiveScheduleWriter", "as_block_source", "as_schedule_writer"]
 
@@ -29,10 +31,19 @@ class ArchiveScheduleWriter:
         await self.store.write_schedule(entries, replace_from=planned_at)
 
 
-def as_block_source(value: object) -> BlockSource:
-    """``value`` as a block source: an archive of tasks is wrapped, a block source kept."""
+def as_block_source(value: object, *, site: Site | None = None, fit: GridFit | None = None) -> BlockSource:
+    """``value`` as a block source: an archive of tasks is wrapped, a block source kept.
+
+    ``site`` and ``fit`` (the scheduler's own) place the calibration tasks: sky flats in the
+    twilight at the site, as long as fits the scheduler's grid. An :class:`ArchiveBlockSource`
+    given without a site takes ``site``.
+    """
     if isinstance(value, archives.TaskArchive):
-        return ArchiveBlockSource(value)
+        return ArchiveBlockSource(value, site=site, fit=fit)
+    if isinstance(value, ArchiveBlockSource):
+        value.site = value.site or site
+        value.fit = fit or value.fit
+        return value
     if isinstance(value, BlockSource):
         return value
     raise TypeError(f"expected a task archive or a block source, got {type(value).__name__}")

@@ -56,7 +56,8 @@ class Constraints:
     """Observing conditions a block needs; every slice of its observation must satisfy all.
 
     Args:
-        max_airmass: Highest airmass (Kasten & Young) allowed, >= 1.
+        max_airmass: Highest airmass (Kasten & Young) allowed, >= 1; ``math.inf``: no limit at all
+            (for a stand-in target, e.g. of a calibration).
         max_sun_altitude: Highest altitude of the Sun in degrees (-12: nautical twilight).
         min_moon_distance: Smallest separation from the Moon in degrees.
         max_moon_illumination: Largest illuminated fraction of the Moon, 0..1.

@@ -9,6 +9,7 @@ callable (e.g. a horizon mask), not by changing the solver.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from datetime import datetime
 from functools import cache
@@ -63,10 +64,12 @@ def altitude_for_airmass(max_airmass: float) -> float:
 
 
 class AirmassConstraint:
-    """Airmass at most the block's ``max_airmass`` (so also above the horizon)."""
+    """Airmass at most the block's ``max_airmass`` (so also above the horizon); an infinite limit
+    (blocks whose target is a stand-in, e.g. calibrations) holds everywhere, below the horizon too."""
 
     def __call__(self, sky: SkyGrid) -> BoolArray:
-        min_alt = np.array([altitude_for_airmass(b.constraints.max_airmass) for b in sky.blocks])
+        limits = [b.constraints.max_airmass for b in sky.blocks]
+        min_alt = np.array([altitude_for_airmass(a) if math.isfinite(a) else -90.0 for a in limits])
         return _on_both_edges(sky.altitude >= min_alt.reshape(-1, 1))
 
 

@@ -8,7 +8,7 @@ progress) to the end of the night. Times are always passed in; nothing here read
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from datetime import UTC, datetime, timedelta
 from typing import Literal
 
@@ -20,6 +20,7 @@ from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, Schedule
 from nightcrew.robotic.scheduler.constraints import DEFAULT_CONSTRAINTS, Constraint
 from nightcrew.robotic.scheduler.mip import solve_time_indexed
 from nightcrew.robotic.scheduler.problem import Placement, SchedulingProblem, build_problem, check_placement
+from nightcrew.robotic.scheduler.why import NIGHT_OVER, unplanned_reasons
 
 __all__ = ["SOLVERS", "Scheduler"]
 
@@ -124,11 +125,7 @@ class Scheduler:
             in_progress: The slot being observed now: kept first, and planning starts at its end.
         """
         began = time.perf_counter()
-        start = night.start if now is None else max(night.start, now)
-        if in_progress is not None:
-            start = max(start, in_progress.end)
-        skip = set(exclude) | ({in_progress.block_id} if in_progress is not None else set())
-        candidates = [b for b in blocks if b.id not in skip]
+        start, candidates = _remaining(blocks, night, now, exclude, in_progress)
         kept = (in_progress,) if in_progress is not None else ()
         if start >= night.end:
             return Schedule(kept, 0.0, 0.0, self.solver, time.perf_counter() - began, "night over")
@@ -142,6 +139,48 @@ class Scheduler:
             wall_time_s=time.perf_counter() - began,
             status=placement.status,
         )
+
+    def explain(
+        self,
+        blocks: Sequence[SchedulableBlock],
+        night: Night,
+        schedule: Schedule,
+        *,
+        now: datetime | None = None,
+        exclude: Collection[str] = (),
+        in_progress: ScheduledSlot | None = None,
+        names: Mapping[str, str] | None = None,
+    ) -> dict[str, str]:
+        """Block id → why it is not in ``schedule``, for every block of ``blocks`` that may still be
+        planned and is not (see :mod:`.why`); the arguments are those ``schedule`` was made with."""
+        start, candidates = _remaining(blocks, night, now, exclude, in_progress)
+        planned = {slot.block_id for slot in schedule.slots}
+        if all(b.id in planned for b in candidates):
+            return {}  # the common case: no second look at the sky
+        if start >= night.end:
+            return {b.id: NIGHT_OVER for b in candidates if b.id not in planned}
+        return unplanned_reasons(
+            self.problem(candidates, night, start=start),
+            schedule.slots,
+            self.constraints,
+            names=names,
+            priorities={b.id: b.priority for b in blocks},
+        )
+
+
+def _remaining(
+    blocks: Sequence[SchedulableBlock],
+    night: Night,
+    now: datetime | None,
+    exclude: Collection[str],
+    in_progress: ScheduledSlot | None,
+) -> tuple[datetime, list[SchedulableBlock]]:
+    """Where planning starts, and the blocks it may place."""
+    start = night.start if now is None else max(night.start, now)
+    if in_progress is not None:
+        start = max(start, in_progress.end)
+    skip = set(exclude) | ({in_progress.block_id} if in_progress is not None else set())
+    return start, [b for b in blocks if b.id not in skip]
 
 
 def _slots(problem: SchedulingProblem, placement: Placement) -> tuple[ScheduledSlot, ...]:

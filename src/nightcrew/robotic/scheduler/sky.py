@@ -24,7 +24,7 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.scheduler.blocks import SchedulableBlock
 from nightcrew.site import Site
 
-__all__ = ["SkyGrid", "TimeGrid"]
+__all__ = ["GridFit", "SkyGrid", "TimeGrid"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -52,6 +52,28 @@ class TimeGrid:
     def slices_for(self, seconds: float) -> int:
         """Whole slices needed to hold ``seconds`` (rounded up)."""
         return max(1, math.ceil(seconds / self.step - 1e-9))
+
+
+class GridFit:
+    """How the scheduler lays blocks out, so that a block can be made to fit an interval.
+
+    Args:
+        step_s: The scheduler's time slice, seconds (a block starts on a slice edge).
+        slew_overhead_s: What the scheduler adds in front of every block, seconds.
+    """
+
+    def __init__(self, step_s: float = 300.0, slew_overhead_s: float = 100.0) -> None:
+        self.step_s = step_s
+        self.slew_overhead_s = slew_overhead_s
+
+    def longest_duration(self, interval_s: float, setup_s: float) -> float:
+        """The longest block duration that fits into any interval of ``interval_s`` seconds.
+
+        An interval holds at least ``floor(interval / step) - 1`` whole slices wherever the grid
+        starts; the block occupies set-up, slew and its duration, rounded up to whole slices.
+        """
+        slices = math.floor(interval_s / self.step_s + 1e-9) - 1
+        return slices * self.step_s - setup_s - self.slew_overhead_s
 
 
 class SkyGrid:

@@ -59,6 +59,7 @@ from nightcrew.robotic.tasks._state import (
 )
 from nightcrew.robotic.tasks._task import Task, tasks_of_group
 from nightcrew.robotic.tasks._validation import (
+    filled_defaults,
     load_request_group_file,
     parse_request_group,
     request_group_schema,
@@ -97,6 +98,7 @@ __all__ = [
     "Window",
     "configuration_duration",
     "estimate_duration",
+    "filled_defaults",
     "load_request_group_file",
     "parse_request_group",
     "request_group_schema",

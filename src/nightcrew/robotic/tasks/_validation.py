@@ -12,7 +12,7 @@ import os
 from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 from pydantic_core import ErrorDetails
 
 from nightcrew.config import load_data_file
@@ -21,13 +21,37 @@ from nightcrew.robotic.tasks._base import FieldError
 from nightcrew.robotic.tasks._errors import InvalidTaskError, TaskProblem
 from nightcrew.robotic.tasks._request import RequestGroup
 
-__all__ = ["load_request_group_file", "parse_request_group", "problems_of", "request_group_schema"]
+__all__ = [
+    "filled_defaults",
+    "load_request_group_file",
+    "parse_request_group",
+    "problems_of",
+    "request_group_schema",
+]
 
 
 def request_group_schema() -> dict[str, Any]:
     """The request format as JSON Schema (draft 2020-12), from the model the validator uses, so
     a form, a client or a document built from it cannot drift from what is accepted."""
     return RequestGroup.model_json_schema()
+
+
+def filled_defaults(model: BaseModel, prefix: str = "") -> list[tuple[str, object]]:
+    """``(path, value)`` of every field the validator filled in with its default (the file did not
+    give it), in the model's order; values as JSON would give them (``min_lunar_distance: 30``)."""
+    found: list[tuple[str, object]] = []
+    dumped = model.model_dump(mode="json")
+    for name in type(model).model_fields:
+        path = _join(prefix, name)
+        value = getattr(model, name)
+        if isinstance(value, BaseModel):
+            found += filled_defaults(value, path)
+        elif isinstance(value, tuple | list) and value and all(isinstance(v, BaseModel) for v in value):
+            for index, item in enumerate(value):
+                found += filled_defaults(item, f"{path}[{index}]")
+        elif name not in model.model_fields_set:
+            found.append((path, dumped[name]))
+    return found
 
 
 def parse_request_group(data: object, *, prefix: str = "", source: str = "") -> RequestGroup:

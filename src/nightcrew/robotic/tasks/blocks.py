@@ -10,9 +10,10 @@ The scheduler knows nothing of the task model; this adapter gives it what it nee
 - ``target``: the first configuration's target (proper motion and epoch kept);
 - ``constraints``: the strictest limits over all configurations.
 
-A task without any target (only BIAS, DARK, SKY_FLAT or SCRIPT configurations) has no block yet:
-the scheduler places blocks by sky position, so such tasks are left out and listed in
-:attr:`BlockConversion.left_out` for the caller to run another way (e.g. before the roof opens).
+A task without any target (only BIAS, DARK, SKY_FLAT or SCRIPT configurations) has no block of
+its own: :func:`blocks_of` lists it in :attr:`BlockConversion.left_out`, and
+:class:`ArchiveBlockSource` (what the scheduler reads) gives it a calibration block
+(:mod:`.calibration`: near the pole, by window and Sun; sky flats in the site's twilight).
 """
 
 from __future__ import annotations
@@ -22,14 +23,13 @@ from dataclasses import dataclass
 
 from nightcrew.robotic.archives import TaskArchive
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
+from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks._duration import DEFAULT_OVERHEADS, OverheadModel, estimate_duration
 from nightcrew.robotic.tasks._task import Task
+from nightcrew.robotic.tasks.calibration import NOTHING_LEFT_S, calibration_block
+from nightcrew.site import Site
 
-__all__ = ["NOTHING_LEFT_S", "ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of"]
-
-#: Duration of a task with every exposure taken that failed before it was marked done: it still
-#: has to run once (the runner then just completes it), and a block needs some duration.
-NOTHING_LEFT_S = 1.0
+__all__ = ["NOTHING_LEFT_S", "ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of", "every_block"]
 
 
 def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
@@ -83,21 +83,53 @@ def blocks_of(tasks: Iterable[Task], overheads: OverheadModel = DEFAULT_OVERHEAD
     return BlockConversion(tuple(blocks), tuple(left_out))
 
 
+def every_block(
+    tasks: Iterable[Task],
+    site: Site | None,
+    *,
+    fit: GridFit | None = None,
+    overheads: OverheadModel = DEFAULT_OVERHEADS,
+) -> list[SchedulableBlock]:
+    """A block for every task of ``tasks`` (in order): by :func:`block_of`, else a calibration block."""
+    blocks = []
+    for task in tasks:
+        block = block_of(task, overheads)
+        if block is None:
+            block = calibration_block(task, site, fit=fit, overheads=overheads)
+        blocks.append(block)
+    return blocks
+
+
 class ArchiveBlockSource:
     """The scheduler's view of a task archive: ``await source.get_schedulable_blocks()``.
+
+    Every schedulable task gets a block: those with a target by :func:`block_of`, the others
+    (calibrations) by :func:`~.calibration.calibration_block`.
 
     Args:
         archive: Where the tasks come from.
         overheads: For the durations.
+        site: Where the observatory is, for the twilight of sky flats (None: they take 30 min).
+        fit: The scheduler's grid, so that sky flats fit their twilight.
     """
 
-    def __init__(self, archive: TaskArchive, overheads: OverheadModel = DEFAULT_OVERHEADS) -> None:
+    def __init__(
+        self,
+        archive: TaskArchive,
+        overheads: OverheadModel = DEFAULT_OVERHEADS,
+        *,
+        site: Site | None = None,
+        fit: GridFit | None = None,
+    ) -> None:
         self.archive = archive
         self.overheads = overheads
+        self.site = site
+        self.fit = fit or GridFit()
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
-        """Blocks of the archive's schedulable tasks that have a target."""
-        return list(blocks_of(await self.archive.get_schedulable_tasks(), self.overheads).blocks)
+        """Blocks of the archive's schedulable tasks, calibrations included."""
+        tasks = await self.archive.get_schedulable_tasks()
+        return every_block(tasks, self.site, fit=self.fit, overheads=self.overheads)
 
     async def block_names(self) -> dict[str, str]:
         """Block id → task name (a block's id is its task's)."""
