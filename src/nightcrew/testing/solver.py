@@ -17,11 +17,15 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from nightcrew.testing.processes import free_port, wait_until_listening
+
+if TYPE_CHECKING:
+    from nightcrew.sim.catalog import StarCatalog
 
 __all__ = ["RenderedField", "rendered_field", "running_solver", "sky_distance_arcsec"]
 
@@ -75,9 +79,20 @@ class RenderedField:
 
 
 def rendered_field(
-    ra_deg: float, dec_deg: float, *, rotation_deg: float = 0.0, seed: int = 0, exposure_s: float = 30.0
+    ra_deg: float,
+    dec_deg: float,
+    *,
+    rotation_deg: float = 0.0,
+    seed: int = 0,
+    exposure_s: float = 30.0,
+    chip_px: int = 2048,
+    catalog: StarCatalog | None = None,
+    seeing_arcsec: float = 2.0,
 ) -> RenderedField:
-    """A 2k x 2k frame (1.16"/px, the simulated camera) of the simulated sky, its stars detected."""
+    """A frame (``chip_px`` square, 1.16"/px, the simulated camera) of the simulated sky, its stars detected.
+
+    The sky is ``catalog`` (default: seed ``seed``, depth 16); ``seed`` also seeds the noise.
+    """
     from nightcrew.images.processors.detection import detect_sources_sep
     from nightcrew.sim.catalog import StarCatalog
     from nightcrew.sim.projection import Pointing
@@ -91,27 +106,30 @@ def rendered_field(
         render_frame,
     )
 
-    camera, optics, exposure = CameraModel(), Optics(), Exposure(exposure_s)
+    camera, optics = CameraModel(chip_width=chip_px, chip_height=chip_px), Optics()
+    exposure = Exposure(exposure_s)
     geometry = frame_geometry(camera, optics, exposure)
     pointing = Pointing(ra_deg, dec_deg, rotation_deg)
-    stars = StarCatalog(seed=seed).query(ra_deg, dec_deg, field_radius_deg(geometry), epoch=2026.0)
+    stars = (catalog or StarCatalog(seed=seed)).query(
+        ra_deg, dec_deg, field_radius_deg(geometry), epoch=2026.0
+    )
     frame = render_frame(
         stars,
         pointing=pointing,
         focus=0.0,
         camera=camera,
         optics=optics,
-        conditions=Conditions(seeing_arcsec=2.0),
+        conditions=Conditions(seeing_arcsec=seeing_arcsec),
         exposure=exposure,
         rng=np.random.default_rng(seed),
     )
-    catalog = detect_sources_sep(np.array(frame.data, dtype=np.float64))
-    order = np.argsort(-np.asarray(catalog["flux"], dtype=np.float64), kind="stable")
+    detected = detect_sources_sep(np.array(frame.data, dtype=np.float64))
+    order = np.argsort(-np.asarray(detected["flux"], dtype=np.float64), kind="stable")
     return RenderedField(
         data=np.asarray(frame.data, dtype=np.uint16),
-        x=np.asarray(catalog["x"], dtype=np.float64)[order],
-        y=np.asarray(catalog["y"], dtype=np.float64)[order],
-        flux=np.asarray(catalog["flux"], dtype=np.float64)[order],
+        x=np.asarray(detected["x"], dtype=np.float64)[order],
+        y=np.asarray(detected["y"], dtype=np.float64)[order],
+        flux=np.asarray(detected["flux"], dtype=np.float64)[order],
         shape=geometry.shape,
         pixel_scale_arcsec=geometry.pixel_scale_arcsec,
         true_ra_deg=ra_deg,
