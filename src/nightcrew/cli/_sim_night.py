@@ -39,10 +39,12 @@ from nightcrew.night.engine import (
     NightProgress,
     ProgressCallback,
     WholeNight,
+    night_tasks,
     run_whole_night,
 )
 from nightcrew.night.fields import choose_targets, night_start, quick_groups
 from nightcrew.night.plan import night_span, weather_scenario
+from nightcrew.night.sky_indexes import build_night_sky_indexes
 from nightcrew.report import describe_frames, read_night, write_report
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
@@ -185,7 +187,12 @@ def run_one_night(
     duration = (setup.end - setup.start).total_seconds()
     # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
     devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
-    robotic = _robotic_overrides(directory, seed)
+    tasks = setup.tasks if setup.tasks is not None else night_tasks(setup.night, site)
+    # The solvers' index files of the simulated sky, for the night's fields (kept for later nights).
+    index_dir = build_night_sky_indexes(
+        directory, tasks, camera_overrides=devices["camera"], seed=seed, progress=_index_progress
+    )
+    robotic = _robotic_overrides(directory, index_dir if seed is not None else None)
     clock = sim_clock(setup.start, night_speed(args))
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
@@ -201,7 +208,7 @@ def run_one_night(
                 device_overrides=devices,
                 robotic_overrides=robotic,
                 seed=seed,
-                tasks=setup.tasks,
+                tasks=tasks,
                 progress=progress,
                 stop=stop,
                 extra_modules=_extras(args, clock, site, out / FRAMES),
@@ -248,15 +255,19 @@ def _device_overrides(
     return {"weather": station, "camera": {"detector": detector}, "focuser": {"focus": 25.0}}
 
 
-def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
-    """With ``seed``, the acquisition's catalog follows the camera's new synthetic stars."""
+def _index_progress(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _robotic_overrides(directory: Path, index_dir: Path | None) -> dict[str, dict[str, Any]]:
+    """With another ``--seed``, the acquisition solves with that sky's index files ``index_dir``."""
     path = directory / "robotic" / "acquisition.yaml"
-    if seed is None or not path.is_file():
+    if index_dir is None or not path.is_file():
         return {}
     pipeline = to_plain(load_config(path).get("pipeline") or {})
     for step in pipeline.get("steps", []):
-        if isinstance(step, dict) and "catalog_seed" in step:
-            step["catalog_seed"] = seed
+        if isinstance(step, dict) and "index_dir" in step:
+            step["index_dir"] = str(index_dir)
     return {"acquisition": {"pipeline": pipeline}}
 
 

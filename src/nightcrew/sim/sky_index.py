@@ -15,10 +15,12 @@ with a pointing error of some arcminutes, lies inside one tile. A scale is astro
 number (``-P``: quads of 2'..2.8' times sqrt(2)**scale); a field of width W needs the scales whose
 quads span 0.3 W .. 0.6 W (:func:`index_scales_for_field`).
 
-The directory (:func:`sky_index_dir`, under ``$NIGHTCREW_CACHE_DIR`` or ``~/.cache/nightcrew``,
-then ``indexes/``) is named after what fixes the sky: seed and depth of the synthetic stars, and a
-hash of the star sources' versions and the catalog's model (:func:`sky_id`). Files are written
-beside and renamed, so concurrent builders and readers never see half a file. Positions are at
+The directory (:func:`sky_index_dir`: ``$NIGHTCREW_CACHE_DIR`` or ``~/.cache/nightcrew``, then
+``indexes/seed<seed>-G<depth>``, a name a configuration file can write) holds the files of one
+sky; its ``SKY.txt`` names the sky exactly (:func:`sky_id`: seed, depth and a hash of the star
+sources' versions and the catalog's model). When that changes (other star sources installed), the
+builder removes the old files and builds anew. Files are written beside and renamed, so
+concurrent builders and readers never see half a file. Positions are at
 the catalog's epoch J2016.0 (like Gaia-based index series).
 """
 
@@ -101,7 +103,7 @@ def sky_id(catalog: StarCatalog) -> str:
 def sky_index_dir(catalog: StarCatalog, root: Path | None = None) -> Path:
     """Where the index files of ``catalog``'s sky are kept (see the module docstring)."""
     base = root or Path(os.environ.get("NIGHTCREW_CACHE_DIR") or Path.home() / ".cache" / "nightcrew")
-    return base / "indexes" / sky_id(catalog)
+    return base / "indexes" / f"seed{catalog.seed}-G{catalog.depth:g}"
 
 
 def index_file_name(scale: int, cell_id: int) -> str:
@@ -157,6 +159,20 @@ class SkyIndexBuilder:
         """The index directory of this sky."""
         return sky_index_dir(self.catalog, self.root)
 
+    def _blocking_claim(self, directory: Path) -> None:
+        """Make ``directory`` this sky's: files of another sky (other star sources) are removed."""
+        stamp = directory / "SKY.txt"
+        current = sky_id(self.catalog)
+        if stamp.is_file() and stamp.read_text().split("\n", 1)[0] != current:
+            self.progress(f"{directory}: built for another sky ({stamp.read_text().split()[0]}); rebuilding")
+            for path in directory.glob("index-*.fits"):
+                path.unlink()
+        directory.mkdir(parents=True, exist_ok=True)
+        stamp.write_text(
+            f"{current}\nstar sources: {star_sources()}\nseed {self.catalog.seed}, "
+            f"synthetic stars to G = {self.catalog.depth:g}, positions at J{CATALOG_EPOCH_JYEAR:g}\n"
+        )
+
     def missing(self, fields: Iterable[tuple[float, float]], scales: Iterable[int]) -> list[tuple[int, int]]:
         """(scale, cell) of the files that fields centred at ``fields`` (ra, dec deg) still lack."""
         directory = self.directory
@@ -181,22 +197,21 @@ class SkyIndexBuilder:
             IndexBuildError: ``build-astrometry-index`` is missing or fails.
             StarSourceMissingError: a star source of the sky is not installed.
         """
+        centres = list(fields)
         scales = {s for width in width_arcmin for s in index_scales_for_field(width)}
-        todo = self.missing(list(fields), scales)
         directory = self.directory
-        if not todo:
+        stamp = directory / "SKY.txt"
+        fresh = stamp.is_file() and stamp.read_text().split("\n", 1)[0] == sky_id(self.catalog)
+        if fresh and not self.missing(centres, scales):
             return directory
+        self._blocking_claim(directory)
+        todo = self.missing(centres, scales)
         executable = shutil.which(self.executable)
         if executable is None:
             raise IndexBuildError(
                 f"{self.executable} not found: the simulated sky's index files are built with it "
                 f"(Debian: apt-get install {BUILDER_PACKAGE})"
             )
-        directory.mkdir(parents=True, exist_ok=True)
-        (directory / "SKY.txt").write_text(
-            f"simulated sky {directory.name}\nstar sources: {star_sources()}\nseed {self.catalog.seed}, "
-            f"synthetic stars to G = {self.catalog.depth:g}, positions at J{CATALOG_EPOCH_JYEAR:g}\n"
-        )
         for number, (scale, cell) in enumerate(todo, start=1):
             started = time.perf_counter()
             count = self._blocking_build_one(executable, directory, scale, cell)

@@ -8,26 +8,35 @@ truth.
 
 from __future__ import annotations
 
+import asyncio
 import math
 import os
 import subprocess
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
+from nightcrew.images.image import Image
+from nightcrew.images.processor import ImageProcessor
 from nightcrew.testing.processes import free_port, wait_until_listening
 
 if TYPE_CHECKING:
     from nightcrew.sim.catalog import StarCatalog
 
-__all__ = ["RenderedField", "rendered_field", "running_solver", "sky_distance_arcsec"]
+__all__ = [
+    "RenderedField",
+    "rendered_field",
+    "running_solver",
+    "simulated_sky_indexes",
+    "sky_distance_arcsec",
+]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -137,7 +146,49 @@ def rendered_field(
     )
 
 
+def simulated_sky_indexes(
+    fields: Iterable[tuple[float, float]], *, width_arcmin: float, seed: int = 0, depth: float = 16.0
+) -> Path:
+    """The simulated sky's index directory, with the files that frames ``width_arcmin`` wide centred
+    at ``fields`` (ra, dec deg) need built (kept in the user's cache, see :mod:`nightcrew.sim.sky_index`)."""
+    from nightcrew.sim.catalog import StarCatalog
+    from nightcrew.sim.sky_index import SkyIndexBuilder
+
+    builder = SkyIndexBuilder(StarCatalog(seed=seed, depth=depth))
+    return builder.blocking_build(fields, width_arcmin=[width_arcmin])
+
+
 def sky_distance_arcsec(ra1: float, dec1: float, ra2: float, dec2: float) -> float:
     """Angular distance of two positions (degrees in, arcsec out), good for small distances."""
     d_ra = (ra1 - ra2 + 180.0) % 360.0 - 180.0
     return 3600.0 * math.hypot(d_ra * math.cos(math.radians(0.5 * (dec1 + dec2))), dec1 - dec2)
+
+
+class SimulatedSkyIndexes(ImageProcessor):
+    """A pipeline step for tests: builds the simulated sky's index files for the frame's field.
+
+    Put it before an astrometry processor whose ``index_dir`` is :attr:`directory`, in tests
+    whose fields are not known in advance (a pointing series): it reads the header's ``RA``/``DEC``
+    and pixel scale, as the solvers do, and builds what is missing (cached, see
+    :mod:`nightcrew.sim.sky_index`). The image passes unchanged.
+
+    Args:
+        seed, depth: The simulated camera's sky.
+    """
+
+    def __init__(self, *, seed: int = 0, depth: float = 16.0, **kwargs: Any) -> None:
+        from nightcrew.sim.catalog import StarCatalog
+        from nightcrew.sim.sky_index import SkyIndexBuilder
+
+        super().__init__(**kwargs)
+        self._builder = SkyIndexBuilder(StarCatalog(seed=seed, depth=depth))
+        self.directory = str(self._builder.directory)
+
+    async def __call__(self, image: Image) -> Image:
+        ra, dec, scale = image.header.get("RA"), image.header.get("DEC"), image.pixel_scale
+        if isinstance(ra, float | int) and isinstance(dec, float | int) and scale is not None:
+            width = max(image.shape) * scale / 60.0
+            await asyncio.to_thread(
+                self._builder.blocking_build, [(float(ra), float(dec))], width_arcmin=[width]
+            )
+        return image
