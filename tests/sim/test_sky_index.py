@@ -3,9 +3,9 @@
 Index files of the simulated sky (:mod:`nightcrew.sim.sky_index`, built once per session by the
 ``night_index_dir`` fixture) are all the solvers get: ``solve-field`` and ``nightcrew solver`` solve
 one 20' frame of each of the night's fields (:mod:`tests.sim.night_fields`) with a position hint
-(the header's pointing, up to 3' off) and a scale hint. At least 95 % must solve within 5" of the true
-pointing (read from the
-simulator: this is a test). Skipped without astrometry.net, except under ``CI=true``.
+(the header's pointing, up to 3' off) and a scale hint. At least 95 % must solve within 5" of
+the true pointing (read from the simulator: this is a test). Skipped without astrometry.net,
+except under ``CI=true``.
 """
 
 from __future__ import annotations

@@ -6,6 +6,10 @@ stores each star as a unit vector of three little-endian u32 (scaled by the tree
 the tag-along table holds a magnitude column (``MAG_VT`` in Debian's Tycho-2 files, ``MAG`` in the
 files :mod:`nightcrew.sim.sky_index` builds) in the same row order. The primary header gives the
 quad scales (``SCALE_L``, ``SCALE_U``, radians).
+
+A scale is astrometry.net's preset number (``build-astrometry-index -P``, the last two digits of
+the 4100/4200/5200 series' file names): quads of 2'..2.8' times sqrt(2)**scale. A field of width W
+is solved with the scales whose quads span 0.3 W .. 0.6 W (:func:`index_scales_for_field`).
 """
 
 from __future__ import annotations
@@ -18,10 +22,19 @@ import numpy as np
 import numpy.typing as npt
 from astropy.io import fits  # type: ignore[import-untyped]
 
-__all__ = ["IndexStars", "index_quad_scale_arcsec", "read_index_stars"]
+__all__ = [
+    "QUAD_FRACTIONS",
+    "IndexStars",
+    "index_quad_scale_arcsec",
+    "index_scales_for_field",
+    "read_index_stars",
+    "scale_quads_arcmin",
+]
 
 FloatArray = npt.NDArray[np.float64]
 
+QUAD_FRACTIONS = (0.3, 0.6)
+"""Quads from this fraction to that of a field's width solve it (smaller ones: too few stars)."""
 MAG_COLUMNS = ("MAG", "MAG_VT", "mag")
 """Tag-along columns taken as the stars' magnitudes, first found wins."""
 
@@ -33,6 +46,23 @@ class IndexStars:
     ra: FloatArray
     dec: FloatArray
     mag: npt.NDArray[np.float32]
+
+
+def scale_quads_arcmin(scale: int) -> tuple[float, float]:
+    """Smallest and largest quad diameter (arcmin) of astrometry.net's preset ``scale`` (``-P``)."""
+    factor = math.sqrt(2.0) ** scale
+    return 2.0 * factor, 2.8 * factor
+
+
+def index_scales_for_field(width_arcmin: float) -> list[int]:
+    """The preset scales whose quads fit a field ``width_arcmin`` wide (quads of 0.3 .. 0.6 of it)."""
+    if not width_arcmin > 0:
+        raise ValueError(f"width_arcmin must be positive, got {width_arcmin}")
+    low, high = (fraction * width_arcmin for fraction in QUAD_FRACTIONS)
+    scales = [s for s in range(20) if scale_quads_arcmin(s)[1] > low and scale_quads_arcmin(s)[0] < high]
+    if not scales:
+        raise ValueError(f"no astrometry.net scale fits a field of {width_arcmin:g}'")
+    return scales
 
 
 def _hdu_with_column(

@@ -42,6 +42,7 @@ from astropy.table import Table  # type: ignore[import-untyped]
 
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.catalog_data import CATALOG_EPOCH_JYEAR
+from nightcrew.sim.index_files import index_scales_for_field, scale_quads_arcmin
 from nightcrew.sim.real_stars import star_sources
 from nightcrew.sim.sky_cells import SkyCell
 
@@ -50,8 +51,6 @@ __all__ = [
     "IndexBuildError",
     "SkyIndexBuilder",
     "index_file_name",
-    "index_scales_for_field",
-    "scale_quads_arcmin",
     "sky_id",
     "sky_index_dir",
 ]
@@ -68,23 +67,6 @@ _TAIL = 1500  # characters of the builder's output quoted in an error
 
 class IndexBuildError(RuntimeError):
     """``build-astrometry-index`` is missing or failed (the message says which and why)."""
-
-
-def scale_quads_arcmin(scale: int) -> tuple[float, float]:
-    """Smallest and largest quad diameter (arcmin) of astrometry.net's preset ``scale`` (``-P``)."""
-    factor = math.sqrt(2.0) ** scale
-    return 2.0 * factor, 2.8 * factor
-
-
-def index_scales_for_field(width_arcmin: float) -> list[int]:
-    """The preset scales whose quads fit a field ``width_arcmin`` wide (quads of 0.3 .. 0.6 of it)."""
-    if not width_arcmin > 0:
-        raise ValueError(f"width_arcmin must be positive, got {width_arcmin}")
-    low, high = 0.3 * width_arcmin, 0.6 * width_arcmin
-    scales = [s for s in range(20) if scale_quads_arcmin(s)[1] > low and scale_quads_arcmin(s)[0] < high]
-    if not scales:
-        raise ValueError(f"no astrometry.net scale fits a field of {width_arcmin:g}'")
-    return scales
 
 
 def sky_id(catalog: StarCatalog) -> str:

@@ -29,6 +29,7 @@ from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
+from nightcrew.images.astrometry._coverage import DEFAULT_INDEX_DIR
 from nightcrew.images.astrometry._errors import AstrometryError
 from nightcrew.images.astrometry._image_wcs import (
     AstrometryResult,
@@ -49,8 +50,6 @@ from nightcrew.images.processor import ImageProcessor, require
 __all__ = ["CatalogAstrometry", "FirstSolution", "RemoteAstrometry", "SolveFieldAstrometry"]
 
 
-DEFAULT_INDEX_DIR = "/usr/share/astrometry"
-"""Where Debian's ``astrometry-data-*`` packages put their index files."""
 _REMOVED_CATALOG = (
     "is gone: the matcher's stars are those of the index files in index_dir "
     "(the simulated sky's: nightcrew sim prints its index directory)"
