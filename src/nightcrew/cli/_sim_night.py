@@ -211,7 +211,7 @@ def run_one_night(
                 tasks=tasks,
                 progress=progress,
                 stop=stop,
-                extra_modules=_extras(args, clock, site, out / FRAMES),
+                extra_modules=_extras(args, clock, site, out / FRAMES, index_dir),
             )
 
     try:
@@ -322,25 +322,25 @@ def _console(
 
 
 def _pipeline(
-    args: argparse.Namespace, clock: Clock, frames: Path
+    args: argparse.Namespace, clock: Clock, frames: Path, index_dir: Path | None
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--archive``: the Pipeline reducing the night's object frames next to ``frames``."""
     if not getattr(args, "archive", False):
         return None
     from nightcrew.cli._sim_pipeline import sim_pipeline
 
-    return sim_pipeline(frames.parent, clock=clock)
+    return sim_pipeline(frames.parent, clock=clock, index_dir=index_dir)
 
 
 def _extras(
-    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path, index_dir: Path | None = None
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """The servers the options ask for (INDI, console), built on the night's network, and with
-    ``--archive`` the pipeline."""
+    ``--archive`` the pipeline (solving with the index files of ``index_dir``)."""
     wanted = (
         _indi(args, clock, site, frames),
         _console(args, clock, site, frames),
-        _pipeline(args, clock, frames),
+        _pipeline(args, clock, frames, index_dir),
     )
     builders = [build for build in wanted if build is not None]
     if not builders:
