@@ -14,6 +14,7 @@ import math
 import os
 import shutil
 import statistics
+import subprocess
 import sys
 import time
 from collections.abc import Awaitable, Callable
@@ -123,3 +124,38 @@ async def test_nightcrew_solver_solves_the_nights_frames(
 
         good = await solve_all("nightcrew solver", solve, frames)
     assert good >= math.ceil(REQUIRED_FRACTION * len(frames))
+
+
+DOCS = Path(__file__).parents[2] / "docs" / "pipeline.md"
+
+
+def documented_solve_field_commands(index_dir: Path) -> list[str]:
+    """The two lines of docs/pipeline.md that solve a frame of the night with solve-field."""
+    lines = [
+        line
+        for line in DOCS.read_text().splitlines()
+        if line.startswith(("printf 'add_path", "solve-field --config sky.cfg"))
+    ]
+    assert len(lines) == 2, lines
+    # The docs name the default cache; the fixture's directory is that unless NIGHTCREW_CACHE_DIR moves it.
+    return [line.replace("~/.cache/nightcrew/indexes/seed42-G16", str(index_dir)) for line in lines]
+
+
+def test_the_documented_solve_field_command_solves_frames_of_the_night(
+    night_index_dir: Path, frames: list[tuple[NightField, RenderedField]], tmp_path: Path
+) -> None:
+    require_astrometry_net()
+    commands = documented_solve_field_commands(night_index_dir)
+    for index, (field, frame) in enumerate(frames[::4]):  # five fields, as FITS files of pixels
+        workdir = tmp_path / f"frame{index}"
+        workdir.mkdir()
+        fits.writeto(workdir / "FRAME.fits", frame.data)
+        script = "\n".join([*commands[:1], commands[1] + " --overwrite --no-plots --cpulimit 60"])
+        result = subprocess.run(
+            ["bash", "-ec", script], cwd=workdir, capture_output=True, text=True, timeout=300, check=False
+        )
+        solution = workdir / "FRAME.wcs"
+        assert solution.is_file(), f"{field.name} not solved:\n{result.stdout[-1500:]}{result.stderr[-500:]}"
+        header = fits.getheader(solution)
+        header["NAXIS"], header["NAXIS1"], header["NAXIS2"] = 2, frame.shape[1], frame.shape[0]
+        assert centre_error_arcsec(header, frame) <= MAX_ERROR_ARCSEC
