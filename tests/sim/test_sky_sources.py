@@ -61,8 +61,8 @@ def test_the_sky_is_named_by_its_sources_seed_and_depth() -> None:
 
 
 def test_index_scales_fit_the_field() -> None:
-    assert index_scales_for_field(19.8) == [3, 4, 5]  # the night's 1024 px at 1.16"/px
-    assert index_scales_for_field(39.6) == [5, 6, 7]  # the full 2048 px chip
+    assert index_scales_for_field(19.8) == [4, 5]  # the night's 1024 px at 1.16"/px
+    assert index_scales_for_field(39.6) == [6, 7]  # the full 2048 px chip
     assert scale_quads_arcmin(7) == pytest.approx((22.6, 31.7), abs=0.05)  # Debian's Tycho-2 starts here
 
 

@@ -1,10 +1,10 @@
 """Do the installed astrometry.net index files fit the camera? One line that says what to install if not.
 
 astrometry.net finds a frame by quads of four of its stars, so the index files must hold quads
-that fit inside the frame: from about a third to a half of its width (docs/pipeline.md lists
-which index series covers which field). Debian's ``astrometry-data-tycho2`` starts at 22' quads
-and so solves fields from ~40' up; a 20' field needs quads of 6'..12' (scales 3-4 of the 4200 or
-5200 series). :func:`index_coverage_problem` answers for one directory and field;
+that fit inside the frame: from about 0.4 to 0.6 of its width (docs/pipeline.md lists which
+index series covers which field). Debian's ``astrometry-data-tycho2`` starts at 22' quads and so
+solves fields from ~40' up; a 20' field needs quads of 8'..12' (scales 4-5 of the 4200 or 5200
+series). :func:`index_coverage_problem` answers for one directory and field;
 :func:`observatory_coverage_problems` for a whole observatory directory (``nightcrew check``).
 """
 
