@@ -20,6 +20,8 @@ from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.index_files import index_scales_for_field, scale_quads_arcmin
 from nightcrew.sim.real_stars import StarSourceMissingError, star_sources
 from nightcrew.sim.sky_index import IndexBuildError, SkyIndexBuilder, sky_id, sky_index_dir
+from nightcrew.testing import Observatory
+from tests.modules.sim_observatory import CATALOG_DEPTH, SEED, expose, start_observatory
 
 SOURCE = Path(nightcrew.__file__).parent
 SIM_CARD = re.compile(r"""["']SIM-[A-Z]""")
@@ -82,3 +84,10 @@ def test_files_of_another_sky_are_replaced(tmp_path: Path) -> None:
         builder.blocking_build([(10.0, 20.0)], width_arcmin=[40.0])
     assert not stale.exists()
     assert (builder.directory / "SKY.txt").read_text().split("\n", 1)[0] == sky_id(builder.catalog)
+
+
+async def test_every_frame_names_the_sky_it_shows(observatory: Observatory) -> None:
+    camera = await start_observatory(observatory)
+    header = (await expose(observatory, camera)).header
+    assert header["SIM-SKY"] == sky_id(StarCatalog(seed=SEED, depth=CATALOG_DEPTH))
+    assert header["SIM-STAR"] == star_sources()
