@@ -9,7 +9,7 @@ quad scales (``SCALE_L``, ``SCALE_U``, radians).
 
 A scale is astrometry.net's preset number (``build-astrometry-index -P``, the last two digits of
 the 4100/4200/5200 series' file names): quads of 2'..2.8' times sqrt(2)**scale. A field of width W
-is solved with the scales whose quads span 0.4 W .. 0.6 W (:func:`index_scales_for_field`).
+is solved with the scales whose quads span 0.45 W .. 0.6 W (:func:`index_scales_for_field`).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ __all__ = [
 
 FloatArray = npt.NDArray[np.float64]
 
-QUAD_FRACTIONS = (0.4, 0.6)
+QUAD_FRACTIONS = (0.45, 0.6)
 """Quads from this fraction to that of a field's width solve it (smaller ones: too few stars)."""
 MAG_COLUMNS = ("MAG", "MAG_VT", "mag")
 """Tag-along columns taken as the stars' magnitudes, first found wins."""
@@ -55,7 +55,7 @@ def scale_quads_arcmin(scale: int) -> tuple[float, float]:
 
 
 def index_scales_for_field(width_arcmin: float) -> list[int]:
-    """The preset scales whose quads fit a field ``width_arcmin`` wide (quads of 0.4 .. 0.6 of it)."""
+    """The preset scales whose quads fit a field ``width_arcmin`` wide (quads of 0.45 .. 0.6 of it)."""
     if not width_arcmin > 0:
         raise ValueError(f"width_arcmin must be positive, got {width_arcmin}")
     low, high = (fraction * width_arcmin for fraction in QUAD_FRACTIONS)

@@ -13,7 +13,7 @@ catalog's 1 deg grid (:class:`~nightcrew.sim.sky_cells.SkyGrid`) with the stars 
 reaches :data:`TILE_MARGIN_DEG` beyond it, so any field centred in the cell, up to ~1 deg across
 with a pointing error of some arcminutes, lies inside one tile. A scale is astrometry.net's preset
 number (``-P``: quads of 2'..2.8' times sqrt(2)**scale); a field of width W needs the scales whose
-quads span 0.4 W .. 0.6 W (:func:`index_scales_for_field`).
+quads span 0.45 W .. 0.6 W (:func:`index_scales_for_field`).
 
 The directory (:func:`sky_index_dir`: ``$NIGHTCREW_CACHE_DIR`` or ``~/.cache/nightcrew``, then
 ``indexes/seed<seed>-G<depth>``, a name a configuration file can write) holds the files of one

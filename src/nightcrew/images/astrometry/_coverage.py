@@ -1,7 +1,7 @@
 """Do the installed astrometry.net index files fit the camera? One line that says what to install if not.
 
 astrometry.net finds a frame by quads of four of its stars, so the index files must hold quads
-that fit inside the frame: from about 0.4 to 0.6 of its width (docs/pipeline.md lists which
+that fit inside the frame: from about 0.45 to 0.6 of its width (docs/pipeline.md lists which
 index series covers which field). Debian's ``astrometry-data-tycho2`` starts at 22' quads and so
 solves fields from ~40' up; a 20' field needs quads of 8'..12' (scales 4-5 of the 4200 or 5200
 series). :func:`index_coverage_problem` answers for one directory and field;
