@@ -231,3 +231,14 @@ async def test_missing_solve_field_is_one_clear_error(detected: Image) -> None:
     )
     with pytest.raises(SolverUnavailableError, match=r"no-such-solve-field not found: install"):
         await solver(detected)
+
+
+@pytest.mark.parametrize("key", ["catalog_seed", "catalog_depth"])
+def test_the_old_simulated_catalog_keys_say_what_replaced_them(key: str) -> None:
+    config = {"class": "nightcrew.images.astrometry.CatalogAstrometry", key: 42}
+    with pytest.raises(
+        ConfigError, match="is gone: the matcher's stars are those of the index files in index_dir"
+    ):
+        build_object(config)
+    with pytest.raises(ConfigError, match="index_dir"):
+        CatalogAstrometry(**{key: 42})

@@ -6,7 +6,7 @@ From YAML, after a detection step::
       index_dir: /usr/share/astrometry  # the index files whose stars it matches
       pixel_scale_arcsec: 1.16        # unbinned; times XBINNING
     - class: nightcrew.images.astrometry.SolveFieldAstrometry
-      solver: {class: nightcrew.images.astrometry.SolveField, timeout_s: 60}
+      solver: {class: nightcrew.images.astrometry.SolveField, timeout_s: 60, index_dir: /data/indexes}
     - class: nightcrew.images.astrometry.RemoteAstrometry
       solver: {class: nightcrew.images.astrometry.RemoteSolver, url: "http://solver.example.org:8080"}
     - class: nightcrew.images.astrometry.FirstSolution   # the first solver that succeeds
