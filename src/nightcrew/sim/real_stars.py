@@ -42,6 +42,7 @@ __all__ = [
     "TYCHO2_ID_OFFSET",
     "VT_TO_G",
     "StarSourceMissingError",
+    "cache_root",
     "load_real_stars",
     "merge_tycho2",
     "star_sources",
@@ -98,8 +99,12 @@ def _cache_file(sources: list[Path]) -> Path:
     for source in sources:
         stat = source.stat()
         key.update(f"{source}:{stat.st_size}:{stat.st_mtime_ns}".encode())
-    root = Path(os.environ.get("NIGHTCREW_CACHE_DIR") or Path.home() / ".cache" / "nightcrew")
-    return root / f"real-stars-{key.hexdigest()[:16]}.npz"
+    return cache_root() / f"real-stars-{key.hexdigest()[:16]}.npz"
+
+
+def cache_root() -> Path:
+    """Where the simulator keeps what it builds once: ``$NIGHTCREW_CACHE_DIR`` or ``~/.cache/nightcrew``."""
+    return Path(os.environ.get("NIGHTCREW_CACHE_DIR") or Path.home() / ".cache" / "nightcrew")
 
 
 def _sources() -> list[Path]:

@@ -43,7 +43,7 @@ from astropy.table import Table  # type: ignore[import-untyped]
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.catalog_data import CATALOG_EPOCH_JYEAR
 from nightcrew.sim.index_files import index_scales_for_field, scale_quads_arcmin
-from nightcrew.sim.real_stars import star_sources
+from nightcrew.sim.real_stars import cache_root, star_sources
 from nightcrew.sim.sky_cells import SkyCell
 
 __all__ = [
@@ -84,8 +84,7 @@ def sky_id(catalog: StarCatalog) -> str:
 
 def sky_index_dir(catalog: StarCatalog, root: Path | None = None) -> Path:
     """Where the index files of ``catalog``'s sky are kept (see the module docstring)."""
-    base = root or Path(os.environ.get("NIGHTCREW_CACHE_DIR") or Path.home() / ".cache" / "nightcrew")
-    return base / "indexes" / f"seed{catalog.seed}-G{catalog.depth:g}"
+    return (root or cache_root()) / "indexes" / f"seed{catalog.seed}-G{catalog.depth:g}"
 
 
 def index_file_name(scale: int, cell_id: int) -> str:
