@@ -13,7 +13,7 @@ SYSTEM_PACKAGES += $(if $(shell command -v npm),,npm)
 # The JavaScript client's npm packages, exactly as clients/js/package-lock.json pins them.
 JS_STAMP := clients/js/node_modules/.installed
 
-.PHONY: setup system-deps js-deps catalogue lint test sim example bench clean
+.PHONY: setup system-deps sky-deps js-deps catalogue lint test sim example bench clean
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -51,9 +51,18 @@ lint: setup
 test: setup system-deps js-deps lint
 	$(PY) -m pytest -q --durations=25
 
+# What the simulated sky is made of besides the PyPI catalogs: the Tycho-2 stars of astrometry.net's
+# index, and build-astrometry-index for the sky's own index files (nightcrew.sim.sky_index). Without
+# them the sim stops with an error naming the package, never a thinner sky.
+SKY_PACKAGES := astrometry.net astrometry-data-tycho2
+
+sky-deps:
+	bash scripts/install-system-deps.sh $(SKY_PACKAGES)
+
 # The simulated observatory through a whole robotic night on virtual time (a minute or two); frames and
-# report.html go to sim-output/.
-sim: setup
+# report.html go to sim-output/. The first run also builds the sky's index files for the night's fields
+# (about a minute, kept in ~/.cache/nightcrew/indexes).
+sim: setup sky-deps
 	$(VENV)/bin/nightcrew sim --out sim-output
 
 example: setup

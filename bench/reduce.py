@@ -1,11 +1,13 @@
 """Benchmark: ``nightcrew reduce`` of a whole simulated night, and where its time went.
 
 Run ``make sim`` first (a night's frames in ``sim-output/frames``), then
-``.venv/bin/python bench/reduce.py [SIM_OUTPUT] [--workers N]``. The plate-solving service is
-started for the run (``nightcrew solver``, the second solver after the catalog matcher; solve-field
-stays off). Prints the wall time against the target (<= 120 s for ~220 frames on 2 cores), how many
-science frames were solved and by which solver, and a table of seconds per stage (summed over the
-frames reduced at once, so it can exceed the wall time).
+``.venv/bin/python bench/reduce.py [SIM_OUTPUT] [--workers N] [--index-dir DIR]``. The catalog
+matcher and the plate-solving service started for the run (``nightcrew solver``, the second solver;
+solve-field stays off) both use the index files of ``--index-dir``: by default the simulated sky's
+that ``make sim`` built (``~/.cache/nightcrew/indexes/seed42-G16``). Prints the wall time against
+the target (<= 120 s for ~220 frames on 2 cores), how many science frames were solved and by which
+solver, and a table of seconds per stage (summed over the frames reduced at once, so it can exceed
+the wall time).
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ from collections import Counter
 from pathlib import Path
 
 from nightcrew.images.reduce import ReduceOptions, StageTimes, find_raw_frames, reduce_night
+from nightcrew.sim.catalog import StarCatalog
+from nightcrew.sim.sky_index import sky_index_dir
 from nightcrew.testing.solver import running_solver
 
 TARGET_WALL_S = 120.0
@@ -28,11 +32,18 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("sim_output", nargs="?", type=Path, default=Path("sim-output"))
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--index-dir", type=Path, default=sky_index_dir(StarCatalog(seed=42, depth=16.0)))
     args = parser.parse_args()
     files = find_raw_frames(args.sim_output)
     times = StageTimes()
-    with running_solver() as url, tempfile.TemporaryDirectory(prefix="bench-reduce-") as out:
-        options = ReduceOptions(solver_url=url, solve_field=False, workers=args.workers)
+    index_dir: Path = args.index_dir
+    with (
+        running_solver(index_dir=index_dir) as url,
+        tempfile.TemporaryDirectory(prefix="bench-reduce-") as out,
+    ):
+        options = ReduceOptions(
+            index_dir=str(index_dir), solver_url=url, solve_field=False, workers=args.workers
+        )
         started, cpu = time.perf_counter(), time.process_time()
         rows = asyncio.run(reduce_night(args.sim_output, Path(out), options=options, times=times))
         wall, cpu = time.perf_counter() - started, time.process_time() - cpu

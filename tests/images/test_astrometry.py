@@ -12,6 +12,7 @@ import math
 import os
 import re
 import shutil
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -44,6 +45,7 @@ from nightcrew.sim.render import (
     frame_geometry,
     render_frame,
 )
+from nightcrew.testing.solver import simulated_sky_indexes
 
 TRUE_POINTING = Pointing(100.0, 30.0, 10.0)
 #: The telescope believes it points 6' east and 4' south of where it does.
@@ -74,6 +76,14 @@ def max_error_arcsec(wcs: WCS, pointing: Pointing = TRUE_POINTING) -> float:
 
 
 @pytest.fixture(scope="module")
+def sky_index() -> str:
+    """The index files of the rendered sky (seed 0, G = 16) around the frame: the matcher's stars."""
+    return str(
+        simulated_sky_indexes([(HEADER_RA, HEADER_DEC)], width_arcmin=GEOMETRY.shape[1] * SCALE / 60.0)
+    )
+
+
+@pytest.fixture(scope="module")
 def detected() -> Image:
     """A 2k x 2k rendered frame with the telescope's header and SEP detections."""
     stars = StarCatalog().query(
@@ -94,8 +104,10 @@ def detected() -> Image:
     return Image(frame.data, header=header, catalog=catalog)
 
 
-async def test_catalog_matcher_is_within_one_arcsec_despite_a_pointing_error(detected: Image) -> None:
-    solved = await CatalogAstrometry(pixel_scale_arcsec=SCALE)(detected)
+async def test_catalog_matcher_is_within_one_arcsec_despite_a_pointing_error(
+    detected: Image, sky_index: str
+) -> None:
+    solved = await CatalogAstrometry(index_dir=sky_index, pixel_scale_arcsec=SCALE)(detected)
     assert solved.wcs is not None
     assert max_error_arcsec(solved.wcs) < 1.0
     result = solved.metadata["astrometry"]
@@ -106,24 +118,30 @@ async def test_catalog_matcher_is_within_one_arcsec_despite_a_pointing_error(det
     assert "CTYPE1" not in detected.header  # the input image is left alone
 
 
-async def test_catalog_matcher_reads_the_scale_from_the_header_and_binning(detected: Image) -> None:
+async def test_catalog_matcher_reads_the_scale_from_the_header_and_binning(
+    detected: Image, sky_index: str
+) -> None:
     # PIXSCALE is the binned scale; XBINNING only scales a configured (unbinned) one.
     header = detected.header.copy()
     header["PIXSCALE"] = SCALE * 1.01  # a scale known to 1 %
-    solved = await CatalogAstrometry()(detected.replace(header=header))
+    solved = await CatalogAstrometry(index_dir=sky_index)(detected.replace(header=header))
     assert solved.wcs is not None and max_error_arcsec(solved.wcs) < 1.0
 
 
-async def test_catalog_matcher_reports_no_solution_far_from_the_field(detected: Image) -> None:
+async def test_catalog_matcher_reports_no_solution_far_from_the_field(
+    detected: Image, sky_index: str
+) -> None:
     header = detected.header.copy()
-    header["DEC"] = HEADER_DEC + 3.0
-    with pytest.raises(NoSolutionError, match="matched"):
-        await CatalogAstrometry(pixel_scale_arcsec=SCALE)(detected.replace(header=header))
+    header["DEC"] = HEADER_DEC + 3.0  # beyond the index files too
+    with pytest.raises(NoSolutionError, match="covers RA"):
+        await CatalogAstrometry(index_dir=sky_index, pixel_scale_arcsec=SCALE)(
+            detected.replace(header=header)
+        )
 
 
-async def test_astrometry_needs_detections_first(detected: Image) -> None:
+async def test_astrometry_needs_detections_first(detected: Image, sky_index: str) -> None:
     with pytest.raises(NoStarsError, match="run a detection first"):
-        await CatalogAstrometry(pixel_scale_arcsec=SCALE)(detected.replace(catalog=None))
+        await CatalogAstrometry(index_dir=sky_index, pixel_scale_arcsec=SCALE)(detected.replace(catalog=None))
 
 
 def test_bad_matcher_configuration_names_the_key() -> None:
@@ -214,3 +232,15 @@ async def test_missing_solve_field_is_one_clear_error(detected: Image) -> None:
     )
     with pytest.raises(SolverUnavailableError, match=r"no-such-solve-field not found: install"):
         await solver(detected)
+
+
+@pytest.mark.parametrize("key", ["catalog_seed", "catalog_depth"])
+def test_the_old_simulated_catalog_keys_say_what_replaced_them(key: str) -> None:
+    config = {"class": "nightcrew.images.astrometry.CatalogAstrometry", key: 42}
+    with pytest.raises(
+        ConfigError, match="is gone: the matcher's stars are those of the index files in index_dir"
+    ):
+        build_object(config)
+    old: dict[str, Any] = {key: 42}
+    with pytest.raises(ConfigError, match="index_dir"):  # built in code: the same message
+        CatalogAstrometry(**old)

@@ -35,6 +35,7 @@ from nightcrew.images.astrometry import (
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.projection import Pointing, sky_to_pixel, wcs_header
 from nightcrew.sim.render import CameraModel, Exposure, Optics, field_radius_deg, frame_geometry
+from nightcrew.testing.solver import simulated_sky_indexes
 
 POINTING = Pointing(60.0, 45.0, 0.0)
 GEOMETRY = frame_geometry(CameraModel(), Optics(), Exposure(10.0))
@@ -156,7 +157,9 @@ async def test_unreachable_service_falls_back_to_the_next_solver(service: str) -
     remote = RemoteAstrometry(solver=RemoteSolver(dead, timeout_s=5.0), pixel_scale_arcsec=1.16)
     with pytest.raises(SolverUnavailableError, match="unreachable"):
         await remote(star_image())
-    chained = FirstSolution([remote, CatalogAstrometry(pixel_scale_arcsec=GEOMETRY.pixel_scale_arcsec)])
+    index_dir = simulated_sky_indexes([(POINTING.ra_deg, POINTING.dec_deg)], width_arcmin=40.0)
+    matcher = CatalogAstrometry(index_dir=str(index_dir), pixel_scale_arcsec=GEOMETRY.pixel_scale_arcsec)
+    chained = FirstSolution([remote, matcher])
     solved = await chained(star_image())
     assert solved.metadata["astrometry"].solver == "catalog"
     assert error_arcsec(solved) < 1.0

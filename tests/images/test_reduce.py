@@ -30,6 +30,7 @@ from nightcrew.sim.render import (
     frame_geometry,
     render_frame,
 )
+from nightcrew.testing.solver import simulated_sky_indexes
 
 CAMERA = CameraModel(chip_width=1024, chip_height=1024)
 OPTICS = Optics()
@@ -96,7 +97,10 @@ def test_reduce_a_night_then_rerun_without_redoing_work(
     raw_night: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     out = tmp_path / "reduced"
-    assert main(["reduce", str(raw_night), str(out), "--pixel-scale", str(SCALE), "--no-solve-field"]) == 0
+    width = CAMERA.chip_width * SCALE / 60.0
+    index_dir = str(simulated_sky_indexes([(p.ra_deg, p.dec_deg) for p in POINTINGS], width_arcmin=width))
+    options = ["--index-dir", index_dir, "--no-solve-field"]
+    assert main(["reduce", str(raw_night), str(out), "--pixel-scale", str(SCALE), *options]) == 0
     stdout, stderr = capsys.readouterr()
     assert "12 files: 2 reduced (2 plate-solved), 9 calibration, 0 failed, 1 broken" in stdout
     assert "broken.fits: broken: not a readable FITS file" in stdout
@@ -118,7 +122,7 @@ def test_reduce_a_night_then_rerun_without_redoing_work(
     ]
 
     written = {p: p.stat().st_mtime_ns for p in out.rglob("*.fits")}
-    assert main(["reduce", str(raw_night), str(out), "--quiet", "--no-solve-field"]) == 0
+    assert main(["reduce", str(raw_night), str(out), "--quiet", *options]) == 0
     assert {p: p.stat().st_mtime_ns for p in out.rglob("*.fits")} == written  # nothing redone
     again = Table.read(out / "summary.ecsv")
     assert list(again["status"]) == list(summary["status"])

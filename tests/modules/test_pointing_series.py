@@ -20,6 +20,7 @@ from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts import PointingSeriesScript
 from nightcrew.robotic.tasks import TaskProgress
 from nightcrew.testing import SITE, Observatory
+from nightcrew.testing.solver import SimulatedSkyIndexes
 from tests.robotic.runner_sim import make_task
 
 #: 1024² at 1.16"/px binned 2x2: a 20' field of 512² pixels, enough stars anywhere for a catalog solve.
@@ -68,7 +69,9 @@ async def start_series(observatory: Observatory, **options: Any) -> PointingSeri
     await observatory.start(
         SimCamera, "camera", focuser=None, filters=None, roof=None, weather=None, **camera
     )
-    solver = Pipeline([SepSourceDetection(), CatalogAstrometry(catalog_depth=DEPTH, catalog_seed=SEED)])
+    # The sky's index files for each field are built when its frame comes (cached across runs).
+    indexes = SimulatedSkyIndexes(seed=SEED, depth=DEPTH)
+    solver = Pipeline([SepSourceDetection(), indexes, CatalogAstrometry(index_dir=indexes.directory)])
     settings: dict[str, Any] = {
         "alt_range": (40.0, 70.0),
         "alt_steps": 2,

@@ -15,6 +15,7 @@ from nightcrew.images.processors.detection import SepSourceDetection
 from nightcrew.images.processors.offsets import AstrometryOffsets
 from nightcrew.modules.pointing import Acquisition
 from nightcrew.modules.pointing.apply import SkyError, pixel_error_to_sky
+from nightcrew.testing.solver import SimulatedSkyIndexes
 from tests.modules.sim_observatory import CATALOG_DEPTH, PLEIADES, SEED
 
 from .conftest import ObservatoryFactory
@@ -27,13 +28,11 @@ STEADY = {"drift_rate": 0.0, "periodic_amplitude": 0.0}
 
 
 def acquisition_pipeline() -> Pipeline:
-    # The sky the simulator renders is the catalog with the camera's depth and seed.
+    # The index files of the sky the simulator renders (the camera's depth and seed), built for the
+    # field when its first frame comes (cached across runs).
+    indexes = SimulatedSkyIndexes(seed=SEED, depth=CATALOG_DEPTH)
     return Pipeline(
-        [
-            SepSourceDetection(),
-            CatalogAstrometry(catalog_depth=CATALOG_DEPTH, catalog_seed=SEED),
-            AstrometryOffsets(),
-        ]
+        [SepSourceDetection(), indexes, CatalogAstrometry(index_dir=indexes.directory), AstrometryOffsets()]
     )
 
 

@@ -39,10 +39,12 @@ from nightcrew.night.engine import (
     NightProgress,
     ProgressCallback,
     WholeNight,
+    night_tasks,
     run_whole_night,
 )
 from nightcrew.night.fields import choose_targets, night_start, quick_groups
 from nightcrew.night.plan import night_span, weather_scenario
+from nightcrew.night.sky_indexes import build_night_sky_indexes
 from nightcrew.report import describe_frames, read_night, write_report
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
@@ -185,7 +187,12 @@ def run_one_night(
     duration = (setup.end - setup.start).total_seconds()
     # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
     devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
-    robotic = _robotic_overrides(directory, seed)
+    tasks = setup.tasks if setup.tasks is not None else night_tasks(setup.night, site)
+    # The solvers' index files of the simulated sky, for the night's fields (kept for later nights).
+    index_dir = build_night_sky_indexes(
+        directory, tasks, camera_overrides=devices["camera"], seed=seed, progress=_index_progress
+    )
+    robotic = _robotic_overrides(directory, index_dir if seed is not None else None)
     clock = sim_clock(setup.start, night_speed(args))
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
@@ -201,10 +208,10 @@ def run_one_night(
                 device_overrides=devices,
                 robotic_overrides=robotic,
                 seed=seed,
-                tasks=setup.tasks,
+                tasks=tasks,
                 progress=progress,
                 stop=stop,
-                extra_modules=_extras(args, clock, site, out / FRAMES),
+                extra_modules=_extras(args, clock, site, out / FRAMES, index_dir),
             )
 
     try:
@@ -248,15 +255,19 @@ def _device_overrides(
     return {"weather": station, "camera": {"detector": detector}, "focuser": {"focus": 25.0}}
 
 
-def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
-    """With ``seed``, the acquisition's catalog follows the camera's new synthetic stars."""
+def _index_progress(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _robotic_overrides(directory: Path, index_dir: Path | None) -> dict[str, dict[str, Any]]:
+    """With another ``--seed``, the acquisition solves with that sky's index files ``index_dir``."""
     path = directory / "robotic" / "acquisition.yaml"
-    if seed is None or not path.is_file():
+    if index_dir is None or not path.is_file():
         return {}
     pipeline = to_plain(load_config(path).get("pipeline") or {})
     for step in pipeline.get("steps", []):
-        if isinstance(step, dict) and "catalog_seed" in step:
-            step["catalog_seed"] = seed
+        if isinstance(step, dict) and "index_dir" in step:
+            step["index_dir"] = str(index_dir)
     return {"acquisition": {"pipeline": pipeline}}
 
 
@@ -311,25 +322,25 @@ def _console(
 
 
 def _pipeline(
-    args: argparse.Namespace, clock: Clock, frames: Path
+    args: argparse.Namespace, clock: Clock, frames: Path, index_dir: Path | None
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--archive``: the Pipeline reducing the night's object frames next to ``frames``."""
     if not getattr(args, "archive", False):
         return None
     from nightcrew.cli._sim_pipeline import sim_pipeline
 
-    return sim_pipeline(frames.parent, clock=clock)
+    return sim_pipeline(frames.parent, clock=clock, index_dir=index_dir)
 
 
 def _extras(
-    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+    args: argparse.Namespace, clock: Clock, site: Site, frames: Path, index_dir: Path | None = None
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """The servers the options ask for (INDI, console), built on the night's network, and with
-    ``--archive`` the pipeline."""
+    ``--archive`` the pipeline (solving with the index files of ``index_dir``)."""
     wanted = (
         _indi(args, clock, site, frames),
         _console(args, clock, site, frames),
-        _pipeline(args, clock, frames),
+        _pipeline(args, clock, frames, index_dir),
     )
     builders = [build for build in wanted if build is not None]
     if not builders:

@@ -46,8 +46,11 @@ _DRAIN_S_PER_FRAME = 300.0
 _CALIBRATION = (ImageType.BIAS, ImageType.DARK, ImageType.SKYFLAT, ImageType.DOMEFLAT)
 
 
-def sim_pipeline(out: Path, *, clock: Clock) -> Callable[[LocalNetwork], list[Module]]:
-    """What ``--archive`` adds to the night: a NightPipeline reducing the camera's object frames."""
+def sim_pipeline(
+    out: Path, *, clock: Clock, index_dir: Path | None = None
+) -> Callable[[LocalNetwork], list[Module]]:
+    """What ``--archive`` adds to the night: a NightPipeline reducing the camera's object frames,
+    plate-solving them with the index files of ``index_dir`` (the simulated sky's)."""
 
     def build(network: LocalNetwork) -> list[Module]:
         vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(out / FRAMES)), _NIGHT_ROOT: LocalFile(str(out))})
@@ -56,6 +59,7 @@ def sim_pipeline(out: Path, *, clock: Clock) -> Callable[[LocalNetwork], list[Mo
             masters=f"/{_NIGHT_ROOT}/{MASTERS}",
             output=f"/{_NIGHT_ROOT}/{REDUCED}",
             sources=[CAMERA],
+            index_dir=None if index_dir is None else str(index_dir),
             comm=LocalComm("pipeline", network=network),
             clock=clock,
             vfs=vfs,

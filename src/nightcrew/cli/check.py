@@ -65,4 +65,9 @@ def run_check(args: argparse.Namespace) -> int:
                 print(exc, file=sys.stderr)
         else:
             print(f"OK {path}")
+    from nightcrew.images.astrometry import observatory_coverage_problems  # astropy: only here
+
+    for problem in observatory_coverage_problems(files):  # a camera field the index files cannot solve
+        print(f"nightcrew: error: {problem}", file=sys.stderr)
+        all_valid = False
     return 0 if all_valid else 2

@@ -6,9 +6,10 @@ used).
 Builds master bias/dark/flat frames from the calibration frames (grouped by IMAGETYP, binning,
 filter and exposure time), calibrates every science frame, detects its stars, plate-solves it (the
 catalog matcher first, then the solve service given with --solver, then astrometry.net's
-solve-field) and writes it with its source
-catalog to OUT_DIR, plus ``OUT_DIR/summary.ecsv`` with one row per raw file. Progress goes to
-stderr. Running it again skips finished work; a broken file is reported and skipped.
+solve-field; the matcher and solve-field with the index files of --index-dir, e.g. the simulated
+sky's that ``nightcrew sim`` prints) and writes it with its source catalog to OUT_DIR, plus
+``OUT_DIR/summary.ecsv`` with one row per raw file. Progress goes to stderr. Running it again skips
+finished work; a broken file is reported and skipped.
 """
 
 from __future__ import annotations
@@ -41,6 +42,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="unbinned pixel scale (default: headers)",
     )
     parser.add_argument(
+        "--index-dir",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="astrometry.net index files for the matcher and solve-field (default: /usr/share/astrometry)",
+    )
+    parser.add_argument(
         "--solver", default=None, metavar="URL", help="plate-solving service (nightcrew solver) to try"
     )
     parser.add_argument("--no-solve-field", action="store_true", help="do not fall back to solve-field")
@@ -59,9 +67,14 @@ def run_reduce(args: argparse.Namespace) -> int:
         raise ConfigError(f"--pixel-scale must be positive, got {args.pixel_scale}")
     if args.solver is not None and not args.solver.startswith(("http://", "https://")):
         raise ConfigError(f"--solver must be an http:// or https:// URL, got {args.solver!r}")
+    if args.index_dir is not None and not any(args.index_dir.expanduser().glob("index-*.fits")):
+        raise ConfigError(f"--index-dir {args.index_dir}: no astrometry.net index files (index-*.fits) there")
     find_raw_frames(args.raw_dir)  # no frames: say where it looked before creating OUT_DIR
     options = ReduceOptions(
-        pixel_scale_arcsec=args.pixel_scale, solver_url=args.solver, solve_field=not args.no_solve_field
+        pixel_scale_arcsec=args.pixel_scale,
+        index_dir=None if args.index_dir is None else str(args.index_dir.expanduser()),
+        solver_url=args.solver,
+        solve_field=not args.no_solve_field,
     )
     rows = asyncio.run(
         reduce_night(args.raw_dir, args.out_dir, options=options, progress=None if args.quiet else sys.stderr)

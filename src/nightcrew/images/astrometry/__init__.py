@@ -10,9 +10,16 @@ Three solvers, fastest first:
 Each has a processor for pipelines (:class:`CatalogAstrometry`, :class:`SolveFieldAstrometry`,
 :class:`RemoteAstrometry`, and :class:`FirstSolution` to chain them as fallbacks).
 
+:func:`index_coverage_problem` says whether the installed index files fit a camera's field.
+
 Errors derive from :class:`AstrometryError` (an :class:`~nightcrew.images.errors.ImageError`).
 """
 
+from nightcrew.images.astrometry._coverage import (
+    camera_field_arcmin,
+    index_coverage_problem,
+    observatory_coverage_problems,
+)
 from nightcrew.images.astrometry._errors import AstrometryError, NoSolutionError, SolverUnavailableError
 from nightcrew.images.astrometry._image_wcs import AstrometryResult, with_wcs
 from nightcrew.images.astrometry._match import CatalogMatch, CatalogMatcher
@@ -43,7 +50,10 @@ __all__ = [
     "SolverUnavailableError",
     "TanFit",
     "TanWcs",
+    "camera_field_arcmin",
     "fit_tan_wcs",
+    "index_coverage_problem",
+    "observatory_coverage_problems",
     "sky_to_standard",
     "standard_to_sky",
     "with_wcs",

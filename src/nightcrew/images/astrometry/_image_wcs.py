@@ -10,7 +10,6 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 from astropy.io import fits  # type: ignore[import-untyped]
-from astropy.time import Time  # type: ignore[import-untyped]
 from astropy.wcs import WCS  # type: ignore[import-untyped]
 
 from nightcrew.images.errors import MissingWcsError, NoStarsError
@@ -18,7 +17,6 @@ from nightcrew.images.image import Image
 
 __all__ = [
     "AstrometryResult",
-    "image_epoch_jyear",
     "image_pixel_scale",
     "image_pointing",
     "image_stars",
@@ -69,17 +67,6 @@ def image_pixel_scale(image: Image, unbinned_arcsec: float | None) -> float | No
         binning = image.header.get("XBINNING", 1)
         return unbinned_arcsec * (float(binning) if _number(binning) and binning >= 1 else 1.0)
     return image.pixel_scale
-
-
-def image_epoch_jyear(image: Image, default: float) -> float:
-    """Julian year of ``DATE-OBS`` (for proper motions), ``default`` when missing or unreadable."""
-    value = image.header.get("DATE-OBS")
-    if not isinstance(value, str):
-        return default
-    try:
-        return float(Time(value.strip(), scale="utc").jyear)
-    except ValueError:
-        return default
 
 
 def image_stars(image: Image, flux_column: str = "flux") -> tuple[FloatArray, FloatArray, FloatArray]:

@@ -3,9 +3,10 @@
 From YAML, after a detection step::
 
     - class: nightcrew.images.astrometry.CatalogAstrometry
+      index_dir: /usr/share/astrometry  # the index files whose stars it matches
       pixel_scale_arcsec: 1.16        # unbinned; times XBINNING
     - class: nightcrew.images.astrometry.SolveFieldAstrometry
-      solver: {class: nightcrew.images.astrometry.SolveField, timeout_s: 60}
+      solver: {class: nightcrew.images.astrometry.SolveField, timeout_s: 60, index_dir: /data/indexes}
     - class: nightcrew.images.astrometry.RemoteAstrometry
       solver: {class: nightcrew.images.astrometry.RemoteSolver, url: "http://solver.example.org:8080"}
     - class: nightcrew.images.astrometry.FirstSolution   # the first solver that succeeds
@@ -21,7 +22,6 @@ from __future__ import annotations
 
 import asyncio
 import inspect
-import threading
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -29,29 +29,31 @@ from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
+from nightcrew.images.astrometry._coverage import DEFAULT_INDEX_DIR
 from nightcrew.images.astrometry._errors import AstrometryError
 from nightcrew.images.astrometry._image_wcs import (
     AstrometryResult,
-    image_epoch_jyear,
     image_pixel_scale,
     image_pointing,
     image_stars,
     require_pointing,
     with_wcs,
 )
+from nightcrew.images.astrometry._index_catalog import IndexCatalog
 from nightcrew.images.astrometry._match import CatalogMatch, CatalogMatcher
 from nightcrew.images.astrometry._remote import RemoteSolver
 from nightcrew.images.astrometry._solve_field import SolveField, SolveHints
 from nightcrew.images.errors import ImageError, MissingWcsError
 from nightcrew.images.image import Image
 from nightcrew.images.processor import ImageProcessor, require
-from nightcrew.sim.catalog import StarCatalog
-from nightcrew.sim.catalog_data import CATALOG_EPOCH_JYEAR
 
 __all__ = ["CatalogAstrometry", "FirstSolution", "RemoteAstrometry", "SolveFieldAstrometry"]
 
 
-_DEFAULT_DEPTH = 16.0
+_REMOVED_CATALOG = (
+    "is gone: the matcher's stars are those of the index files in index_dir "
+    "(the simulated sky's: nightcrew sim prints its index directory)"
+)
 
 
 def _configured(build: Any, **arguments: Any) -> Any:
@@ -81,30 +83,30 @@ def _reject_moved(processor: type, options: Mapping[str, Any]) -> None:
 
 
 class CatalogAstrometry(ImageProcessor):
-    """Fast solve near the header's RA/DEC against the star catalog (:class:`CatalogMatcher`).
+    """Fast solve near the header's RA/DEC (:class:`CatalogMatcher`) against the stars of index files.
 
     Args:
+        index_dir: Directory of the astrometry.net index files whose stars are the reference
+            catalog (:class:`IndexCatalog`): the same directory ``solve-field`` and
+            ``nightcrew solver`` use (``~`` is expanded).
         pixel_scale_arcsec: Unbinned pixel scale (times ``XBINNING``); None: from the image.
-        catalog_depth: Faintest catalog magnitude (as :class:`~nightcrew.sim.catalog.StarCatalog`);
-            None: the frame's ``SIM-DPTH``, else 16.
-        catalog_seed: Seed of the catalog's synthetic stars (the simulation's sky); None: the
-            frame's ``SIM-SEED`` (written by the simulated camera), else 0. Only stars to G ~ 12
-            are real, so a matcher with another seed than the camera's sees other faint stars and
-            fails on most frames.
         flux_column: Catalog column ranking the detected stars.
         matcher: The configured :class:`CatalogMatcher` (``search_radius_arcmin``, ...); its defaults
             when None.
         **kwargs: Processor options.
     """
 
-    config_moved_keys: ClassVar[dict[str, str]] = _moved_into(CatalogMatcher, "matcher")
+    config_moved_keys: ClassVar[dict[str, str]] = {
+        **_moved_into(CatalogMatcher, "matcher"),
+        "catalog_depth": _REMOVED_CATALOG,
+        "catalog_seed": _REMOVED_CATALOG,
+    }
 
     def __init__(
         self,
         *,
+        index_dir: str = DEFAULT_INDEX_DIR,
         pixel_scale_arcsec: float | None = None,
-        catalog_depth: float | None = None,
-        catalog_seed: int | None = None,
         flux_column: str = "flux",
         matcher: CatalogMatcher | None = None,
         **kwargs: Any,
@@ -118,11 +120,7 @@ class CatalogAstrometry(ImageProcessor):
         )
         self.pixel_scale_arcsec = pixel_scale_arcsec
         self.flux_column = flux_column
-        self.catalog_depth = catalog_depth
-        self.catalog_seed = catalog_seed
-        _configured(StarCatalog, depth=_DEFAULT_DEPTH if catalog_depth is None else catalog_depth)
-        self._catalogs: dict[tuple[float, int], StarCatalog] = {}
-        self._catalog_lock = threading.Lock()
+        self.catalog = IndexCatalog(index_dir)
         self.matcher = matcher or CatalogMatcher()
 
     async def __call__(self, image: Image) -> Image:
@@ -137,38 +135,19 @@ class CatalogAstrometry(ImageProcessor):
         if scale is None:
             raise MissingWcsError("the catalog matcher needs a pixel scale: configure pixel_scale_arcsec")
         radius = self.matcher.catalog_radius_deg(image.shape, scale)
-        with self._catalog_lock:  # frames may be solved in several threads; the catalog caches cells
-            catalog = self.catalog_for(image)
-            stars = catalog.query(ra, dec, radius, epoch=image_epoch_jyear(image, CATALOG_EPOCH_JYEAR))
+        catalog_ra, catalog_dec, catalog_mag = self.catalog.query(ra, dec, radius)
         return self.matcher.solve(
             x,
             y,
             flux,
             shape=image.shape,
-            catalog_ra=stars["ra"],
-            catalog_dec=stars["dec"],
-            catalog_mag=stars["mag"],
+            catalog_ra=catalog_ra,
+            catalog_dec=catalog_dec,
+            catalog_mag=catalog_mag,
             ra_deg=ra,
             dec_deg=dec,
             pixel_scale_arcsec=scale,
         )
-
-    def catalog_for(self, image: Image) -> StarCatalog:
-        """The catalog of the sky ``image`` shows: configured seed and depth, else its SIM- cards."""
-        depth, seed = self.catalog_depth, self.catalog_seed
-        if depth is None:
-            value = image.header.get("SIM-DPTH")
-            depth = float(value) if isinstance(value, int | float) and not isinstance(value, bool) else None
-        if seed is None:
-            value = image.header.get("SIM-SEED")
-            seed = int(value) if isinstance(value, int) and not isinstance(value, bool) else 0
-        key = (_DEFAULT_DEPTH if depth is None else depth, seed)
-        if key not in self._catalogs:
-            try:
-                self._catalogs[key] = StarCatalog(depth=key[0], seed=key[1])
-            except ValueError as exc:
-                raise MissingWcsError(f"cannot build the star catalog for this frame: {exc}") from exc
-        return self._catalogs[key]
 
 
 class _HintedSolver(ImageProcessor):

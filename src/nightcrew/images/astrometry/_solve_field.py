@@ -102,6 +102,9 @@ class SolveField:
         tweak_order: Order of the SIP distortion fit; 0 for a pure TAN solution.
         downsample: Downsampling before solve-field's own star finding (pixel input only).
         config: An ``astrometry.cfg`` (index paths) instead of the system one.
+        index_dir: A directory of index files (``index-*.fits``) to solve with instead of the system
+            config's (a config naming only this directory is written for each solve); not with
+            ``config``.
     """
 
     def __init__(
@@ -114,6 +117,7 @@ class SolveField:
         tweak_order: int = 2,
         downsample: int = 2,
         config: str | None = None,
+        index_dir: str | None = None,
     ) -> None:
         if timeout_s <= 0 or cpu_limit_s <= 0:
             raise ValueError(
@@ -123,6 +127,10 @@ class SolveField:
             raise ValueError(f"max_stars must be >= 10, got {max_stars}")
         if tweak_order < 0:
             raise ValueError(f"tweak_order must be >= 0, got {tweak_order}")
+        if config is not None and index_dir is not None:
+            raise ValueError(
+                "config and index_dir exclude each other: name the index directory in the config"
+            )
         if downsample < 1:
             raise ValueError(f"downsample must be >= 1, got {downsample}")
         self.executable = executable
@@ -132,6 +140,7 @@ class SolveField:
         self.tweak_order = tweak_order
         self.downsample = downsample
         self.config = config
+        self.index_dir = None if index_dir is None else str(Path(index_dir).expanduser())
 
     def find_executable(self) -> str:
         """The full path of solve-field.
@@ -196,6 +205,8 @@ class SolveField:
         command += ["--no-tweak"] if self.tweak_order == 0 else ["--tweak-order", str(self.tweak_order)]
         if self.config is not None:
             command += ["--config", self.config]
+        elif self.index_dir is not None:
+            command += ["--config", str(out / "astrometry.cfg")]
         return [*command, *extra, *hints.arguments(), str(input_path)]
 
     async def _solve(
@@ -205,6 +216,10 @@ class SolveField:
         with tempfile.TemporaryDirectory(prefix="nightcrew-solve-") as workdir:
             input_path = Path(workdir) / name
             await asyncio.to_thread(write, input_path)
+            if self.index_dir is not None:
+                await asyncio.to_thread(
+                    _blocking_write_config, Path(workdir) / "astrometry.cfg", self.index_dir
+                )
             command = self.command(executable, input_path, extra, hints)
             output = await self._run(command)
             solution = Path(workdir) / "solution.wcs"
@@ -236,6 +251,13 @@ class SolveField:
         if process.returncode != 0:
             raise AstrometryError(f"solve-field failed (exit code {process.returncode}):\n{text[-_TAIL:]}")
         return text
+
+
+def _blocking_write_config(path: Path, index_dir: str) -> None:
+    """An astrometry.cfg that loads the index files of ``index_dir`` (and no others)."""
+    if not any(Path(index_dir).glob("index-*.fits")):
+        raise SolverUnavailableError(f"no astrometry.net index files (index-*.fits) in {index_dir}")
+    path.write_text(f"add_path {index_dir}\nautoindex\n")
 
 
 def _kill_group(pid: int) -> None:

@@ -67,13 +67,22 @@ class ReductionSteps:
         cls,
         *,
         pixel_scale_arcsec: float | None = None,
+        index_dir: str | None = None,
         solver_url: str | None = None,
         solve_field: bool = True,
         solve_timeout_s: float = 60.0,
         detection_threshold: float = 4.0,
     ) -> ReductionSteps:
-        """The catalog matcher first, then the solve service at ``solver_url``, then solve-field."""
-        solvers: list[ImageProcessor] = [CatalogAstrometry(pixel_scale_arcsec=pixel_scale_arcsec)]
+        """The catalog matcher first, then the solve service at ``solver_url``, then solve-field.
+
+        The matcher and solve-field use the index files of ``index_dir`` (None: the system's).
+        """
+        matcher = (
+            CatalogAstrometry(pixel_scale_arcsec=pixel_scale_arcsec)
+            if index_dir is None
+            else CatalogAstrometry(index_dir=index_dir, pixel_scale_arcsec=pixel_scale_arcsec)
+        )
+        solvers: list[ImageProcessor] = [matcher]
         if solver_url is not None:
             solvers.append(
                 RemoteAstrometry(solver=RemoteSolver(solver_url), pixel_scale_arcsec=pixel_scale_arcsec)
@@ -81,7 +90,8 @@ class ReductionSteps:
         if solve_field:
             solvers.append(
                 SolveFieldAstrometry(
-                    pixel_scale_arcsec=pixel_scale_arcsec, solver=SolveField(timeout_s=solve_timeout_s)
+                    pixel_scale_arcsec=pixel_scale_arcsec,
+                    solver=SolveField(timeout_s=solve_timeout_s, index_dir=index_dir),
                 )
             )
         return cls(

@@ -56,6 +56,8 @@ class ReduceOptions:
 
     Attributes:
         pixel_scale_arcsec: Unbinned pixel scale for the plate solvers; None: from the headers.
+        index_dir: The astrometry.net index files the catalog matcher and solve-field use
+            (the solve service has its own); None: the system's (``/usr/share/astrometry``).
         solver_url: The plate-solving service (``nightcrew solver``) tried after the catalog matcher.
         solve_field: Fall back to astrometry.net's solve-field when the others find nothing.
         solve_timeout_s: Limit of one solve-field run.
@@ -65,6 +67,7 @@ class ReduceOptions:
     """
 
     pixel_scale_arcsec: float | None = None
+    index_dir: str | None = None
     solver_url: str | None = None
     solve_field: bool = True
     solve_timeout_s: float = 60.0
@@ -119,6 +122,7 @@ async def reduce_night(
 
     steps = ReductionSteps.default(
         pixel_scale_arcsec=options.pixel_scale_arcsec,
+        index_dir=options.index_dir,
         solver_url=options.solver_url,
         solve_field=options.solve_field,
         solve_timeout_s=options.solve_timeout_s,

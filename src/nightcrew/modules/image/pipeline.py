@@ -48,6 +48,8 @@ class Pipeline(Module):
         solver_url: The plate-solving service (``nightcrew solver``); None: catalog matcher only
             (plus solve-field when ``solve_field``).
         solve_field: Fall back to astrometry.net's solve-field (slow: seconds to a minute).
+        index_dir: The astrometry.net index files of the catalog matcher and solve-field; None:
+            the system's (``/usr/share/astrometry``).
         pixel_scale_arcsec: Unbinned pixel scale; None: from the headers.
         sources: Only frames from these modules (cameras); all by default.
         max_queue: Frames waiting at most; more are dropped with an error (the night goes on).
@@ -61,6 +63,7 @@ class Pipeline(Module):
         output: str,
         solver_url: str | None = None,
         solve_field: bool = False,
+        index_dir: str | None = None,
         pixel_scale_arcsec: float | None = None,
         sources: list[str] | None = None,
         max_queue: int = 100,
@@ -82,7 +85,10 @@ class Pipeline(Module):
         self._output = output.rstrip("/") or "/"
         self._sources = set(sources) if sources is not None else None
         self._steps = ReductionSteps.default(
-            pixel_scale_arcsec=pixel_scale_arcsec, solver_url=solver_url, solve_field=solve_field
+            pixel_scale_arcsec=pixel_scale_arcsec,
+            index_dir=index_dir,
+            solver_url=solver_url,
+            solve_field=solve_field,
         )
         self._queue: asyncio.Queue[str] = asyncio.Queue(max_queue)
         self._master_infos: dict[str, MasterInfo | None] = {}  # by path; None: not a master

@@ -13,12 +13,15 @@ frame anew for the seconds the shutter was open and keeps it.
 
 The frame carries the camera's own cards (gain, read noise, pixel size, focal length, pixel scale)
 and a few ``SIM-*`` cards with the simulator's truth (true pointing, FWHM, cloud cover) for tests
-and tutorials. It has no WCS: finding one is the plate solver's job.
+and tutorials, and the sky it shows (``SIM-SKY``: seed, depth and star sources, whose index files
+:mod:`nightcrew.sim.sky_index` builds; ``SIM-STAR``: the real star sources and their versions).
+It has no WCS: finding one is the plate solver's job.
 """
 
 from __future__ import annotations
 
 import asyncio
+import functools
 import logging
 import math
 import threading
@@ -44,8 +47,9 @@ from nightcrew.interfaces import (
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth
 from nightcrew.modules.sim.scene import Atmosphere, Scene, StarFieldCache, conditions_at
-from nightcrew.sim import projection, render
+from nightcrew.sim import projection, render, sky_index
 from nightcrew.sim.catalog import StarCatalog
+from nightcrew.sim.real_stars import star_sources
 
 __all__ = ["SimCamera"]
 
@@ -137,6 +141,11 @@ class SimCamera(BaseCamera, IStoppableExposure):
     def _blocking_warm_up(self) -> None:
         with self._stars_lock:
             self._catalog.query(0.0, 0.0, 0.01)
+
+    @functools.cached_property
+    def _sky(self) -> tuple[str, str]:
+        """The sky's id and its real star sources, for the frames' cards."""
+        return sky_index.sky_id(self._catalog), star_sources()
 
     # --- BaseCamera hooks ----------------------------------------------------------------------
 
@@ -257,9 +266,11 @@ class SimCamera(BaseCamera, IStoppableExposure):
             "SIM-FWHM": (round(frame.fwhm_px * scale, 3), "Simulator: star FWHM [arcsec]"),
             "SIM-CLD": (round(scene.cloud_cover, 3), "Simulator: cloud cover (0..1)"),
             "SIM-SUNA": (round(conditions.sun_altitude_deg, 2), "Simulator: Sun altitude [deg]"),
-            # The sky's synthetic stars follow from these two: a catalog matcher needs the same.
             "SIM-SEED": (self._catalog.seed, "Simulator: seed of the synthetic stars"),
             "SIM-DPTH": (self._catalog.depth, "Simulator: faintest catalog star drawn [mag]"),
+            # Which sky this is: its index files are in ~/.cache/nightcrew/indexes/<seed-depth>.
+            "SIM-SKY": (self._sky[0], "Simulator: sky id (seed, depth, sources hash)"),
+            "SIM-STAR": (self._sky[1], "Simulator: real star sources"),
         }
         if scene.true_radec is not None:
             cards["SIM-RA"] = (round(scene.true_radec[0], 7), "Simulator: true RA of the axis [deg]")
