@@ -60,7 +60,33 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--write", type=Path, metavar="DIR", help="write one module file per device into DIR"
     )
     discover.set_defaults(func=_discover_command)
+    simulator = commands.add_parser(
+        "simulator",
+        help="set up alpaca-simulators with an offline star table (to try nightcrew without hardware)",
+        description=(
+            "Write DIR/config.yaml for alpaca-simulators (PyPI) and the offline star table its camera "
+            "reads (DIR/gaia_sources.db, from nightcrew's bundled catalogue: Gaia stars to G = 10), so "
+            "its camera shows real stars without the internet. Then run: alpaca-simulators --host "
+            "127.0.0.1 --port 11111 --config DIR/config.yaml"
+        ),
+    )
+    simulator.add_argument("directory", type=Path, metavar="DIR")
+    simulator.add_argument("--latitude", type=float, default=48.0, help="the mount's site (%(default)s)")
+    simulator.add_argument("--longitude", type=float, default=8.0, help="the mount's site (%(default)s)")
+    simulator.add_argument("--elevation", type=float, default=1000.0, help="metres (%(default)s)")
+    simulator.set_defaults(func=_simulator_command)
     return parser
+
+
+def _simulator_command(args: argparse.Namespace) -> int:
+    from nightcrew.testing.alpaca import TEST_OVERRIDES, merge_config, write_simulator_config
+
+    site = {"sitelatitude": args.latitude, "sitelongitude": args.longitude, "siteelevation": args.elevation}
+    overrides = merge_config(TEST_OVERRIDES, {"devices": {"telescope": {0: site}}})
+    path = write_simulator_config(args.directory, overrides=overrides)
+    print(f"wrote {path} and {args.directory / 'gaia_sources.db'}")
+    print(f"run: alpaca-simulators --host 127.0.0.1 --port 11111 --config {path}")
+    return 0
 
 
 def _discover_command(args: argparse.Namespace) -> int:

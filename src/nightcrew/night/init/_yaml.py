@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import textwrap
 from typing import Any
 
@@ -29,6 +30,8 @@ def module_text(header: str, body: dict[str, Any] | str | list[Any]) -> str:
     """``header`` (each line made a comment) followed by ``body`` as block YAML."""
     lines = [wrapped for line in header.strip().splitlines() for wrapped in textwrap.wrap(line, 96) or [""]]
     comment = "".join(f"# {line}".rstrip() + "\n" for line in lines)
+    if isinstance(body, str):  # a scalar alone: one quoted line (no "..." document end marker)
+        return comment + json.dumps(body) + "\n"
     text = yaml.dump(
         body, Dumper=_Dumper, sort_keys=False, default_flow_style=False, allow_unicode=True, width=100
     )

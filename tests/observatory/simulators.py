@@ -1,0 +1,43 @@
+"""The simulators an observatory directory is written for in these tests, started as a user would.
+
+alpaca-simulators runs from the config ``nightcrew alpaca simulator DIR`` writes (the offline star
+table included), so its devices, numbers and names are the ones a user meets. Without it installed
+the tests skip, except under CI=true, where they fail.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from nightcrew.cli.main import main
+from nightcrew.testing.alpaca import AlpacaSimulator
+from nightcrew.testing.processes import free_port
+
+__all__ = ["require_simulators", "run_alpaca_simulators"]
+
+
+def require_simulators() -> None:
+    if importlib.util.find_spec("alpaca_simulators") is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("alpaca-simulators is not installed (pip install -e .[dev])")
+        pytest.skip("alpaca-simulators is not installed")
+
+
+def run_alpaca_simulators(
+    directory: Path, *, latitude: float = 48.0, longitude: float = 8.0
+) -> Iterator[AlpacaSimulator]:
+    """alpaca-simulators on a free loopback port, configured by ``nightcrew alpaca simulator``."""
+    require_simulators()
+    args = ["alpaca", "simulator", str(directory), "--latitude", str(latitude), "--longitude", str(longitude)]
+    assert main(args) == 0
+    simulator = AlpacaSimulator(directory=directory, port=free_port(), config_path=directory / "config.yaml")
+    simulator.start()
+    try:
+        yield simulator
+    finally:
+        simulator.stop()
