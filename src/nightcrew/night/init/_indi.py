@@ -3,7 +3,8 @@
 A driver says what it is in ``DRIVER_INFO.DRIVER_INTERFACE`` (a bit mask: 1 telescope, 2 CCD,
 8 focuser, 16 filter wheel, 32 dome, 128 weather, 4096 rotator, ...). One device may set several
 bits (a CCD with a built-in wheel); it takes the first role of :data:`_BITS` it has, so a camera
-stays a camera. A dome without ``ABS_DOME_POSITION`` cannot turn: a roll-off roof.
+stays a camera. Every DOME device is a ``dome`` (IndiDome: its shutter is the roof): before a
+client connects the device, a driver defines too little to tell a roll-off roof from a dome.
 
 INDI has no "that was all" message: the server forwards ``getProperties`` to its drivers, each
 answers when it does. So the list is complete once every device seen has defined ``DRIVER_INFO``
@@ -82,8 +83,6 @@ def _found(client: IndiClient, host: str, port: int) -> list[FoundDevice]:
         if kind is None:
             continue
         role, cls = kind
-        if role == "dome" and (device, "ABS_DOME_POSITION") not in client.properties:
-            role = "roof"
         filters: tuple[str, ...] = ()
         names = client.properties.get((device, "FILTER_NAME"))
         if role == "filters" and names is not None:
