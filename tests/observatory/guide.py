@@ -104,7 +104,7 @@ class Guide:
     def _wait_http(self, url: str, process: subprocess.Popen[bytes]) -> None:
         deadline = time.monotonic() + _START_TIMEOUT
         while time.monotonic() < deadline:
-            assert process.poll() is None, f"{process.args} exited with {process.returncode}"
+            assert process.poll() is None, f"{process.args!r} exited with {process.returncode}"
             try:
                 with urllib.request.urlopen(url, timeout=2.0):
                     return
