@@ -1,0 +1,218 @@
+"""The first night of an observatory written by ``nightcrew init``, on alpaca-simulators and Prosody,
+driven only through the command line as docs/observatory.md tells a user (issue 25, first Done-when).
+
+``nightcrew init --non-interactive`` → ``nightcrew check`` → ``nightcrew server init/start`` →
+``nightcrew up`` → three targets with ``nightcrew tasks add`` → the dome opens, science frames with
+full headers are written, the camera module is killed (kill -9 by PID) mid-task and the night goes
+on without dropping a task → ``nightcrew up`` is stopped: the dome closes and the telescope parks.
+
+Real time on the simulators: the site's longitude puts the moment the test runs at 22:00 local mean
+time at latitude 30° (the Sun at least 25° below the horizon in every season, and still setting, so
+the mastermind sees night, not dawn), the targets are near the zenith, exposures are 2 s, and the weather
+verdict needs no settling time (``--good-weather-after 0``). Without alpaca-simulators or Prosody the
+test skips, except under CI=true.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Callable, Iterator
+from datetime import UTC, datetime, timedelta
+from pathlib import Path
+
+import pytest
+from astropy.io import fits  # type: ignore[import-untyped]
+
+from nightcrew.astro import local_sidereal_time
+from nightcrew.server import stop_server
+from nightcrew.testing.alpaca import AlpacaSimulator
+from nightcrew.testing.processes import free_port
+from tests.comm.xmpp_servers import require_command
+
+from .simulators import run_alpaca_simulators
+
+pytestmark = pytest.mark.xmpp
+LATITUDE = 30.0
+NIGHT_TIMEOUT = 900.0  # wall seconds for the whole night on a busy machine (a few minutes when idle)
+SCIENCE_HEADERS = {"DATE-OBS", "EXPTIME", "IMAGETYP", "FILTER", "RA", "DEC", "AIRMASS", "TEL-ALT", "FOCUS"}
+
+
+def evening_longitude(now: datetime) -> float:
+    """The longitude (east, -180..180) where the mean local time is 22:00 at ``now``."""
+    hours = now.hour + now.minute / 60 + now.second / 3600
+    return round((15.0 * (22.0 - hours) + 180.0) % 360.0 - 180.0, 3)
+
+
+@pytest.fixture
+def night_simulator(tmp_path: Path) -> Iterator[AlpacaSimulator]:
+    require_command("prosody", "prosody")
+    longitude = evening_longitude(datetime.now(UTC))
+    yield from run_alpaca_simulators(tmp_path / "alpaca-sim", latitude=LATITUDE, longitude=longitude)
+
+
+def task_file(path: Path, name: str, ra: float, dec: float, filter_name: str) -> None:
+    now = datetime.now(UTC)
+    window = {
+        "start": (now - timedelta(minutes=10)).isoformat(),
+        "end": (now + timedelta(hours=2)).isoformat(),
+    }
+    group = {
+        "name": name,
+        "proposal": "first-night",
+        "requests": [
+            {
+                "location": {"telescope_class": "0m4"},
+                "windows": [window],
+                "configurations": [
+                    {
+                        "type": "EXPOSE",
+                        "target": {"name": name, "ra": ra, "dec": dec},
+                        "instrument_configs": [
+                            {
+                                "exposure_time": 2,
+                                "exposure_count": 3,
+                                "optical_elements": {"filter": filter_name},
+                            }
+                        ],
+                    }
+                ],
+            }
+        ],
+    }
+    path.write_text(json.dumps(group))
+
+
+class Night:
+    """The command line in the observatory directory, as a user types it."""
+
+    def __init__(self, directory: Path, environment: dict[str, str]) -> None:
+        self.directory = directory
+        self.environment = environment
+
+    def __call__(self, *args: str, check: bool = True) -> str:
+        done = subprocess.run(
+            [sys.executable, "-m", "nightcrew", *args],
+            cwd=self.directory,
+            env=self.environment,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        assert not check or done.returncode == 0, f"nightcrew {' '.join(args)}: {done.stdout}{done.stderr}"
+        return done.stdout
+
+    def status(self) -> dict[str, list[str]]:
+        shown = self("status", check=False)
+        return {row.split()[0]: row.split() for row in shown.splitlines()[1:] if row.strip()}
+
+    def tasks(self) -> dict[str, str]:
+        shown = self("tasks", "--db", "tasks.sqlite", "list")
+        return {row.split()[0]: row.split()[1] for row in shown.splitlines()[1:] if row.strip()}
+
+    def science_frames(self) -> list[Path]:
+        images = self.directory / "images"
+        return sorted(images.glob("*-object-*.fits")) if images.is_dir() else []
+
+
+def device(simulator: AlpacaSimulator, path: str) -> object:
+    with urllib.request.urlopen(
+        f"{simulator.url}/api/v1/{path}?ClientID=1&ClientTransactionID=1", timeout=10
+    ) as r:
+        return json.loads(r.read())["Value"]
+
+
+def wait(condition: Callable[[], bool], deadline: float, what: str) -> None:
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(1.0)  # polling the command line like a user; bounded by the deadline
+
+
+@pytest.mark.xfail(
+    strict=False,
+    reason="needs issue 25 items 1 and 4 from the other helpers: the scheduler opening its SQLite task "
+    "archive from YAML and keeping its plan there for the mastermind (helper simfiles; today "
+    "`check` refuses scheduler.yaml), tasks reaching the scheduler at once (helper tasks), and a "
+    "killed camera costing no more than its frame (helper faults)",
+)
+def test_first_night_on_alpaca_simulators(night_simulator: AlpacaSimulator, tmp_path: Path) -> None:
+    now = datetime.now(UTC)
+    longitude = evening_longitude(now)
+    directory = tmp_path / "observatory"
+    environment = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}",
+        "NIGHTCREW_SUPERVISOR_SOCKET": str(tmp_path / "supervisor.sock"),
+        "NIGHTCREW_COMM": "operator.yaml",
+    }
+    xmpp_port = free_port()
+    night = Night(tmp_path, environment)
+    night(
+        "init", str(directory), "--non-interactive", "--alpaca", night_simulator.url,
+        "--latitude", str(LATITUDE), "--longitude", str(longitude), "--elevation", "1000",
+        "--xmpp-server", f"127.0.0.1:{xmpp_port}", "--console-port", str(free_port()),
+        "--good-weather-after", "0",
+    )  # fmt: skip
+    night.directory = directory
+    up: subprocess.Popen[bytes] | None = None
+    try:
+        night("check", ".")
+        night(
+            "server",
+            "init",
+            "xmpp",
+            "--port",
+            str(xmpp_port),
+            *sorted(p.name for p in directory.glob("*.yaml")),
+        )
+        night("server", "start", "xmpp")
+        with open(tmp_path / "up.log", "wb") as log:
+            up = subprocess.Popen(
+                [sys.executable, "-m", "nightcrew", "up", "."], cwd=directory, env=environment, stderr=log
+            )
+        deadline = time.monotonic() + NIGHT_TIMEOUT
+        wait(lambda: night.status().get("mastermind", ["", ""])[1] == "running", deadline, "the modules")
+        # Three targets near the zenith: the local sidereal time is the right ascension overhead.
+        lst = float(local_sidereal_time(now.timestamp(), longitude))
+        for number, (offset, filter_name) in enumerate(((-15.0, "Red"), (0.0, "Green"), (15.0, "Blue")), 1):
+            task_file(
+                directory / f"target{number}.yaml",
+                f"field {number}",
+                (lst + offset) % 360,
+                LATITUDE,
+                filter_name,
+            )
+        night("tasks", "--db", "tasks.sqlite", "add", "target1.yaml", "target2.yaml", "target3.yaml")
+        assert set(night.tasks().values()) == {"PENDING"}
+
+        wait(lambda: device(night_simulator, "dome/0/shutterstatus") == 0, deadline, "the dome to open")
+        wait(lambda: len(night.science_frames()) >= 1, deadline, "the first science frame")
+        camera_pid = int(night.status()["camera"][2])
+        os.kill(camera_pid, signal.SIGKILL)  # mid-task: the first target has frames still to take
+        wait(
+            lambda: night.status()["camera"][2] not in ("-", str(camera_pid)),
+            deadline,
+            "the camera's restart",
+        )
+        wait(lambda: set(night.tasks().values()) == {"COMPLETED"}, deadline, "every task done")
+        frames = night.science_frames()
+        assert len(frames) >= 6
+        for frame in frames:
+            header = fits.getheader(frame)
+            assert set(header) >= SCIENCE_HEADERS, (frame.name, SCIENCE_HEADERS - set(header))
+            assert header["IMAGETYP"].lower() == "object" and header["EXPTIME"] == pytest.approx(2.0)
+    finally:
+        if up is not None:
+            up.send_signal(signal.SIGTERM)  # as Ctrl-C or systemd would: modules close, roof and mount first
+            up.wait(timeout=120)
+        if (directory / "xmpp" / "prosody.pid").exists():
+            stop_server(directory / "xmpp")
+    assert up is not None and up.returncode == 0
+    assert device(night_simulator, "dome/0/shutterstatus") == 1  # closed
+    assert device(night_simulator, "telescope/0/atpark") is True
