@@ -25,7 +25,8 @@ from tests.observatory.simulators import run_alpaca_simulators
 
 DEVICES = {"telescope", "camera", "dome", "focuser", "filters", "rotator", "safetymonitor", "conditions"}
 DEVICES |= {"cover", "switch"}
-ROBOTIC = {"weather", "scheduler", "mastermind", "watchdog", "focus", "flatfield", "flatpointing", "console"}
+ROBOTIC = {"weather", "scheduler", "mastermind", "watchdog", "focus", "flatfield", "flatpointing", "pipeline"}
+ROBOTIC |= {"console"}
 SITE = ["--latitude", "48", "--longitude", "8", "--elevation", "1000", "--timezone", "Europe/Berlin"]
 
 

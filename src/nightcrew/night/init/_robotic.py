@@ -141,6 +141,31 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
         left_out["mastermind"] = "needs a telescope, a camera, a roof or dome and a weather verdict"
         left_out["watchdog"] = "watches the mastermind and the weather verdict"
 
+    if camera:
+        images = {"class": "nightcrew.vfs.LocalFile", "root": options.images}
+        modules["pipeline"] = (
+            "The online reduction: every new science frame of the camera calibrated with the newest "
+            "masters in reduced/masters (`nightcrew reduce` makes them), plate-solved with the catalog "
+            "matcher and measured; written to reduced/ as <name>_red.fits. Add `solver_url:` for the "
+            "solving service (`nightcrew solver`) or `solve_field: true` (docs/pipeline.md).",
+            {
+                "class": "nightcrew.modules.image.Pipeline",
+                "masters": "/data/masters",
+                "output": "/data",
+                "sources": [camera],
+                "vfs": {
+                    "class": "nightcrew.vfs.VirtualFileSystem",
+                    "roots": {
+                        "images": images,
+                        "data": {"class": "nightcrew.vfs.LocalFile", "root": "reduced"},
+                    },
+                },
+            },
+            {},
+        )
+    else:
+        left_out["pipeline"] = "needs a camera"
+
     modules["console"] = (
         f"The web console on http://127.0.0.1:{options.console_port}/ (this machine only; put a TLS "
         "proxy in front to reach it from elsewhere). Logins: secrets/console-accounts.yaml.",
