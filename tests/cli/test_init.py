@@ -18,7 +18,7 @@ import yaml
 
 from nightcrew.cli.main import main
 from nightcrew.config import config_files, load_config
-from nightcrew.night.init import FoundDevice, name_by_role
+from nightcrew.night.init import FoundDevice, InitOptions, name_by_role, observatory_files
 from nightcrew.security import load_policy
 from nightcrew.testing.alpaca import AlpacaSimulator
 from tests.observatory.simulators import run_alpaca_simulators
@@ -192,3 +192,21 @@ def test_names_by_role_number_only_where_a_role_repeats() -> None:
     assert list(named) == ["telescope", "camera1", "camera2", "roof"]
     with pytest.raises(ValueError, match="unknown role 'mirror'"):
         device("mirror")
+
+
+def test_robotic_modules_only_where_their_devices_exist() -> None:
+    options = InitOptions(latitude=48.0, longitude=8.0)
+    devices = {
+        "telescope": FoundDevice("telescope", {"class": "t"}, "mount"),
+        "camera": FoundDevice("camera", {"class": "c"}, "ccd"),
+    }
+    layout = observatory_files(options, devices, lambda name: f"pw-{name}")
+    assert layout.modules == ["telescope", "camera", "scheduler", "pipeline", "console"]
+    assert layout.left_out == {
+        "weather": "no safety monitor or weather station found",
+        "focus": "needs a camera and a focuser",
+        "flatfield": "needs a camera, a telescope and a filter wheel that names its filters",
+        "mastermind": "needs a telescope, a camera, a roof or dome and a weather verdict",
+        "watchdog": "watches the mastermind and the weather verdict",
+    }
+    assert yaml.safe_load(layout.files["secrets/camera.yaml"]) == "pw-camera"

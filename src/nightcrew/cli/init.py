@@ -139,10 +139,14 @@ def _answers(args: argparse.Namespace) -> dict[str, Any]:
             raise ConfigError(
                 "name the devices' servers: --alpaca URL, --alpaca-discovery or --indi HOST:PORT"
             )
-        urls = _ask("Alpaca servers (URLs separated by spaces; 'discover' to search the network)", "discover")
+        urls = _ask(
+            "Alpaca servers (URLs separated by spaces; 'discover' to search the network; '-' none)",
+            "discover",
+        )
         args.alpaca_discovery = urls.strip() == "discover"
         args.alpaca = [] if args.alpaca_discovery or urls.strip() == "-" else urls.split()
-        args.indi = _ask("INDI servers (HOST:PORT separated by spaces)", "-").replace("-", " ").split()
+        indi = _ask("INDI servers (HOST:PORT separated by spaces; '-' none)", "-")
+        args.indi = [] if indi.strip() == "-" else indi.split()
     return answers
 
 

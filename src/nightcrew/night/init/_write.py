@@ -39,6 +39,7 @@ def write_directory(directory: Path, files: dict[str, str], *, force: bool = Fal
         for relative, text in files.items():
             _write_file(staging / relative, text, private=relative.startswith(f"{_PRIVATE}/"))
         if not occupied:
+            staging.chmod(0o755)  # mkdtemp's 0700 would hide the directory; secrets/ keeps its own 0700
             if directory.is_dir():
                 directory.rmdir()  # empty: the staging folder takes its place
             staging.replace(directory)
