@@ -21,6 +21,7 @@ from nightcrew.config import config_files, load_config
 from nightcrew.night.init import FoundDevice, InitOptions, name_by_role, observatory_files
 from nightcrew.security import load_policy
 from nightcrew.testing.alpaca import AlpacaSimulator
+from tests.comm.xmpp_servers import require_command
 from tests.observatory.simulators import run_alpaca_simulators
 
 DEVICES = {"telescope", "camera", "dome", "focuser", "filters", "rotator", "safetymonitor", "conditions"}
@@ -94,7 +95,15 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
             "path": "tasks.sqlite",
         }
     assert load_config(directory / "mastermind.yaml")["roof"] == "dome"  # the simulator's dome turns
+    # As the guide does: the server's accounts and certificate, then the check (which finds the files).
+    server_init(directory, monkeypatch)
     check(directory, monkeypatch, but=("scheduler.yaml",))
+
+
+def server_init(directory: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    require_command("prosody", "prosody")
+    monkeypatch.chdir(directory)
+    assert main(["server", "init", "xmpp", *sorted(p.name for p in directory.glob("*.yaml"))]) == 0
 
 
 @pytest.mark.xfail(
@@ -106,7 +115,7 @@ def test_the_whole_directory_passes_check(
     simulator: AlpacaSimulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     assert init(str(tmp_path / "o"), "--non-interactive", "--alpaca", simulator.url, *SITE) == 0
-    monkeypatch.chdir(tmp_path / "o")
+    server_init(tmp_path / "o", monkeypatch)
     assert main(["check", "."]) == 0
 
 

@@ -1,7 +1,7 @@
 """The first night of an observatory written by ``nightcrew init``, on alpaca-simulators and Prosody,
 driven only through the command line as docs/observatory.md tells a user (issue 25, first Done-when).
 
-``nightcrew init --non-interactive`` → ``nightcrew check`` → ``nightcrew server init/start`` →
+``nightcrew init --non-interactive`` → ``nightcrew server init/start`` → ``nightcrew check`` →
 ``nightcrew up`` → three targets with ``nightcrew tasks add`` → the dome opens, science frames with
 full headers are written, the camera module is killed (kill -9 by PID) mid-task and the night goes
 on without dropping a task → ``nightcrew up`` is stopped: the dome closes and the telescope parks.
@@ -162,16 +162,10 @@ def test_first_night_on_alpaca_simulators(night_simulator: AlpacaSimulator, tmp_
     night.directory = directory
     up: subprocess.Popen[bytes] | None = None
     try:
-        night("check", ".")
-        night(
-            "server",
-            "init",
-            "xmpp",
-            "--port",
-            str(xmpp_port),
-            *sorted(p.name for p in directory.glob("*.yaml")),
-        )
+        yaml_files = sorted(p.name for p in directory.glob("*.yaml"))
+        night("server", "init", "xmpp", "--port", str(xmpp_port), *yaml_files)
         night("server", "start", "xmpp")
+        night("check", ".")
         with open(tmp_path / "up.log", "wb") as log:
             up = subprocess.Popen(
                 [sys.executable, "-m", "nightcrew", "up", "."], cwd=directory, env=environment, stderr=log
