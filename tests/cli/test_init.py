@@ -21,8 +21,7 @@ from nightcrew.config import config_files, load_config
 from nightcrew.night.init import FoundDevice, InitOptions, name_by_role, observatory_files
 from nightcrew.security import load_policy
 from nightcrew.testing.alpaca import AlpacaSimulator
-from tests.comm.xmpp_servers import require_command
-from tests.observatory.simulators import run_alpaca_simulators
+from tests.observatory.simulators import run_alpaca_simulators, server_init
 
 DEVICES = {"telescope", "camera", "dome", "focuser", "filters", "rotator", "safetymonitor", "conditions"}
 DEVICES |= {"cover", "switch"}
@@ -98,12 +97,6 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     # As the guide does: the server's accounts and certificate, then the check (which finds the files).
     server_init(directory, monkeypatch)
     check(directory, monkeypatch, but=("scheduler.yaml",))
-
-
-def server_init(directory: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    require_command("prosody", "prosody")
-    monkeypatch.chdir(directory)
-    assert main(["server", "init", "xmpp", *sorted(p.name for p in directory.glob("*.yaml"))]) == 0
 
 
 @pytest.mark.xfail(

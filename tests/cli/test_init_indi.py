@@ -15,6 +15,7 @@ import pytest
 from nightcrew.cli.main import main
 from nightcrew.config import config_files, load_config
 from nightcrew.testing.indi import SIMULATORS, IndiServer, indi_missing
+from tests.observatory.simulators import server_init
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +66,7 @@ def test_init_writes_the_indi_simulators_by_role(
     weather = load_config(directory / "weather.yaml")
     assert list(weather["checks"]) == ["conditions.safe"]  # the INDI weather driver's own verdict
     assert load_config(directory / "mastermind.yaml")["roof"] == "dome"
-    monkeypatch.chdir(directory)
+    server_init(directory, monkeypatch)
     files = [str(p) for p in config_files(["."]) if p.name != "scheduler.yaml"]  # see test_init.py's xfail
     assert main(["check", *files]) == 0
 

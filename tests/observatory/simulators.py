@@ -17,8 +17,9 @@ import pytest
 from nightcrew.cli.main import main
 from nightcrew.testing.alpaca import AlpacaSimulator
 from nightcrew.testing.processes import free_port
+from tests.comm.xmpp_servers import require_command
 
-__all__ = ["require_simulators", "run_alpaca_simulators"]
+__all__ = ["require_simulators", "run_alpaca_simulators", "server_init"]
 
 
 def require_simulators() -> None:
@@ -41,3 +42,11 @@ def run_alpaca_simulators(
         yield simulator
     finally:
         simulator.stop()
+
+
+def server_init(directory: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``nightcrew server init xmpp *.yaml`` in ``directory``, as the guide does (accounts and the
+    certificate the comm names; the server is not started). Skips without Prosody, but not on CI."""
+    require_command("prosody", "prosody")
+    monkeypatch.chdir(directory)
+    assert main(["server", "init", "xmpp", *sorted(p.name for p in directory.glob("*.yaml"))]) == 0
