@@ -76,7 +76,7 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     assert stat.S_IMODE(secrets.stat().st_mode) == 0o700
     passwords = {}
     for name in modules:
-        path = secrets / f"{name}.yaml"
+        path = secrets / f"{name}.password"
         assert stat.S_IMODE(path.stat().st_mode) == 0o600, path
         passwords[name] = yaml.safe_load(path.read_text())
     assert len(set(passwords.values())) == len(passwords)
@@ -120,7 +120,12 @@ def test_an_embedded_observatory_has_no_comm_and_no_secrets(
         init(str(directory), "--non-interactive", "--comm", "embedded", "--alpaca", simulator.url, *SITE) == 0
     )
     assert not (directory / "comm.yaml").exists() and not (directory / "access.policy").exists()
-    assert {p.name for p in (directory / "secrets").iterdir()} == {"console-accounts.yaml"}
+    # Only the people's console passwords: no module logs in anywhere.
+    assert {p.name for p in (directory / "secrets").iterdir()} == {
+        "console-accounts.yaml",
+        "operator.password",
+        "observer.password",
+    }
     assert "comm" not in load_config(directory / "telescope.yaml")
     check(directory, monkeypatch, but=("scheduler.yaml",))
 
@@ -211,4 +216,4 @@ def test_robotic_modules_only_where_their_devices_exist() -> None:
         "mastermind": "needs a telescope, a camera, a roof or dome and a weather verdict",
         "watchdog": "watches the mastermind and the weather verdict",
     }
-    assert yaml.safe_load(layout.files["secrets/camera.yaml"]) == "pw-camera"
+    assert yaml.safe_load(layout.files["secrets/camera.password"]) == "pw-camera"

@@ -22,7 +22,9 @@ __all__ = ["Layout", "observatory_files"]
 
 #: Files that hold passwords: written with mode 0600 (their folder 0700).
 SECRETS = "secrets"
-POLICY = "access.policy"  # not *.yaml: `check` and `up` would take it for a module file
+POLICY = "access.policy"
+#: The people's accounts: the operator may do everything, the observer only read (policy, console).
+PEOPLE = ("operator", "observer")  # not *.yaml: `check` and `up` would take it for a module file
 
 
 @dataclass
@@ -47,10 +49,11 @@ def observatory_files(
     for name, (header, config, fragments) in robotic.items():
         modules[name] = (header, config)
         layout.files.update(fragments)
-    passwords = {name: password_for(name) for name in [*modules, *options.people]} if _xmpp(options) else {}
+    # People always get a password (the console's logins); modules only where they log in (XMPP).
+    accounts = [*modules, *PEOPLE] if _xmpp(options) else list(PEOPLE)
+    passwords = {name: password_for(name) for name in accounts}
     if "console" in modules:
-        hashes = _console_accounts(options, passwords, password_for)
-        layout.files[f"{SECRETS}/console-accounts.yaml"] = hashes
+        layout.files[f"{SECRETS}/console-accounts.yaml"] = _console_accounts(passwords)
     for name, (header, config) in modules.items():
         if _xmpp(options):
             config = {**config, "comm": _module_comm(name, options)}
@@ -59,16 +62,17 @@ def observatory_files(
     if _xmpp(options):
         layout.files["comm.yaml"] = _comm(options)
         layout.files[POLICY] = _policy(options, list(modules))
-        for person in options.people:
+        for person in PEOPLE:
             layout.files[f"{person}.yaml"] = module_text(
                 f"The comm of the person '{person}' for `nightcrew modules|call|events|shell --comm "
                 f"{person}.yaml`, or export NIGHTCREW_COMM={person}.yaml. Not a module.",
                 _module_comm(person, options),
             )
-        for name, password in passwords.items():
-            layout.files[f"{SECRETS}/{name}.yaml"] = module_text(
-                f"The XMPP password of {name}@{options.domain} (random; mode 0600).", password
-            )
+    for name, password in passwords.items():
+        where = f"the XMPP account {name}@{options.domain}" if _xmpp(options) else "the web console"
+        layout.files[f"{SECRETS}/{name}.password"] = module_text(
+            f"The password of '{name}' for {where} (random; mode 0600).", password
+        )
     return layout
 
 
@@ -97,7 +101,7 @@ def _module_comm(name: str, options: InitOptions) -> dict[str, Any]:
     return {
         MERGE: Include("comm.yaml"),
         "jid": f"{name}@{options.domain}",
-        "password": Include(f"{SECRETS}/{name}.yaml"),
+        "password": Include(f"{SECRETS}/{name}.password"),
     }
 
 
@@ -148,25 +152,16 @@ def _policy(options: InitOptions, modules: list[str]) -> str:
     )
 
 
-def _console_accounts(
-    options: InitOptions, passwords: dict[str, str], password_for: Callable[[str], str]
-) -> str:
+def _console_accounts(passwords: dict[str, str]) -> str:
     from nightcrew.security import hash_password
 
-    people = {
-        "operator": passwords.get("operator") or password_for("operator"),
-        "observer": passwords.get("observer") or password_for("observer"),
-    }
     body = {
-        person: {
-            "password_hash": hash_password(password),
-            "role": "operator" if person == "operator" else "viewer",
-        }
-        for person, password in people.items()
+        person: {"password_hash": hash_password(passwords[person]), "role": role}
+        for person, role in (("operator", "operator"), ("observer", "viewer"))
     }
     return module_text(
-        "The web console's logins (hashes only). The passwords are those in secrets/operator.yaml and "
-        "secrets/observer.yaml.",
+        "The web console's logins (hashes only). The passwords are those in secrets/operator.password and "
+        "secrets/observer.password.",
         body,
     )
 

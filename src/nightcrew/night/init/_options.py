@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import zoneinfo
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Literal
 
 from nightcrew.errors import ConfigError
@@ -46,7 +46,6 @@ class InitOptions:
     images: str = "images"
     console_port: int = 37180
     good_weather_after: float = 900.0
-    people: tuple[str, ...] = field(default=("operator", "observer"))
 
     def __post_init__(self) -> None:
         try:
