@@ -85,7 +85,12 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     policy = load_policy(directory / "access.policy")
     assert set(policy.accounts) >= modules
     assert policy.roles_of("observer") == ("observer",) and policy.roles_of("operator") == ("operator",)
-    assert set(policy.events) == {"BadWeatherEvent", "GoodWeatherEvent"}
+    assert set(policy.events) == {
+        "BadWeatherEvent",
+        "GoodWeatherEvent",
+        "SafetyAlarmEvent",
+        "SafetyClearedEvent",
+    }
     # The scheduler and the mastermind share one task archive, relative to the directory.
     for name in ("scheduler", "mastermind"):
         archive = load_config(directory / f"{name}.yaml")["archive"]

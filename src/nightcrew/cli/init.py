@@ -117,8 +117,15 @@ def _init_command(args: argparse.Namespace) -> int:
     print(f"wrote {args.directory}: {', '.join(layout.modules)}")
     for module, why in layout.left_out.items():
         print(f"  no {module}: {why}")
-    start = "nightcrew up ." if options.comm == "xmpp" else "nightcrew run *.yaml"
-    print(f"next: cd {args.directory} && nightcrew check . && {start}   (docs/observatory.md)")
+    steps = ["nightcrew check .", "nightcrew run *.yaml"]
+    if options.comm == "xmpp":
+        steps = [
+            "nightcrew server init xmpp *.yaml",
+            "nightcrew server start xmpp",
+            "nightcrew check .",
+            "nightcrew up .",
+        ]
+    print(f"next (docs/observatory.md): cd {args.directory} && {' && '.join(steps)}")
     return 0
 
 

@@ -24,7 +24,13 @@ __all__ = ["Layout", "observatory_files"]
 SECRETS = "secrets"
 POLICY = "access.policy"
 #: The people's accounts: the operator may do everything, the observer only read (policy, console).
-PEOPLE = ("operator", "observer")  # not *.yaml: `check` and `up` would take it for a module file
+PEOPLE = ("operator", "observer")
+_SAFETY_EVENTS = (
+    "BadWeatherEvent",
+    "GoodWeatherEvent",
+    "SafetyAlarmEvent",
+    "SafetyClearedEvent",
+)  # not *.yaml: `check` and `up` would take it for a module file
 
 
 @dataclass
@@ -140,14 +146,15 @@ def _policy(options: InitOptions, modules: list[str]) -> str:
         },
         "accounts": accounts,
         "safety_roles": ["safety"],
-        "events": {name: ["safety"] for name in ("BadWeatherEvent", "GoodWeatherEvent")},
+        # Events that open, close or clear an alarm: only from the safety modules (docs/security.md).
+        "events": {name: ["safety"] for name in _SAFETY_EVENTS},
         "header_providers": ["modules"],
     }
     return module_text(
         "The access policy every module's comm names (docs/security.md): the observatory's modules may "
-        "call each other, the operator everything, the observer only what reads. Weather verdicts are "
-        "trusted only from the safety modules. YAML, named *.policy so that `nightcrew check` and "
-        "`nightcrew up` do not take it for a module file.",
+        "call each other, the operator everything, the observer only what reads. Weather verdicts and "
+        "safety alarms are trusted only from the safety modules. YAML, named *.policy so that "
+        "`nightcrew check` and `nightcrew up` do not take it for a module file.",
         body,
     )
 
