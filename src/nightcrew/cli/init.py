@@ -20,7 +20,7 @@ import secrets
 from pathlib import Path
 from typing import Any
 
-from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.errors import ConfigError
 
 __all__ = ["add_parser"]
 
@@ -87,6 +87,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 def _init_command(args: argparse.Namespace) -> int:
     from nightcrew.night.init import (
         InitOptions,
+        find_devices,
         name_by_role,
         observatory_files,
         write_directory,
@@ -111,7 +112,12 @@ def _init_command(args: argparse.Namespace) -> int:
     )
     if args.directory.is_dir() and any(args.directory.iterdir()) and not args.force:
         raise ConfigError(f"{args.directory} is not empty; use --force to write into it")
-    devices = name_by_role(asyncio.run(_find(args)))
+    found = asyncio.run(
+        find_devices(
+            args.alpaca, args.indi, alpaca_discovery=args.alpaca_discovery, address=args.alpaca_address
+        )
+    )
+    devices = name_by_role(found)
     layout = observatory_files(options, devices, lambda _name: secrets.token_urlsafe(24))
     write_directory(args.directory, layout.files, force=args.force)
     print(f"wrote {args.directory}: {', '.join(layout.modules)}")
@@ -170,17 +176,3 @@ def _ask(prompt: str, default: str | None) -> str:
         if default is not None:
             return default
     raise ConfigError(f"no answer for '{prompt}'")
-
-
-async def _find(args: argparse.Namespace) -> list[Any]:
-    from nightcrew.night.init import find_alpaca_devices, find_indi_devices, parse_host_port
-
-    found = []
-    if args.alpaca or args.alpaca_discovery:
-        found.extend(await find_alpaca_devices(args.alpaca, address=args.alpaca_address))
-    for server in args.indi:
-        host, port = parse_host_port(server, 7624, "--indi")
-        found.extend(await find_indi_devices(host, port))
-    if not found:
-        raise NightcrewError("no devices found")
-    return found

@@ -1,6 +1,7 @@
 """``nightcrew init``: an observatory directory for real devices, found on Alpaca and INDI servers.
 
-- :mod:`._alpaca`, :mod:`._indi`: what the servers offer, as :class:`FoundDevice` by role;
+- :func:`find_devices` (:mod:`._alpaca`, :mod:`._indi`): what the servers offer, as
+  :class:`FoundDevice` by role;
 - :func:`name_by_role`: module names (``camera``; ``camera1``, ``camera2`` where a role repeats);
 - :func:`observatory_files`: the directory's files (site, comm, policy, secrets, devices, robotic
   modules), pure apart from the passwords it is given;
@@ -11,6 +12,7 @@ walks through it.
 """
 
 from nightcrew.night.init._alpaca import ALPACA_ROLES, find_alpaca_devices, found_on_server
+from nightcrew.night.init._find import find_devices
 from nightcrew.night.init._found import ROLES, FoundDevice, name_by_role
 from nightcrew.night.init._indi import find_indi_devices
 from nightcrew.night.init._layout import Layout, observatory_files
@@ -27,6 +29,7 @@ __all__ = [
     "InitOptions",
     "Layout",
     "find_alpaca_devices",
+    "find_devices",
     "find_indi_devices",
     "found_on_server",
     "module_text",
