@@ -15,7 +15,7 @@ from typing import Any
 
 from nightcrew.night.init._found import FoundDevice
 from nightcrew.night.init._options import InitOptions
-from nightcrew.night.init._robotic import robotic_modules
+from nightcrew.night.init._robotic import images_vfs, robotic_modules
 from nightcrew.night.init._yaml import MERGE, Include, module_text
 
 __all__ = ["Layout", "observatory_files"]
@@ -181,10 +181,7 @@ def _device_config(name: str, device: FoundDevice, options: InitOptions) -> dict
     elif role == "camera":
         config.update(
             site=Include("site.yaml"),
-            vfs={
-                "class": "nightcrew.vfs.VirtualFileSystem",
-                "roots": {"images": {"class": "nightcrew.vfs.LocalFile", "root": options.images}},
-            },
+            vfs=images_vfs(options),
             filename_pattern="/images/{DATE-OBS}-{IMAGETYP}-{FILTER}.fits",
         )
     elif role in ("roof", "dome"):

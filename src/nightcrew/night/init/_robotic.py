@@ -11,7 +11,7 @@ from nightcrew.night.init._found import FoundDevice
 from nightcrew.night.init._options import InitOptions
 from nightcrew.night.init._yaml import Include, module_text
 
-__all__ = ["Modules", "first_of", "robotic_modules"]
+__all__ = ["Modules", "first_of", "images_vfs", "robotic_modules"]
 
 Modules = dict[str, tuple[str, dict[str, Any], dict[str, str]]]
 
@@ -76,7 +76,12 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
     if focuser and camera:
         modules["focus"] = (
             "Finds the best focus from a series of frames (median FWHM of the stars, hyperbola fit).",
-            {"class": "nightcrew.modules.focus.AutoFocusSeries", "camera": camera, "focuser": focuser},
+            {
+                "class": "nightcrew.modules.focus.AutoFocusSeries",
+                "camera": camera,
+                "focuser": focuser,
+                "vfs": images_vfs(options),  # reads the camera's frames
+            },
             {},
         )
     else:
@@ -101,6 +106,7 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
                 "camera": camera,
                 "filters": filters,
                 "pointing": "flatpointing",
+                "vfs": images_vfs(options),  # reads the camera's frames
                 "functions": Include("flat-functions.yaml"),
                 "target": 30000,
                 "min_exposure": 1.0,
@@ -142,7 +148,6 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
         left_out["watchdog"] = "watches the mastermind and the weather verdict"
 
     if camera:
-        images = {"class": "nightcrew.vfs.LocalFile", "root": options.images}
         modules["pipeline"] = (
             "The online reduction: every new science frame of the camera calibrated with the newest "
             "masters in reduced/masters (`nightcrew reduce` makes them), plate-solved with the catalog "
@@ -153,13 +158,7 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
                 "masters": "/data/masters",
                 "output": "/data",
                 "sources": [camera],
-                "vfs": {
-                    "class": "nightcrew.vfs.VirtualFileSystem",
-                    "roots": {
-                        "images": images,
-                        "data": {"class": "nightcrew.vfs.LocalFile", "root": "reduced"},
-                    },
-                },
+                "vfs": images_vfs(options, data="reduced"),
             },
             {},
         )
@@ -176,14 +175,21 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
             "title": options.site_name or "nightcrew observatory",
             "accounts": Include("secrets/console-accounts.yaml"),
             "site": site,
-            "vfs": {
-                "class": "nightcrew.vfs.VirtualFileSystem",
-                "roots": {"images": {"class": "nightcrew.vfs.LocalFile", "root": options.images}},
-            },
+            "vfs": images_vfs(options),
         },
         {},
     )
     return modules, left_out
+
+
+def images_vfs(options: InitOptions, **more: str) -> dict[str, Any]:
+    """The VFS with the camera's root ``images`` (and ``more`` roots: name → local folder), for the
+    modules that read its frames by their VFS paths."""
+    roots = {name: {"class": "nightcrew.vfs.LocalFile", "root": folder} for name, folder in more.items()}
+    return {
+        "class": "nightcrew.vfs.VirtualFileSystem",
+        "roots": {"images": {"class": "nightcrew.vfs.LocalFile", "root": options.images}, **roots},
+    }
 
 
 def _weather(stations: dict[str, FoundDevice], good_after: float) -> dict[str, Any]:
