@@ -6,7 +6,6 @@ Without indi-bin or root the test skips, except under CI=true, where it fails.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -14,24 +13,13 @@ import pytest
 
 from nightcrew.cli.main import main
 from nightcrew.config import config_files, load_config
-from nightcrew.testing.indi import SIMULATORS, IndiServer, indi_missing
-from tests.observatory.simulators import server_init
+from nightcrew.testing.indi import IndiServer
+from tests.observatory.simulators import run_indi_simulators, server_init
 
 
 @pytest.fixture(scope="module")
 def indi_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[IndiServer]:
-    missing = indi_missing()
-    if missing:
-        message = f"INDI tests need: {', '.join(missing)} (make system-deps installs indi-bin)"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message)
-        pytest.skip(message)
-    server = IndiServer(SIMULATORS, log_dir=tmp_path_factory.mktemp("indiserver"))
-    try:
-        server.start()
-        yield server
-    finally:
-        server.stop()
+    yield from run_indi_simulators(tmp_path_factory.mktemp("indiserver"))
 
 
 def test_init_writes_the_indi_simulators_by_role(

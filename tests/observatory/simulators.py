@@ -1,4 +1,4 @@
-"""The simulators an observatory directory is written for in these tests, started as a user would.
+"""The simulators (and the server) an observatory directory is written for in these tests.
 
 alpaca-simulators runs from the config ``nightcrew alpaca simulator DIR`` writes (the offline star
 table included), so its devices, numbers and names are the ones a user meets. Without it installed
@@ -16,10 +16,11 @@ import pytest
 
 from nightcrew.cli.main import main
 from nightcrew.testing.alpaca import AlpacaSimulator
+from nightcrew.testing.indi import SIMULATORS, IndiServer, indi_missing
 from nightcrew.testing.processes import free_port
 from tests.comm.xmpp_servers import require_command
 
-__all__ = ["require_simulators", "run_alpaca_simulators", "server_init"]
+__all__ = ["require_simulators", "run_alpaca_simulators", "run_indi_simulators", "server_init"]
 
 
 def require_simulators() -> None:
@@ -50,3 +51,20 @@ def server_init(directory: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     require_command("prosody", "prosody")
     monkeypatch.chdir(directory)
     assert main(["server", "init", "xmpp", *sorted(p.name for p in directory.glob("*.yaml"))]) == 0
+
+
+def run_indi_simulators(log_dir: Path) -> Iterator[IndiServer]:
+    """indiserver with every indi-bin simulator in a network namespace of its own (reached at
+    ``server.host:server.port`` like a remote server). Skips without indi-bin or root, not on CI."""
+    missing = indi_missing()
+    if missing:
+        message = f"INDI tests need: {', '.join(missing)} (make system-deps installs indi-bin)"
+        if os.environ.get("CI") == "true":
+            pytest.fail(message)
+        pytest.skip(message)
+    server = IndiServer(SIMULATORS, log_dir=log_dir)
+    try:
+        server.start()
+        yield server
+    finally:
+        server.stop()

@@ -22,8 +22,8 @@ import subprocess
 import sys
 import time
 import urllib.request
-from collections.abc import Callable, Iterator
-from datetime import UTC, datetime, timedelta
+from collections.abc import Iterator
+from datetime import UTC, datetime
 from pathlib import Path
 
 import pytest
@@ -35,18 +35,12 @@ from nightcrew.testing.alpaca import AlpacaSimulator
 from nightcrew.testing.processes import free_port
 from tests.comm.xmpp_servers import require_command
 
+from .night import LATITUDE, Night, evening_longitude, task_file, wait
 from .simulators import run_alpaca_simulators
 
 pytestmark = pytest.mark.xmpp
-LATITUDE = 30.0
 NIGHT_TIMEOUT = 900.0  # wall seconds for the whole night on a busy machine (a few minutes when idle)
 SCIENCE_HEADERS = {"DATE-OBS", "EXPTIME", "IMAGETYP", "FILTER", "RA", "DEC", "AIRMASS", "TEL-ALT", "FOCUS"}
-
-
-def evening_longitude(now: datetime) -> float:
-    """The longitude (east, -180..180) where the mean local time is 22:00 at ``now``."""
-    hours = now.hour + now.minute / 60 + now.second / 3600
-    return round((15.0 * (22.0 - hours) + 180.0) % 360.0 - 180.0, 3)
 
 
 @pytest.fixture
@@ -56,82 +50,11 @@ def night_simulator(tmp_path: Path) -> Iterator[AlpacaSimulator]:
     yield from run_alpaca_simulators(tmp_path / "alpaca-sim", latitude=LATITUDE, longitude=longitude)
 
 
-def task_file(path: Path, name: str, ra: float, dec: float, filter_name: str) -> None:
-    now = datetime.now(UTC)
-    window = {
-        "start": (now - timedelta(minutes=10)).isoformat(),
-        "end": (now + timedelta(hours=2)).isoformat(),
-    }
-    group = {
-        "name": name,
-        "proposal": "first-night",
-        "requests": [
-            {
-                "location": {"telescope_class": "0m4"},
-                "windows": [window],
-                "configurations": [
-                    {
-                        "type": "EXPOSE",
-                        "target": {"name": name, "ra": ra, "dec": dec},
-                        "instrument_configs": [
-                            {
-                                "exposure_time": 2,
-                                "exposure_count": 3,
-                                "optical_elements": {"filter": filter_name},
-                            }
-                        ],
-                    }
-                ],
-            }
-        ],
-    }
-    path.write_text(json.dumps(group))
-
-
-class Night:
-    """The command line in the observatory directory, as a user types it."""
-
-    def __init__(self, directory: Path, environment: dict[str, str]) -> None:
-        self.directory = directory
-        self.environment = environment
-
-    def __call__(self, *args: str, check: bool = True) -> str:
-        done = subprocess.run(
-            [sys.executable, "-m", "nightcrew", *args],
-            cwd=self.directory,
-            env=self.environment,
-            capture_output=True,
-            text=True,
-            timeout=120,
-            check=False,
-        )
-        assert not check or done.returncode == 0, f"nightcrew {' '.join(args)}: {done.stdout}{done.stderr}"
-        return done.stdout
-
-    def status(self) -> dict[str, list[str]]:
-        shown = self("status", check=False)
-        return {row.split()[0]: row.split() for row in shown.splitlines()[1:] if row.strip()}
-
-    def tasks(self) -> dict[str, str]:
-        shown = self("tasks", "--db", "tasks.sqlite", "list")
-        return {row.split()[0]: row.split()[1] for row in shown.splitlines()[1:] if row.strip()}
-
-    def science_frames(self) -> list[Path]:
-        images = self.directory / "images"
-        return sorted(images.glob("*-object-*.fits")) if images.is_dir() else []
-
-
 def device(simulator: AlpacaSimulator, path: str) -> object:
     with urllib.request.urlopen(
         f"{simulator.url}/api/v1/{path}?ClientID=1&ClientTransactionID=1", timeout=10
     ) as r:
         return json.loads(r.read())["Value"]
-
-
-def wait(condition: Callable[[], bool], deadline: float, what: str) -> None:
-    while not condition():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(1.0)  # polling the command line like a user; bounded by the deadline
 
 
 @pytest.mark.xfail(
