@@ -57,7 +57,7 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     assert init(str(directory), "--non-interactive", "--alpaca", simulator.url, *SITE) == 0
     out = capsys.readouterr().out
     assert out.startswith(f"wrote {directory}: telescope, camera, dome, ")
-    modules = {p.stem for p in directory.glob("*.yaml")} - {"site", "comm", "flat-functions"}
+    modules = {p.stem for p in directory.glob("*.yaml")} - {"comm"}
     assert modules == DEVICES | ROBOTIC | {"operator", "observer"}
     camera = load_config(directory / "camera.yaml")
     assert (camera["class"], camera["server"], camera["device_number"]) == (
@@ -66,7 +66,7 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
         0,
     )
     assert camera["comm"]["jid"] == "camera@observatory.local"
-    assert dict(load_config(directory / "site.yaml")) == {
+    assert dict(load_config(directory / "shared" / "site.yaml")) == {
         "latitude": 48.0,
         "longitude": 8.0,
         "elevation": 1000.0,
@@ -191,7 +191,7 @@ def test_interactive_init_asks_with_defaults(simulator: AlpacaSimulator, tmp_pat
     )
     assert done.returncode == 0, done.stderr
     assert "Latitude, degrees north: " in done.stdout and "Time zone [UTC]: " in done.stdout
-    site = load_config(directory / "site.yaml")
+    site = load_config(directory / "shared" / "site.yaml")
     assert dict(site) == {"latitude": 51.5, "longitude": 9.9, "elevation": 0.0, "name": "Hill top"}
     assert (directory / "comm.yaml").exists()
 

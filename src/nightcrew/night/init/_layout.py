@@ -47,7 +47,7 @@ def observatory_files(
 ) -> Layout:
     """The directory's files for the named devices (:func:`name_by_role`)."""
     layout = Layout()
-    layout.files["site.yaml"] = _site(options)
+    layout.files["shared/site.yaml"] = _site(options)
     modules: dict[str, tuple[str, dict[str, Any]]] = {
         name: (device.description, _device_config(name, device, options)) for name, device in devices.items()
     }
@@ -96,7 +96,8 @@ def _site(options: InitOptions) -> str:
         body["name"] = options.site_name
     return module_text(
         "Where the observatory stands (degrees north and east, metres). Not a module: a fragment the "
-        "modules needing it include with `site: !include site.yaml`.\n"
+        "modules needing it include with `site: !include shared/site.yaml` (in shared/, so that "
+        "*.yaml are the module files).\n"
         f"Local time zone: {options.timezone} (nightcrew itself works in UTC; logs and FITS headers "
         "are UTC).",
         body,
@@ -177,10 +178,10 @@ def _device_config(name: str, device: FoundDevice, options: InitOptions) -> dict
     config = dict(device.config)
     role = device.role
     if role == "telescope":
-        config.update(site=Include("site.yaml"), min_altitude=options.horizon, park_on_close=True)
+        config.update(site=Include("shared/site.yaml"), min_altitude=options.horizon, park_on_close=True)
     elif role == "camera":
         config.update(
-            site=Include("site.yaml"),
+            site=Include("shared/site.yaml"),
             vfs=images_vfs(options),
             filename_pattern="/images/{DATE-OBS}-{IMAGETYP}-{FILTER}.fits",
         )

@@ -41,7 +41,7 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
     focuser = first_of(devices, "focuser")
     filters = first_of(devices, "filters")
     stations = {name: d for name, d in devices.items() if d.role in ("safetymonitor", "conditions")}
-    site = Include("site.yaml")
+    site = Include("shared/site.yaml")
 
     if stations:
         modules["weather"] = (
@@ -91,7 +91,7 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
     if camera and telescope and filters and flat_filters:
         functions = {name: {"1x1": _FLAT_FUNCTION} for name in flat_filters}
         fragment = {
-            "flat-functions.yaml": module_text(
+            "shared/flat-functions.yaml": module_text(
                 "Exposure time [s] of a twilight flat from the Sun's altitude h [deg], per filter and "
                 "binning: a first guess. Fit yours with `nightcrew flats fit` after the first twilight. "
                 "Not a module: included by flatfield.yaml and by the mastermind's SKY_FLAT script.",
@@ -107,7 +107,7 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
                 "filters": filters,
                 "pointing": "flatpointing",
                 "vfs": images_vfs(options),  # reads the camera's frames
-                "functions": Include("flat-functions.yaml"),
+                "functions": Include("shared/flat-functions.yaml"),
                 "target": 30000,
                 "min_exposure": 1.0,
                 "max_exposure": 60.0,
@@ -237,11 +237,11 @@ def _mastermind(
         scripts["SKY_FLAT"] = {
             "class": "nightcrew.robotic.scripts.SkyFlatScript",
             "flatfield": "flatfield",
-            "functions": Include("flat-functions.yaml"),
+            "functions": Include("shared/flat-functions.yaml"),
         }
     return {
         "class": "nightcrew.modules.robotic.mastermind.Mastermind",
-        "site": Include("site.yaml"),
+        "site": Include("shared/site.yaml"),
         "archive": {"class": "nightcrew.robotic.archives.SqliteTaskArchive", "path": TASKS},
         "roof": roof,
         "telescope": telescope,
