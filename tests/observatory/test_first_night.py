@@ -106,7 +106,7 @@ def test_first_night_on_alpaca_simulators(night_simulator: AlpacaSimulator, tmp_
                 filter_name,
             )
         night("tasks", "--db", "tasks.sqlite", "add", "target1.yaml", "target2.yaml", "target3.yaml")
-        assert set(night.tasks().values()) == {"PENDING"}
+        assert len(night.tasks()) == 3  # stored (and perhaps planned already)
 
         wait(lambda: device(night_simulator, "dome/0/shutterstatus") == 0, deadline, "the dome to open")
         wait(lambda: len(night.science_frames()) >= 1, deadline, "the first science frame")
