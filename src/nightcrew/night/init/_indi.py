@@ -8,7 +8,8 @@ client connects the device, a driver defines too little to tell a roll-off roof 
 
 INDI has no "that was all" message: the server forwards ``getProperties`` to its drivers, each
 answers when it does. So the list is complete once every device seen has defined ``DRIVER_INFO``
-and no new definition came for ``quiet`` wall seconds (bounded by ``within``).
+and no new definition came for ``quiet`` wall seconds (bounded by ``within``). Running drivers
+answer within milliseconds; the 2 s default leaves room for a busy machine.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ _BITS: tuple[tuple[int, str, str], ...] = (
 
 
 async def find_indi_devices(
-    host: str, port: int = 7624, *, within: float = 15.0, quiet: float = 1.0
+    host: str, port: int = 7624, *, within: float = 15.0, quiet: float = 2.0
 ) -> list[FoundDevice]:
     """The devices of the indiserver at ``host:port`` that nightcrew drives.
 
