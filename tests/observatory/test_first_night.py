@@ -57,6 +57,7 @@ def device(simulator: AlpacaSimulator, path: str) -> object:
         return json.loads(r.read())["Value"]
 
 
+@pytest.mark.timeout(1200)  # a night in real time (a few minutes when idle)
 @pytest.mark.xfail(
     strict=False,
     reason="needs issue 25 items 1 and 4 from the other helpers: the scheduler opening its SQLite task "

@@ -52,6 +52,7 @@ async def switch_on(server: IndiServer, device: str, name: str) -> str:
         await client.close()
 
 
+@pytest.mark.timeout(900)  # a night in real time (a few minutes when idle)
 @pytest.mark.xfail(
     strict=False,
     reason="needs issue 25 item 1 from the helper simfiles: the scheduler opening its SQLite task "
