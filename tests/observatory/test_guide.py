@@ -24,7 +24,7 @@ pytestmark = pytest.mark.xmpp
 GUIDE = Path(__file__).resolve().parents[2] / "docs" / "observatory.md"
 
 
-@pytest.mark.timeout(600)  # servers, ten modules and every step of the guide, on a busy machine
+@pytest.mark.timeout(600)  # servers, some twenty modules and every step of the guide, busy machine
 @pytest.mark.xfail(
     strict=False,
     reason="`nightcrew check .` and the scheduler under `nightcrew up` refuse scheduler.yaml's archive "
