@@ -1,5 +1,6 @@
 """Alpaca discovery on loopback: the UDP query finds AlpacaServer, the management API lists its
-devices, and ``nightcrew alpaca discover`` prints them and writes one module file per device.
+devices, and ``nightcrew alpaca discover`` prints them and writes one module file per device that
+exists, named by role as ``nightcrew init`` names them.
 
 All traffic stays on this machine: queries go to the loopback broadcast address 127.255.255.255
 or to 127.0.0.1, to the discovery port the server picked. alpaca-simulators has neither the UDP
@@ -86,15 +87,16 @@ async def test_cli_lists_and_writes_module_files(
     assert f"{served.url}  nightcrew" in out
     assert "  Telescope 0: telescope  [" in out
     files = await asyncio.to_thread(lambda: sorted(p.name for p in tmp_path.glob("*.yaml")))
+    # The served dome is the simulated roll-off roof (CanSetAzimuth false): a roof.
     assert files == [
-        "camera0.yaml",
-        "dome0.yaml",
-        "filterwheel0.yaml",
-        "focuser0.yaml",
-        "safetymonitor0.yaml",
-        "telescope0.yaml",
+        "camera.yaml",
+        "filters.yaml",
+        "focuser.yaml",
+        "roof.yaml",
+        "safetymonitor.yaml",
+        "telescope.yaml",
     ]
-    camera = load_config(tmp_path / "camera0.yaml")
+    camera = load_config(tmp_path / "camera.yaml")
     assert dict(camera) == {
         "class": "nightcrew.modules.alpaca.AlpacaCamera",
         "server": served.url,
@@ -104,14 +106,14 @@ async def test_cli_lists_and_writes_module_files(
     for name in files:
         config = load_config(tmp_path / name)
         validate_config(config, Module)
-        if name != "telescope0.yaml":
+        if name != "telescope.yaml":
             assert isinstance(build_object({**config, "name": name.removesuffix(".yaml")}, Module), Module)
     # Nothing is overwritten: a second run refuses before writing anything.
-    (tmp_path / "dome0.yaml").write_text("# mine\n")
+    (tmp_path / "roof.yaml").write_text("# mine\n")
     code = await asyncio.to_thread(main, [*args, "--write", str(tmp_path)])
     assert code == 2
     assert "not overwriting existing files" in capsys.readouterr().err
-    assert (tmp_path / "dome0.yaml").read_text() == "# mine\n"
+    assert (tmp_path / "roof.yaml").read_text() == "# mine\n"
 
 
 async def test_cli_without_servers_says_so(capsys: pytest.CaptureFixture[str]) -> None:
@@ -132,7 +134,22 @@ def test_cli_finds_the_devices_of_alpaca_simulators(
     assert code == 0, out
     for device in ("Telescope 0", "Camera 0", "Dome 0", "Focuser 0", "FilterWheel 0", "SafetyMonitor 0"):
         assert f"  {device}: " in out
-    telescope = yaml.safe_load((tmp_path / "telescope0.yaml").read_text())
+    # Only the devices that exist (the simulators answer for device 0 of each type, and with an
+    # error for 1..7), one file each, named by role; its dome turns: a dome, not a roof.
+    files = sorted(p.name for p in tmp_path.glob("*.yaml"))
+    assert files == [
+        "camera.yaml",
+        "conditions.yaml",
+        "cover.yaml",
+        "dome.yaml",
+        "filters.yaml",
+        "focuser.yaml",
+        "rotator.yaml",
+        "safetymonitor.yaml",
+        "switch.yaml",
+        "telescope.yaml",
+    ]
+    telescope = yaml.safe_load((tmp_path / "telescope.yaml").read_text())
     assert telescope == {
         "class": "nightcrew.modules.alpaca.AlpacaTelescope",
         "server": alpaca_simulator.url,

@@ -4,8 +4,10 @@ Sends the Alpaca discovery query to ``--address`` (the local network's broadcast
 default; ``127.255.255.255`` for this machine only, or one server's address) and lists every
 server that answers with the devices its management API reports. ``--server URL`` skips the UDP
 query and asks that server directly. With ``--write DIR`` it writes one module file per device
-(``telescope0.yaml``, ``camera0.yaml``, ...: class, ``server`` and ``device_number``), ready for
-``nightcrew run``; existing files are never overwritten.
+that exists, named by role as ``nightcrew init`` names them (``telescope.yaml``, ``camera.yaml``,
+``roof.yaml`` or ``dome.yaml``, ``filters.yaml``, ...; ``camera1.yaml``, ``camera2.yaml`` where a
+role has several): class, ``server`` and ``device_number``, ready for ``nightcrew run``. Existing
+files are never overwritten; ``nightcrew init`` writes a whole observatory directory instead.
 """
 
 from __future__ import annotations
@@ -16,32 +18,16 @@ import sys
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from nightcrew.bridges.alpaca.discovery import (
     DISCOVERY_PORT,
-    ConfiguredDevice,
     ServerInfo,
     describe_server,
     discover_servers,
 )
 from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.night.init import FoundDevice, found_on_server, module_text, name_by_role
 
-__all__ = ["MODULE_CLASSES", "add_parser", "module_config"]
-
-#: Alpaca DeviceType (as the management API spells it) → the nightcrew module class driving it.
-MODULE_CLASSES = {
-    "telescope": "nightcrew.modules.alpaca.AlpacaTelescope",
-    "camera": "nightcrew.modules.alpaca.AlpacaCamera",
-    "dome": "nightcrew.modules.alpaca.AlpacaDome",
-    "focuser": "nightcrew.modules.alpaca.AlpacaFocuser",
-    "filterwheel": "nightcrew.modules.alpaca.AlpacaFilterWheel",
-    "rotator": "nightcrew.modules.alpaca.AlpacaRotator",
-    "safetymonitor": "nightcrew.modules.alpaca.AlpacaSafetyMonitor",
-    "observingconditions": "nightcrew.modules.alpaca.AlpacaObservingConditions",
-    "switch": "nightcrew.modules.alpaca.AlpacaSwitch",
-    "covercalibrator": "nightcrew.modules.alpaca.AlpacaCoverCalibrator",
-}
+__all__ = ["add_parser"]
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -74,15 +60,33 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--write", type=Path, metavar="DIR", help="write one module file per device into DIR"
     )
     discover.set_defaults(func=_discover_command)
+    simulator = commands.add_parser(
+        "simulator",
+        help="set up alpaca-simulators with an offline star table (to try nightcrew without hardware)",
+        description=(
+            "Write DIR/config.yaml for alpaca-simulators (PyPI) and the offline star table its camera "
+            "reads (DIR/gaia_sources.db, from nightcrew's bundled catalogue: Gaia stars to G = 10), so "
+            "its camera shows real stars without the internet. Then run: alpaca-simulators --host "
+            "127.0.0.1 --port 11111 --config DIR/config.yaml"
+        ),
+    )
+    simulator.add_argument("directory", type=Path, metavar="DIR")
+    simulator.add_argument("--latitude", type=float, default=48.0, help="the mount's site (%(default)s)")
+    simulator.add_argument("--longitude", type=float, default=8.0, help="the mount's site (%(default)s)")
+    simulator.add_argument("--elevation", type=float, default=1000.0, help="metres (%(default)s)")
+    simulator.set_defaults(func=_simulator_command)
     return parser
 
 
-def module_config(server: ServerInfo, device: ConfiguredDevice) -> dict[str, Any] | None:
-    """The module configuration driving ``device``, or None for a device type nightcrew lacks."""
-    cls = MODULE_CLASSES.get(device.device_type.lower())
-    if cls is None:
-        return None
-    return {"class": cls, "server": server.url, "device_number": device.number}
+def _simulator_command(args: argparse.Namespace) -> int:
+    from nightcrew.testing.alpaca import TEST_OVERRIDES, merge_config, write_simulator_config
+
+    site = {"sitelatitude": args.latitude, "sitelongitude": args.longitude, "siteelevation": args.elevation}
+    overrides = merge_config(TEST_OVERRIDES, {"devices": {"telescope": {0: site}}})
+    path = write_simulator_config(args.directory, overrides=overrides)
+    print(f"wrote {path} and {args.directory / 'gaia_sources.db'}")
+    print(f"run: alpaca-simulators --host 127.0.0.1 --port 11111 --config {path}")
+    return 0
 
 
 def _discover_command(args: argparse.Namespace) -> int:
@@ -96,7 +100,7 @@ def _discover_command(args: argparse.Namespace) -> int:
     for server in servers:
         print(_describe(server))
     if args.write is not None:
-        for path in _write_configs(servers, args.write):
+        for path in asyncio.run(_write_configs(servers, args.write)):
             print(f"wrote {path}")
     return 0
 
@@ -129,31 +133,26 @@ def _describe(server: ServerInfo) -> str:
     return "\n".join(lines)
 
 
-def _write_configs(servers: list[ServerInfo], directory: Path) -> list[Path]:
+async def _write_configs(servers: list[ServerInfo], directory: Path) -> list[Path]:
     """Write every device's file; refuse before writing anything if one exists already."""
-    planned: dict[Path, tuple[ServerInfo, ConfiguredDevice, dict[str, Any]]] = {}
+    found = []
     for server in servers:
-        for device in server.devices:
-            config = module_config(server, device)
-            if config is None:
-                print(f"skipped {device.device_type} {device.number} at {server.url}: no nightcrew module")
-                continue
-            stem = f"{device.device_type.lower()}{device.number}"
-            path = directory / f"{stem}.yaml"
-            if path in planned:  # a second server with the same kind of device
-                path = directory / f"{stem}-{server.url.rsplit(':', 1)[-1]}.yaml"
-            planned[path] = (server, device, config)
+        found.extend(await found_on_server(server))
+    return await asyncio.to_thread(_write_files, name_by_role(found), directory)
+
+
+def _write_files(devices: dict[str, FoundDevice], directory: Path) -> list[Path]:
+    planned = {directory / f"{name}.yaml": device for name, device in devices.items()}
     existing = [str(path) for path in planned if path.exists()]
     if existing:
         raise ConfigError(f"not overwriting existing files: {', '.join(existing)}")
     directory.mkdir(parents=True, exist_ok=True)
-    for path, (server, device, config) in planned.items():
+    for path, device in planned.items():
         header = (
-            f"# {device.device_type} {device.number} '{device.name}' on the Alpaca server "
-            f"{server.name or server.url} (UniqueID {device.unique_id}),\n"
-            "# written by `nightcrew alpaca discover`. Add the options of the module's base here.\n"
+            f"{device.description},\nwritten by `nightcrew alpaca discover`. "
+            "Add the options of the module's base here."
         )
-        if device.device_type.lower() == "telescope":
-            header += "# A telescope needs the site: site: {latitude: ..., longitude: ..., elevation: ...}\n"
-        path.write_text(header + yaml.safe_dump(config, sort_keys=False), encoding="utf-8")
+        if device.role == "telescope":
+            header += "\nA telescope needs the site: site: {latitude: ..., longitude: ..., elevation: ...}"
+        path.write_text(module_text(header, device.config), encoding="utf-8")
     return list(planned)

@@ -39,6 +39,7 @@ SUBCOMMANDS = [
     "flats",
     "report",
     "alpaca",
+    "init",
     "up",
     "status",
     "start",

@@ -40,6 +40,7 @@ __all__ = [
     "free_port",
     "merge_config",
     "start_simulator",
+    "write_simulator_config",
 ]
 
 #: Changes to alpaca-simulators' template config for tests: short focal length, quick slews.
@@ -207,6 +208,17 @@ def start_simulator(
         overrides: Changes merged into the template config (default :data:`TEST_OVERRIDES`).
         port: TCP port on 127.0.0.1; a free one by default.
     """
+    config_path = write_simulator_config(directory, star_table=star_table, overrides=overrides)
+    simulator = AlpacaSimulator(directory=directory, port=port or free_port(), config_path=config_path)
+    simulator.start()
+    return simulator
+
+
+def write_simulator_config(
+    directory: Path, *, star_table: Path | None = None, overrides: dict[str, Any] | None = None
+) -> Path:
+    """Write alpaca-simulators' ``config.yaml`` into ``directory`` (its template with ``overrides``,
+    default :data:`TEST_OVERRIDES`, and the offline star table, built there if None); its path."""
     directory.mkdir(parents=True, exist_ok=True)
     if star_table is None:
         star_table = build_star_table(directory / "gaia_sources.db")
@@ -215,9 +227,7 @@ def start_simulator(
     config["tap_source"] = os.fspath(star_table)
     config_path = directory / "config.yaml"
     config_path.write_text(yaml.safe_dump(config, sort_keys=False))
-    simulator = AlpacaSimulator(directory=directory, port=port or free_port(), config_path=config_path)
-    simulator.start()
-    return simulator
+    return config_path
 
 
 #: Where alpaca-simulators' telescope stands (its template's site); give nightcrew modules the same.

@@ -267,16 +267,26 @@ _PROBED_NUMBERS = 8
 
 
 async def _probe_devices(client: AlpacaClient) -> tuple[ConfiguredDevice, ...]:
-    """The devices that answer GET name (device 0, 1, ... of each type, until one does not)."""
+    """The devices that exist: device 0, 1, ... of each type, until one does not.
+
+    A device exists when it answers ``GET connected`` (every device type has it, connected or
+    not). A server may answer for numbers it has no device for with an error reply instead of
+    HTTP 404 (alpaca-simulators: "Device camera:1 not found"); that, too, ends the type.
+    """
     found = []
     for device_type in sorted(DEVICE_TYPES):
         for number in range(_PROBED_NUMBERS):
+            device = client.device(device_type, number)
             try:
-                name = await client.device(device_type, number).get("name")
-            except AlpacaReplyError:
-                break  # HTTP 400/404: no such device
+                await device.get("connected")
             except (AlpacaConnectionError, RemoteTimeoutError):
                 raise  # the server, not the device, is the problem
+            except NightcrewError:
+                break  # HTTP 400/404 or an error reply: no such device
+            try:
+                name = await device.get("name")
+            except (AlpacaConnectionError, RemoteTimeoutError):
+                raise
             except NightcrewError:
                 name = ""  # the device exists but will not say its name (e.g. not connected)
             found.append(ConfiguredDevice(str(name), _TYPE_NAMES[device_type], number, ""))

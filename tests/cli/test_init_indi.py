@@ -1,0 +1,67 @@
+"""``nightcrew init DIR --indi HOST:PORT`` against the indi-bin simulators (indiserver in a network
+namespace of its own, reached like a remote server): the directory is written and checked.
+
+Without indi-bin or root the test skips, except under CI=true, where it fails.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from nightcrew.cli.main import main
+from nightcrew.config import config_files, load_config
+from nightcrew.testing.indi import IndiServer
+from tests.observatory.simulators import run_indi_simulators, server_init
+
+
+@pytest.fixture(scope="module")
+def indi_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[IndiServer]:
+    yield from run_indi_simulators(tmp_path_factory.mktemp("indiserver"))
+
+
+def test_init_writes_the_indi_simulators_by_role(
+    indi_server: IndiServer,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    directory = tmp_path / "observatory"
+    site = ["--latitude", "51.5", "--longitude", "9.9"]
+    server = f"{indi_server.host}:{indi_server.port}"
+    assert main(["init", str(directory), "--non-interactive", "--indi", server, *site]) == 0
+    out = capsys.readouterr().out
+    written = out.splitlines()[0].removeprefix(f"wrote {directory}: ").split(", ")
+    assert written[:7] == ["telescope", "camera", "dome", "focuser", "filters", "rotator", "conditions"]
+    expected = {
+        "telescope": "Telescope Simulator",
+        "camera": "CCD Simulator",
+        "dome": "Dome Simulator",
+        "focuser": "Focuser Simulator",
+        "filters": "Filter Simulator",
+        "rotator": "Rotator Simulator",
+        "conditions": "Weather Simulator",
+    }
+    for name, device in expected.items():
+        config = load_config(directory / f"{name}.yaml")
+        assert (config["host"], config["port"], config["device"]) == (
+            indi_server.host,
+            indi_server.port,
+            device,
+        )
+    weather = load_config(directory / "weather.yaml")
+    assert list(weather["checks"]) == ["conditions.safe"]  # the INDI weather driver's own verdict
+    assert load_config(directory / "mastermind.yaml")["roof"] == "dome"
+    server_init(directory, monkeypatch)
+    files = [str(p) for p in config_files(["."]) if p.name != "scheduler.yaml"]  # see test_init.py's xfail
+    assert main(["check", *files]) == 0
+
+
+def test_an_indi_server_that_is_not_there(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    args = ["init", str(tmp_path / "o"), "--non-interactive", "--latitude", "1", "--longitude", "2"]
+    assert main([*args, "--indi", "127.0.0.1:9"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("nightcrew: error: INDI server 127.0.0.1:9: no connection") and "\n" not in err
+    assert list(tmp_path.iterdir()) == []
