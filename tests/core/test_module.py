@@ -16,7 +16,7 @@ from nightcrew.modules import Module
 from nightcrew.modules.module import TRANSITIONS
 from nightcrew.modules.test import StandAlone
 from nightcrew.object import Object
-from nightcrew.testing import wait_for
+from nightcrew.testing import modules_ready, wait_for
 
 
 class Flaky(Module):
@@ -141,9 +141,12 @@ async def test_who_and_how_a_module_is_answers_while_it_is_starting() -> None:
         assert await module.get_version() == __version__
         with pytest.raises(ModuleError, match="module is starting"):
             await module.get_error_string()  # everything else waits for ready
+        assert not await modules_ready(caller, ["starting"])
         child.release.set()
         await asyncio.wait_for(opening, 5)
         assert await module.get_state() is ModuleState.READY
+        assert await modules_ready(caller, ["starting"])
+        assert not await modules_ready(caller, ["starting", "absent"])
         assert await module.get_error_string() == ""
     finally:
         child.release.set()
