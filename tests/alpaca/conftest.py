@@ -65,7 +65,7 @@ def start_alpaca_simulator(
         yield start
     finally:
         for simulator in started:
-            simulator.stop()
+            simulator.stop(grace=1.0)  # a private server: nothing of it is kept
 
 
 @pytest.fixture

@@ -108,12 +108,23 @@ async def test_non_finite_arguments_refused(network: Network, value: float) -> N
         await caller.comm.execute("calc", "add", [value, 1.0])
 
 
-def test_xml_decoder_bounded_by_depth() -> None:
+#: Every depth up to just past the limit, then deep ones around and far past Python's recursion
+#: limit (1000), where a recursive decoder without the bound would raise RecursionError.
+_DEPTHS = [
+    *range(1, MAX_ARGUMENT_DEPTH + 3),
+    100,
+    999,
+    1000,
+    1001,
+    2999,
+    *random.Random(3).sample(range(34, 3000), 8),
+]
+
+
+@pytest.mark.parametrize("kind", ["array", "struct"])
+def test_xml_decoder_bounded_by_depth(kind: str) -> None:
     """A methodCall nested far beyond the limit: CodecError, not a RecursionError."""
-    rng = random.Random(3)
-    for _ in range(2000):
-        depth = rng.randrange(1, 3000)
-        kind = rng.choice(["array", "struct"])
+    for depth in _DEPTHS:
         if kind == "array":
             inner = (
                 "<value><array><data>" * depth

@@ -13,6 +13,7 @@ import pytest
 
 from nightcrew.events import TestEvent
 from nightcrew.modules import Module
+from nightcrew.testing import modules_ready
 
 from .conftest import Network
 from .process_modules import IPointAndShoot
@@ -71,9 +72,10 @@ async def test_two_processes_call_each_other_and_exchange_events(
 
         await operator.comm.register_event(TestEvent, on_test_event)
         deadline = time.monotonic() + 20
-        while not {"telescope", "camera"} <= set(operator.comm.clients):
+        # In the room is not enough: a module joins it before it is ready.
+        while not await modules_ready(operator, ["telescope", "camera"]):
             assert all(p.poll() is None for p in processes), [p.communicate()[1] for p in processes]
-            assert time.monotonic() < deadline, "modules did not come online"
+            assert time.monotonic() < deadline, "modules did not come online and ready"
             await asyncio.sleep(0.1)
 
         mount = await operator.comm.proxy("telescope", IPointAndShoot)

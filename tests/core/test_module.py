@@ -7,13 +7,16 @@ from typing import Any
 
 import pytest
 
+from nightcrew import __version__
 from nightcrew.clock import VirtualClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.errors import ConfigError, InvalidArgumentError, ModuleError
-from nightcrew.interfaces import IConfig, ModuleState
+from nightcrew.interfaces import IConfig, IModule, ModuleState
 from nightcrew.modules import Module
 from nightcrew.modules.module import TRANSITIONS
 from nightcrew.modules.test import StandAlone
+from nightcrew.object import Object
+from nightcrew.testing import modules_ready, wait_for
 
 
 class Flaky(Module):
@@ -109,3 +112,44 @@ async def test_two_modules_with_one_name_cannot_join_a_network() -> None:
             await Module(comm=LocalComm("same", network=network)).open()
     finally:
         await first.close()
+
+
+class _SlowToOpen(Object):
+    """A child whose opening waits for the test: its module stays starting, already on the network."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.release = asyncio.Event()
+
+    async def open(self) -> None:
+        await self.release.wait()
+        await super().open()
+
+
+async def test_who_and_how_a_module_is_answers_while_it_is_starting() -> None:
+    network = LocalNetwork()
+    starting = Module(comm=LocalComm("starting", network=network), label="Slow starter")
+    child = starting.add_child(_SlowToOpen())
+    caller = Module(comm=LocalComm("caller", network=network))
+    await caller.open()
+    opening = asyncio.create_task(starting.open())
+    try:
+        await wait_for(lambda: "starting" in caller.comm.clients, 5, message="the module on the network")
+        module = await caller.comm.proxy("starting", IModule)
+        assert await module.get_state() is ModuleState.STARTING
+        assert await module.get_label() == "Slow starter"
+        assert await module.get_version() == __version__
+        with pytest.raises(ModuleError, match="module is starting"):
+            await module.get_error_string()  # everything else waits for ready
+        assert not await modules_ready(caller, ["starting"])
+        child.release.set()
+        await asyncio.wait_for(opening, 5)
+        assert await module.get_state() is ModuleState.READY
+        assert await modules_ready(caller, ["starting"])
+        assert not await modules_ready(caller, ["starting", "absent"])
+        assert await module.get_error_string() == ""
+    finally:
+        child.release.set()
+        await asyncio.wait_for(opening, 5)
+        await starting.close()
+        await caller.close()

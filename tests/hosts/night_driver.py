@@ -16,8 +16,9 @@ import pytest
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.errors import NightcrewError
-from nightcrew.interfaces import ICamera, IExposureTime, IImageType, ImageType, IModule, IRoof, ITelescope
+from nightcrew.interfaces import ICamera, IExposureTime, IImageType, ImageType, IRoof, ITelescope
 from nightcrew.modules import Module
+from nightcrew.testing import modules_ready
 from tests.hosts.observatory_hosts import Observatory
 
 log = logging.getLogger(__name__)
@@ -42,12 +43,11 @@ class NightDriver:
         while waiting:
             self.observatory.check_alive()
             assert time.monotonic() - started < within, f"not ready in {within:g} s: {sorted(waiting)}"
-            for name in sorted(waiting & set(self.driver.comm.clients)):
+            for name in sorted(waiting):
                 try:
-                    module = await self.driver.comm.proxy(name, IModule)
-                    if str(await asyncio.wait_for(module.get_state(), 5)) == "ready":
+                    if await asyncio.wait_for(modules_ready(self.driver, [name]), 5):
                         waiting.discard(name)
-                except Exception:  # gone again, or a call lost with a connection: ask again
+                except TimeoutError:  # a call lost with a connection: ask again
                     continue
             await asyncio.sleep(0.2)
         return time.monotonic() - started

@@ -40,9 +40,12 @@ CLOCK_START = "2026-11-10T17:50:00"
 CLOCK_SPEED = 20.0
 #: Clock seconds the watchdog lets the weather or the mastermind be silent (20 wall seconds).
 SILENCE_LIMIT = 400
-_OVERLAY = f"comm:\n  <<: !include {EXAMPLES}/sim-processes/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n" + (
-    f"clock: !include {EXAMPLES}/sim-processes/clock.yaml\n"
-)
+#: Wall seconds between the office's XMPP pings and a ping's time to answer (defaults 10 and 10):
+#: the office notices the cut link within 6 s, so a short cut outlasts every limit many times over.
+OFFICE_PINGS = "  ping_interval: 2\n  ping_timeout: 4\n"
+_COMM = f"comm:\n  <<: !include {EXAMPLES}/sim-processes/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
+_CLOCK = f"clock: !include {EXAMPLES}/sim-processes/clock.yaml\n"
+_OVERLAY = _COMM + _CLOCK
 #: Host → module name → the module file's text (most include an example unchanged).
 MODULE_FILES: dict[str, dict[str, str]] = {
     "dome": {
@@ -63,9 +66,13 @@ MODULE_FILES: dict[str, dict[str, str]] = {
         "filters": f"<<: !include {EXAMPLES}/sim-processes/filters.yaml\n",
     },
     "office": {
-        "writer-ssh": f"<<: !include {EXAMPLES}/multi-host/writer-ssh.yaml\n",
-        "writer-smb": f"<<: !include {EXAMPLES}/multi-host/writer-smb.yaml\n",
-        "mastermind": "class: nightcrew.modules.Module\n" + _OVERLAY.format(name="mastermind"),
+        **{
+            name: f"<<: !include {EXAMPLES}/multi-host/{name}.yaml\n" + _COMM.format(name=name) + OFFICE_PINGS
+            for name in ("writer-ssh", "writer-smb")
+        },
+        "mastermind": (
+            "class: nightcrew.modules.Module\n" + _COMM.format(name="mastermind") + OFFICE_PINGS + _CLOCK
+        ),
     },
 }
 MODULES = [name for modules in MODULE_FILES.values() for name in modules]

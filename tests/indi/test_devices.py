@@ -141,7 +141,8 @@ async def test_telescope_speaks_jnow_to_indi_and_j2000_to_nightcrew(indi_server:
     async with Observatory(clock=RealClock()) as obs:
         telescope = await obs.start(IndiTelescope, "telescope", **_at(indi_server, "Telescope Simulator"))
         await telescope.init()
-        ra, dec = telescope._radec_of(50.0, 180.0)
+        # Near the park position (hour angle -6 h, Dec 0): the simulator slews in real time.
+        ra, dec = telescope._radec_of(25.0, 105.0)
         await telescope.move_radec(ra, dec)
         eod = telescope._indi.vector("EQUATORIAL_EOD_COORD")
         expected = j2000_to_of_date(ra, dec, obs.clock.time())
@@ -171,9 +172,9 @@ async def test_motions_by_another_client_are_reported(indi_server: IndiServer) -
             IndiFocuser, "focuser", max_focus=100.0, **_at(indi_server, "Focuser Simulator")
         )
         await telescope.init()
-        await telescope.move_altaz(45.0, 90.0)
+        await telescope.move_altaz(25.0, 95.0)  # short real-time slews, near the park position
         recorder.clear()
-        ra, dec = telescope._radec_of(60.0, 200.0)
+        ra, dec = telescope._radec_of(35.0, 115.0)
         ra_now, dec_now = j2000_to_of_date(ra, dec, obs.clock.time())
         try:
             await other.send(

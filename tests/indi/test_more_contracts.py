@@ -35,6 +35,7 @@ async def _setup(
 
 class TestIndiRotatorContract(RotatorContract):
     timeout = 60.0
+    long_turn = 60.0  # degrees: 6 s at the simulator's 10°/s, long enough to interrupt
 
     @pytest.fixture
     async def contract(self, indi_server: IndiServer) -> AsyncIterator[ContractSetup[Any]]:

@@ -62,7 +62,9 @@ async def test_a_short_sequence_on_indi_devices_only(indi_server: IndiServer) ->
 
         await dome.open_roof()
         await telescope.init()
-        ra, dec = telescope._radec_of(55.0, 135.0)
+        # Near the mount's park position (hour angle -6 h, Dec 0: east on the horizon), so that the
+        # simulator's real-time slew and park are short; 15° from the dome's park azimuth (90°).
+        ra, dec = telescope._radec_of(25.0, 105.0)
         await telescope.move_radec(ra, dec)
         names = await wheel.list_filters()
         await wheel.set_filter(names[2] if await wheel.get_filter() != names[2] else names[3])

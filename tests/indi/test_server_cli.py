@@ -35,6 +35,10 @@ async def test_sim_serves_its_devices_over_indi_while_the_night_runs(tmp_path: P
         "--filters=V",
         "--exposure-time=5",
         "--calibration-frames=0",
+        # The night's work ends 19 clock minutes after its start (15 of them waiting for the
+        # weather to be good long enough); 36 minutes instead of --quick's hour leave a wide margin
+        # at the accelerated clock's 60x.
+        "--hours=0.6",
         f"--indi={port}",
         f"--out={tmp_path / 'night'}",
         stdout=asyncio.subprocess.PIPE,

@@ -28,12 +28,12 @@ from nightcrew.interfaces import (
     IFocuser,
     IImageType,
     ImageType,
-    IModule,
     IRoof,
     ITelescope,
 )
 from nightcrew.modules import Module
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth
+from nightcrew.testing import modules_ready
 
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
@@ -89,10 +89,7 @@ async def wait_until_ready(driver: Module, processes: Processes) -> None:
     while waiting:
         processes.check_alive()
         assert time.monotonic() < deadline, f"not ready within {START_TIMEOUT:g} s: {sorted(waiting)}"
-        for name in sorted(waiting & set(driver.comm.clients)):
-            module = await driver.comm.proxy(name, IModule)
-            if str(await module.get_state()) == "ready":
-                waiting.discard(name)
+        waiting = {name for name in waiting if not await modules_ready(driver, [name])}
         await asyncio.sleep(0.2)
 
 

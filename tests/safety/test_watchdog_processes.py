@@ -21,9 +21,9 @@ from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import MoveError
 from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent
-from nightcrew.interfaces import IModule, IMotion, IRoof, ITelescope, MotionStatus
+from nightcrew.interfaces import IMotion, IRoof, ITelescope, MotionStatus
 from nightcrew.modules import Module
-from nightcrew.testing import wait_for
+from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
 from tests.supervisor.conftest import REPOSITORY, START_TIMEOUT, SupervisedDirectory
 
@@ -100,15 +100,6 @@ async def driver(supervised: SupervisedDirectory, wall_start: str, sim_env: None
         await module.close()
 
 
-async def all_ready(driver: Module) -> bool:
-    for name in MODULES:
-        if name not in driver.comm.clients:
-            return False
-        if str(await (await driver.comm.proxy(name, IModule)).get_state()) != "ready":
-            return False
-    return True
-
-
 async def status_of(driver: Module, name: str) -> MotionStatus:
     return MotionStatus(await (await driver.comm.proxy(name, IMotion)).get_motion_status())
 
@@ -125,7 +116,9 @@ async def test_frozen_mastermind_roof_closed_and_telescope_parked_within_60_cloc
     write_observatory(supervised)
     supervised.up()
     clock = driver.clock
-    await wait_for(lambda: all_ready(driver), START_TIMEOUT * SPEED, clock=clock, message="modules ready")
+    await wait_for(
+        lambda: modules_ready(driver, MODULES), START_TIMEOUT * SPEED, clock=clock, message="modules ready"
+    )
     alarms: list[SafetyAlarmEvent] = []
     cleared = asyncio.Event()
 
@@ -180,7 +173,9 @@ async def test_prosody_killed_roof_closes_by_itself_and_everything_is_back_withi
     write_observatory(supervised, park_when_offline=20)  # 2 wall seconds at this speed
     supervised.up()
     clock = driver.clock
-    await wait_for(lambda: all_ready(driver), START_TIMEOUT * SPEED, clock=clock, message="modules ready")
+    await wait_for(
+        lambda: modules_ready(driver, MODULES), START_TIMEOUT * SPEED, clock=clock, message="modules ready"
+    )
     await open_up(driver)
     prosody = supervised.prosody
     logs = [supervised.log_dir / f"{name}.log" for name in ("roof", "telescope")]
@@ -196,7 +191,7 @@ async def test_prosody_killed_roof_closes_by_itself_and_everything_is_back_withi
     finally:
         prosody.start()
     restarted = time.monotonic()
-    await wait_for(lambda: all_ready(driver), 30 * SPEED, clock=clock, message="modules back")
+    await wait_for(lambda: modules_ready(driver, MODULES), 30 * SPEED, clock=clock, message="modules back")
     back = time.monotonic() - restarted
     assert back <= 10, f"modules back after {back:.1f} s"
     log.info("every module back %.1f s after Prosody's restart", back)

@@ -13,9 +13,8 @@ from pathlib import Path
 import pytest
 
 from nightcrew.comm.xmpp import XmppComm
-from nightcrew.interfaces import IModule
 from nightcrew.modules import Module
-from nightcrew.testing import wait_for
+from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
 
 from .conftest import REPOSITORY, START_TIMEOUT, Prosody
@@ -37,13 +36,6 @@ async def operator(prosody: Prosody) -> AsyncIterator[Module]:
         yield module
     finally:
         await module.close()
-
-
-async def ready(operator: Module, names: set[str]) -> bool:
-    if not names <= set(operator.comm.clients):
-        return False
-    states = [await (await operator.comm.proxy(n, IModule)).get_state() for n in names]
-    return all(str(s) == "ready" for s in states)
 
 
 async def nightcrew(*args: str, env: dict[str, str]) -> tuple[int, str]:
@@ -79,7 +71,9 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
     finally:
         os.close(stderr)
     try:
-        await wait_for(lambda: ready(operator, MODULES), START_TIMEOUT * 2, message="all modules ready")
+        await wait_for(
+            lambda: modules_ready(operator, MODULES), START_TIMEOUT * 2, message="all modules ready"
+        )
         code, shown = await nightcrew("status", env=env)
         assert code == 0, shown
         rows = {line.split()[0]: line.split() for line in shown.splitlines()[1:]}
@@ -88,7 +82,7 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
 
         os.kill(int(rows["filters"][2]), signal.SIGKILL)
         await wait_for(lambda: "filters" not in operator.comm.clients, 30, message="filters gone")
-        await wait_for(lambda: ready(operator, {"filters"}), START_TIMEOUT, message="filters back")
+        await wait_for(lambda: modules_ready(operator, ["filters"]), START_TIMEOUT, message="filters back")
         code, shown = await nightcrew("status", "filters", env=env)
         row = shown.splitlines()[1].split()
         assert (row[0], row[1], row[3]) == ("filters", "running", "1"), shown

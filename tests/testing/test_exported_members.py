@@ -26,6 +26,7 @@ def test_exported_members() -> None:
             "SwitchContract",
             "TelescopeContract",
             "WeatherStationContract",
+            "modules_ready",
             "timed_call",
             "wait_for",
         ]

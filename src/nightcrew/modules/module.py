@@ -36,10 +36,11 @@ TRANSITIONS: dict[ModuleState, frozenset[ModuleState]] = {
     ModuleState.CLOSED: frozenset(),
 }
 
+#: Methods that answer in every state, starting and closing included: a module is in the room
+#: (its presence sent) before it is ready, and asking who and how it is must not race its start.
+_ALWAYS_ANSWERED = frozenset({"get_label", "get_version", "get_state"})
 #: Methods that still answer while the module is in error state.
-_ALLOWED_IN_ERROR = frozenset(
-    {"get_label", "get_version", "get_state", "get_error_string", "reset_error", "get_config_caps"}
-)
+_ALLOWED_IN_ERROR = _ALWAYS_ANSWERED | {"get_error_string", "reset_error", "get_config_caps"}
 _CONFIG_PREFIXES = ("_get_config_options_", "_get_config_", "_set_config_")
 
 
@@ -139,6 +140,8 @@ class Module(Object, IModule, IConfig):
             self._enter(ModuleState.CLOSED)
 
     def _guard_call(self, method: str) -> None:
+        if method in _ALWAYS_ANSWERED:
+            return
         if self._state is ModuleState.ERROR and method not in _ALLOWED_IN_ERROR:
             raise ModuleError(f"module is in error state: {self._error_string}")
         if self._state is not ModuleState.READY and self._state is not ModuleState.ERROR:

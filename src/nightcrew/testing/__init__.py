@@ -59,7 +59,8 @@ is best replaced in the subclass by an override that states why.
 Helpers
 -------
 :class:`Observatory` builds modules on one in-process network with one clock, site and in-memory
-VFS and closes them afterwards; :func:`wait_for` waits for a condition on a clock, bounded;
+VFS and closes them afterwards; :func:`wait_for` waits for a condition on a clock, bounded
+(:func:`modules_ready`: every module named is on the network and ready);
 :class:`EventRecorder` is a module that records the events it hears.
 """
 
@@ -81,7 +82,7 @@ from nightcrew.testing.contracts import (
 )
 from nightcrew.testing.observatory import EPOCH, SITE, Observatory
 from nightcrew.testing.recording import EventRecorder
-from nightcrew.testing.waiting import Condition, wait_for
+from nightcrew.testing.waiting import Condition, modules_ready, wait_for
 
 __all__ = [
     "EPOCH",
@@ -102,6 +103,7 @@ __all__ = [
     "SwitchContract",
     "TelescopeContract",
     "WeatherStationContract",
+    "modules_ready",
     "timed_call",
     "wait_for",
 ]

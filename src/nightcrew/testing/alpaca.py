@@ -174,14 +174,18 @@ class AlpacaSimulator:
         except OSError:
             return "(no log)"
 
-    def stop(self) -> None:
-        """Stop the process we started, by its PID (SIGTERM, then SIGKILL after 10 s)."""
+    def stop(self, grace: float = 10.0) -> None:
+        """Stop the process we started, by its PID (SIGTERM, then SIGKILL after ``grace`` seconds).
+
+        alpaca-simulators exits on SIGTERM only once it has finished computing a frame, an aborted
+        one too: a server whose state is thrown away may be given a short ``grace``.
+        """
         process, self.process = self.process, None
         if process is None or process.poll() is not None:
             return
         process.terminate()
         try:
-            process.wait(timeout=10.0)
+            process.wait(timeout=grace)
         except subprocess.TimeoutExpired:
             process.kill()
             process.wait(timeout=10.0)

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import inspect
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Iterable
 
 from nightcrew.clock import Clock, RealClock, VirtualClock
+from nightcrew.errors import NightcrewError
+from nightcrew.interfaces import IModule, ModuleState
+from nightcrew.modules import Module
 
-__all__ = ["Condition", "wait_for"]
+__all__ = ["Condition", "modules_ready", "wait_for"]
 
 #: Something to wait for: a function returning a bool, or a coroutine function returning one.
 Condition = Callable[[], bool | Awaitable[bool]]
@@ -61,3 +64,24 @@ async def _holds(condition: Condition) -> bool:
     if inspect.isawaitable(result):
         result = await result
     return bool(result)
+
+
+async def modules_ready(caller: Module, names: Iterable[str]) -> bool:
+    """Whether every module in ``names`` is on ``caller``'s network and answers that it is ready.
+
+    A condition for :func:`wait_for`. A module joins the network (an XMPP room) before it is ready,
+    and until then every call but ``get_state``, ``get_label`` and ``get_version`` fails with
+    "module is starting": being among ``caller.comm.clients`` is not enough. A module that leaves
+    or restarts while asked is not ready yet.
+    """
+    online = set(caller.comm.clients)
+    for name in names:
+        if name not in online:
+            return False
+        try:
+            state = await (await caller.comm.proxy(name, IModule)).get_state()
+        except NightcrewError:  # gone again, or the call lost with its connection
+            return False
+        if ModuleState(state) is not ModuleState.READY:
+            return False
+    return True
