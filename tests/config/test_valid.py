@@ -244,6 +244,8 @@ def test_public_api() -> None:
     assert sorted(nightcrew.config.__all__) == [
         "ConfigList",
         "ConfigNode",
+        "DataPath",
+        "InputPath",
         "Location",
         "build_object",
         "config_files",

@@ -36,7 +36,6 @@ from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorde
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
-from nightcrew.robotic.scheduler.adapters import as_schedule_writer
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
@@ -115,10 +114,8 @@ async def run_whole_night(
     result = WholeNight()
     try:
         robotic: dict[str, dict[str, Any]] = {
-            "scheduler": {
-                "archive": NightBlockSource(archive=archive, site=site),
-                "store": as_schedule_writer(archive),
-            },
+            # The scheduler writes its plans into the archive it plans from (its default store).
+            "scheduler": {"archive": NightBlockSource(archive=archive, site=site)},
             "mastermind": {"archive": archive},
             "recorder": {"path": str(out_dir / EVENTS_FILE)},
             **(robotic_overrides or {}),
