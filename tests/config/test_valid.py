@@ -256,6 +256,7 @@ def test_public_api() -> None:
         "parse_data",
         "parse_yaml",
         "to_plain",
+        "unset_variable",
         "validate_config",
     ]
     assert all(hasattr(nightcrew.config, name) for name in nightcrew.config.__all__)

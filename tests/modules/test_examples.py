@@ -1,7 +1,8 @@
 """Every example of the simulated observatory is a valid configuration that builds a module.
 
-The files ship inside the package (``nightcrew/night/observatory/``); ``examples/sim`` is a
-link to that directory, so the examples and what ``nightcrew sim`` runs are the same files.
+The files live in ``examples/observatory``; the package's ``nightcrew/night/observatory`` is a
+link to that directory (a built package holds a copy), so the examples and what ``nightcrew sim``
+runs are the same files.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """``nightcrew sim``: run the simulated observatory through a whole robotic night, fast.
 
-All modules of the bundled observatory (``examples/sim``: weather station, roof, telescope,
+All modules of the bundled observatory (``examples/observatory``: weather station, roof, telescope,
 focuser, filter wheel, camera, and in ``robotic/`` the weather verdict, scheduler, mastermind,
 focus series, flat fields, acquisition, guiding, seeing and a recorder) run in this process on one
 virtual clock (it jumps ahead whenever everything waits, so the same options and ``--seed``

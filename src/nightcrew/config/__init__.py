@@ -32,6 +32,7 @@ from typing import Any
 
 from nightcrew.config._builder import build_object, to_plain
 from nightcrew.config._discovery import config_files
+from nightcrew.config._env import unset_variable
 from nightcrew.config._hints import describe_value
 from nightcrew.config._loader import load_file
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location
@@ -55,6 +56,7 @@ __all__ = [
     "parse_data",
     "parse_yaml",
     "to_plain",
+    "unset_variable",
     "validate_config",
 ]
 
