@@ -29,8 +29,7 @@ from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, 
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.night.blocks import NightBlockSource
-from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, images_vfs, park_and_close
+from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, data_environ, images_vfs, park_and_close
 from nightcrew.night.plan import one_window_each, samples_for_night, survey_groups
 from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
@@ -45,6 +44,8 @@ log = logging.getLogger(__name__)
 
 #: The recorder's file in the output directory.
 EVENTS_FILE = "events.jsonl"
+#: The task archive in the output directory (robotic/scheduler.yaml and mastermind.yaml name it).
+TASKS_FILE = "tasks.sqlite"
 #: The frames' directory in the output directory.
 FRAMES = "frames"
 #: Clock seconds between two looks of the watcher (progress line, new plans into the record).
@@ -108,27 +109,22 @@ async def run_whole_night(
     if tasks is None:
         samples = samples_for_night(load_samples(), night, site)
         tasks = [*(part for group in samples for part in one_window_each(group)), *survey_groups(night)]
-    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, tasks)
+    # The scheduler and the mastermind open the archive their files name in $OBSERVATORY_DATA.
+    await _fill_archive(out_dir / TASKS_FILE, clock, tasks)
     vfs = images_vfs(out_dir / FRAMES)  # the modules share it; closed here, after them
     opened: list[Module] = []
     result = WholeNight()
     try:
-        robotic: dict[str, dict[str, Any]] = {
-            # The scheduler writes its plans into the archive it plans from (its default store).
-            "scheduler": {"archive": NightBlockSource(archive=archive, site=site)},
-            "mastermind": {"archive": archive},
-            "recorder": {"path": str(out_dir / EVENTS_FILE)},
-            **(robotic_overrides or {}),
-        }
         common: dict[str, Any] = {
             "clock": clock,
             "vfs": vfs,
             "seed": seed,
             "network": network,
+            "environ": data_environ(out_dir),
         }
         modules = [
             *build_observatory(directory, overrides=device_overrides, **common),
-            *build_observatory(directory / ROBOTIC, overrides=robotic, **common),
+            *build_observatory(directory / ROBOTIC, overrides=robotic_overrides, **common),
             *(extra_modules(network) if extra_modules is not None else []),
         ]
         recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
@@ -144,7 +140,6 @@ async def run_whole_night(
         await _stop_safely(watcher, opened)
         result.tasks_started = watcher.tasks_started
         await vfs.close()
-        await archive.close()
     return result
 
 
@@ -161,17 +156,19 @@ def _the(modules: list[Module], kind: type[M]) -> M:
 def _blocking_clear_records(out_dir: Path) -> None:
     """Make ``out_dir``; remove the records and frames of an earlier night there."""
     (out_dir / FRAMES).mkdir(parents=True, exist_ok=True)
-    for old in [*out_dir.glob("tasks.sqlite*"), out_dir / EVENTS_FILE, *(out_dir / FRAMES).glob("*.fits")]:
+    for old in [*out_dir.glob(TASKS_FILE + "*"), out_dir / EVENTS_FILE, *(out_dir / FRAMES).glob("*.fits")]:
         old.unlink(missing_ok=True)
 
 
-async def _fresh_archive(path: Path, clock: Clock, tasks: Sequence[RequestGroup]) -> SqliteTaskArchive:
-    """A new archive at ``path`` holding ``tasks``."""
+async def _fill_archive(path: Path, clock: Clock, tasks: Sequence[RequestGroup]) -> None:
+    """A new archive at ``path`` holding ``tasks`` (as ``nightcrew tasks add`` would store them)."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    for group in tasks:
-        await archive.add_request_group(group)
-    return archive
+    try:
+        for group in tasks:
+            await archive.add_request_group(group)
+    finally:
+        await archive.close()
 
 
 async def _stop_safely(watcher: Module, opened: list[Module]) -> None:

@@ -7,7 +7,6 @@ list and the weather, which :func:`night_setup` decides.
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import json
 import sys
@@ -18,7 +17,6 @@ from datetime import UTC, date, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
-from nightcrew.cli._running import quiet_module_logs, stop_on_signals
 from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import load_config, to_plain
@@ -42,7 +40,9 @@ from nightcrew.night.engine import (
     run_whole_night,
 )
 from nightcrew.night.fields import choose_targets, night_start, quick_groups
+from nightcrew.night.options import SimOptions
 from nightcrew.night.plan import night_span, weather_scenario
+from nightcrew.night.running import quiet_module_logs, stop_on_signals
 from nightcrew.report import describe_frames, read_night, write_report
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
@@ -56,7 +56,7 @@ __all__ = [
     "indi_server",
     "night_setup",
     "night_speed",
-    "run_night_command",
+    "run_night",
     "run_one_night",
     "sim_clock",
 ]
@@ -87,20 +87,20 @@ class NightSetup:
     weather: str
 
 
-def run_night_command(args: argparse.Namespace) -> int:
-    directory: Path = args.configs or bundled_observatory()
+def run_night(options: SimOptions) -> int:
+    directory: Path = options.configs or bundled_observatory()
     site = observatory_site(directory)
-    setup = night_setup(args, site, args.date)
-    if args.archive:
-        from nightcrew.cli._sim_archive import clear_archive_products
+    setup = night_setup(options, site, options.date)
+    if options.archive:
+        from nightcrew.night.archive import clear_archive_products
 
-        clear_archive_products(args.out)
-    with quiet_module_logs(args.verbose or args.debug):
-        result, wall = run_one_night(directory, args, site, setup, args.out, _printer(sys.stderr))
+        clear_archive_products(options.out)
+    with quiet_module_logs(options.show_logs):
+        result, wall = run_one_night(directory, options, site, setup, options.out, _printer(sys.stderr))
     # The files the night wrote, not the NewImageEvents: focus and acquisition frames are not announced.
-    recorded = read_night(args.out)
-    report = write_report(args.out, night=recorded)
-    pace = describe_pace(night_speed(args))
+    recorded = read_night(options.out)
+    report = write_report(options.out, night=recorded)
+    pace = describe_pace(night_speed(options))
     state = "night complete" if result.completed else "night stopped early"
     print(
         f"{state}: {describe_frames(recorded.frames)}, {result.tasks_started} tasks started, "
@@ -108,68 +108,68 @@ def run_night_command(args: argparse.Namespace) -> int:
         f"(night of {setup.night}, {setup.start:%H:%M}-{setup.end:%H:%M} UTC {pace}; "
         f"{wall:.1f} s wall time)"
     )
-    print(f"  frames, events.jsonl, tasks.sqlite in {args.out}")
+    print(f"  frames, events.jsonl, tasks.sqlite in {options.out}")
     print(f"  night report: {report}")
-    if args.archive:
-        from nightcrew.cli._sim_archive import archive_and_show
+    if options.archive:
+        from nightcrew.night.archive import archive_and_show
 
-        with quiet_module_logs(args.verbose or args.debug):
-            archived = archive_and_show(args.out)
+        with quiet_module_logs(options.show_logs):
+            archived = archive_and_show(options.out)
         if not archived:
             return 1
     return 0 if result.completed else 130
 
 
-def night_setup(args: argparse.Namespace, site: Site, night: date) -> NightSetup:
+def night_setup(options: SimOptions, site: Site, night: date) -> NightSetup:
     """The span, tasks and weather of ``night`` under the command's options."""
-    if args.quick:
+    if options.quick:
         start = end = night_start(night, site)
     else:
         try:
             start, end = night_span(night, site)
         except ValueError as exc:
             raise ConfigError(f"night of {night}: {exc}") from exc
-    if args.start is not None:
-        day = night if args.start.hour >= 12 else night + timedelta(days=1)
-        start = datetime.combine(day, args.start, tzinfo=UTC)
-        if not args.quick and not start < end:
-            raise ConfigError(f"--start {args.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
-    if args.quick:
-        end = start + timedelta(hours=args.hours or QUICK_HOURS)
-    elif args.hours is not None:
-        end = min(end, start + timedelta(hours=args.hours))
-    tasks = _quick_tasks(args, site, start, end) if args.quick else None
-    weather = args.weather or ("clear" if args.quick else "interruption")
+    if options.start is not None:
+        day = night if options.start.hour >= 12 else night + timedelta(days=1)
+        start = datetime.combine(day, options.start, tzinfo=UTC)
+        if not options.quick and not start < end:
+            raise ConfigError(f"--start {options.start:%H:%M} is after dawn ({end:%H:%M} UTC)")
+    if options.quick:
+        end = start + timedelta(hours=options.hours or QUICK_HOURS)
+    elif options.hours is not None:
+        end = min(end, start + timedelta(hours=options.hours))
+    tasks = _quick_tasks(options, site, start, end) if options.quick else None
+    weather = options.weather or ("clear" if options.quick else "interruption")
     return NightSetup(night=night, start=start, end=end, tasks=tasks, weather=weather)
 
 
-def _quick_tasks(args: argparse.Namespace, site: Site, start: datetime, end: datetime) -> list[RequestGroup]:
-    filters = [name.strip() for name in args.filters.split(",") if name.strip()]
+def _quick_tasks(options: SimOptions, site: Site, start: datetime, end: datetime) -> list[RequestGroup]:
+    filters = [name.strip() for name in options.filters.split(",") if name.strip()]
     if not filters:
-        raise ConfigError(f"--filters {args.filters!r}: name at least one filter")
-    wheel = (args.configs or bundled_observatory()) / "filters.yaml"
+        raise ConfigError(f"--filters {options.filters!r}: name at least one filter")
+    wheel = (options.configs or bundled_observatory()) / "filters.yaml"
     known = [str(name) for name in load_config(wheel).get("filters", [])] if wheel.is_file() else []
     unknown = [name for name in filters if known and name not in known]
     if unknown:
         # Said before the night starts, not as a task failing at the telescope.
         raise ConfigError(f"--filters: unknown filter {unknown[0]!r}; known filters: {', '.join(known)}")
     try:
-        targets = choose_targets(site, start.timestamp(), args.targets)
+        targets = choose_targets(site, start.timestamp(), options.targets)
     except ValueError as exc:
-        raise ConfigError(f"--date {args.date}: {exc}") from exc
+        raise ConfigError(f"--date {options.date}: {exc}") from exc
     return quick_groups(
         targets,
         filters,
-        args.exposure_time,
+        options.exposure_time,
         start=start,
         end=end,
-        calibration_frames=args.calibration_frames,
+        calibration_frames=options.calibration_frames,
     )
 
 
 def run_one_night(
     directory: Path,
-    args: argparse.Namespace,
+    options: SimOptions,
     site: Site,
     setup: NightSetup,
     out: Path,
@@ -181,12 +181,12 @@ def run_one_night(
 
     ``seed`` (default ``--seed``) seeds the devices, the weather among them.
     """
-    seed = args.seed if seed is None else seed
+    seed = options.seed if seed is None else seed
     duration = (setup.end - setup.start).total_seconds()
     # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
     devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
     robotic = _robotic_overrides(directory, seed)
-    clock = sim_clock(setup.start, night_speed(args))
+    clock = sim_clock(setup.start, night_speed(options))
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
     async def night() -> WholeNight:
@@ -204,7 +204,7 @@ def run_one_night(
                 tasks=setup.tasks,
                 progress=progress,
                 stop=stop,
-                extra_modules=_extras(args, clock, site, out / FRAMES),
+                extra_modules=_extras(options, clock, site, out / FRAMES),
             )
 
     try:
@@ -217,13 +217,13 @@ def run_one_night(
     return result, wall
 
 
-def night_speed(args: argparse.Namespace) -> float | None:
+def night_speed(options: SimOptions) -> float | None:
     """``--speed``; None: the virtual clock. A night watched live (``--indi``, ``--console``) runs
     an accelerated clock by default, as a virtual one would be over before a client looked."""
-    speed: float | None = args.speed
-    if speed is not None or (args.indi is None and args.console is None):
+    speed: float | None = options.speed
+    if speed is not None or (options.indi is None and options.console is None):
         return speed
-    return QUICK_WATCH_SPEED if args.quick else NIGHT_WATCH_SPEED
+    return QUICK_WATCH_SPEED if options.quick else NIGHT_WATCH_SPEED
 
 
 def sim_clock(start: datetime, speed: float | None) -> Clock:
@@ -244,8 +244,7 @@ def _device_overrides(
     station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
     if seed is not None:
         station["seed"] = seed
-    # Start near the best focus (25 mm + the temperature's shift): the focus series then brackets it.
-    return {"weather": station, "camera": {"detector": detector}, "focuser": {"focus": 25.0}}
+    return {"weather": station, "camera": {"detector": detector}}
 
 
 def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
@@ -268,12 +267,12 @@ def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:
 
 
 def _indi(
-    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+    options: SimOptions, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--indi PORT``: the IndiServer serving the night's devices."""
-    if args.indi is None:
+    if options.indi is None:
         return None
-    port: int = args.indi
+    port: int = options.indi
     return lambda network: [indi_server(port, network=network, clock=clock, frames=frames, site=site)]
 
 
@@ -300,36 +299,36 @@ def indi_server(port: int, *, network: LocalNetwork, clock: Clock, frames: Path,
 
 
 def _console(
-    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+    options: SimOptions, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--console [PORT]``: the web console watching the night."""
-    if args.console is None:
+    if options.console is None:
         return None
-    from nightcrew.cli.console import sim_console  # aiohttp and the console only when asked for
+    from nightcrew.night.console import sim_console  # aiohttp and the console only when asked for
 
-    return sim_console(args.console, clock=clock, site=site, images=frames)
+    return sim_console(options.console, clock=clock, site=site, images=frames)
 
 
 def _pipeline(
-    args: argparse.Namespace, clock: Clock, frames: Path
+    options: SimOptions, clock: Clock, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """With ``--archive``: the Pipeline reducing the night's object frames next to ``frames``."""
-    if not getattr(args, "archive", False):
+    if not options.archive:
         return None
-    from nightcrew.cli._sim_pipeline import sim_pipeline
+    from nightcrew.night.pipeline import sim_pipeline
 
     return sim_pipeline(frames.parent, clock=clock)
 
 
 def _extras(
-    args: argparse.Namespace, clock: Clock, site: Site, frames: Path
+    options: SimOptions, clock: Clock, site: Site, frames: Path
 ) -> Callable[[LocalNetwork], list[Module]] | None:
     """The servers the options ask for (INDI, console), built on the night's network, and with
     ``--archive`` the pipeline."""
     wanted = (
-        _indi(args, clock, site, frames),
-        _console(args, clock, site, frames),
-        _pipeline(args, clock, frames),
+        _indi(options, clock, site, frames),
+        _console(options, clock, site, frames),
+        _pipeline(options, clock, frames),
     )
     builders = [build for build in wanted if build is not None]
     if not builders:
