@@ -27,11 +27,13 @@ from nightcrew.night.build import (
     CAMERA,
     FILTERS,
     FOCUSER,
+    FRAMES,
     ROOF,
     SIM_RPC_GRACE,
     TELESCOPE,
     build_observatory,
     bundled_observatory,
+    data_environ,
     images_vfs,
     observatory_site,
     park_and_close,
@@ -68,8 +70,12 @@ def serve_alpaca(options: SimOptions) -> int:
 async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) -> None:
     assert options.alpaca is not None  # checked by serve_alpaca
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
-    vfs = images_vfs(options.out)  # the one VFS of the observatory: the server reads the camera's frames
-    modules = build_observatory(directory, clock=clock, vfs=vfs, seed=options.seed, network=network)
+    # The VFS of the modules without their own: the server reads the camera's frames from it.
+    vfs = images_vfs(options.out / FRAMES)
+    environ = data_environ(options.out)
+    modules = build_observatory(
+        directory, clock=clock, vfs=vfs, seed=options.seed, network=network, environ=environ
+    )
     devices: dict[str, str | list[str]] = {
         "telescope": TELESCOPE,
         "camera": CAMERA,
@@ -81,7 +87,7 @@ async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) 
         devices["observingconditions"] = STATION
     safety = directory / "robotic" / f"{SAFETY}.yaml"
     if safety.is_file():
-        config = load_config(safety)
+        config = load_config(safety, environ=environ)
         validate_config(config, Module)
         config.update({"comm": LocalComm(SAFETY, network=network), "clock": clock, "vfs": vfs})
         modules.append(build_object(config, Module))

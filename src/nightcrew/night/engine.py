@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import date, datetime
 from pathlib import Path
@@ -29,7 +29,15 @@ from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, 
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, data_environ, images_vfs, park_and_close
+from nightcrew.night.build import (
+    FRAMES,
+    SIM_RPC_GRACE,
+    build_observatory,
+    data_environ,
+    images_vfs,
+    options_directory,
+    park_and_close,
+)
 from nightcrew.night.plan import one_window_each, samples_for_night, survey_groups
 from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
@@ -46,8 +54,6 @@ log = logging.getLogger(__name__)
 EVENTS_FILE = "events.jsonl"
 #: The task archive in the output directory (robotic/scheduler.yaml and mastermind.yaml name it).
 TASKS_FILE = "tasks.sqlite"
-#: The frames' directory in the output directory.
-FRAMES = "frames"
 #: Clock seconds between two looks of the watcher (progress line, new plans into the record).
 _WATCH_INTERVAL_S = 30.0
 #: Where the robotic modules' files are, below the observatory's directory.
@@ -92,15 +98,17 @@ async def run_whole_night(
     tasks: Sequence[RequestGroup] | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
-    extra_modules: Callable[[LocalNetwork], list[Module]] | None = None,
+    extras: Collection[str] = (),
+    environ: Mapping[str, str] | None = None,
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
 
     ``tasks`` replaces the night's task list (default: the samples and the survey), e.g. with the
     short list of ``--quick``.
 
-    ``extra_modules`` builds more modules on the night's network (e.g. an IndiServer, the web
-    console), opened after the others and closed before them.
+    ``extras`` names module files of :func:`~nightcrew.night.build.options_directory` to add (an
+    IndiServer, the web console, the pipeline: what options of ``nightcrew sim`` ask for), opened
+    after the others and closed before them; ``environ`` adds to the variables the files read.
     """
     await asyncio.to_thread(_blocking_clear_records, out_dir)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
@@ -120,12 +128,12 @@ async def run_whole_night(
             "vfs": vfs,
             "seed": seed,
             "network": network,
-            "environ": data_environ(out_dir),
+            "environ": {**data_environ(out_dir), **(environ or {})},
         }
         modules = [
             *build_observatory(directory, overrides=device_overrides, **common),
             *build_observatory(directory / ROBOTIC, overrides=robotic_overrides, **common),
-            *(extra_modules(network) if extra_modules is not None else []),
+            *(build_observatory(options_directory(directory), names=extras, **common) if extras else []),
         ]
         recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
         for module in [watcher, *modules]:

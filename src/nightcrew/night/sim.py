@@ -11,29 +11,19 @@ import asyncio
 import json
 import sys
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, timedelta
 from pathlib import Path
 from typing import Any, TextIO
 
 from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
-from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
-from nightcrew.modules import Module
 from nightcrew.night.build import (
-    CAMERA,
-    FILTERS,
-    FOCUSER,
-    IMAGES_ROOT,
-    ROOF,
-    TELESCOPE,
     bundled_observatory,
     observatory_site,
 )
 from nightcrew.night.engine import (
-    FRAMES,
     NightProgress,
     ProgressCallback,
     WholeNight,
@@ -46,14 +36,12 @@ from nightcrew.night.running import quiet_module_logs, stop_on_signals
 from nightcrew.report import describe_frames, read_night, write_report
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
-from nightcrew.vfs import LocalFile, VirtualFileSystem
 
 __all__ = [
     "NIGHT_CAMERA",
     "QUICK_HOURS",
     "WALL_TIME_FILE",
     "NightSetup",
-    "indi_server",
     "night_setup",
     "night_speed",
     "run_night",
@@ -187,6 +175,7 @@ def run_one_night(
     devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
     robotic = _robotic_overrides(directory, seed)
     clock = sim_clock(setup.start, night_speed(options))
+    extras, environ = _extras(options)
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
     async def night() -> WholeNight:
@@ -204,7 +193,8 @@ def run_one_night(
                 tasks=setup.tasks,
                 progress=progress,
                 stop=stop,
-                extra_modules=_extras(options, clock, site, out / FRAMES),
+                extras=extras,
+                environ=environ,
             )
 
     try:
@@ -266,74 +256,19 @@ def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:
     path.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
 
 
-def _indi(
-    options: SimOptions, clock: Clock, site: Site, frames: Path
-) -> Callable[[LocalNetwork], list[Module]] | None:
-    """With ``--indi PORT``: the IndiServer serving the night's devices."""
-    if options.indi is None:
-        return None
-    port: int = options.indi
-    return lambda network: [indi_server(port, network=network, clock=clock, frames=frames, site=site)]
-
-
-def indi_server(port: int, *, network: LocalNetwork, clock: Clock, frames: Path, site: Site) -> Module:
-    """An IndiServer for the simulated observatory's devices, on ``network``, loopback ``port``.
-
-    ``frames`` is the directory the camera writes to (its VFS root ``images``), from which the
-    server reads the FITS files it sends as BLOBs.
-    """
-    from nightcrew.modules.indi.server import IndiServer
-
-    return IndiServer(
-        port=port,
-        telescope=TELESCOPE,
-        camera=CAMERA,
-        focuser=FOCUSER,
-        filters=FILTERS,
-        dome=ROOF,
-        comm=LocalComm("indi", network=network),
-        clock=clock,
-        site=site,
-        vfs=VirtualFileSystem({IMAGES_ROOT: LocalFile(str(frames))}),
-    )
-
-
-def _console(
-    options: SimOptions, clock: Clock, site: Site, frames: Path
-) -> Callable[[LocalNetwork], list[Module]] | None:
-    """With ``--console [PORT]``: the web console watching the night."""
-    if options.console is None:
-        return None
-    from nightcrew.night.console import sim_console  # aiohttp and the console only when asked for
-
-    return sim_console(options.console, clock=clock, site=site, images=frames)
-
-
-def _pipeline(
-    options: SimOptions, clock: Clock, frames: Path
-) -> Callable[[LocalNetwork], list[Module]] | None:
-    """With ``--archive``: the Pipeline reducing the night's object frames next to ``frames``."""
-    if not options.archive:
-        return None
-    from nightcrew.night.pipeline import sim_pipeline
-
-    return sim_pipeline(frames.parent, clock=clock)
-
-
-def _extras(
-    options: SimOptions, clock: Clock, site: Site, frames: Path
-) -> Callable[[LocalNetwork], list[Module]] | None:
-    """The servers the options ask for (INDI, console), built on the night's network, and with
-    ``--archive`` the pipeline."""
-    wanted = (
-        _indi(options, clock, site, frames),
-        _console(options, clock, site, frames),
-        _pipeline(options, clock, frames),
-    )
-    builders = [build for build in wanted if build is not None]
-    if not builders:
-        return None
-    return lambda network: [module for build in builders for module in build(network)]
+def _extras(options: SimOptions) -> tuple[list[str], dict[str, str]]:
+    """The option files the options ask for (options/indi.yaml, console.yaml, pipeline.yaml) and
+    the variables they read."""
+    extras, environ = [], {}
+    if options.indi is not None:
+        extras.append("indi")
+        environ["SIM_INDI_PORT"] = str(options.indi)
+    if options.console is not None:
+        extras.append("console")
+        environ["SIM_CONSOLE_PORT"] = str(options.console)
+    if options.archive:
+        extras.append("pipeline")
+    return extras, environ
 
 
 def _printer(stream: TextIO) -> ProgressCallback:
