@@ -73,3 +73,20 @@ def test_an_invalid_task_file_is_one_line_naming_file_and_field(
     assert main(["check", str(tmp_path)]) == 2
     error = capsys.readouterr().err
     assert error.count("\n") == 1 and error.startswith(f"{tmp_path}/tasks.yaml: ") and "colour" in error
+
+
+def test_a_problem_in_a_fragment_is_one_line_naming_the_files_that_include_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "xmpp.yaml").write_text(
+        "class: nightcrew.comm.xmpp.XmppComm\npassword: secret\nca_file: certs/observatory.crt\n",
+        encoding="utf-8",
+    )
+    for name in ("roof", "telescope", "camera"):
+        comm = f"comm:\n  <<: !include xmpp.yaml\n  jid: {name}@obs.local\n"
+        (tmp_path / f"{name}.yaml").write_text(f"class: nightcrew.modules.test.StandAlone\n{comm}", encoding="utf-8")
+    assert main(["check", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == (
+        f"{tmp_path}/xmpp.yaml:3: key 'comm.ca_file': file {tmp_path}/certs/observatory.crt not found "
+        f"(included from {tmp_path}/camera.yaml, {tmp_path}/roof.yaml and 1 more)\n"
+    )

@@ -12,9 +12,10 @@ directory stands for every ``*.yaml``/``*.yml`` below it (recursively), each che
   files that include it, not on its own.
 
 Prints ``OK FILE`` for every valid file and one ``FILE:LINE: key 'x': message`` line (on stderr)
-for every invalid one; a file of none of these kinds is listed as ``SKIP FILE`` with the reason.
-The variables the files need and the environment lacks are named on one line, with the files
-that read them. Exits 0 when all are valid, else 2.
+for every invalid one (a problem in a fragment once, naming the files that include it); a file of
+none of these kinds is listed as ``SKIP FILE`` with the reason. The variables the files need and
+the environment lacks are named on one line, with the files that read them. Exits 0 when all are
+valid, else 2.
 """
 
 from __future__ import annotations
@@ -94,6 +95,8 @@ def run_check(args: argparse.Namespace) -> int:
         return 2
     all_valid = True
     unset: dict[str, list[Path]] = {}  # variable -> files that need it
+    # A problem in a fragment is told once, with the files that include it.
+    in_fragments: dict[tuple[str, int | None, str], tuple[ConfigError, list[Path]]] = {}
     for path in files:
         try:
             kind = check_any(path)
@@ -106,8 +109,10 @@ def run_check(args: argparse.Namespace) -> int:
             variable = unset_variable(exc.message)
             if variable is not None:
                 unset.setdefault(variable, []).append(path)
+            elif exc.file and os.path.normpath(exc.file) != os.path.normpath(path):
+                in_fragments.setdefault((exc.file, exc.line, exc.message), (exc, []))[1].append(path)
             else:
-                print(_located(exc, path), file=sys.stderr)
+                print(f"{path}: {exc}" if not exc.file else exc, file=sys.stderr)
         except NightcrewError as exc:  # a task file or a policy: their errors name the file
             if getattr(args, "debug", False):
                 raise
@@ -115,6 +120,8 @@ def run_check(args: argparse.Namespace) -> int:
             print(str(exc) if str(path) in str(exc) else f"{path}: {exc}", file=sys.stderr)
         else:
             print(f"OK {path}" + (f" ({kind})" if kind else ""))
+    for exc, paths in in_fragments.values():
+        print(f"{exc} (included from {_few(paths)})", file=sys.stderr)
     if unset:
         needed = "; ".join(f"{name} (for {_few(paths)})" for name, paths in unset.items())
         print(f"set {needed}", file=sys.stderr)
@@ -128,15 +135,6 @@ def _few(paths: list[Path]) -> str:
 
 class _NotChecked(Exception):
     """A file that is none of the kinds ``check`` knows."""
-
-
-def _located(exc: ConfigError, path: Path) -> str:
-    """The error's line; when it lies in an included file, also which checked file it belongs to."""
-    if not exc.file:
-        return f"{path}: {exc}"
-    if os.path.normpath(exc.file) != os.path.normpath(path):
-        return f"{exc} (included from {path})"
-    return str(exc)
 
 
 def _is_task_data(value: object) -> bool:
