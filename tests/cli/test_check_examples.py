@@ -83,8 +83,8 @@ def test_a_problem_in_a_fragment_is_one_line_naming_the_files_that_include_it(
         encoding="utf-8",
     )
     for name in ("roof", "telescope", "camera"):
-        comm = f"comm:\n  <<: !include xmpp.yaml\n  jid: {name}@obs.local\n"
-        (tmp_path / f"{name}.yaml").write_text(f"class: nightcrew.modules.test.StandAlone\n{comm}", encoding="utf-8")
+        module = "class: nightcrew.modules.test.StandAlone\ncomm:\n  <<: !include xmpp.yaml\n"
+        (tmp_path / f"{name}.yaml").write_text(f"{module}  jid: {name}@obs.local\n", encoding="utf-8")
     assert main(["check", str(tmp_path)]) == 2
     assert capsys.readouterr().err == (
         f"{tmp_path}/xmpp.yaml:3: key 'comm.ca_file': file {tmp_path}/certs/observatory.crt not found "

@@ -120,8 +120,8 @@ def run_check(args: argparse.Namespace) -> int:
             print(str(exc) if str(path) in str(exc) else f"{path}: {exc}", file=sys.stderr)
         else:
             print(f"OK {path}" + (f" ({kind})" if kind else ""))
-    for exc, paths in in_fragments.values():
-        print(f"{exc} (included from {_few(paths)})", file=sys.stderr)
+    for problem, paths in in_fragments.values():
+        print(f"{problem} (included from {_few(paths)})", file=sys.stderr)
     if unset:
         needed = "; ".join(f"{name} (for {_few(paths)})" for name, paths in unset.items())
         print(f"set {needed}", file=sys.stderr)
