@@ -4,10 +4,15 @@ nightcrew.night from the options)."""
 from __future__ import annotations
 
 import argparse
+import shutil
 from datetime import date, time
 from pathlib import Path
 
+import pytest
+
 from nightcrew.cli import sim
+from nightcrew.cli.main import main
+from nightcrew.night.build import bundled_observatory
 from nightcrew.night.options import SimOptions
 
 
@@ -46,3 +51,21 @@ def test_every_argument_lands_in_its_option() -> None:
         archive=True,
         show_logs=True,
     )
+
+
+def test_a_directory_whose_scheduler_names_another_archive_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    observatory = tmp_path / "observatory"
+    shutil.copytree(bundled_observatory(), observatory)
+    scheduler = observatory / "robotic" / "scheduler.yaml"
+    scheduler.write_text(
+        scheduler.read_text(encoding="utf-8").replace("${OBSERVATORY_DATA:-..}/tasks.sqlite", "tasks.sqlite"),
+        encoding="utf-8",
+    )
+    out = tmp_path / "night"
+    assert main(["sim", "--quick", "--configs", str(observatory), "--out", str(out)]) == 2
+    error = capsys.readouterr().err
+    assert error.count("\n") == 1, error
+    assert f"the scheduler's task archive is {observatory}/robotic/tasks.sqlite, not the night's" in error
+    assert "(path: ${OBSERVATORY_DATA}/tasks.sqlite)" in error

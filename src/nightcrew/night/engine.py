@@ -28,8 +28,9 @@ from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
-from nightcrew.modules.robotic import SchedulerModule
+from nightcrew.modules.robotic import Mastermind, SchedulerModule
 from nightcrew.night.build import (
+    DATA_VARIABLE,
     FRAMES,
     SIM_RPC_GRACE,
     build_observatory,
@@ -136,6 +137,7 @@ async def run_whole_night(
             *(build_observatory(options_directory(directory), names=extras, **common) if extras else []),
         ]
         recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
+        _check_archives(modules, out_dir / TASKS_FILE)
         for module in [watcher, *modules]:
             await module.open()
             opened.append(module)
@@ -159,6 +161,21 @@ def _the(modules: list[Module], kind: type[M]) -> M:
             f"the robotic night needs exactly one {kind.__name__} in {ROBOTIC}/, found {len(found)}"
         )
     return found[0]
+
+
+def _check_archives(modules: list[Module], filled: Path) -> None:
+    """ConfigError unless the scheduler and the mastermind name the archive the night filled: an
+    observatory directory whose files name another would run an empty night (or someone's tasks)."""
+    for module in modules:
+        if isinstance(module, SchedulerModule | Mastermind):
+            archive = module.task_archive
+            path = archive.path if isinstance(archive, SqliteTaskArchive) else None
+            if path is None or path.resolve() != filled.resolve():
+                raise ConfigError(
+                    f"the {module.name}'s task archive is {path or type(archive).__name__}, not the night's "
+                    f"{filled}: name it as {ROBOTIC}/{module.name}.yaml of the bundled observatory does "
+                    f"(path: ${{{DATA_VARIABLE}}}/{TASKS_FILE})"
+                )
 
 
 def _blocking_clear_records(out_dir: Path) -> None:

@@ -242,6 +242,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
 
     # --- life cycle and events -----------------------------------------------------------------
 
+    @property
+    def task_archive(self) -> TaskArchive:
+        """Where the tasks come from and their fate goes."""
+        return self._archive
+
     async def open(self) -> None:
         await self._archive_option.open()
         await super().open()

@@ -205,6 +205,11 @@ class SchedulerModule(Module, IRoboticScheduler):
         )
         return schedule
 
+    @property
+    def task_archive(self) -> TaskArchive | None:
+        """The task archive the blocks come from, where it is one (or a block source wraps one)."""
+        return self._archive_option.archive
+
     async def get_plan(self) -> Plan | None:
         return self._plan
 
