@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
-from nightcrew.config import load_config, to_plain
+from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
 from nightcrew.night.build import (
     bundled_observatory,
@@ -38,7 +38,7 @@ from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
 __all__ = [
-    "NIGHT_CAMERA",
+    "NIGHT_CAMERA_PX",
     "QUICK_HOURS",
     "WALL_TIME_FILE",
     "NightSetup",
@@ -53,8 +53,9 @@ __all__ = [
 WALL_TIME_FILE = "wall-time.json"
 
 #: The camera of the whole night renders a quarter of the chip (1024 x 1024 px at 1.16"/px, a
-#: 20' field): every frame is still rendered and written, four times faster and smaller.
-NIGHT_CAMERA: dict[str, Any] = {"chip_width": 1024, "chip_height": 1024}
+#: 20' field; camera.yaml reads it from $SIM_CHIP_PX): every frame is still rendered and written,
+#: four times faster and smaller.
+NIGHT_CAMERA_PX = 1024
 
 #: Clock seconds per wall second of a night watched live without ``--speed``: the quick night, and
 #: the whole night (14.4 h in under 3 minutes).
@@ -172,10 +173,10 @@ def run_one_night(
     seed = options.seed if seed is None else seed
     duration = (setup.end - setup.start).total_seconds()
     # --quick keeps the full chip: its few frames then span 40', which solve-field's Tycho-2 index solves.
-    devices = _device_overrides(directory, setup.weather, duration, seed, quarter_chip=setup.tasks is None)
-    robotic = _robotic_overrides(directory, seed)
+    devices = _device_overrides(setup.weather, duration, seed)
     clock = sim_clock(setup.start, night_speed(options))
     extras, environ = _extras(options)
+    environ.update(_night_environ(seed, quarter_chip=setup.tasks is None))
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
     async def night() -> WholeNight:
@@ -188,7 +189,6 @@ def run_one_night(
                 end=setup.end,
                 out_dir=out,
                 device_overrides=devices,
-                robotic_overrides=robotic,
                 seed=seed,
                 tasks=setup.tasks,
                 progress=progress,
@@ -226,27 +226,22 @@ def describe_pace(speed: float | None) -> str:
     return "on virtual time" if speed is None else f"at {speed:g}x"
 
 
-def _device_overrides(
-    directory: Path, weather: str, duration: float, seed: int | None, *, quarter_chip: bool
-) -> dict[str, dict[str, Any]]:
-    camera = load_config(directory / "camera.yaml") if (directory / "camera.yaml").is_file() else {}
-    detector = {**to_plain(camera.get("detector") or {}), **(NIGHT_CAMERA if quarter_chip else {})}
+def _device_overrides(weather: str, duration: float, seed: int | None) -> dict[str, dict[str, Any]]:
+    """The weather station's scenario for the night (made from ``weather`` and the night's length)."""
     station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
     if seed is not None:
         station["seed"] = seed
-    return {"weather": station, "camera": {"detector": detector}}
+    return {"weather": station}
 
 
-def _robotic_overrides(directory: Path, seed: int | None) -> dict[str, dict[str, Any]]:
-    """With ``seed``, the acquisition's catalog follows the camera's new synthetic stars."""
-    path = directory / "robotic" / "acquisition.yaml"
-    if seed is None or not path.is_file():
-        return {}
-    pipeline = to_plain(load_config(path).get("pipeline") or {})
-    for step in pipeline.get("steps", []):
-        if isinstance(step, dict) and "catalog_seed" in step:
-            step["catalog_seed"] = seed
-    return {"acquisition": {"pipeline": pipeline}}
+def _night_environ(seed: int | None, *, quarter_chip: bool) -> dict[str, str]:
+    """The variables the observatory's files read for a night: the camera's chip (a whole night
+    reads out a quarter of it, :data:`NIGHT_CAMERA_PX`) and, with ``seed``, the seed the
+    acquisition's catalog follows (the camera's synthetic stars)."""
+    environ = {"SIM_CHIP_PX": str(NIGHT_CAMERA_PX)} if quarter_chip else {}
+    if seed is not None:
+        environ["SIM_SEED"] = str(seed)
+    return environ
 
 
 def _write_wall_time(path: Path, clock: Clock, wall: float, cpu: float) -> None:
