@@ -33,7 +33,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from nightcrew.cli._sim_night import WALL_TIME_FILE
+from nightcrew.night.sim import WALL_TIME_FILE
 from nightcrew.report import acquisitions, night_numbers, night_site, read_night, time_budget
 
 #: Targets of the issue: a 10-hour night within this wall time and peak memory.

@@ -29,7 +29,7 @@ import time
 from datetime import date, timedelta
 from pathlib import Path
 
-from nightcrew.cli._sim_season import NIGHT_ROW
+from nightcrew.night.season import NIGHT_ROW
 from nightcrew.report import season_night_from, season_summary, season_table
 
 #: The goals of the season (issue 15).

@@ -244,6 +244,8 @@ def test_public_api() -> None:
     assert sorted(nightcrew.config.__all__) == [
         "ConfigList",
         "ConfigNode",
+        "DataPath",
+        "InputPath",
         "Location",
         "build_object",
         "config_files",
@@ -254,6 +256,7 @@ def test_public_api() -> None:
         "parse_data",
         "parse_yaml",
         "to_plain",
+        "unset_variable",
         "validate_config",
     ]
     assert all(hasattr(nightcrew.config, name) for name in nightcrew.config.__all__)

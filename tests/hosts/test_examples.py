@@ -10,9 +10,11 @@ from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.modules import Module
 from nightcrew.vfs import SMBFile, SSHFile
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "multi-host"
+REPOSITORY = Path(__file__).resolve().parents[2]
+EXAMPLES = REPOSITORY / "examples" / "multi-host"
 ENVIRONMENT = {
     "SIM_XMPP_PASSWORD": "pw",
+    "SIM_XMPP_CA_FILE": str(REPOSITORY / "pyproject.toml"),  # any file: building checks it exists
     "NC_FILECACHE_TOKEN": "cache-token",
     "NC_FILECACHE_URL": "http://10.0.0.2:37081",
     "NC_SSH_HOST": "dome.example",

@@ -84,8 +84,11 @@ def test_sim_refuses_a_port_that_is_no_port() -> None:
     assert "--indi: not a port number (0..65535): 70000" in result.stderr
 
 
-def test_the_example_server_config_checks() -> None:
-    env = {**os.environ, "SIM_XMPP_PASSWORD": "example"}  # the tutorial's accounts share one password
+def test_the_example_server_config_checks(tmp_path: Path) -> None:
+    # The tutorial's accounts share one password; its certificate is what `nightcrew server init` writes.
+    certificate = tmp_path / "observatory.local.crt"
+    certificate.write_text("a certificate\n", encoding="utf-8")
+    env = {**os.environ, "SIM_XMPP_PASSWORD": "example", "SIM_XMPP_CA_FILE": str(certificate)}
     path = REPOSITORY / "examples" / "indi" / "server.yaml"
     result = subprocess.run(
         [*NIGHTCREW, "check", str(path)], capture_output=True, text=True, env=env, timeout=120, check=False

@@ -1,7 +1,8 @@
 """Every example of the simulated observatory is a valid configuration that builds a module.
 
-The files ship inside the package (``nightcrew/night/observatory/``); ``examples/sim`` is a
-link to that directory, so the examples and what ``nightcrew sim`` runs are the same files.
+The files live in ``examples/observatory``; the package's ``nightcrew/night/observatory`` is a
+link to that directory (a built package holds a copy), so the examples and what ``nightcrew sim``
+runs are the same files.
 """
 
 from __future__ import annotations
@@ -18,8 +19,11 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 EXAMPLES = config_files([bundled_observatory()])
 
 
-def test_examples_sim_is_the_bundled_observatory() -> None:
-    assert (REPOSITORY / "examples" / "sim").resolve() == bundled_observatory().resolve()
+def test_examples_observatory_is_the_bundled_observatory() -> None:
+    observatory = REPOSITORY / "examples" / "observatory"
+    assert observatory.is_dir() and not observatory.is_symlink()  # the one source
+    assert bundled_observatory().resolve() == observatory.resolve()
+    assert (REPOSITORY / "examples" / "sim").resolve() == observatory.resolve()  # the older name
 
 
 def test_there_is_an_example_for_every_sim_device() -> None:

@@ -21,7 +21,11 @@ from .conftest import REPOSITORY, START_TIMEOUT, Prosody
 
 pytestmark = pytest.mark.xmpp
 EXAMPLE = REPOSITORY / "examples" / "sim-processes"
-MODULES = {"camera", "filters", "focuser", "roof", "telescope", "weather", "watchdog"}
+DEVICES = {"camera", "filters", "focuser", "roof", "telescope", "weather", "watchdog"}
+#: examples/observatory/robotic, each a process too (test_observatory_up.py gives them a task).
+ROBOTIC = {"safety", "scheduler", "mastermind", "focus", "flatfield", "flatpointing", "acquisition"}
+ROBOTIC |= {"guiding", "seeing", "recorder"}
+MODULES = DEVICES | ROBOTIC
 
 
 @pytest.fixture
@@ -59,6 +63,7 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
         "SIM_XMPP_ROOM": "simproc",
         "SIM_XMPP_CA_FILE": str(prosody.ca_file),
         "SIM_IMAGES": str(tmp_path / "images"),
+        "OBSERVATORY_DATA": str(tmp_path / "data"),
         "NIGHTCREW_SUPERVISOR_SOCKET": str(socket),
     }
     log = tmp_path / "supervisor.log"

@@ -1,6 +1,6 @@
 """``nightcrew sim``: run the simulated observatory through a whole robotic night, fast.
 
-All modules of the bundled observatory (``examples/sim``: weather station, roof, telescope,
+All modules of the bundled observatory (``examples/observatory``: weather station, roof, telescope,
 focuser, filter wheel, camera, and in ``robotic/`` the weather verdict, scheduler, mastermind,
 focus series, flat fields, acquisition, guiding, seeing and a recorder) run in this process on one
 virtual clock (it jumps ahead whenever everything waits, so the same options and ``--seed``
@@ -23,18 +23,18 @@ Progress is shown on stderr, a summary on stdout.
 from __future__ import annotations
 
 import argparse
+from dataclasses import fields
 from datetime import date
 from datetime import time as time_of_day
 from pathlib import Path
 from typing import Any
 
-from nightcrew.errors import ConfigError
+from nightcrew.night.options import DEFAULT_NIGHT, SimOptions
 from nightcrew.night.plan import WEATHER_SCENARIOS
 
-__all__ = ["DEFAULT_NIGHT", "add_parser"]
+__all__ = ["DEFAULT_NIGHT", "add_parser", "sim_options"]
 
-#: A moonless autumn night (new moon on 2026-11-09) with Cygnus and Cassiopeia high after dusk.
-DEFAULT_NIGHT = "2026-11-10"
+_OPTION_NAMES = [field.name for field in fields(SimOptions)]
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -47,7 +47,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         default=Path("sim-output"),
         help="output directory: frames, events.jsonl, tasks.sqlite, report.html",
     )
-    parser.add_argument("--date", type=_night, default=_night(DEFAULT_NIGHT), help="night (YYYY-MM-DD)")
+    parser.add_argument("--date", type=_night, default=DEFAULT_NIGHT, help="night (YYYY-MM-DD)")
     parser.add_argument(
         "--speed",
         type=_positive,
@@ -147,20 +147,15 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def _sim_command(args: argparse.Namespace) -> int:
-    # The heavier imports (the observatory, the engine) only for the mode that runs.
-    if args.alpaca is not None:
-        from nightcrew.cli._sim_alpaca import serve_alpaca_command
+    from nightcrew.night.run import run_sim  # the engine's imports only when it runs
 
-        return serve_alpaca_command(args)
-    if args.archive and args.nights > 1:
-        raise ConfigError("--archive archives one night; leave out --nights")
-    if args.nights > 1:
-        from nightcrew.cli._sim_season import run_season_command
+    return run_sim(sim_options(args))
 
-        return run_season_command(args)
-    from nightcrew.cli._sim_night import run_night_command
 
-    return run_night_command(args)
+def sim_options(args: argparse.Namespace) -> SimOptions:
+    """The parsed arguments as the options :func:`~nightcrew.night.options.run_sim` takes."""
+    values = {name: getattr(args, name) for name in _OPTION_NAMES if name != "show_logs"}
+    return SimOptions(**values, show_logs=bool(args.verbose or getattr(args, "debug", False)))
 
 
 def _night(text: str) -> date:

@@ -12,6 +12,7 @@ from typing import Any
 
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.rpc import fault_from_exception
+from nightcrew.config import DataPath, InputPath
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.security import Policy
 
@@ -98,8 +99,8 @@ class LocalComm(Comm):
         name: str,
         *,
         network: LocalNetwork | None = None,
-        policy: str | Policy | None = None,
-        audit: str | None = None,
+        policy: InputPath | Policy | None = None,
+        audit: DataPath | None = None,
     ) -> None:
         self._network = network or LocalNetwork.default()
         super().__init__(rpc_grace=self._network.rpc_grace, policy=policy, audit=audit)

@@ -32,9 +32,11 @@ from typing import Any
 
 from nightcrew.config._builder import build_object, to_plain
 from nightcrew.config._discovery import config_files
+from nightcrew.config._env import unset_variable
 from nightcrew.config._hints import describe_value
 from nightcrew.config._loader import load_file
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location
+from nightcrew.config._paths import DataPath, InputPath
 from nightcrew.config._validator import is_secret_key, iter_problems
 from nightcrew.config._yaml import load_data_file, parse_data, parse_yaml
 from nightcrew.errors import ConfigError
@@ -42,6 +44,8 @@ from nightcrew.errors import ConfigError
 __all__ = [
     "ConfigList",
     "ConfigNode",
+    "DataPath",
+    "InputPath",
     "Location",
     "build_object",
     "config_files",
@@ -52,6 +56,7 @@ __all__ = [
     "parse_data",
     "parse_yaml",
     "to_plain",
+    "unset_variable",
     "validate_config",
 ]
 

@@ -5,7 +5,9 @@ member a value is for), and converts where a hint asks for it: a description bec
 an ``int`` for ``float`` a float, a list for ``tuple``/``set`` a tuple/set, a name or value for an
 ``Enum`` its member. Located nodes become plain dicts and lists, so constructors get ordinary data.
 Values for parameters without a hint (or typed ``Any``/``dict``) are passed as data: a description
-there is not built (the receiving class may build it itself with :func:`build_object`). So is a
+there is not built (the receiving class may build it itself with :func:`build_object`). A
+parameter hinted as a path (:mod:`._paths`) gets a relative value read against the folder of the
+file it is written in, and an input path that does not exist is refused. So is a
 description for a parameter the class lists in ``config_builds_itself`` (validated like any other):
 the class builds it, and owns and closes what it built (:class:`~nightcrew.object.Object`'s
 ``vfs``), while an object handed to it ready-made stays its maker's.
@@ -14,6 +16,7 @@ the class builds it, and owns and closes what it built (:class:`~nightcrew.objec
 from __future__ import annotations
 
 import collections.abc
+import os
 import typing
 from collections.abc import Mapping
 from enum import Enum
@@ -29,6 +32,7 @@ from nightcrew.config._hints import (
     unwrap,
 )
 from nightcrew.config._nodes import ConfigNode, Location, join_key, location_in
+from nightcrew.config._paths import PathRole, resolve_path
 from nightcrew.config._validator import enum_member, iter_problems, preferred_member
 from nightcrew.errors import ConfigError
 
@@ -74,8 +78,12 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
             kwargs[key] = value
         elif key != "class":
             parameter = parameters.get(key)
+            location = location_in(node, key, owner)
+            if parameter is not None and parameter.path_role is not None and isinstance(value, str):
+                kwargs[key] = _file_path(value, parameter.path_role, join_key(prefix, key), location)
+                continue
             hint = parameter.hint if parameter else Any
-            kwargs[key] = _build_value(value, hint, join_key(prefix, key), location_in(node, key, owner))
+            kwargs[key] = _build_value(value, hint, join_key(prefix, key), location)
     try:
         return cls(**kwargs)
     except ConfigError as exc:
@@ -98,6 +106,19 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
             line=location.line if location else None,
             key=prefix or None,
         ) from exc
+
+
+def _file_path(value: str, role: PathRole, key: str, location: Location | None) -> str:
+    """A path written in a file, read against that file's folder; an input must exist."""
+    path = resolve_path(value, location.file if location else None)
+    if role is PathRole.INPUT and not os.path.exists(path):
+        raise ConfigError(
+            f"file {path} not found",
+            file=location.file if location else None,
+            line=location.line if location else None,
+            key=key,
+        )
+    return path
 
 
 def _build_value(value: Any, hint: Any, key: str, location: Location | None) -> Any:

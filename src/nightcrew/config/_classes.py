@@ -16,6 +16,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from nightcrew.config._paths import PathRole, path_role
+
 __all__ = ["ClassResolutionError", "ConstructorSpec", "Parameter", "constructor_spec", "import_class"]
 
 
@@ -32,12 +34,14 @@ class Parameter:
         hint: Its type hint, ``typing.Any`` when it has none (or it cannot be evaluated here).
         required: Whether it has no default.
         owner: The class whose ``__init__`` declares it.
+        path_role: Whether it takes a file path, and which kind (:mod:`._paths`); None: no path.
     """
 
     name: str
     hint: Any
     required: bool
     owner: type
+    path_role: PathRole | None = None
 
 
 @dataclass(frozen=True)
@@ -133,6 +137,7 @@ def constructor_spec(cls: type) -> ConstructorSpec:
 def _add_parameters(parameters: dict[str, Parameter], init: Callable[..., Any], owner: type) -> bool:
     """Add the keyword parameters of ``init``; returns whether it takes ``**kwargs``."""
     hints = _parameter_hints(init)
+    roles = _path_roles(init)
     forwards_kwargs = False
     for index, param in enumerate(inspect.signature(init).parameters.values()):
         if index == 0 or param.kind is param.VAR_POSITIONAL or param.kind is param.POSITIONAL_ONLY:
@@ -142,9 +147,26 @@ def _add_parameters(parameters: dict[str, Parameter], init: Callable[..., Any], 
             continue
         parameters.setdefault(
             param.name,
-            Parameter(param.name, hints.get(param.name, Any), param.default is param.empty, owner),
+            Parameter(
+                param.name,
+                hints.get(param.name, Any),
+                param.default is param.empty,
+                owner,
+                roles.get(param.name),
+            ),
         )
     return forwards_kwargs
+
+
+def _path_roles(init: Callable[..., Any]) -> dict[str, PathRole]:
+    """The parameters of ``init`` hinted :data:`InputPath` / :data:`DataPath` (their extras are
+    gone from the hints the validator reads)."""
+    try:
+        hints = typing.get_type_hints(init, include_extras=True)
+    except Exception:
+        return {}
+    roles = {name: path_role(hint) for name, hint in hints.items()}
+    return {name: role for name, role in roles.items() if role is not None}
 
 
 def _parameter_hints(init: Callable[..., Any]) -> dict[str, Any]:

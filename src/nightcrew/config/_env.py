@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 
-__all__ = ["EnvSubstitutionError", "substitute_env"]
+__all__ = ["EnvSubstitutionError", "substitute_env", "unset_variable"]
 
 # One alternative per case: escaped "$${", a complete placeholder, an unterminated one.
 _TOKEN = re.compile(r"\$\$\{|\$\{([^}]*)\}|\$\{")
@@ -20,6 +20,17 @@ _WHOLE_PLACEHOLDER = re.compile(r"\$\{[^}]*\}")
 
 class EnvSubstitutionError(Exception):
     """A placeholder cannot be substituted; the caller adds file, line and key."""
+
+
+#: The one wording of an unset variable (``nightcrew check`` groups these by variable).
+_UNSET = "environment variable {} is not set"
+_UNSET_PATTERN = re.compile(r"environment variable (\S+) is not set")
+
+
+def unset_variable(message: str) -> str | None:
+    """The variable an error message says is unset, else None."""
+    match = _UNSET_PATTERN.fullmatch(message)
+    return match.group(1) if match else None
 
 
 def substitute_env(text: str, environ: Mapping[str, str]) -> tuple[str, bool]:
@@ -50,7 +61,7 @@ def substitute_env(text: str, environ: Mapping[str, str]) -> tuple[str, bool]:
         if default is not None:
             return value if value else default
         if value is None:
-            raise EnvSubstitutionError(f"environment variable {name} is not set")
+            raise EnvSubstitutionError(_UNSET.format(name))
         return value
 
     substituted = _TOKEN.sub(replace, text)

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Mapping
+import os
+from collections.abc import Collection, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -25,12 +26,16 @@ from nightcrew.site import Site
 from nightcrew.vfs import LocalFile, VirtualFileSystem
 
 __all__ = [
+    "DATA_VARIABLE",
+    "FRAMES",
     "IMAGES_ROOT",
     "SIM_RPC_GRACE",
     "build_observatory",
     "bundled_observatory",
+    "data_environ",
     "images_vfs",
     "observatory_site",
+    "options_directory",
     "park_and_close",
 ]
 
@@ -41,6 +46,12 @@ IMAGES_ROOT = "images"
 #: Wall seconds a call on the simulated observatory's network may take beyond its timeout: on a
 #: fast clock a 10-s timeout is a few wall ms, less than rendering or analysing a frame under load.
 SIM_RPC_GRACE = 1.0
+#: The frames' directory in a night's output directory (camera.yaml: $OBSERVATORY_DATA/frames).
+FRAMES = "frames"
+#: The folder of the module files that options of ``nightcrew sim`` add (see options_directory).
+OPTIONS = "options"
+#: The variable the observatory's files read for where its data go (task archive, event record).
+DATA_VARIABLE = "OBSERVATORY_DATA"
 #: Module names the night needs (the file names of the bundled observatory).
 TELESCOPE, ROOF, CAMERA, FOCUSER, FILTERS = "telescope", "roof", "camera", "focuser", "filters"
 
@@ -48,6 +59,19 @@ TELESCOPE, ROOF, CAMERA, FOCUSER, FILTERS = "telescope", "roof", "camera", "focu
 def bundled_observatory() -> Path:
     """The directory of the bundled observatory's configuration files (package data)."""
     return Path(__file__).resolve().with_name("observatory")
+
+
+def data_environ(out: Path) -> dict[str, str]:
+    """The environment the observatory's files are read in for a night into ``out``: its data
+    (``$OBSERVATORY_DATA``: task archive, event record) go there."""
+    return {**os.environ, DATA_VARIABLE: str(out.resolve())}
+
+
+def options_directory(directory: Path) -> Path:
+    """Where the module files of ``nightcrew sim``'s options (``--indi``, ``--console``,
+    ``--archive``) are: ``options/`` of ``directory``, else of the bundled observatory."""
+    own = directory / OPTIONS
+    return own if own.is_dir() else bundled_observatory() / OPTIONS
 
 
 def images_vfs(frames: Path) -> VirtualFileSystem:
@@ -77,28 +101,30 @@ def build_observatory(
     seed: int | None = None,
     network: LocalNetwork,
     overrides: Mapping[str, Mapping[str, Any]] | None = None,
+    environ: Mapping[str, str] | None = None,
+    names: Collection[str] | None = None,
 ) -> list[Module]:
     """Validate, then build the modules of the top-level ``*.yaml`` files of ``directory``.
 
-    Every module gets ``clock``, ``vfs`` (shared, not closed by the modules: the caller closes it
-    after them) and a comm on ``network`` named after its file; ``seed`` replaces the seed of
-    every file that sets one, and ``overrides`` (by module name) replace keys after validation
-    (objects the file cannot say). Nothing is opened. Files in subdirectories (fragments,
-    extras) are not modules of the night.
+    Every module gets ``clock``, ``vfs`` unless its file names one (shared, not closed by the
+    modules: the caller closes it after them) and a comm on ``network`` named after its file;
+    ``seed`` replaces the seed of every file that sets one, and ``overrides`` (by module name)
+    replace keys after validation (objects the file cannot say); ``environ`` gives the files'
+    ``${NAME}`` placeholders (default: the environment); ``names``: only the files with these
+    stems. Nothing is opened. Files in subdirectories (fragments, extras, options) are not
+    modules of the night.
     """
-    paths = sorted(directory.glob("*.yaml"))
+    paths = sorted(p for p in directory.glob("*.yaml") if names is None or p.stem in names)
     if not paths:
         raise ConfigError(f"no module files (*.yaml) in {directory}")
-    configs = [load_config(path) for path in paths]
+    configs = [load_config(path, environ=environ) for path in paths]
     for config in configs:
         validate_config(config, Module)
     modules = []
     for path, config in zip(paths, configs, strict=True):
-        given: dict[str, Any] = {
-            "comm": LocalComm(path.stem, network=network),
-            "clock": clock,
-            "vfs": vfs,
-        }
+        given: dict[str, Any] = {"comm": LocalComm(path.stem, network=network), "clock": clock}
+        if "vfs" not in config:  # a module that names its own file system keeps it
+            given["vfs"] = vfs
         if seed is not None and "seed" in config:
             given["seed"] = seed
         given.update((overrides or {}).get(path.stem, {}))

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import date, datetime
 from pathlib import Path
@@ -28,26 +28,33 @@ from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
 from nightcrew.interfaces import IStartStop
 from nightcrew.modules import Module
-from nightcrew.modules.robotic import SchedulerModule
-from nightcrew.night.blocks import NightBlockSource
-from nightcrew.night.build import SIM_RPC_GRACE, build_observatory, images_vfs, park_and_close
+from nightcrew.modules.robotic import Mastermind, SchedulerModule
+from nightcrew.night.build import (
+    DATA_VARIABLE,
+    FRAMES,
+    SIM_RPC_GRACE,
+    build_observatory,
+    data_environ,
+    images_vfs,
+    options_directory,
+    park_and_close,
+)
 from nightcrew.night.plan import one_window_each, samples_for_night, survey_groups
 from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Schedule
-from nightcrew.robotic.scheduler.adapters import as_schedule_writer
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
-__all__ = ["EVENTS_FILE", "FRAMES", "NightProgress", "WholeNight", "run_whole_night"]
+__all__ = ["EVENTS_FILE", "FRAMES", "NightProgress", "WholeNight", "night_tasks", "run_whole_night"]
 
 log = logging.getLogger(__name__)
 
 #: The recorder's file in the output directory.
 EVENTS_FILE = "events.jsonl"
-#: The frames' directory in the output directory.
-FRAMES = "frames"
+#: The task archive in the output directory (robotic/scheduler.yaml and mastermind.yaml name it).
+TASKS_FILE = "tasks.sqlite"
 #: Clock seconds between two looks of the watcher (progress line, new plans into the record).
 _WATCH_INTERVAL_S = 30.0
 #: Where the robotic modules' files are, below the observatory's directory.
@@ -92,15 +99,17 @@ async def run_whole_night(
     tasks: Sequence[RequestGroup] | None = None,
     progress: ProgressCallback | None = None,
     stop: asyncio.Event | None = None,
-    extra_modules: Callable[[LocalNetwork], list[Module]] | None = None,
+    extras: Collection[str] = (),
+    environ: Mapping[str, str] | None = None,
 ) -> WholeNight:
     """Run the robotic night of ``directory`` until the clock shows ``end`` (see the module doc).
 
     ``tasks`` replaces the night's task list (default: the samples and the survey), e.g. with the
     short list of ``--quick``.
 
-    ``extra_modules`` builds more modules on the night's network (e.g. an IndiServer, the web
-    console), opened after the others and closed before them.
+    ``extras`` names module files of :func:`~nightcrew.night.build.options_directory` to add (an
+    IndiServer, the web console, the pipeline: what options of ``nightcrew sim`` ask for), opened
+    after the others and closed before them; ``environ`` adds to the variables the files read.
     """
     await asyncio.to_thread(_blocking_clear_records, out_dir)
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
@@ -108,32 +117,26 @@ async def run_whole_night(
     watcher = _Watcher(LocalComm("night", network=network), clock, site)
     if tasks is None:
         tasks = night_tasks(night, site)
-    archive = await _fresh_archive(out_dir / "tasks.sqlite", clock, tasks)
+    # The scheduler and the mastermind open the archive their files name in $OBSERVATORY_DATA.
+    await _fill_archive(out_dir / TASKS_FILE, clock, tasks)
     vfs = images_vfs(out_dir / FRAMES)  # the modules share it; closed here, after them
     opened: list[Module] = []
     result = WholeNight()
     try:
-        robotic: dict[str, dict[str, Any]] = {
-            "scheduler": {
-                "archive": NightBlockSource(archive=archive, site=site),
-                "store": as_schedule_writer(archive),
-            },
-            "mastermind": {"archive": archive},
-            "recorder": {"path": str(out_dir / EVENTS_FILE)},
-            **(robotic_overrides or {}),
-        }
         common: dict[str, Any] = {
             "clock": clock,
             "vfs": vfs,
             "seed": seed,
             "network": network,
+            "environ": {**data_environ(out_dir), **(environ or {})},
         }
         modules = [
             *build_observatory(directory, overrides=device_overrides, **common),
-            *build_observatory(directory / ROBOTIC, overrides=robotic, **common),
-            *(extra_modules(network) if extra_modules is not None else []),
+            *build_observatory(directory / ROBOTIC, overrides=robotic_overrides, **common),
+            *(build_observatory(options_directory(directory), names=extras, **common) if extras else []),
         ]
         recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
+        _check_archives(modules, out_dir / TASKS_FILE)
         for module in [watcher, *modules]:
             await module.open()
             opened.append(module)
@@ -146,7 +149,6 @@ async def run_whole_night(
         await _stop_safely(watcher, opened)
         result.tasks_started = watcher.tasks_started
         await vfs.close()
-        await archive.close()
     return result
 
 
@@ -166,20 +168,37 @@ def _the(modules: list[Module], kind: type[M]) -> M:
     return found[0]
 
 
+def _check_archives(modules: list[Module], filled: Path) -> None:
+    """ConfigError unless the scheduler and the mastermind name the archive the night filled: an
+    observatory directory whose files name another would run an empty night (or someone's tasks)."""
+    for module in modules:
+        if isinstance(module, SchedulerModule | Mastermind):
+            archive = module.task_archive
+            path = archive.path if isinstance(archive, SqliteTaskArchive) else None
+            if path is None or path.resolve() != filled.resolve():
+                raise ConfigError(
+                    f"the {module.name}'s task archive is {path or type(archive).__name__}, not the night's "
+                    f"{filled}: name it as {ROBOTIC}/{module.name}.yaml of the bundled observatory does "
+                    f"(path: ${{{DATA_VARIABLE}}}/{TASKS_FILE})"
+                )
+
+
 def _blocking_clear_records(out_dir: Path) -> None:
     """Make ``out_dir``; remove the records and frames of an earlier night there."""
     (out_dir / FRAMES).mkdir(parents=True, exist_ok=True)
-    for old in [*out_dir.glob("tasks.sqlite*"), out_dir / EVENTS_FILE, *(out_dir / FRAMES).glob("*.fits")]:
+    for old in [*out_dir.glob(TASKS_FILE + "*"), out_dir / EVENTS_FILE, *(out_dir / FRAMES).glob("*.fits")]:
         old.unlink(missing_ok=True)
 
 
-async def _fresh_archive(path: Path, clock: Clock, tasks: Sequence[RequestGroup]) -> SqliteTaskArchive:
-    """A new archive at ``path`` holding ``tasks``."""
+async def _fill_archive(path: Path, clock: Clock, tasks: Sequence[RequestGroup]) -> None:
+    """A new archive at ``path`` holding ``tasks`` (as ``nightcrew tasks add`` would store them)."""
     archive = SqliteTaskArchive(path, clock=clock, poll_interval=0)
     await archive.open()
-    for group in tasks:
-        await archive.add_request_group(group)
-    return archive
+    try:
+        for group in tasks:
+            await archive.add_request_group(group)
+    finally:
+        await archive.close()
 
 
 async def _stop_safely(watcher: Module, opened: list[Module]) -> None:

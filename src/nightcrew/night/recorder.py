@@ -16,6 +16,7 @@ import logging
 from pathlib import Path
 from typing import IO, Any
 
+from nightcrew.config import DataPath
 from nightcrew.errors import NightcrewError
 from nightcrew.events import Event, FocusFailedEvent, FocusFoundEvent, event_by_name
 from nightcrew.events.base import event_names
@@ -36,7 +37,7 @@ class EventRecorder(Module):
         **kwargs: Module options.
     """
 
-    def __init__(self, *, path: str = "events.jsonl", **kwargs: Any) -> None:
+    def __init__(self, *, path: DataPath = "events.jsonl", **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self._path = Path(path)
         self._file: IO[str] | None = None

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
 
 from nightcrew.config import load_config, to_plain
 from nightcrew.robotic.tasks import RequestGroup
@@ -43,20 +42,20 @@ def build_night_sky_indexes(
     directory: Path,
     tasks: Sequence[RequestGroup],
     *,
-    camera_overrides: Mapping[str, Any] | None = None,
+    environ: Mapping[str, str] | None = None,
     seed: int | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> Path | None:
     """Build the index files the night's frames need; their directory (None: no simulated camera).
 
-    ``directory`` is the observatory directory (its ``camera.yaml``), ``camera_overrides`` what the
-    night changes in that file (e.g. the detector) and ``seed`` the night's seed (default: the file's).
+    ``directory`` is the observatory directory (its ``camera.yaml``, read with the variables
+    ``environ`` as the night reads it, e.g. its chip size) and ``seed`` the night's seed (default:
+    the file's).
     """
     path = directory / "camera.yaml"
-    camera = to_plain(load_config(path)) if path.is_file() else {}
+    camera = to_plain(load_config(path, environ=environ)) if path.is_file() else {}
     if camera.get("class") != _SIM_CAMERA:
         return None
-    camera.update(camera_overrides or {})
     detector = CameraModel(**{**to_plain(camera.get("detector") or {})})
     optics = Optics(**{**to_plain(camera.get("optics") or {})})
     width_px = max(detector.chip_width, detector.chip_height)

@@ -12,6 +12,7 @@ from functools import partial
 from pathlib import Path
 from typing import TypeVar
 
+from nightcrew.config import DataPath
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.vfs._errors import VfsError, VfsFileNotFoundError, VfsPathError
 from nightcrew.vfs._paths import normalise_relative
@@ -214,7 +215,7 @@ class LocalFile(DiskRoot):
     atomic (see :class:`DiskRoot`).
     """
 
-    def __init__(self, root: str, *, mkdir: bool = True) -> None:
+    def __init__(self, root: DataPath, *, mkdir: bool = True) -> None:
         if not isinstance(root, str) or not root:
             raise InvalidArgumentError("LocalFile root must be a non-empty directory path")
         self.root = root

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings
+from nightcrew.config import DataPath, InputPath
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.interfaces.base import interface_by_name
 from nightcrew.security import Policy
@@ -70,13 +71,13 @@ class XmppComm(Comm):
         room: str = "nightcrew",
         require_tls: bool | None = None,
         verify_tls: bool = True,
-        ca_file: str | None = None,
+        ca_file: InputPath | None = None,
         connect_timeout: float = 10.0,
         ping_interval: float | None = 10.0,
         ping_timeout: float = 10.0,
         rpc_grace: float = 1.0,
-        policy: str | Policy | None = None,
-        audit: str | None = None,
+        policy: InputPath | Policy | None = None,
+        audit: DataPath | None = None,
         dialect: str = "nightcrew",
     ) -> None:
         super().__init__(rpc_grace=rpc_grace, policy=policy, audit=audit)

@@ -29,6 +29,7 @@ from typing import Any
 
 from aiohttp import web
 
+from nightcrew.config import DataPath
 from nightcrew.errors import ConfigError, InvalidArgumentError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.image.cache_store import CacheFullError, CacheStore, TooLargeError
@@ -70,7 +71,7 @@ class FileCacheServer:
         *,
         host: str = "127.0.0.1",
         port: int = 0,
-        directory: str,
+        directory: DataPath,
         max_size: int,
         max_age: float | None = None,
         token: str | None = None,

@@ -19,6 +19,7 @@ import logging
 import os
 from typing import Any
 
+from nightcrew.config import DataPath
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.image.watch_state import Backoff, PendingFile, WatchState
@@ -60,7 +61,7 @@ class ImageWatcher(Module):
         interval: float = 5.0,
         retry_delay: float = 10.0,
         max_retry_delay: float = 600.0,
-        state_file: str | None = None,
+        state_file: DataPath | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)

@@ -28,6 +28,7 @@ import logging
 import os
 from typing import Any
 
+from nightcrew.config import DataPath
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import NewImageEvent
 from nightcrew.interfaces import FitsValue, ImageType, ModuleState
@@ -76,7 +77,7 @@ class ImageWriter(Module):
         max_retry_delay: float = 120.0,
         sweep: str | None = None,
         sweep_interval: float = 60.0,
-        state_file: str | None = None,
+        state_file: DataPath | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)

@@ -23,6 +23,7 @@ from datetime import UTC, datetime
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.comm.xmpp import XmppSettings, parse_jid
+from nightcrew.config import InputPath
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.modules.notify._module import ChatModule
 from nightcrew.modules.notify._users import users_from_config
@@ -71,7 +72,7 @@ class XmppChat(ChatModule):
         server: str | None = None,
         require_tls: bool | None = None,
         verify_tls: bool = True,
-        ca_file: str | None = None,
+        ca_file: InputPath | None = None,
         connect_timeout: float = 10.0,
         **kwargs: Any,
     ) -> None:

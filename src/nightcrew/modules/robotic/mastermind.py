@@ -61,9 +61,8 @@ import contextlib
 import logging
 from dataclasses import replace
 from datetime import datetime, timedelta
-from typing import Any
+from typing import Any, ClassVar
 
-from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
 from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent
 from nightcrew.interfaces import (
@@ -80,6 +79,7 @@ from nightcrew.interfaces import (
     RoboticStatus,
 )
 from nightcrew.modules.module import Module
+from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
@@ -148,6 +148,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         **kwargs: Module options (``site`` is required: the Sun decides a lot).
     """
 
+    #: Built here (a relative path read against the file's folder), opened and closed with the module.
+    config_builds_itself: ClassVar[frozenset[str]] = Module.config_builds_itself | {"archive", "schedule"}
+
     def __init__(
         self,
         *,
@@ -191,11 +194,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         ):
             if not value > 0:
                 raise ConfigError(f"must be > 0 seconds, got {value}", key=key)
-        self._archive, self._owns_archive = _built(archive, TaskArchive, "archive", self)
-        store = self._archive if schedule is None else _built(schedule, ScheduleStore, "schedule", self)[0]
+        self._archive_option = built_option(archive, TaskArchive, "archive", self)
+        self._archive: TaskArchive = self._archive_option.value
+        store = (
+            self._archive
+            if schedule is None
+            else built_option(schedule, ScheduleStore, "schedule", self).value
+        )
         if not isinstance(store, ScheduleStore):
             raise ConfigError("the archive keeps no schedule: configure a ScheduleStore", key="schedule")
-        self._runner: TaskRunner = self.add_child(_built(runner, TaskRunner, "runner", self)[0])
+        self._runner: TaskRunner = self.add_child(built_option(runner, TaskRunner, "runner", self).value)
         self._observatory = ObservatoryControl(
             self,
             site,
@@ -257,8 +265,13 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
 
     # --- life cycle and events -----------------------------------------------------------------
 
+    @property
+    def task_archive(self) -> TaskArchive:
+        """Where the tasks come from and their fate goes."""
+        return self._archive
+
     async def open(self) -> None:
-        await self._archive.open()  # idempotent; a shared archive may be open already
+        await self._archive_option.open()
         await super().open()
         await self._task_runs.open()
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
@@ -267,8 +280,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
 
     async def close(self) -> None:
         await super().close()
-        if self._owns_archive:
-            await self._archive.close()
+        await self._archive_option.close()
 
     async def on_bad_weather(self, event: BadWeatherEvent, sender: str) -> None:
         log.warning("%s: bad weather (%s)", self.name, event.reason or "no reason given")
@@ -446,16 +458,3 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             poll_interval=self._poll,
             abort_timeout=self._abort_timeout,
         )
-
-
-def _built(value: Any, expected: type[Any], key: str, owner: Module) -> tuple[Any, bool]:
-    """``value``, or the object its description builds (then also True: ours to close), checked."""
-    owned = isinstance(value, dict)
-    if owned:
-        built = build_object(value)
-        if isinstance(built, TaskArchive) and "clock" not in value:
-            built.clock = owner.clock  # "now" of a simulated night is the module's clock
-        value = built
-    if not isinstance(value, expected):
-        raise ConfigError(f"expected a {expected.__name__}, got {type(value).__name__}", key=key)
-    return value, owned

@@ -19,7 +19,7 @@ import contextlib
 import logging
 from collections.abc import Callable, Sequence
 from datetime import datetime, timedelta
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 from nightcrew.errors import ConfigError
 from nightcrew.events import (
@@ -31,6 +31,8 @@ from nightcrew.events import (
 )
 from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask, UnplannedTask
 from nightcrew.modules.module import Module
+from nightcrew.modules.robotic._archive_option import built_option
+from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
 from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_writer
 from nightcrew.robotic.scheduler.faults import DeviceFaults
@@ -56,9 +58,12 @@ class SchedulerModule(Module, IRoboticScheduler):
 
     Args:
         archive: Where the blocks come from: a block source or an archive of
-            :mod:`nightcrew.robotic.archives` (an object or its description).
-        store: Where the schedule goes: a schedule writer or an archive's schedule store; in memory
-            (:class:`~nightcrew.robotic.scheduler.ports.MemoryScheduleStore`) by default.
+            :mod:`nightcrew.robotic.archives` (an object or its description; one the module builds,
+            also inside a block source, it opens and closes, see :mod:`._archive_option`).
+        store: Where the schedule goes: a schedule writer or an archive's schedule store. By
+            default the archive's own schedule store when it keeps one (so a mastermind in another
+            process reads the plan), else in memory
+            (:class:`~nightcrew.robotic.scheduler.ports.MemoryScheduleStore`).
         solver: ``mip`` (optimal) or ``priority`` (astroplan's greedy).
         step_s: Time slice of the scheduler, seconds.
         slew_overhead_s: Worst-case slew and settling added to every block, seconds.
@@ -70,11 +75,14 @@ class SchedulerModule(Module, IRoboticScheduler):
         max_device_faults: After this many device faults a task is left out for the night.
     """
 
+    #: Built here (a relative path read against the file's folder), opened and closed with the module.
+    config_builds_itself: ClassVar[frozenset[str]] = Module.config_builds_itself | {"archive", "store"}
+
     def __init__(
         self,
         *,
-        archive: BlockSource | dict[str, Any],
-        store: ScheduleWriter | dict[str, Any] | None = None,
+        archive: BlockSource | TaskArchive | dict[str, Any],
+        store: ScheduleWriter | ScheduleStore | dict[str, Any] | None = None,
         solver: SolverName = "mip",
         step_s: float = 300.0,
         slew_overhead_s: float = 100.0,
@@ -86,11 +94,16 @@ class SchedulerModule(Module, IRoboticScheduler):
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
-        # Archives of nightcrew.robotic.archives are wrapped by the adapters; open them with us.
-        archive_object = self.add_child(_built(archive, "archive"))
-        store_object = self.add_child(_built(store or MemoryScheduleStore(), "store"))
-        self._archive: BlockSource = _adapted(as_block_source, archive_object, "archive")
-        self._store: ScheduleWriter = _adapted(as_schedule_writer, store_object, "store")
+        # Archives of nightcrew.robotic.archives are wrapped by the adapters; opened with us.
+        self._archive_option = built_option(archive, object, "archive", self)
+        default_store = self._archive_option.archive
+        if not isinstance(default_store, ScheduleStore):
+            default_store = None
+        self._store_option = built_option(
+            store or default_store or MemoryScheduleStore(), object, "store", self
+        )
+        self._archive: BlockSource = _adapted(as_block_source, self._archive_option.value, "archive")
+        self._store: ScheduleWriter = _adapted(as_schedule_writer, self._store_option.value, "store")
         self._scheduler = Scheduler(
             solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
         )
@@ -113,12 +126,20 @@ class SchedulerModule(Module, IRoboticScheduler):
         self.add_background_task(self._replan_loop, name="replan loop")
 
     async def open(self) -> None:
+        # Before the replan loop starts (super().open()): it reads the archive at once.
+        await self._archive_option.open()
+        await self._store_option.open()
         await super().open()
         await self.comm.register_event(TaskFailedEvent, self.on_task_failed)
         await self.comm.register_event(TaskStartedEvent, self.on_task_started)
         await self.comm.register_event(TaskFinishedEvent, self.on_task_finished)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
         await self.comm.register_event(TasksChangedEvent, self.on_tasks_changed)
+
+    async def close(self) -> None:
+        await super().close()
+        await self._store_option.close()
+        await self._archive_option.close()
 
     # --- events ---------------------------------------------------------------------------------
 
@@ -232,6 +253,11 @@ class SchedulerModule(Module, IRoboticScheduler):
         )
         return schedule
 
+    @property
+    def task_archive(self) -> TaskArchive | None:
+        """The task archive the blocks come from, where it is one (or a block source wraps one)."""
+        return self._archive_option.archive
+
     async def get_plan(self) -> Plan | None:
         return self._plan
 
@@ -296,15 +322,6 @@ def plan_of(
             for task_id, reason in sorted((reasons or {}).items())
         ),
     )
-
-
-def _built(value: Any, key: str) -> Any:
-    """``value`` itself, or the object its description builds."""
-    if isinstance(value, dict):
-        from nightcrew.config import build_object
-
-        return build_object(value)
-    return value
 
 
 def _adapted(adapt: Callable[[object], T], value: object, key: str) -> T:

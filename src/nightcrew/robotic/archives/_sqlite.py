@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import TypeVar
 
 from nightcrew.clock import Clock
+from nightcrew.config import DataPath
 from nightcrew.errors import ModuleError
 from nightcrew.robotic.archives import _sqlite_schema as db
 from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore
@@ -43,7 +44,7 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
     """
 
     def __init__(
-        self, path: str | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
+        self, path: DataPath | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
     ) -> None:
         super().__init__(clock=clock)
         self.path = Path(path)

@@ -19,7 +19,7 @@ from datetime import datetime
 from pathlib import Path
 
 from nightcrew.clock import Clock
-from nightcrew.config import parse_yaml
+from nightcrew.config import InputPath, parse_yaml
 from nightcrew.errors import ConfigError
 from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
@@ -49,7 +49,7 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
     """
 
     def __init__(
-        self, path: str | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
+        self, path: InputPath | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
     ) -> None:
         super().__init__(clock=clock)
         self.path = Path(path)

@@ -15,58 +15,29 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from nightcrew.clock import Clock
-from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.config import DataPath
 from nightcrew.errors import NightcrewError
 from nightcrew.events import NewImageEvent
 from nightcrew.images.calibration import MasterInfo, MasterKind, build_master, frame_key, select_master
 from nightcrew.images.image import Image
 from nightcrew.images.reduce import GroupKey, group_frames, read_entry
 from nightcrew.interfaces import ImageType
-from nightcrew.modules import Module
 from nightcrew.modules.image import Pipeline
-from nightcrew.night.build import CAMERA, IMAGES_ROOT
+from nightcrew.night.build import CAMERA
 from nightcrew.night.engine import FRAMES
-from nightcrew.vfs import LocalFile, VirtualFileSystem
 
-__all__ = ["MASTERS", "REDUCED", "NightPipeline", "sim_pipeline"]
+__all__ = ["MASTERS", "REDUCED", "NightPipeline"]
 
 log = logging.getLogger(__name__)
 
 #: Directories in ``--out``: reduced frames, masters.
 REDUCED, MASTERS = "reduced", "masters"
-#: The VFS root of ``--out`` in the pipeline's VFS.
-_NIGHT_ROOT = "night"
 #: Clock seconds the pipeline may take per frame still waiting when the night ends.
 _DRAIN_S_PER_FRAME = 300.0
 _CALIBRATION = (ImageType.BIAS, ImageType.DARK, ImageType.SKYFLAT, ImageType.DOMEFLAT)
-
-
-def sim_pipeline(
-    out: Path, *, clock: Clock, index_dir: Path | None = None
-) -> Callable[[LocalNetwork], list[Module]]:
-    """What ``--archive`` adds to the night: a NightPipeline reducing the camera's object frames,
-    plate-solving them with the index files of ``index_dir`` (the simulated sky's)."""
-
-    def build(network: LocalNetwork) -> list[Module]:
-        vfs = VirtualFileSystem({IMAGES_ROOT: LocalFile(str(out / FRAMES)), _NIGHT_ROOT: LocalFile(str(out))})
-        pipeline = NightPipeline(
-            out=out,
-            masters=f"/{_NIGHT_ROOT}/{MASTERS}",
-            output=f"/{_NIGHT_ROOT}/{REDUCED}",
-            sources=[CAMERA],
-            index_dir=None if index_dir is None else str(index_dir),
-            comm=LocalComm("pipeline", network=network),
-            clock=clock,
-            vfs=vfs,
-        )
-        return [pipeline]
-
-    return build
 
 
 class NightPipeline(Pipeline):
@@ -77,9 +48,9 @@ class NightPipeline(Pipeline):
         **kwargs: Pipeline options.
     """
 
-    def __init__(self, *, out: Path, **kwargs: Any) -> None:
+    def __init__(self, *, out: DataPath, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self._frames, self._masters_dir = out / FRAMES, out / MASTERS
+        self._frames, self._masters_dir = Path(out) / FRAMES, Path(out) / MASTERS
         self._calibration_frames: list[Path] = []
         self._built: dict[GroupKey, Image] = {}
 

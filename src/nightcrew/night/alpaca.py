@@ -12,35 +12,38 @@ telescope parks, the roof closes and everything stops.
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import sys
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
-from nightcrew.cli._running import quiet_module_logs, stop_on_signals
 from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import build_object, load_config, to_plain, validate_config
+from nightcrew.errors import ConfigError
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca.server import AlpacaServer
 from nightcrew.night.build import (
     CAMERA,
     FILTERS,
     FOCUSER,
+    FRAMES,
     ROOF,
     SIM_RPC_GRACE,
     TELESCOPE,
     build_observatory,
     bundled_observatory,
+    data_environ,
     images_vfs,
     observatory_site,
     park_and_close,
 )
 from nightcrew.night.fields import night_start
+from nightcrew.night.options import SimOptions
+from nightcrew.night.running import quiet_module_logs, stop_on_signals
 from nightcrew.sim.render import CameraModel
 
-__all__ = ["SAFETY", "STATION", "serve_alpaca_command"]
+__all__ = ["SAFETY", "STATION", "serve_alpaca"]
 
 #: The weather verdict module (robotic/safety.yaml) served as the SafetyMonitor.
 SAFETY = "safety"
@@ -48,23 +51,31 @@ SAFETY = "safety"
 STATION = "weather"
 
 
-def serve_alpaca_command(args: argparse.Namespace) -> int:
-    directory: Path = args.configs or bundled_observatory()
+def serve_alpaca(options: SimOptions) -> int:
+    """``--alpaca PORT``: serve the devices until Ctrl-C."""
+    if options.alpaca is None:
+        raise ConfigError("serving to Alpaca clients needs a port (--alpaca PORT)")
+    directory: Path = options.configs or bundled_observatory()
     site = observatory_site(directory)
-    start = night_start(args.date, site)
-    if args.start is not None:
-        day = args.date if args.start.hour >= 12 else args.date + timedelta(days=1)
-        start = datetime.combine(day, args.start, tzinfo=UTC)
-    clock = AcceleratedClock(start, speed=args.speed or 1.0)
-    with quiet_module_logs(args.verbose or args.debug):
-        asyncio.run(_serve(directory, args, clock))
+    start = night_start(options.date, site)
+    if options.start is not None:
+        day = options.date if options.start.hour >= 12 else options.date + timedelta(days=1)
+        start = datetime.combine(day, options.start, tzinfo=UTC)
+    clock = AcceleratedClock(start, speed=options.speed or 1.0)
+    with quiet_module_logs(options.show_logs):
+        asyncio.run(_serve(directory, options, clock))
     return 0
 
 
-async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedClock) -> None:
+async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) -> None:
+    assert options.alpaca is not None  # checked by serve_alpaca
     network = LocalNetwork(rpc_grace=SIM_RPC_GRACE)
-    vfs = images_vfs(args.out)  # the one VFS of the observatory: the server reads the camera's frames
-    modules = build_observatory(directory, clock=clock, vfs=vfs, seed=args.seed, network=network)
+    # The VFS of the modules without their own: the server reads the camera's frames from it.
+    vfs = images_vfs(options.out / FRAMES)
+    environ = data_environ(options.out)
+    modules = build_observatory(
+        directory, clock=clock, vfs=vfs, seed=options.seed, network=network, environ=environ
+    )
     devices: dict[str, str | list[str]] = {
         "telescope": TELESCOPE,
         "camera": CAMERA,
@@ -76,7 +87,7 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         devices["observingconditions"] = STATION
     safety = directory / "robotic" / f"{SAFETY}.yaml"
     if safety.is_file():
-        config = load_config(safety)
+        config = load_config(safety, environ=environ)
         validate_config(config, Module)
         config.update({"comm": LocalComm(SAFETY, network=network), "clock": clock, "vfs": vfs})
         modules.append(build_object(config, Module))
@@ -88,8 +99,8 @@ async def _serve(directory: Path, args: argparse.Namespace, clock: AcceleratedCl
         site=next((m.site for m in modules if m.site is not None), None),
         devices=devices,
         pixel_sizes={CAMERA: _pixel_size(directory)},
-        port=args.alpaca,
-        discovery_port=args.alpaca_discovery_port,
+        port=options.alpaca,
+        discovery_port=options.alpaca_discovery_port,
     )
     driver = Module(comm=LocalComm("sim-alpaca", network=network), clock=clock)
     opened: list[Module] = []

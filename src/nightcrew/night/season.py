@@ -9,17 +9,17 @@ stdout and to ``--out/season.md``, all numbers to ``--out/season.json``.
 
 from __future__ import annotations
 
-import argparse
 import json
 import shutil
 import sys
 from datetime import timedelta
 from pathlib import Path
 
-from nightcrew.cli._running import quiet_module_logs
-from nightcrew.cli._sim_night import night_setup, run_one_night
 from nightcrew.night.build import bundled_observatory, observatory_site
 from nightcrew.night.engine import FRAMES
+from nightcrew.night.options import SimOptions
+from nightcrew.night.running import quiet_module_logs
+from nightcrew.night.sim import night_setup, run_one_night
 from nightcrew.report import (
     SeasonNight,
     describe_frames,
@@ -31,7 +31,7 @@ from nightcrew.report import (
     write_report,
 )
 
-__all__ = ["NIGHT_ROW", "SEASON_JSON", "SEASON_TABLE", "run_season_command"]
+__all__ = ["NIGHT_ROW", "SEASON_JSON", "SEASON_TABLE", "run_season"]
 
 SEASON_TABLE = "season.md"
 SEASON_JSON = "season.json"
@@ -39,30 +39,30 @@ SEASON_JSON = "season.json"
 NIGHT_ROW = "season-row.json"
 
 
-def run_season_command(args: argparse.Namespace) -> int:
-    directory: Path = args.configs or bundled_observatory()
+def run_season(options: SimOptions) -> int:
+    directory: Path = options.configs or bundled_observatory()
     site = observatory_site(directory)
-    base_seed = 0 if args.seed is None else args.seed
+    base_seed = 0 if options.seed is None else options.seed
     rows: list[SeasonNight] = []
     wall_total = 0.0
-    with quiet_module_logs(args.verbose or args.debug):
-        for number in range(args.nights):
-            night = args.date + timedelta(days=number)
-            setup = night_setup(args, site, night)
-            out = args.out / f"night-{night.isoformat()}"
-            result, wall = run_one_night(directory, args, site, setup, out, None, seed=base_seed + number)
+    with quiet_module_logs(options.show_logs):
+        for number in range(options.nights):
+            night = options.date + timedelta(days=number)
+            setup = night_setup(options, site, night)
+            out = options.out / f"night-{night.isoformat()}"
+            result, wall = run_one_night(directory, options, site, setup, out, None, seed=base_seed + number)
             wall_total += wall
             recorded = read_night(out)
-            write_report(out, thumbnails=args.frames, night=recorded)
+            write_report(out, thumbnails=options.frames, night=recorded)
             rows.append(
                 season_night(night.isoformat(), recorded, latitude=site.latitude, longitude=site.longitude)
             )
             row = rows[-1]
             (out / NIGHT_ROW).write_text(json.dumps(season_row(row), indent=1) + "\n", encoding="utf-8")
-            if not args.frames:
+            if not options.frames:
                 shutil.rmtree(out / FRAMES, ignore_errors=True)
             print(
-                f"night {number + 1}/{args.nights} {night}: shutter {100 * row.shutter_fraction:.1f} % of "
+                f"night {number + 1}/{options.nights} {night}: shutter {100 * row.shutter_fraction:.1f} % of "
                 f"{row.good_dark_s / 3600:.2f} h good dark, {describe_frames(recorded.frames)} "
                 f"({wall:.0f} s wall)",
                 file=sys.stderr,
@@ -71,9 +71,9 @@ def run_season_command(args: argparse.Namespace) -> int:
             if not result.completed:
                 break
     table = season_table(rows)
-    (args.out / SEASON_TABLE).write_text(table, encoding="utf-8")
-    summary = {**season_summary(rows), "wall_s": round(wall_total, 1), "weather": args.weather}
-    (args.out / SEASON_JSON).write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
+    (options.out / SEASON_TABLE).write_text(table, encoding="utf-8")
+    summary = {**season_summary(rows), "wall_s": round(wall_total, 1), "weather": options.weather}
+    (options.out / SEASON_JSON).write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
     print(table, end="")
-    print(f"season of {len(rows)} nights in {args.out} ({wall_total:.0f} s wall time)")
-    return 0 if len(rows) == args.nights else 130
+    print(f"season of {len(rows)} nights in {options.out} ({wall_total:.0f} s wall time)")
+    return 0 if len(rows) == options.nights else 130

@@ -1,6 +1,6 @@
 """``nightcrew sim --archive``: the night's frames, masters and reduced frames in an image archive.
 
-During the night a :class:`~nightcrew.cli._sim_pipeline.NightPipeline` builds masters into
+During the night a :class:`~nightcrew.night.pipeline.NightPipeline` builds masters into
 ``--out/masters`` and reduces every object frame of the camera into ``--out/reduced``. When the
 night has ended and every frame is reduced, an archive (``nightcrew archive``: SQLite
 ``--out/archive/archive.db``, frames in ``--out/archive/frames``) is started on a real-time loop;
@@ -20,9 +20,9 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from nightcrew.cli._sim_pipeline import MASTERS, REDUCED
 from nightcrew.errors import NightcrewError
 from nightcrew.night.engine import FRAMES
+from nightcrew.night.pipeline import MASTERS, REDUCED
 from nightcrew.services.archive import DEFAULT_PORT, ArchiveServer, load_archive_config, write_new_token
 from nightcrew.vfs import ArchiveFile, LocalFile, VirtualFileSystem
 
