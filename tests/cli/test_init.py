@@ -104,11 +104,6 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     check(directory, monkeypatch, but=("scheduler.yaml",))
 
 
-@pytest.mark.xfail(
-    strict=False,
-    reason="SchedulerModule refuses an archive naming SqliteTaskArchive (`does not derive from BlockSource`) "
-    "until the scheduler opens its task archive from YAML (issue 25 item 1, helper simfiles)",
-)
 def test_the_whole_directory_passes_check(
     simulator: AlpacaSimulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

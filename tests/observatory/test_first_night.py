@@ -58,13 +58,6 @@ def device(simulator: AlpacaSimulator, path: str) -> object:
 
 
 @pytest.mark.timeout(1200)  # a night in real time (a few minutes when idle)
-@pytest.mark.xfail(
-    strict=False,
-    reason="needs issue 25 items 1 and 4 from the other helpers: the scheduler opening its SQLite task "
-    "archive from YAML and keeping its plan there for the mastermind (helper simfiles; today `check` "
-    "refuses scheduler.yaml), and a killed camera costing no more than its frame (helper faults; today "
-    "the task fails and is dropped). Passes with both merged (2026-11-27, 149 s).",
-)
 def test_first_night_on_alpaca_simulators(night_simulator: AlpacaSimulator, tmp_path: Path) -> None:
     now = datetime.now(UTC)
     longitude = evening_longitude(now)

@@ -53,11 +53,6 @@ async def switch_on(server: IndiServer, device: str, name: str) -> str:
 
 
 @pytest.mark.timeout(900)  # a night in real time (a few minutes when idle)
-@pytest.mark.xfail(
-    strict=False,
-    reason="needs issue 25 item 1 from the helper simfiles: the scheduler opening its SQLite task "
-    "archive from YAML and keeping its plan there for the mastermind (today `check` refuses scheduler.yaml)",
-)
 def test_first_night_on_indi_simulators(indi_server: IndiServer, tmp_path: Path) -> None:
     now = datetime.now(UTC)
     longitude = evening_longitude(now)

@@ -8,6 +8,7 @@ cannot rot. Without alpaca-simulators or Prosody the test skips, except under CI
 from __future__ import annotations
 
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -25,12 +26,6 @@ GUIDE = Path(__file__).resolve().parents[2] / "docs" / "observatory.md"
 
 
 @pytest.mark.timeout(600)  # servers, some twenty modules and every step of the guide, busy machine
-@pytest.mark.xfail(
-    strict=False,
-    reason="`nightcrew check .` and the scheduler under `nightcrew up` refuse scheduler.yaml's archive "
-    "(SqliteTaskArchive: `does not derive from BlockSource`) until the scheduler opens its task archive "
-    "from YAML (issue 25 item 1, helper simfiles)",
-)
 def test_the_guide_runs_as_written(tmp_path: Path) -> None:
     require_simulators()
     require_command("prosody", "prosody")
@@ -62,6 +57,7 @@ def test_the_guide_runs_as_written(tmp_path: Path) -> None:
     assert "prosody running" in shown
     for module in ("telescope", "camera", "dome", "mastermind", "scheduler", "weather", "console"):
         assert f"\n{module} " in shown and "running" in shown
-    assert "M31 first light" in shown and "PENDING" in shown
+    # Told over the operator's comm, the scheduler plans it at once: listed as planned, or still pending.
+    assert re.search(r"\b(PENDING|SCHEDULED) +M31 first light", shown), shown
     assert "\n200\n" in shown  # the console answers
     assert (observatory / "units" / "nightcrew.service").exists()
