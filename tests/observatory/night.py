@@ -2,15 +2,21 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
+import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
-__all__ = ["LATITUDE", "Night", "evening_longitude", "task_file", "wait"]
+from nightcrew.server import stop_server
+from nightcrew.testing.processes import free_port
+
+__all__ = ["LATITUDE", "Night", "evening_longitude", "running_observatory", "task_file", "wait"]
 
 #: With local time 22:00 the Sun is at least 25° below the horizon here in every season, and setting.
 LATITUDE = 30.0
@@ -92,3 +98,48 @@ def wait(condition: Callable[[], bool], deadline: float, what: str) -> None:
     while not condition():
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
         time.sleep(1.0)  # polling the command line like a user; bounded by the deadline
+
+
+@contextlib.contextmanager
+def running_observatory(
+    tmp_path: Path, devices: list[str], longitude: float, deadline: float, *init_options: str
+) -> Iterator[Night]:
+    """As docs/observatory.md tells a user: ``nightcrew init --non-interactive`` (devices from
+    ``devices``, e.g. ``["--alpaca", URL]``, the site at ``longitude``), ``server init/start``,
+    ``check``, ``nightcrew up`` until the mastermind runs; on leaving, ``up`` is stopped by SIGTERM
+    as systemd or Ctrl-C would (roof closed and mount parked first) and must end with 0."""
+    directory = tmp_path / "observatory"
+    environment = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}",
+        "NIGHTCREW_SUPERVISOR_SOCKET": str(tmp_path / "supervisor.sock"),
+        "NIGHTCREW_COMM": "operator.yaml",
+    }
+    xmpp_port = free_port()
+    night = Night(tmp_path, environment)
+    night(
+        "init", str(directory), "--non-interactive", *devices,
+        "--latitude", str(LATITUDE), "--longitude", str(longitude), *init_options,
+        "--xmpp-server", f"127.0.0.1:{xmpp_port}", "--console-port", str(free_port()),
+        "--good-weather-after", "0",
+    )  # fmt: skip
+    night.directory = directory
+    up: subprocess.Popen[bytes] | None = None
+    try:
+        yaml_files = sorted(p.name for p in directory.glob("*.yaml"))
+        night("server", "init", "xmpp", "--port", str(xmpp_port), *yaml_files)
+        night("server", "start", "xmpp")
+        night("check", ".")
+        with open(tmp_path / "up.log", "wb") as log:
+            up = subprocess.Popen(
+                [sys.executable, "-m", "nightcrew", "up", "."], cwd=directory, env=environment, stderr=log
+            )
+        wait(lambda: night.status().get("mastermind", ["", ""])[1] == "running", deadline, "the modules")
+        yield night
+    finally:
+        if up is not None:
+            up.send_signal(signal.SIGTERM)  # modules close: the roof first, the mount parks
+            up.wait(timeout=120)
+        if (directory / "xmpp" / "prosody.pid").exists():
+            stop_server(directory / "xmpp")
+    assert up is not None and up.returncode == 0

@@ -18,8 +18,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import subprocess
-import sys
 import time
 import urllib.request
 from collections.abc import Iterator
@@ -30,12 +28,10 @@ import pytest
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.astro import local_sidereal_time
-from nightcrew.server import stop_server
 from nightcrew.testing.alpaca import AlpacaSimulator
-from nightcrew.testing.processes import free_port
 from tests.comm.xmpp_servers import require_command
 
-from .night import LATITUDE, Night, evening_longitude, task_file, wait
+from .night import LATITUDE, evening_longitude, running_observatory, task_file, wait
 from .simulators import run_alpaca_simulators
 
 pytestmark = pytest.mark.xmpp
@@ -61,39 +57,14 @@ def device(simulator: AlpacaSimulator, path: str) -> object:
 def test_first_night_on_alpaca_simulators(night_simulator: AlpacaSimulator, tmp_path: Path) -> None:
     now = datetime.now(UTC)
     longitude = evening_longitude(now)
-    directory = tmp_path / "observatory"
-    environment = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}",
-        "NIGHTCREW_SUPERVISOR_SOCKET": str(tmp_path / "supervisor.sock"),
-        "NIGHTCREW_COMM": "operator.yaml",
-    }
-    xmpp_port = free_port()
-    night = Night(tmp_path, environment)
-    night(
-        "init", str(directory), "--non-interactive", "--alpaca", night_simulator.url,
-        "--latitude", str(LATITUDE), "--longitude", str(longitude), "--elevation", "1000",
-        "--xmpp-server", f"127.0.0.1:{xmpp_port}", "--console-port", str(free_port()),
-        "--good-weather-after", "0",
-    )  # fmt: skip
-    night.directory = directory
-    up: subprocess.Popen[bytes] | None = None
-    try:
-        yaml_files = sorted(p.name for p in directory.glob("*.yaml"))
-        night("server", "init", "xmpp", "--port", str(xmpp_port), *yaml_files)
-        night("server", "start", "xmpp")
-        night("check", ".")
-        with open(tmp_path / "up.log", "wb") as log:
-            up = subprocess.Popen(
-                [sys.executable, "-m", "nightcrew", "up", "."], cwd=directory, env=environment, stderr=log
-            )
-        deadline = time.monotonic() + NIGHT_TIMEOUT
-        wait(lambda: night.status().get("mastermind", ["", ""])[1] == "running", deadline, "the modules")
+    deadline = time.monotonic() + NIGHT_TIMEOUT
+    devices = ["--alpaca", night_simulator.url]
+    with running_observatory(tmp_path, devices, longitude, deadline, "--elevation", "1000") as night:
         # Three targets near the zenith: the local sidereal time is the right ascension overhead.
         lst = float(local_sidereal_time(now.timestamp(), longitude))
         for number, (offset, filter_name) in enumerate(((-15.0, "Red"), (0.0, "Green"), (15.0, "Blue")), 1):
             task_file(
-                directory / f"target{number}.yaml",
+                night.directory / f"target{number}.yaml",
                 f"field {number}",
                 (lst + offset) % 360,
                 LATITUDE,
@@ -118,12 +89,5 @@ def test_first_night_on_alpaca_simulators(night_simulator: AlpacaSimulator, tmp_
             header = fits.getheader(frame)
             assert set(header) >= SCIENCE_HEADERS, (frame.name, SCIENCE_HEADERS - set(header))
             assert header["IMAGETYP"].lower() == "object" and header["EXPTIME"] == pytest.approx(2.0)
-    finally:
-        if up is not None:
-            up.send_signal(signal.SIGTERM)  # as Ctrl-C or systemd would: modules close, roof and mount first
-            up.wait(timeout=120)
-        if (directory / "xmpp" / "prosody.pid").exists():
-            stop_server(directory / "xmpp")
-    assert up is not None and up.returncode == 0
     assert device(night_simulator, "dome/0/shutterstatus") == 1  # closed
     assert device(night_simulator, "telescope/0/atpark") is True

@@ -10,10 +10,6 @@ under CI=true.
 from __future__ import annotations
 
 import asyncio
-import os
-import signal
-import subprocess
-import sys
 import time
 from collections.abc import Iterator
 from datetime import UTC, datetime
@@ -23,12 +19,10 @@ import pytest
 
 from nightcrew.astro import local_sidereal_time
 from nightcrew.bridges.indi.client import IndiClient
-from nightcrew.server import stop_server
 from nightcrew.testing.indi import IndiServer
-from nightcrew.testing.processes import free_port
 from tests.comm.xmpp_servers import require_command
 
-from .night import LATITUDE, Night, evening_longitude, task_file, wait
+from .night import LATITUDE, evening_longitude, running_observatory, task_file, wait
 from .simulators import run_indi_simulators
 
 pytestmark = pytest.mark.xmpp
@@ -56,45 +50,13 @@ async def switch_on(server: IndiServer, device: str, name: str) -> str:
 def test_first_night_on_indi_simulators(indi_server: IndiServer, tmp_path: Path) -> None:
     now = datetime.now(UTC)
     longitude = evening_longitude(now)
-    directory = tmp_path / "observatory"
-    environment = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}",
-        "NIGHTCREW_SUPERVISOR_SOCKET": str(tmp_path / "supervisor.sock"),
-        "NIGHTCREW_COMM": "operator.yaml",
-    }
-    xmpp_port = free_port()
-    night = Night(tmp_path, environment)
-    night(
-        "init", str(directory), "--non-interactive", "--indi", f"{indi_server.host}:{indi_server.port}",
-        "--latitude", str(LATITUDE), "--longitude", str(longitude),
-        "--xmpp-server", f"127.0.0.1:{xmpp_port}", "--console-port", str(free_port()),
-        "--good-weather-after", "0",
-    )  # fmt: skip
-    night.directory = directory
-    up: subprocess.Popen[bytes] | None = None
-    try:
-        yaml_files = sorted(p.name for p in directory.glob("*.yaml"))
-        night("server", "init", "xmpp", "--port", str(xmpp_port), *yaml_files)
-        night("server", "start", "xmpp")
-        night("check", ".")
-        with open(tmp_path / "up.log", "wb") as log:
-            up = subprocess.Popen(
-                [sys.executable, "-m", "nightcrew", "up", "."], cwd=directory, env=environment, stderr=log
-            )
-        deadline = time.monotonic() + NIGHT_TIMEOUT
-        wait(lambda: night.status().get("mastermind", ["", ""])[1] == "running", deadline, "the modules")
+    deadline = time.monotonic() + NIGHT_TIMEOUT
+    devices = ["--indi", f"{indi_server.host}:{indi_server.port}"]
+    with running_observatory(tmp_path, devices, longitude, deadline) as night:
         lst = float(local_sidereal_time(now.timestamp(), longitude))
-        task_file(directory / "target.yaml", "zenith field", lst, LATITUDE, "Red", count=2)
+        task_file(night.directory / "target.yaml", "zenith field", lst, LATITUDE, "Red", count=2)
         night("tasks", "--db", "tasks.sqlite", "add", "target.yaml")
         wait(lambda: set(night.tasks().values()) == {"COMPLETED"}, deadline, "the task done")
         assert len(night.science_frames()) >= 2
-    finally:
-        if up is not None:
-            up.send_signal(signal.SIGTERM)  # modules close: the dome first, the mount parks
-            up.wait(timeout=120)
-        if (directory / "xmpp" / "prosody.pid").exists():
-            stop_server(directory / "xmpp")
-    assert up is not None and up.returncode == 0
     assert asyncio.run(switch_on(indi_server, "Dome Simulator", "DOME_SHUTTER")) == "SHUTTER_CLOSE"
     assert asyncio.run(switch_on(indi_server, "Telescope Simulator", "TELESCOPE_PARK")) == "PARK"
