@@ -18,7 +18,6 @@ from pathlib import Path
 import pytest
 
 from nightcrew.clock import AcceleratedClock
-from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import MoveError
 from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent
 from nightcrew.interfaces import IMotion, IRoof, ITelescope, MotionStatus
@@ -83,16 +82,9 @@ def sim_env(
 
 @pytest.fixture
 async def driver(supervised: SupervisedDirectory, wall_start: str, sim_env: None) -> AsyncIterator[Module]:
-    prosody = supervised.prosody
-    prosody.account("operator")
-    comm = XmppComm(
-        f"operator@{DOMAIN}",
-        PASSWORD,
-        server=prosody.address,
-        room=supervised.room,
-        ca_file=str(prosody.ca_file),
+    module = Module(
+        comm=supervised.operator_comm(), clock=AcceleratedClock(CLOCK_START, SPEED, wall_start=wall_start)
     )
-    module = Module(comm=comm, clock=AcceleratedClock(CLOCK_START, SPEED, wall_start=wall_start))
     await module.open()
     try:
         yield module

@@ -89,6 +89,17 @@ class SupervisedDirectory:
             f"password: {PASSWORD}\nserver: {prosody.address}\nroom: {room}\nca_file: {prosody.ca_file}\n"
         )
 
+    def operator_comm(self) -> XmppComm:
+        """A comm for the account ``operator`` (registered here) in the test's room."""
+        self.prosody.account("operator")
+        return XmppComm(
+            f"operator@{DOMAIN}",
+            PASSWORD,
+            server=self.prosody.address,
+            room=self.room,
+            ca_file=str(self.prosody.ca_file),
+        )
+
     def env(self) -> dict[str, str]:
         # This checkout's code, also where the venv's editable install is another checkout's.
         return {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPOSITORY / "src"), str(REPOSITORY)])}
@@ -158,16 +169,7 @@ async def supervised(prosody: Prosody, tmp_path: Path) -> AsyncIterator[Supervis
 @pytest.fixture
 async def operator(supervised: SupervisedDirectory) -> AsyncIterator[Module]:
     """A module in the test's room, to see the supervised modules come and go."""
-    prosody = supervised.prosody
-    prosody.account("operator")
-    comm = XmppComm(
-        f"operator@{DOMAIN}",
-        PASSWORD,
-        server=prosody.address,
-        room=supervised.room,
-        ca_file=str(prosody.ca_file),
-    )
-    module = Module(comm=comm)
+    module = Module(comm=supervised.operator_comm())
     await module.open()
     try:
         yield module
