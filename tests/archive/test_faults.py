@@ -61,15 +61,15 @@ async def test_postgres_stopping_mid_upload_gives_503_and_no_file(
     dsn = await own_cluster.create_database()
     async with running_archive(tmp_path, database=dsn) as archive:
         client = Client(archive)
-        blocker, watcher = await asyncpg.connect(dsn), await asyncpg.connect(dsn)
+        watcher = await asyncpg.connect(dsn)
         try:
-            # Hold the header table so the upload's transaction stops half-way, then stop the server.
-            await blocker.execute("BEGIN; LOCK TABLE frame_headers IN EXCLUSIVE MODE")
+            # The upload's transaction sleeps inside its header insert until the server stops: it
+            # cannot commit first (a lock held by another session would be released by the stop).
+            await watcher.execute(SLEEPING_HEADER_INSERT)
             upload = asyncio.create_task(client.upload(fits_frame(), "a.fits"))
             async with asyncio.timeout(PATIENCE):
                 while not await watcher.fetchval(  # noqa: ASYNC110 - polling another process's state
-                    "SELECT count(*) FROM pg_stat_activity "  # outside a transaction: a fresh view each time
-                    "WHERE wait_event_type = 'Lock' AND query LIKE 'INSERT%'"
+                    "SELECT count(*) FROM pg_stat_activity WHERE wait_event = 'PgSleep'"
                 ):
                     await asyncio.sleep(0.02)
             assert (archive.storage / "20261124/sbig6303/a.fits").exists()  # the file waits for its row
@@ -78,6 +78,11 @@ async def test_postgres_stopping_mid_upload_gives_503_and_no_file(
             assert status == 503 and "the archive's database is unavailable (PostgreSQL:" in body["detail"]
             assert stored_files(archive) == []
             await asyncio.to_thread(own_cluster.start)
+            again = await asyncpg.connect(dsn)
+            try:
+                await again.execute("DROP TRIGGER sleep_on_insert ON frame_headers")
+            finally:
+                await again.close()
             async with asyncio.timeout(PATIENCE):  # the pool replaces its dead connections
                 while (await client.upload(fits_frame(), "a.fits"))[0] == 503:  # noqa: ASYNC110 - retrying
                     await asyncio.sleep(0.05)
@@ -85,6 +90,12 @@ async def test_postgres_stopping_mid_upload_gives_503_and_no_file(
             assert status == 200 and [f["basename"] for f in body["results"]] == ["a.fits"]
             assert stored_files(archive) == ["20261124/sbig6303/a.fits"]
         finally:
-            blocker.terminate()
             watcher.terminate()
             await client.close()
+
+
+SLEEPING_HEADER_INSERT = """
+CREATE FUNCTION sleep_on_insert() RETURNS trigger LANGUAGE plpgsql AS $$
+BEGIN PERFORM pg_sleep(3600); RETURN NEW; END $$;
+CREATE TRIGGER sleep_on_insert BEFORE INSERT ON frame_headers FOR EACH ROW EXECUTE FUNCTION sleep_on_insert();
+"""

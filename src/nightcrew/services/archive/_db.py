@@ -220,7 +220,8 @@ class PostgresDatabase(Database):
             yield
         except asyncpg.IntegrityConstraintViolationError as exc:
             raise Rejected(409, f"conflicts with a stored frame ({exc})") from exc
-        except (OSError, asyncpg.PostgresError, asyncpg.InterfaceError) as exc:
+        except (OSError, asyncpg.PostgresError, asyncpg.InterfaceError, asyncpg.InternalClientError) as exc:
+            # InternalClientError: a connection the server is closing under a running statement
             raise DatabaseUnavailable(f"PostgreSQL: {exc}") from exc
 
 

@@ -51,10 +51,14 @@ class FrameIndex:
             [checksum, basename],
         )
 
-    async def insert(self, facts: FrameFacts, stored: StoredFile) -> int:
-        """Index a frame (one transaction); return its id."""
+    async def insert(self, facts: FrameFacts, stored: StoredFile) -> Row:
+        """Index a frame (one transaction); return its row, read inside that transaction so that a
+        committed frame is answered without asking the database again."""
         async with self.database.transaction() as tx:
-            return await insert_frame(tx, facts, stored)
+            frame_id = await insert_frame(tx, facts, stored)
+            row = await tx.fetch_one(f"SELECT {COLUMNS} FROM frames WHERE id = ?", [frame_id])
+        assert row is not None
+        return row
 
     async def frame(self, frame_id: int) -> Row | None:
         return await self.database.fetch_one(f"SELECT {COLUMNS} FROM frames WHERE id = ?", [frame_id])

@@ -247,13 +247,11 @@ class ArchiveServer:
             except OSError as exc:
                 raise Rejected(507, f"cannot store {basename}: {exc.strerror}") from exc
             try:
-                frame_id = await self.index.insert(facts, StoredFile(basename, relative, checksum, len(data)))
+                row = await self.index.insert(facts, StoredFile(basename, relative, checksum, len(data)))
             except BaseException:
                 await asyncio.shield(asyncio.to_thread(self.store.blocking_discard, relative))
                 raise
-        log.info("stored frame %d: %s (%d bytes)", frame_id, relative, len(data))
-        row = await self.index.frame(frame_id)
-        assert row is not None
+        log.info("stored frame %d: %s (%d bytes)", row["id"], relative, len(data))
         return web.json_response({**frame_json(row, _base(request)), "duplicate": False}, status=201)
 
     def _authorize(self, request: web.Request) -> None:
