@@ -22,6 +22,7 @@ from nightcrew.config import ConfigNode, build_object, load_config, validate_con
 from nightcrew.config._classes import import_class
 from nightcrew.errors import NightcrewError
 from nightcrew.modules import Module
+from nightcrew.supervisor import heartbeat_loop
 
 __all__ = ["add_parser", "build_described", "build_file", "build_modules", "run_modules"]
 
@@ -69,29 +70,36 @@ async def run_modules(modules: list[Module], stop: asyncio.Event | None = None) 
     """
     fatal: list[NightcrewError] = []
     opened: list[Module] = []
-    async with stop_on_signals(stop) as stopped:
+    # Under `nightcrew up`: the beat that tells the supervisor this process's event loop runs; it
+    # goes on while modules close (a roof may take minutes to park).
+    heartbeat = asyncio.get_running_loop().create_task(heartbeat_loop(), name="supervisor heartbeat")
+    try:
+        async with stop_on_signals(stop) as stopped:
 
-        def on_fatal(error: NightcrewError) -> None:
-            fatal.append(error)
-            stopped.set()
+            def on_fatal(error: NightcrewError) -> None:
+                fatal.append(error)
+                stopped.set()
 
-        for module in modules:
-            module.comm.on_fatal = on_fatal
-        try:
             for module in modules:
-                await module.open()
-                opened.append(module)
-            await stopped.wait()
-            log.info("stopping")
-        finally:
-            for module in reversed(opened):
-                try:
-                    await module.close()
-                except NightcrewError as exc:
-                    if not fatal:
-                        raise
-                    # Its comm is gone for good: a failing goodbye must not hide why we stop.
-                    log.warning("%s closed with an error: %s", module.name, exc)
+                module.comm.on_fatal = on_fatal
+            try:
+                for module in modules:
+                    await module.open()
+                    opened.append(module)
+                await stopped.wait()
+                log.info("stopping")
+            finally:
+                for module in reversed(opened):
+                    try:
+                        await module.close()
+                    except NightcrewError as exc:
+                        if not fatal:
+                            raise
+                        # Its comm is gone for good: a failing goodbye must not hide why we stop.
+                        log.warning("%s closed with an error: %s", module.name, exc)
+    finally:
+        heartbeat.cancel()
+        await asyncio.gather(heartbeat, return_exceptions=True)
     if fatal:
         raise fatal[0]
 

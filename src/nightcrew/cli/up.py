@@ -4,6 +4,8 @@ Each module file (``nightcrew check DIR`` lists them; files that are not modules
 as ``nightcrew run FILE`` in a process of its own, on the comm the file names. A module that exits
 or crashes is restarted after a growing delay (1 s, 2 s, 4 s … up to 60 s; a module that ran 30 s
 counts as healthy again); after 5 restarts within 5 minutes the supervisor gives up on it. A module
+whose event loop stops its heartbeat to the supervisor for 30 s (``--frozen-after``) is ``frozen``:
+it is killed and restarted the same way. A module
 whose configuration is broken (exit code 2) is not restarted; ``nightcrew status`` shows why.
 ``nightcrew status|start|stop|restart|logs`` talk to it over a Unix socket only its user can use.
 SIGTERM or Ctrl-C stops every module cleanly (each closes itself), then the supervisor. With
@@ -47,6 +49,14 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="join the bus with this comm (heartbeat for the safety watchdog)",
     )
     parser.add_argument("--stop-timeout", type=float, default=20.0, help="seconds a module may take to close")
+    parser.add_argument(
+        "--frozen-after",
+        type=float,
+        default=30.0,
+        metavar="SECONDS",
+        help="seconds without a heartbeat from a module's event loop before it is killed and restarted "
+        "as frozen (default: 30; 0: not watched)",
+    )
     parser.set_defaults(func=_up)
     return parser
 
@@ -60,6 +70,7 @@ def _up(args: argparse.Namespace) -> int:
         policy=lambda: RestartPolicy(max_restarts=args.max_restarts),
         stop_timeout=args.stop_timeout,
         comm_file=args.comm,
+        frozen_after=args.frozen_after or None,
     )
     asyncio.run(supervisor.run())
     return 0

@@ -10,6 +10,7 @@ a limit, and serves its control socket with the standard library (~850 lines in 
 
 from nightcrew.supervisor._control import SupervisorError, default_socket_path, send_request
 from nightcrew.supervisor._discovery import ModuleFile, module_files
+from nightcrew.supervisor._heartbeat import heartbeat_loop
 from nightcrew.supervisor._logging import LOG_FORMATS, configure_logging
 from nightcrew.supervisor._policy import RestartPolicy
 from nightcrew.supervisor._process import ModuleProcess, ModuleStatus
@@ -26,6 +27,7 @@ __all__ = [
     "SupervisorError",
     "configure_logging",
     "default_socket_path",
+    "heartbeat_loop",
     "module_files",
     "send_request",
     "systemd_units",

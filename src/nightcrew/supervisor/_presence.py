@@ -3,8 +3,9 @@
 With ``nightcrew up DIR --comm FILE`` (FILE describes a comm, like ``operator.yaml``) the supervisor
 joins the modules' room as a module of its own (named after the comm, e.g. ``supervisor``). It is
 READY while every module it supervises runs or restarts, and in ERROR, naming them, while one is
-``failed`` or ``broken``: the safety watchdog, watching it like the weather module, then closes the
-roof. If the supervisor itself hangs or dies, it stops answering, which the watchdog also sees.
+``failed``, ``broken`` or ``frozen`` (until it is restarted): the safety watchdog, watching it like
+the weather module, then closes the roof. If the supervisor itself hangs or dies, it stops
+answering, which the watchdog also sees.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from nightcrew.supervisor._process import ModuleStatus
 
 __all__ = ["SupervisorPresence"]
 
-_BAD_STATES = ("failed", "broken")
+_BAD_STATES = ("failed", "broken", "frozen")
 _CHECK_INTERVAL = 1.0  # wall seconds between two looks at the modules' states
 
 

@@ -1,10 +1,12 @@
 """One supervised module: a ``nightcrew run FILE`` child process, restarted when it exits.
 
-States: ``running`` (the process lives), ``backoff`` (it exited; restarting after a delay),
-``stopping``, ``stopped`` (by request), ``failed`` (too many restarts: given up), ``broken`` (its
-configuration is wrong: exit code 2, or unreadable before the start; restarting cannot help until
-the file is fixed and the module is started again). Every exit is logged with its reason: the exit
-code or signal and the child's last error line.
+States: ``running`` (the process lives), ``frozen`` (it lives but its event loop stopped beating
+for ``frozen_after`` seconds, see nightcrew.supervisor._heartbeat: it is killed and restarted after
+the backoff delay, and stays ``frozen`` until then), ``backoff`` (it exited; restarting after a
+delay), ``stopping``, ``stopped`` (by request), ``failed`` (too many restarts: given up), ``broken``
+(its configuration is wrong: exit code 2, or unreadable before the start; restarting cannot help
+until the file is fixed and the module is started again). Every exit is logged with its reason: the
+exit code or signal and the child's last error line.
 """
 
 from __future__ import annotations
@@ -13,13 +15,16 @@ import asyncio
 import collections
 import ctypes
 import logging
+import os
 import signal
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from nightcrew.supervisor._discovery import ModuleFile
+from nightcrew.supervisor._heartbeat import FD_VARIABLE, INTERVAL_VARIABLE, beat_interval, watch_heartbeat
 from nightcrew.supervisor._policy import RestartPolicy
 
 __all__ = ["ModuleProcess", "ModuleStatus"]
@@ -56,12 +61,15 @@ class ModuleProcess:
         log_format: str,
         policy: RestartPolicy,
         stop_timeout: float = 20.0,
+        frozen_after: float | None = 30.0,
     ) -> None:
         self.module = module
         self.log_file = log_dir / f"{module.name}.log"
         self._log_format = log_format
         self._policy = policy
         self._stop_timeout = stop_timeout
+        self._frozen_after = frozen_after
+        self._frozen = ""  # why the running process was found frozen, until it exits
         self._state = "stopped"
         self._since = time.time()
         self._restarts = 0
@@ -130,6 +138,8 @@ class ModuleProcess:
             reason = _describe_exit(code)
             error = self._last_error()
             self._last_exit = f"{reason}: {error}" if error else reason
+            if self._frozen:
+                self._last_exit = f"{self._frozen}; {reason}"
             if code == _CONFIG_ERROR_EXIT:
                 self._set_state("broken", error or reason)
                 log.error(
@@ -141,28 +151,71 @@ class ModuleProcess:
                 self._set_state("failed", f"gave up after too many restarts; last: {self._last_exit}")
                 log.error("%s %s; too many restarts, giving up", self.name, self._last_exit)
                 return
-            self._set_state("backoff", self._last_exit)
+            self._set_state("frozen" if self._frozen else "backoff", self._last_exit)
             log.warning("%s %s; restarting in %g s", self.name, self._last_exit, delay)
             await asyncio.sleep(delay)
             self._restarts += 1
 
     async def _run_once(self) -> int:
         self._stderr_tail.clear()
-        process = await asyncio.create_subprocess_exec(
-            *self._command(),
-            stdin=asyncio.subprocess.DEVNULL,
-            stdout=asyncio.subprocess.DEVNULL,
-            stderr=asyncio.subprocess.PIPE,
-            start_new_session=True,  # Ctrl-C reaches the supervisor, which stops modules in order
-            preexec_fn=_die_with_parent,
-        )
+        self._frozen = ""
+        read_fd, write_fd = os.pipe() if self._frozen_after is not None else (-1, -1)
+        beats = os.fdopen(read_fd, "rb", buffering=0) if read_fd >= 0 else None
+        try:
+            try:
+                process = await asyncio.create_subprocess_exec(
+                    *self._command(),
+                    stdin=asyncio.subprocess.DEVNULL,
+                    stdout=asyncio.subprocess.DEVNULL,
+                    stderr=asyncio.subprocess.PIPE,
+                    start_new_session=True,  # Ctrl-C reaches the supervisor, which stops modules in order
+                    preexec_fn=_die_with_parent,
+                    pass_fds=(write_fd,) if write_fd >= 0 else (),
+                    env=self._environment(write_fd),
+                )
+            finally:
+                if write_fd >= 0:
+                    os.close(write_fd)  # the child's copy is the only writer: its exit ends the watch
+            return await self._watch(process, beats)
+        finally:
+            if beats is not None:
+                beats.close()
+
+    async def _watch(self, process: asyncio.subprocess.Process, beats: BinaryIO | None) -> int:
+        """Collect the stderr tail (and watch the heartbeat) until the process exits; its exit code."""
         self._process = process
         self._set_state("running", "")
         log.info("%s started (pid %d)", self.name, process.pid)
-        assert process.stderr is not None
-        async for line in process.stderr:
-            self._stderr_tail.append(line.decode(errors="replace").rstrip())
-        return await process.wait()
+        watch = None
+        if beats is not None and self._frozen_after is not None:
+            watch = asyncio.get_running_loop().create_task(
+                watch_heartbeat(beats, self._frozen_after, lambda silent: self._kill_frozen(process, silent))
+            )
+        try:
+            assert process.stderr is not None
+            async for line in process.stderr:
+                self._stderr_tail.append(line.decode(errors="replace").rstrip())
+            return await process.wait()
+        finally:
+            if watch is not None:
+                watch.cancel()
+                await asyncio.gather(watch, return_exceptions=True)
+
+    def _environment(self, write_fd: int) -> dict[str, str] | None:
+        """The child's environment: ours, plus where and how often to beat (None: ours as it is)."""
+        if self._frozen_after is None:
+            return None
+        interval = beat_interval(self._frozen_after)
+        return {**os.environ, FD_VARIABLE: str(write_fd), INTERVAL_VARIABLE: repr(interval)}
+
+    def _kill_frozen(self, process: asyncio.subprocess.Process, silent: float) -> None:
+        """Its event loop stopped beating: report it ``frozen`` and kill it (restarted on its exit)."""
+        if process.returncode is not None or self._stopping():
+            return
+        self._frozen = f"frozen (no heartbeat for {silent:g} s)"
+        self._set_state("frozen", self._frozen)
+        log.error("%s (pid %d) is frozen: no heartbeat for %g s; killing it", self.name, process.pid, silent)
+        process.kill()
 
     def _stopping(self) -> bool:
         """Whether :meth:`stop` was called (while the process ran: its exit is no crash)."""
@@ -188,6 +241,7 @@ class ModuleProcess:
 
     async def _terminate(self, process: asyncio.subprocess.Process) -> None:
         process.send_signal(signal.SIGTERM)
+        process.send_signal(signal.SIGCONT)  # a stopped process handles SIGTERM only once continued
         try:
             await asyncio.wait_for(process.wait(), self._stop_timeout)
         except TimeoutError:

@@ -40,6 +40,8 @@ class Supervisor:
         stop_timeout: Seconds a module may take to close before it is killed.
         comm_file: A comm description: the supervisor then joins the bus as a module whose state
             is its heartbeat (see :class:`SupervisorPresence`).
+        frozen_after: Wall seconds a module's event loop may go without a heartbeat before its
+            process counts as frozen and is killed and restarted (> 0); None: not watched.
     """
 
     def __init__(
@@ -52,7 +54,10 @@ class Supervisor:
         policy: Callable[[], RestartPolicy] = RestartPolicy,
         stop_timeout: float = 20.0,
         comm_file: Path | None = None,
+        frozen_after: float | None = 30.0,
     ) -> None:
+        if frozen_after is not None and not frozen_after > 0:
+            raise SupervisorError(f"frozen_after must be > 0 seconds, got {frozen_after}")
         self._directory = directory
         self._socket_path = socket_path
         self._log_dir = log_dir
@@ -60,6 +65,7 @@ class Supervisor:
         self._policy = policy
         self._stop_timeout = stop_timeout
         self._comm_file = comm_file
+        self._frozen_after = frozen_after
         self._modules: dict[str, ModuleProcess] = {}
 
     async def run(self, stop: asyncio.Event | None = None) -> None:
@@ -101,6 +107,7 @@ class Supervisor:
             log_format=self._log_format,
             policy=self._policy(),
             stop_timeout=self._stop_timeout,
+            frozen_after=self._frozen_after,
         )
 
     # --- control requests ----------------------------------------------------------------------
