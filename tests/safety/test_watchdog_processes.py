@@ -1,4 +1,5 @@
-"""The safety watchdog and the roof's own offline rule, with every module a supervised process on Prosody.
+"""The safety watchdog, the roof's own offline rule and its dead-man's switch, and the supervisor's
+frozen-process watch, with every module a supervised process on Prosody.
 
 The roof and telescope are the bundled simulated ones (examples/sim-processes), the mastermind a
 plain module under that name, all on one accelerated clock (10 clock seconds per wall second).
@@ -7,6 +8,7 @@ plain module under that name, all on one accelerated clock (10 clock seconds per
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import os
 import signal
@@ -19,7 +21,7 @@ import pytest
 
 from nightcrew.clock import AcceleratedClock
 from nightcrew.errors import MoveError
-from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent
+from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
 from nightcrew.interfaces import IMotion, IRoof, ITelescope, MotionStatus
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
@@ -32,13 +34,21 @@ OVERLAYS = REPOSITORY / "examples" / "sim-processes"
 SPEED = 10.0
 CLOCK_START = "2026-11-10T17:50:00"
 MODULES = ["roof", "telescope", "mastermind", "watchdog"]
+#: Wall seconds without a heartbeat before the supervisor calls a module frozen (`up --frozen-after`).
+FROZEN_AFTER = 6
+#: Clock seconds without the watchdog's heartbeat before roof and telescope secure themselves.
+WATCHDOG_SILENT = 40
 
 
-def write_observatory(supervised: SupervisedDirectory, *, park_when_offline: float = 300) -> None:
+def write_observatory(
+    supervised: SupervisedDirectory, *, park_when_offline: float = 300, dead_mans_switch: bool = False
+) -> None:
     for name in MODULES:
         supervised.prosody.account(name)
     for name in ("roof", "telescope"):
         extra = f"park_when_offline: {park_when_offline}\n"
+        if dead_mans_switch:  # as docs/operations.md tells a user to add to roof.yaml and telescope.yaml
+            extra += f"watchdog: watchdog\npark_when_watchdog_silent: {WATCHDOG_SILENT}\n"
         (supervised.directory / f"{name}.yaml").write_text(f"<<: !include {OVERLAYS / name}.yaml\n{extra}")
     overlay = (
         f"comm:\n  <<: !include {OVERLAYS}/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
@@ -102,17 +112,29 @@ async def open_up(driver: Module) -> None:
     await asyncio.wait_for(telescope.move_altaz(45.0, 120.0), 60)
 
 
-async def test_frozen_mastermind_roof_closed_and_telescope_parked_within_60_clock_seconds(
+async def test_frozen_mastermind_then_frozen_watchdog_reported_restarted_and_the_roof_closed(
     supervised: SupervisedDirectory, driver: Module
 ) -> None:
-    write_observatory(supervised)
-    supervised.up()
+    write_observatory(supervised, dead_mans_switch=True)
+    supervised.up("--frozen-after", str(FROZEN_AFTER))
+    frozen: list[int] = []
+    try:
+        await _freeze_mastermind_then_watchdog(supervised, driver, frozen)
+    finally:  # after a failure: a stopped process would not even die with the supervisor
+        for pid in frozen:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGCONT)
+
+
+async def _freeze_mastermind_then_watchdog(
+    supervised: SupervisedDirectory, driver: Module, frozen: list[int]
+) -> None:
     clock = driver.clock
     await wait_for(
         lambda: modules_ready(driver, MODULES), START_TIMEOUT * SPEED, clock=clock, message="modules ready"
     )
     alarms: list[SafetyAlarmEvent] = []
-    cleared = asyncio.Event()
+    cleared, beating = asyncio.Event(), asyncio.Event()
 
     async def on_alarm(event: SafetyAlarmEvent, sender: str) -> None:
         alarms.append(event)
@@ -120,34 +142,68 @@ async def test_frozen_mastermind_roof_closed_and_telescope_parked_within_60_cloc
     async def on_cleared(event: SafetyClearedEvent, sender: str) -> None:
         cleared.set()
 
+    async def on_beat(event: WatchdogHeartbeatEvent, sender: str) -> None:
+        beating.set()
+
     await driver.comm.register_event(SafetyAlarmEvent, on_alarm)
     await driver.comm.register_event(SafetyClearedEvent, on_cleared)
+    await driver.comm.register_event(WatchdogHeartbeatEvent, on_beat)
+    await asyncio.wait_for(beating.wait(), 30)  # the roof opens only while the watchdog beats
     await open_up(driver)
     assert await status_of(driver, "roof") is MotionStatus.IDLE  # open
 
+    # 1. A frozen mastermind: the watchdog closes and parks; the supervisor kills and restarts it.
     mastermind = (await supervised.status())["mastermind"]["pid"]
+    stopped_at = clock.time()
     os.kill(mastermind, signal.SIGSTOP)
-    try:
-        took = await wait_for(
-            lambda: _both_parked(driver), 60, clock=clock, message="roof closed and telescope parked"
+    frozen.append(mastermind)
+    await wait_for(lambda: bool(alarms), 60, clock=clock, message="safety alarm")
+    assert alarms[0].reason.startswith("mastermind: no answer for ")
+    # the alarm holds: the roof refuses to open while the mastermind is frozen (it is restarted
+    # FROZEN_AFTER wall seconds after the SIGSTOP, some 40 clock seconds after the alarm)
+    with pytest.raises(MoveError, match=r"safety alarm \(mastermind: no answer for "):
+        await (await driver.comm.proxy("roof", IRoof)).open_roof()
+    await wait_for(lambda: _both_parked(driver), 60, clock=clock, message="roof closed and telescope parked")
+    took = clock.time() - stopped_at
+    assert took <= 60
+    log.info("roof closed and telescope parked %.1f clock s after the mastermind's SIGSTOP", took)
+    status = await supervised.wait_for_status(
+        lambda s: s["mastermind"]["restarts"] == 1, "frozen mastermind restarted"
+    )
+    assert (
+        status["mastermind"]["last_exit"] == f"frozen (no heartbeat for {FROZEN_AFTER} s); killed by SIGKILL"
+    )
+    assert (
+        f"mastermind (pid {mastermind}) is frozen: no heartbeat for {FROZEN_AFTER} s"
+        in supervised.supervisor_log()
+    )
+    # heartbeats back from the new process: the alarm clears, the roof may open again
+    await asyncio.wait_for(cleared.wait(), START_TIMEOUT)
+    await open_up(driver)
+
+    # 2. A frozen watchdog: roof and telescope secure themselves (the dead-man's switch), and the
+    # supervisor kills and restarts it.
+    watchdog = (await supervised.status())["watchdog"]["pid"]
+    os.kill(watchdog, signal.SIGSTOP)
+    frozen.append(watchdog)
+    took = await wait_for(
+        lambda: _both_parked(driver), 120, clock=clock, message="closed and parked without the watchdog"
+    )
+    # its silence, one check (every 5 s), 30 s of closing, and an event's way through Prosody
+    assert took <= WATCHDOG_SILENT + 5 + 30 + 15
+    log.info("roof closed and telescope parked %.1f clock s after the watchdog's SIGSTOP", took)
+    for name in ("roof", "telescope"):
+        assert (
+            "no heartbeat from the watchdog 'watchdog' for"
+            in (supervised.log_dir / f"{name}.log").read_text()
         )
-        assert took <= 60
-        log.info("roof closed and telescope parked %.1f clock s after SIGSTOP", took)
-        assert alarms and alarms[0].reason.startswith("mastermind: no answer for ")
-        # the alarm holds: the roof refuses to open while the mastermind is still frozen
-        with pytest.raises(MoveError, match=r"safety alarm \(mastermind: no answer for "):
-            await (await driver.comm.proxy("roof", IRoof)).open_roof()
-    finally:
-        os.kill(mastermind, signal.SIGCONT)
-    # heartbeats back: the alarm clears, the roof may open again (the supervisor never restarted it)
-    await asyncio.wait_for(cleared.wait(), 30)
-    await asyncio.wait_for((await driver.comm.proxy("roof", IRoof)).open_roof(), 60)
-    assert (await supervised.status())["mastermind"]["restarts"] == 0
-    # a clean stop closes the open roof first (park_on_close in the overlays)
+    status = await supervised.wait_for_status(
+        lambda s: s["watchdog"]["restarts"] == 1 and s["watchdog"]["state"] == "running",
+        "frozen watchdog restarted",
+    )
+    assert status["watchdog"]["last_exit"] == f"frozen (no heartbeat for {FROZEN_AFTER} s); killed by SIGKILL"
+    assert all(status[name]["restarts"] == 0 for name in ("roof", "telescope"))
     assert supervised.terminate() == 0
-    roof_log = (supervised.log_dir / "roof.log").read_text()
-    assert "roof: parking before closing" in roof_log
-    assert "roof: motion status parking -> parked" in roof_log.split("roof: parking before closing")[-1]
 
 
 async def _roof_is(driver: Module, status: MotionStatus) -> bool:

@@ -11,7 +11,7 @@ from nightcrew.events.module import ModuleClosedEvent, ModuleOpenedEvent, Module
 from nightcrew.events.motion import FilterChangedEvent, MotionStatusChangedEvent
 from nightcrew.events.pointing import MoveAltAzEvent, MoveRaDecEvent, OffsetsAltAzEvent, OffsetsRaDecEvent
 from nightcrew.events.roof import RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent
-from nightcrew.events.safety import SafetyAlarmEvent, SafetyClearedEvent
+from nightcrew.events.safety import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
 from nightcrew.events.task import TaskFailedEvent, TaskFinishedEvent, TasksChangedEvent, TaskStartedEvent
 from nightcrew.events.test import TestEvent
 from nightcrew.events.weather import BadWeatherEvent, GoodWeatherEvent
@@ -45,5 +45,6 @@ __all__ = [
     "TaskStartedEvent",
     "TasksChangedEvent",
     "TestEvent",
+    "WatchdogHeartbeatEvent",
     "event_by_name",
 ]

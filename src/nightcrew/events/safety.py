@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from nightcrew.events.base import Event
 
-__all__ = ["SafetyAlarmEvent", "SafetyClearedEvent"]
+__all__ = ["SafetyAlarmEvent", "SafetyClearedEvent", "WatchdogHeartbeatEvent"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -23,3 +23,9 @@ class SafetyClearedEvent(Event):
     """Every safety heartbeat is back and the weather is good: the roof may open again."""
 
     persistent = True
+
+
+@dataclass(frozen=True, kw_only=True)
+class WatchdogHeartbeatEvent(Event):
+    """The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs
+    and telescopes that name it releases when these stop (nightcrew.modules.motion.base)."""

@@ -1,9 +1,16 @@
 """The base of every moving device: motion status, its event, and one motion at a time.
 
-One safety rule lives here for every device that parks: without the message server nobody can
-tell it to park (not the weather module, not the watchdog), so with ``park_when_offline`` set, a
-device whose comm stayed disconnected for that many clock seconds parks by itself (a roof: closes).
-Roofs and telescopes set it to 300 s by default. It may be used again once the comm is back.
+Two safety rules live here for every device that parks, both on the module's clock:
+
+* Without the message server nobody can tell it to park (not the weather module, not the watchdog),
+  so with ``park_when_offline`` set, a device whose comm stayed disconnected for that many clock
+  seconds parks by itself (a roof: closes). Roofs and telescopes set it to 300 s by default. It may
+  be used again once the comm is back.
+* A dead-man's switch: with ``watchdog`` naming the safety watchdog, the device parks by itself when
+  no WatchdogHeartbeatEvent from that module arrived for ``park_when_watchdog_silent`` clock seconds
+  (a frozen or dead watchdog cannot close the roof when it should). The limit counts from the
+  module's start; the device may be used again once the heartbeat is back (a roof refuses to open
+  until then).
 """
 
 from __future__ import annotations
@@ -14,7 +21,7 @@ from collections.abc import Awaitable, Coroutine
 from typing import Any, TypeVar
 
 from nightcrew.errors import ConfigError, MotionError, MoveError, NightcrewError
-from nightcrew.events import MotionStatusChangedEvent
+from nightcrew.events import MotionStatusChangedEvent, WatchdogHeartbeatEvent
 from nightcrew.interfaces import IMotion, ModuleState, MotionStatus
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
@@ -46,6 +53,10 @@ class BaseMotion(Module, IMotion):
             or systemd stops it; bounded by :data:`PARK_ON_CLOSE_TIMEOUT` clock seconds.
         park_when_offline: Clock seconds without a connection to the other modules (the XMPP
             server) after which the device parks by itself; None: never.
+        watchdog: The safety watchdog module whose heartbeat this device needs (None: none).
+        park_when_watchdog_silent: Clock seconds without a heartbeat from ``watchdog`` after which
+            the device parks by itself (> 0; more than the watchdog's ``interval`` plus twice its
+            ``answer_timeout``, the longest it takes for a round).
         **kwargs: Module options.
     """
 
@@ -53,17 +64,33 @@ class BaseMotion(Module, IMotion):
     initial_status: MotionStatus = MotionStatus.IDLE
 
     def __init__(
-        self, *, park_on_close: bool = False, park_when_offline: float | None = None, **kwargs: Any
+        self,
+        *,
+        park_on_close: bool = False,
+        park_when_offline: float | None = None,
+        watchdog: str | None = None,
+        park_when_watchdog_silent: float = 120.0,
+        **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
         if park_when_offline is not None and not park_when_offline > 0:
             raise ConfigError(
                 f"must be > 0 seconds or null, got {park_when_offline}", key="park_when_offline"
             )
+        if not park_when_watchdog_silent > 0:
+            raise ConfigError(
+                f"must be > 0 seconds, got {park_when_watchdog_silent}", key="park_when_watchdog_silent"
+            )
+        if watchdog is not None and not watchdog:
+            raise ConfigError("name the watchdog module, or leave the key out", key="watchdog")
         self._park_on_close = park_on_close
         self._park_when_offline = park_when_offline
-        if park_when_offline is not None:
-            self.add_background_task(self._offline_watch_loop)
+        self._offline_since: float | None = None
+        self._watchdog = watchdog
+        self._watchdog_limit = float(park_when_watchdog_silent)
+        self._watchdog_beat = 0.0  # clock time of its last heartbeat (of our start, before the first)
+        if park_when_offline is not None or watchdog is not None:
+            self.add_background_task(self._park_by_itself_loop)
         self._motion_status = self.initial_status
         self._motion = MotionRunner(type(self).__name__)
 
@@ -71,7 +98,10 @@ class BaseMotion(Module, IMotion):
         if self.state is not ModuleState.STARTING:
             return
         self._motion = MotionRunner(self.name)
+        self._watchdog_beat = self.clock.time()
         await super().open()
+        if self._watchdog is not None:
+            await self.comm.register_event(WatchdogHeartbeatEvent, self._on_watchdog_heartbeat)
         # Announce the starting status so that late listeners (web, mastermind) know it.
         await self.comm.send_event(MotionStatusChangedEvent(status=self._motion_status))
 
@@ -91,32 +121,52 @@ class BaseMotion(Module, IMotion):
         except Exception as exc:  # closing goes on: a stop must not hang on a broken device
             log.error("%s: could not park before closing: %s", self.name, exc or type(exc).__name__)
 
-    async def _offline_watch_loop(self) -> None:
-        """Park when the comm stayed disconnected for ``park_when_offline`` clock seconds."""
-        limit = self._park_when_offline
-        assert limit is not None
-        step = min(5.0, limit / 5)
-        offline_since: float | None = None
+    async def _on_watchdog_heartbeat(self, event: WatchdogHeartbeatEvent, sender: str) -> None:
+        if sender == self._watchdog:  # another module's beat must not stand in for the watchdog's
+            self._watchdog_beat = self.clock.time()
+
+    def _watchdog_silence(self) -> str | None:
+        """Why the watchdog counts as silent (the dead-man's switch is released), or None."""
+        if self._watchdog is None:
+            return None
+        silent = self.clock.time() - self._watchdog_beat
+        if silent <= self._watchdog_limit:
+            return None
+        return (
+            f"no heartbeat from the watchdog '{self._watchdog}' for {silent:.0f} s "
+            f"(limit {self._watchdog_limit:g} s)"
+        )
+
+    def _offline_for_too_long(self) -> str | None:
+        """Why the device must park for want of the message server, or None."""
+        if self._park_when_offline is None:
+            return None
+        now = self.clock.time()
+        if self.comm.connected:
+            self._offline_since = None
+        elif self._offline_since is None:
+            self._offline_since = now
+        elif now - self._offline_since >= self._park_when_offline:
+            return f"no connection to the other modules for {now - self._offline_since:.0f} s"
+        return None
+
+    async def _park_by_itself_loop(self) -> None:
+        """Park when the comm stayed disconnected or the watchdog silent for too long."""
+        limits = [self._watchdog_limit] if self._watchdog is not None else []
+        limits += [self._park_when_offline] if self._park_when_offline is not None else []
+        step = min(5.0, *(limit / 5 for limit in limits))
         while True:
-            now = self.clock.time()
-            if self.comm.connected:
-                offline_since = None
-            elif offline_since is None:
-                offline_since = now
-            elif (
-                now - offline_since >= limit
+            reason = self._offline_for_too_long() or self._watchdog_silence()
+            if (
+                reason is not None
                 and (self._motion_status is not MotionStatus.PARKED or self._motion.busy)
                 and self._motion_status is not MotionStatus.PARKING
             ):
-                log.warning(
-                    "%s: no connection to the other modules for %.0f s: parking",
-                    self.name,
-                    now - offline_since,
-                )
+                log.warning("%s: %s: parking", self.name, reason)
                 try:
                     await self.park()
                 except NightcrewError as exc:  # tried again on the next round
-                    log.error("%s: could not park without the server: %s", self.name, exc)
+                    log.error("%s: could not park (%s): %s", self.name, reason, exc)
             await self.clock.sleep(step)
 
     # --- helpers for subclasses ----------------------------------------------------------------

@@ -9,6 +9,8 @@ SafetyAlarmEvent (the safety watchdog's) until a SafetyClearedEvent.
 Without the message server nobody could tell the roof to close, so it closes by itself when its
 comm has been disconnected for ``park_when_offline`` clock seconds (default 300; the rule of every
 motion device, see nightcrew.modules.motion.base). It may open again once it is back and asked to.
+With ``watchdog`` set (the dead-man's switch, same place) it closes by itself when the watchdog's
+heartbeat stops for ``park_when_watchdog_silent`` clock seconds, and refuses to open until it is back.
 """
 
 from __future__ import annotations
@@ -41,7 +43,8 @@ class BaseRoof(BaseMotion, IRoof):
     Args:
         park_when_offline: Clock seconds without a connection to the other modules (the XMPP
             server) after which the roof closes by itself; None: never.
-        **kwargs: Module options (see BaseMotion).
+        **kwargs: Module options (see BaseMotion; ``watchdog`` and ``park_when_watchdog_silent``
+            arm the dead-man's switch).
     """
 
     initial_status = MotionStatus.PARKED
@@ -77,6 +80,8 @@ class BaseRoof(BaseMotion, IRoof):
             raise MoveError(f"weather is bad ({self._bad_weather}); the roof stays closed until it is good")
         if self._alarm is not None:
             raise MoveError(f"safety alarm ({self._alarm}); the roof stays closed until it is cleared")
+        if (silence := self._watchdog_silence()) is not None:
+            raise MoveError(f"{silence}; the roof stays closed until it is back")
         if self._motion_status is MotionStatus.IDLE and not self._motion.busy:
             return
         self._motion.check_idle()

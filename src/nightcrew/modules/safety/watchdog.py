@@ -9,8 +9,10 @@ to close and the telescope to park, again on every round while the alarm lasts. 
 (SafetyClearedEvent) only when every heartbeat is back and, if a ``weather`` module is named, it
 says the weather is good.
 
-When the XMPP server itself is gone, nobody reaches the roof: the roof closes by itself after its
-``park_when_offline`` limit (see nightcrew.modules.roof.base).
+Every round also sends a WatchdogHeartbeatEvent: a roof or telescope that names this module as its
+``watchdog`` closes or parks by itself when these stop (the dead-man's switch), so a frozen or dead
+watchdog does not leave the roof open. When the XMPP server itself is gone, nobody reaches the roof:
+the roof closes by itself after its ``park_when_offline`` limit (see nightcrew.modules.motion.base).
 
 Example (``examples/sim-processes/watchdog.yaml``)::
 
@@ -27,8 +29,8 @@ import asyncio
 import logging
 from typing import Any
 
-from nightcrew.errors import ConfigError
-from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent
+from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
 from nightcrew.interfaces import IModule, IRoof, ITelescope, IWeather, ModuleState
 from nightcrew.modules.module import Module
 from nightcrew.modules.safety.heartbeats import HeartbeatMonitor
@@ -100,6 +102,7 @@ class SafetyWatchdog(Module):
     async def _watch_loop(self) -> None:
         monitor = HeartbeatMonitor(self._limits, self.clock.time())
         while True:
+            await self._beat()
             problems = await asyncio.gather(*(self._ask(name) for name in self._limits))
             now = self.clock.time()
             for name, problem in zip(self._limits, problems, strict=True):
@@ -110,6 +113,13 @@ class SafetyWatchdog(Module):
             elif self._alarm is not None and all(p is None for p in problems):
                 await self._maybe_clear()
             await self.clock.sleep(self._interval)
+
+    async def _beat(self) -> None:
+        """Tell the roofs and telescopes that name us that we watch (their dead-man's switch)."""
+        try:
+            await self.comm.send_event(WatchdogHeartbeatEvent())
+        except NightcrewError as exc:  # offline: they close by themselves, which is right
+            log.debug("%s: heartbeat not sent: %s", self.name, exc)
 
     async def _ask(self, name: str) -> str | None:
         """None for a heartbeat, else what is wrong with ``name``."""

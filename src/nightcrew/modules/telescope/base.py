@@ -13,7 +13,9 @@ Decisions (documented for drivers and callers):
   ``_restore_tracking``).
 * On BadWeatherEvent and on SafetyAlarmEvent (the safety watchdog's) the telescope parks by itself
   (aborting any slew), and so it does after ``park_when_offline`` clock seconds (default 300)
-  without a connection to the other modules (see nightcrew.modules.motion.base).
+  without a connection to the other modules, and, with ``watchdog`` set, after
+  ``park_when_watchdog_silent`` clock seconds without the watchdog's heartbeat (the dead-man's
+  switch; see nightcrew.modules.motion.base).
 """
 
 from __future__ import annotations
@@ -68,7 +70,8 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         min_altitude: Lowest altitude in degrees the telescope may be sent to (0..90).
         park_when_offline: Clock seconds without a connection to the other modules (the XMPP
             server) after which the telescope parks by itself; None: never.
-        **kwargs: Module options (see BaseMotion); ``site`` is required (coordinates need it).
+        **kwargs: Module options (see BaseMotion; ``watchdog`` and ``park_when_watchdog_silent``
+            arm the dead-man's switch); ``site`` is required (coordinates need it).
     """
 
     initial_status = MotionStatus.PARKED

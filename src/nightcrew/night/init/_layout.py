@@ -55,6 +55,12 @@ def observatory_files(
     for name, (header, config, fragments) in robotic.items():
         modules[name] = (header, config)
         layout.files.update(fragments)
+    if "watchdog" in robotic:
+        # The dead-man's switch: what the watchdog secures closes and parks by itself when the
+        # watchdog's heartbeat stops (docs/safety.md), so a frozen watchdog cannot leave it open.
+        watchdog = robotic["watchdog"][1]
+        for secured in (watchdog["roof"], watchdog["telescope"]):
+            modules[secured][1]["watchdog"] = "watchdog"
     # People always get a password (the console's logins); modules only where they log in (XMPP).
     accounts = [*modules, *PEOPLE] if _xmpp(options) else list(PEOPLE)
     passwords = {name: password_for(name) for name in accounts}
