@@ -3,8 +3,11 @@ watchdog beats, closed and parked by themselves when it stops, open again once i
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
+from nightcrew.cli.main import main
 from nightcrew.errors import ConfigError, MoveError
 from nightcrew.events import WatchdogHeartbeatEvent
 from nightcrew.interfaces import MotionStatus
@@ -15,6 +18,7 @@ from nightcrew.testing import Observatory
 
 SILENT = 60.0  # park_when_watchdog_silent, clock seconds
 NIGHT = 4 * 3600.0
+ROOF = Path(__file__).resolve().parents[2] / "examples" / "observatory" / "roof.yaml"
 
 
 async def test_roof_open_while_the_watchdog_beats_closed_and_parked_when_it_stops(
@@ -64,3 +68,18 @@ def test_park_when_watchdog_silent_must_be_positive(cls: type[Module]) -> None:
             name="x", site={"latitude": 50, "longitude": 10}, watchdog="watchdog", park_when_watchdog_silent=0
         )
     assert "key 'park_when_watchdog_silent': must be > 0 seconds, got 0" in str(caught.value)
+
+
+def test_check_validates_the_switch_keys(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """As docs/operations.md tells a user to add them to roof.yaml."""
+    monkeypatch.chdir(tmp_path)
+    switch = "watchdog: watchdog\npark_when_watchdog_silent: {}\n"
+    Path("roof.yaml").write_text(f"<<: !include {ROOF}\n" + switch.format(120))
+    assert main(["check", "roof.yaml"]) == 0
+    Path("roof.yaml").write_text(f"<<: !include {ROOF}\n" + switch.format(0))
+    assert main(["check", "roof.yaml"]) == 2
+    assert capsys.readouterr().err.splitlines() == [
+        "roof.yaml:3: key 'park_when_watchdog_silent': must be > 0 seconds, got 0.0"
+    ]

@@ -462,8 +462,22 @@ export class TestEvent extends Event {
   }
 }
 
+/**
+ * The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs
+ * and telescopes that name it releases when these stop (nightcrew.modules.motion.base).
+ */
+export class WatchdogHeartbeatEvent extends Event {
+  static eventName = "WatchdogHeartbeatEvent";
+  /**
+   * @param {{}} [fields]
+   */
+  constructor(fields = {}) {
+    super();
+  }
+}
+
 /** Every event class, by the name it travels under. */
-export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent};
+export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent, WatchdogHeartbeatEvent};
 
 /** JSON Schema of every event and of the types they use (`$defs`, as in the catalogue). */
 export const EVENT_SCHEMAS = {
@@ -1051,6 +1065,13 @@ export const EVENT_SCHEMAS = {
       }
     },
     "title": "TestEvent",
+    "type": "object",
+    "x-persistent": false
+  },
+  "WatchdogHeartbeatEvent": {
+    "description": "The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs\nand telescopes that name it releases when these stop (nightcrew.modules.motion.base).",
+    "properties": {},
+    "title": "WatchdogHeartbeatEvent",
     "type": "object",
     "x-persistent": false
   }

@@ -5,7 +5,8 @@ it and the interval in the environment (``NIGHTCREW_HEARTBEAT_FD``, ``NIGHTCREW_
 ``nightcrew run`` then writes one byte per interval from a task on its event loop: a loop that
 blocks or a process that is stopped (SIGSTOP, a debugger) stops the beat, a busy thread does not
 fake it. The supervisor calls a process *frozen* when the beat stops for ``frozen_after`` wall
-seconds; the watch starts with the first beat, so slow imports before the loop runs do not count.
+seconds. Before the first beat the process imports and builds its modules, which may take long on a
+busy or small machine: it has ``first_beat_within(frozen_after)`` for that.
 """
 
 from __future__ import annotations
@@ -16,7 +17,14 @@ import os
 from collections.abc import Callable
 from typing import BinaryIO
 
-__all__ = ["FD_VARIABLE", "INTERVAL_VARIABLE", "beat_interval", "heartbeat_loop", "watch_heartbeat"]
+__all__ = [
+    "FD_VARIABLE",
+    "INTERVAL_VARIABLE",
+    "beat_interval",
+    "first_beat_within",
+    "heartbeat_loop",
+    "watch_heartbeat",
+]
 
 log = logging.getLogger(__name__)
 
@@ -27,6 +35,11 @@ INTERVAL_VARIABLE = "NIGHTCREW_HEARTBEAT_INTERVAL"
 def beat_interval(frozen_after: float) -> float:
     """Wall seconds between two beats: four beats may go missing before a process counts as frozen."""
     return min(1.0, frozen_after / 5)
+
+
+def first_beat_within(frozen_after: float) -> float:
+    """Wall seconds from the start to the first beat before a process counts as frozen."""
+    return max(120.0, 10 * frozen_after)
 
 
 async def heartbeat_loop() -> None:
@@ -56,17 +69,18 @@ async def heartbeat_loop() -> None:
 
 async def watch_heartbeat(beats: BinaryIO, frozen_after: float, on_frozen: Callable[[float], None]) -> None:
     """In the supervisor: read ``beats`` (the pipe's read end) until the writer closes it; call
-    ``on_frozen(seconds)`` and return when none came for ``frozen_after`` seconds after the first."""
+    ``on_frozen(seconds)`` and return when none came for ``frozen_after`` seconds (for
+    :func:`first_beat_within` seconds before the first)."""
     loop = asyncio.get_running_loop()
     reader = asyncio.StreamReader()
     transport, _ = await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), beats)
     try:
-        timeout: float | None = None  # until the first beat: the loop is not running yet
+        timeout = first_beat_within(frozen_after)
         while True:
             try:
                 received = await asyncio.wait_for(reader.read(4096), timeout)
             except TimeoutError:
-                on_frozen(frozen_after)
+                on_frozen(timeout)
                 return
             if not received:
                 return  # the process closed the pipe: it ended

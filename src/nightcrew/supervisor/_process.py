@@ -69,7 +69,7 @@ class ModuleProcess:
         self._policy = policy
         self._stop_timeout = stop_timeout
         self._frozen_after = frozen_after
-        self._frozen = ""  # why the running process was found frozen, until it exits
+        self._frozen = ""  # why the running process counts as frozen, until it exits
         self._state = "stopped"
         self._since = time.time()
         self._restarts = 0
@@ -139,7 +139,7 @@ class ModuleProcess:
             error = self._last_error()
             self._last_exit = f"{reason}: {error}" if error else reason
             if self._frozen:
-                self._last_exit = f"{self._frozen}; {reason}"
+                self._last_exit = f"frozen ({self._frozen}); {reason}"
             if code == _CONFIG_ERROR_EXIT:
                 self._set_state("broken", error or reason)
                 log.error(
@@ -212,7 +212,7 @@ class ModuleProcess:
         """Its event loop stopped beating: report it ``frozen`` and kill it (restarted on its exit)."""
         if process.returncode is not None or self._stopping():
             return
-        self._frozen = f"frozen (no heartbeat for {silent:g} s)"
+        self._frozen = f"no heartbeat for {silent:g} s"
         self._set_state("frozen", self._frozen)
         log.error("%s (pid %d) is frozen: no heartbeat for %g s; killing it", self.name, process.pid, silent)
         process.kill()
