@@ -62,12 +62,12 @@ async def test_roof_open_while_the_watchdog_beats_closed_and_parked_when_it_stop
 
 
 @pytest.mark.parametrize("cls", [SimRoof, SimTelescope])
-def test_park_when_watchdog_silent_must_be_positive(cls: type[Module]) -> None:
+@pytest.mark.parametrize("limit", [0, -5, float("inf"), float("nan")])
+def test_park_when_watchdog_silent_must_be_positive(cls: type[Module], limit: float) -> None:
+    site = {"latitude": 50, "longitude": 10}
     with pytest.raises(ConfigError) as caught:
-        cls(
-            name="x", site={"latitude": 50, "longitude": 10}, watchdog="watchdog", park_when_watchdog_silent=0
-        )
-    assert "key 'park_when_watchdog_silent': must be > 0 seconds, got 0" in str(caught.value)
+        cls(name="x", site=site, watchdog="watchdog", park_when_watchdog_silent=limit)
+    assert f"key 'park_when_watchdog_silent': must be > 0 seconds (finite), got {limit}" in str(caught.value)
 
 
 def test_check_validates_the_switch_keys(
@@ -81,5 +81,5 @@ def test_check_validates_the_switch_keys(
     Path("roof.yaml").write_text(f"<<: !include {ROOF}\n" + switch.format(0))
     assert main(["check", "roof.yaml"]) == 2
     assert capsys.readouterr().err.splitlines() == [
-        "roof.yaml:3: key 'park_when_watchdog_silent': must be > 0 seconds, got 0.0"
+        "roof.yaml:3: key 'park_when_watchdog_silent': must be > 0 seconds (finite), got 0.0"
     ]

@@ -7,6 +7,9 @@ import os
 import signal
 from pathlib import Path
 
+import pytest
+
+from nightcrew.cli.main import main
 from nightcrew.supervisor import ModuleFile, ModuleProcess, RestartPolicy
 from nightcrew.testing import wait_for
 
@@ -41,3 +44,11 @@ async def test_a_stopped_process_is_reported_frozen_and_killed(tmp_path: Path) -
     finally:
         await process.stop()
     assert process.status().state == "stopped"
+
+
+@pytest.mark.parametrize("value", ["-1", "0.5", "nan", "inf", "1e400", "abc"])
+def test_frozen_after_is_0_or_1_to_86400_seconds(value: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exited:
+        main(["up", "modules", "--frozen-after", value])
+    assert exited.value.code == 2
+    assert "argument --frozen-after: " in capsys.readouterr().err.splitlines()[-1]

@@ -51,14 +51,25 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument("--stop-timeout", type=float, default=20.0, help="seconds a module may take to close")
     parser.add_argument(
         "--frozen-after",
-        type=float,
+        type=_frozen_after,
         default=30.0,
         metavar="SECONDS",
-        help="seconds without a heartbeat from a module's event loop before it is killed and restarted "
-        "as frozen (default: 30; 0: not watched)",
+        help="seconds (1 to 86400) without a heartbeat from a module's event loop before it is killed "
+        "and restarted as frozen (default: 30; 0: not watched)",
     )
     parser.set_defaults(func=_up)
     return parser
+
+
+def _frozen_after(text: str) -> float:
+    """0 (off), or 1 s to a day: shorter would have modules beat many times a second."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number of seconds: {text!r}") from None
+    if not (seconds == 0 or 1 <= seconds <= 86400):
+        raise argparse.ArgumentTypeError(f"must be 0 (off) or 1 to 86400 seconds, got {text}")
+    return seconds
 
 
 def _up(args: argparse.Namespace) -> int:

@@ -16,6 +16,7 @@ Two safety rules live here for every device that parks, both on the module's clo
 from __future__ import annotations
 
 import logging
+import math
 from abc import abstractmethod
 from collections.abc import Awaitable, Coroutine
 from typing import Any, TypeVar
@@ -77,9 +78,10 @@ class BaseMotion(Module, IMotion):
             raise ConfigError(
                 f"must be > 0 seconds or null, got {park_when_offline}", key="park_when_offline"
             )
-        if not park_when_watchdog_silent > 0:
+        if not (math.isfinite(park_when_watchdog_silent) and park_when_watchdog_silent > 0):
             raise ConfigError(
-                f"must be > 0 seconds, got {park_when_watchdog_silent}", key="park_when_watchdog_silent"
+                f"must be > 0 seconds (finite), got {park_when_watchdog_silent}",
+                key="park_when_watchdog_silent",
             )
         if watchdog is not None and not watchdog:
             raise ConfigError("name the watchdog module, or leave the key out", key="watchdog")
