@@ -20,7 +20,7 @@ import asyncio
 from pathlib import Path
 from typing import Any
 
-from nightcrew.supervisor import RestartPolicy, Supervisor, default_socket_path
+from nightcrew.supervisor import DEFAULT_FROZEN_AFTER, RestartPolicy, Supervisor, default_socket_path
 
 __all__ = ["add_parser"]
 
@@ -52,10 +52,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument(
         "--frozen-after",
         type=_frozen_after,
-        default=30.0,
+        default=DEFAULT_FROZEN_AFTER,
         metavar="SECONDS",
         help="seconds (1 to 86400) without a heartbeat from a module's event loop before it is killed "
-        "and restarted as frozen (default: 30; 0: not watched)",
+        f"and restarted as frozen (default: {DEFAULT_FROZEN_AFTER:g}; 0: not watched)",
     )
     parser.set_defaults(func=_up)
     return parser

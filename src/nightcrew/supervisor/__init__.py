@@ -10,7 +10,7 @@ a limit, and serves its control socket with the standard library (~850 lines in 
 
 from nightcrew.supervisor._control import SupervisorError, default_socket_path, send_request
 from nightcrew.supervisor._discovery import ModuleFile, module_files
-from nightcrew.supervisor._heartbeat import heartbeat_loop
+from nightcrew.supervisor._heartbeat import DEFAULT_FROZEN_AFTER, heartbeat_loop
 from nightcrew.supervisor._logging import LOG_FORMATS, configure_logging
 from nightcrew.supervisor._policy import RestartPolicy
 from nightcrew.supervisor._process import ModuleProcess, ModuleStatus
@@ -18,6 +18,7 @@ from nightcrew.supervisor._supervisor import Supervisor
 from nightcrew.supervisor._systemd import systemd_units
 
 __all__ = [
+    "DEFAULT_FROZEN_AFTER",
     "LOG_FORMATS",
     "ModuleFile",
     "ModuleProcess",

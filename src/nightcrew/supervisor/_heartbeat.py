@@ -18,6 +18,7 @@ from collections.abc import Callable
 from typing import BinaryIO
 
 __all__ = [
+    "DEFAULT_FROZEN_AFTER",
     "FD_VARIABLE",
     "INTERVAL_VARIABLE",
     "beat_interval",
@@ -28,6 +29,8 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+#: Wall seconds without a beat before a process counts as frozen, unless told otherwise.
+DEFAULT_FROZEN_AFTER = 30.0
 FD_VARIABLE = "NIGHTCREW_HEARTBEAT_FD"
 INTERVAL_VARIABLE = "NIGHTCREW_HEARTBEAT_INTERVAL"
 

@@ -24,7 +24,13 @@ from pathlib import Path
 from typing import BinaryIO
 
 from nightcrew.supervisor._discovery import ModuleFile
-from nightcrew.supervisor._heartbeat import FD_VARIABLE, INTERVAL_VARIABLE, beat_interval, watch_heartbeat
+from nightcrew.supervisor._heartbeat import (
+    DEFAULT_FROZEN_AFTER,
+    FD_VARIABLE,
+    INTERVAL_VARIABLE,
+    beat_interval,
+    watch_heartbeat,
+)
 from nightcrew.supervisor._policy import RestartPolicy
 
 __all__ = ["ModuleProcess", "ModuleStatus"]
@@ -61,7 +67,7 @@ class ModuleProcess:
         log_format: str,
         policy: RestartPolicy,
         stop_timeout: float = 20.0,
-        frozen_after: float | None = 30.0,
+        frozen_after: float | None = DEFAULT_FROZEN_AFTER,
     ) -> None:
         self.module = module
         self.log_file = log_dir / f"{module.name}.log"

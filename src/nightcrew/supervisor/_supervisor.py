@@ -17,6 +17,7 @@ from typing import Any
 
 from nightcrew.supervisor._control import ControlServer, SupervisorError
 from nightcrew.supervisor._discovery import module_files
+from nightcrew.supervisor._heartbeat import DEFAULT_FROZEN_AFTER
 from nightcrew.supervisor._policy import RestartPolicy
 from nightcrew.supervisor._presence import SupervisorPresence
 from nightcrew.supervisor._process import ModuleProcess, ModuleStatus
@@ -54,7 +55,7 @@ class Supervisor:
         policy: Callable[[], RestartPolicy] = RestartPolicy,
         stop_timeout: float = 20.0,
         comm_file: Path | None = None,
-        frozen_after: float | None = 30.0,
+        frozen_after: float | None = DEFAULT_FROZEN_AFTER,
     ) -> None:
         if frozen_after is not None and not frozen_after > 0:
             raise SupervisorError(f"frozen_after must be > 0 seconds, got {frozen_after}")
