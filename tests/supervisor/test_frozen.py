@@ -10,7 +10,11 @@ from pathlib import Path
 import pytest
 
 from nightcrew.cli.main import main
-from nightcrew.supervisor import ModuleFile, ModuleProcess, RestartPolicy
+from nightcrew.comm.local import LocalComm, LocalNetwork
+from nightcrew.interfaces import IModule, ModuleState
+from nightcrew.modules import Module
+from nightcrew.supervisor import ModuleFile, ModuleProcess, ModuleStatus, RestartPolicy
+from nightcrew.supervisor._presence import SupervisorPresence
 from nightcrew.testing import wait_for
 
 FROZEN_AFTER = 2.0
@@ -52,3 +56,25 @@ def test_frozen_after_is_0_or_1_to_86400_seconds(value: str, capsys: pytest.Capt
         main(["up", "modules", "--frozen-after", value])
     assert exited.value.code == 2
     assert "argument --frozen-after: " in capsys.readouterr().err.splitlines()[-1]
+
+
+async def test_the_supervisor_on_the_bus_is_in_error_while_a_module_is_frozen(tmp_path: Path) -> None:
+    """What the console and ``nightcrew modules`` show of the supervisor (``nightcrew up --comm``)."""
+    comm_file = tmp_path / "supervisor.yaml"
+    comm_file.write_text("class: nightcrew.comm.local.LocalComm\nname: supervisor\n")
+    frozen = ModuleStatus("mastermind", "frozen", None, 0, 0.0, "", "no heartbeat for 30 s", "m.yaml")
+    presence = SupervisorPresence(comm_file, lambda: [frozen])
+    observer = Module(comm=LocalComm("observer", network=LocalNetwork.default()))
+    await presence.open()
+    await observer.open()
+    try:
+        supervisor = await observer.comm.proxy("supervisor", IModule)
+        await wait_for(lambda: _state_is(supervisor, ModuleState.ERROR), 10, message="supervisor in error")
+        assert await supervisor.get_error_string() == "mastermind frozen: no heartbeat for 30 s"
+    finally:
+        await observer.close()
+        await presence.close()
+
+
+async def _state_is(module: IModule, state: ModuleState) -> bool:
+    return ModuleState(await module.get_state()) is state
