@@ -57,7 +57,7 @@ def observatory_files(
         layout.files.update(fragments)
     if "watchdog" in robotic:
         # The dead-man's switch: what the watchdog secures closes and parks by itself when the
-        # watchdog's heartbeat stops (docs/safety.md), so a frozen watchdog cannot leave it open.
+        # watchdog's heartbeat stops (docs/operations.md), so a frozen watchdog cannot leave it open.
         watchdog = robotic["watchdog"][1]
         for secured in (watchdog["roof"], watchdog["telescope"]):
             modules[secured][1]["watchdog"] = "watchdog"
