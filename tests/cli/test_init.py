@@ -127,6 +127,9 @@ def test_an_embedded_observatory_has_no_comm_and_no_secrets(
         "observer.password",
     }
     assert "comm" not in load_config(directory / "telescope.yaml")
+    # the dead-man's switch: what the watchdog secures also secures itself when it falls silent
+    for secured in ("telescope", "dome"):
+        assert load_config(directory / f"{secured}.yaml")["watchdog"] == "watchdog"
     check(directory, monkeypatch, but=("scheduler.yaml",))
 
 
