@@ -3,7 +3,7 @@
 Importing this package registers every event class, so :func:`event_by_name` knows every name.
 """
 
-from nightcrew.events.base import Event, event_by_name
+from nightcrew.events.base import Event, event_by_name, hardware_event_names
 from nightcrew.events.focus import FocusFailedEvent, FocusFoundEvent
 from nightcrew.events.image import ExposureStatusChangedEvent, NewImageEvent, NewSpectrumEvent
 from nightcrew.events.log import LogEvent
@@ -46,4 +46,5 @@ __all__ = [
     "TasksChangedEvent",
     "TestEvent",
     "event_by_name",
+    "hardware_event_names",
 ]

@@ -14,6 +14,7 @@ class SafetyAlarmEvent(Event):
     """A module that keeps the observatory safe went silent or into error: close, park, stay closed."""
 
     persistent = True
+    moves_hardware = True
 
     reason: str = ""  # which modules, since when, for a person
 
@@ -23,3 +24,4 @@ class SafetyClearedEvent(Event):
     """Every safety heartbeat is back and the weather is good: the roof may open again."""
 
     persistent = True
+    moves_hardware = True
