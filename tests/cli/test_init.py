@@ -18,6 +18,7 @@ import yaml
 
 from nightcrew.cli.main import main
 from nightcrew.config import config_files, load_config
+from nightcrew.events import hardware_event_names
 from nightcrew.night.init import FoundDevice, InitOptions, name_by_role, observatory_files
 from nightcrew.security import load_policy
 from nightcrew.testing.alpaca import AlpacaSimulator
@@ -85,12 +86,13 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     policy = load_policy(directory / "access.policy")
     assert set(policy.accounts) >= modules
     assert policy.roles_of("observer") == ("observer",) and policy.roles_of("operator") == ("operator",)
-    assert set(policy.events) == {
-        "BadWeatherEvent",
-        "GoodWeatherEvent",
-        "SafetyAlarmEvent",
-        "SafetyClearedEvent",
-    }
+    # Events that move hardware only from the weather verdict and the watchdog (docs/security.md).
+    assert sorted(policy.events) == hardware_event_names()
+    for name in hardware_event_names():
+        senders = {
+            account for account in policy.accounts if policy.accepts_event(account, name, moves_hardware=True)
+        }
+        assert senders == {"weather", "watchdog"}, name
     # The scheduler and the mastermind share one task archive, relative to the directory.
     for name in ("scheduler", "mastermind"):
         archive = load_config(directory / f"{name}.yaml")["archive"]

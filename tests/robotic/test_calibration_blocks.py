@@ -9,10 +9,10 @@ import pytest
 
 from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.night.blocks import NightBlockSource
+from nightcrew.robotic.archive_ports import as_block_source
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Scheduler
-from nightcrew.robotic.scheduler.adapters import as_block_source
 from nightcrew.robotic.scheduler.ports import night_around
 from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks import RequestGroup, Task, TaskProgress, TaskState, TaskStatus, Window

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from nightcrew.robotic.archive_ports import ArchiveBlockSource
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler import Night, Scheduler
@@ -19,7 +20,7 @@ from nightcrew.robotic.tasks import (
     estimate_duration,
     tasks_of_group,
 )
-from nightcrew.robotic.tasks.blocks import NOTHING_LEFT_S, ArchiveBlockSource, block_of, blocks_of
+from nightcrew.robotic.tasks.blocks import NOTHING_LEFT_S, block_of, blocks_of
 from nightcrew.site import Site
 from tests.robotic.test_archives_sqlite import NIGHT, ManualClock
 

@@ -22,7 +22,12 @@ import pytest
 
 from nightcrew.clock import AcceleratedClock
 from nightcrew.errors import MoveError
-from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
+from nightcrew.events import (
+    SafetyAlarmEvent,
+    SafetyClearedEvent,
+    WatchdogHeartbeatEvent,
+    hardware_event_names,
+)
 from nightcrew.interfaces import IMotion, IRoof, ITelescope, MotionStatus
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
@@ -41,20 +46,34 @@ FROZEN_AFTER = 6
 WATCHDOG_SILENT = 40
 
 
+def policy_of(supervised: SupervisedDirectory) -> Path:
+    """The observatory's access policy: the watchdog alone trusted with the safety events."""
+    path = supervised.directory / "access.policy"
+    events = "".join(f"  {name}: [safety]\n" for name in hardware_event_names())
+    path.write_text(
+        "roles: {operator: ['*'], modules: ['*'], safety: []}\n"
+        "accounts: {operator: [operator], roof: [modules], telescope: [modules], mastermind: [modules],"
+        " watchdog: [modules, safety]}\nsafety_roles: [safety]\n"
+        f"events:\n{events}"
+    )
+    return path
+
+
 def write_observatory(
     supervised: SupervisedDirectory, *, park_when_offline: float = 300, dead_mans_switch: bool = False
 ) -> None:
     for name in MODULES:
         supervised.prosody.account(name)
+    comm = (
+        f"comm:\n  <<: !include {OVERLAYS}/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
+        f"  policy: {policy_of(supervised)}\n"
+    )
     for name in ("roof", "telescope"):
-        extra = f"park_when_offline: {park_when_offline}\n"
+        extra = f"park_when_offline: {park_when_offline}\n" + comm.format(name=name)
         if dead_mans_switch:  # as docs/operations.md tells a user to add to roof.yaml and telescope.yaml
             extra += f"watchdog: watchdog\npark_when_watchdog_silent: {WATCHDOG_SILENT}\n"
         (supervised.directory / f"{name}.yaml").write_text(f"<<: !include {OVERLAYS / name}.yaml\n{extra}")
-    overlay = (
-        f"comm:\n  <<: !include {OVERLAYS}/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
-        f"clock: !include {OVERLAYS}/clock.yaml\n"
-    )
+    overlay = comm + f"clock: !include {OVERLAYS}/clock.yaml\n"
     (supervised.directory / "mastermind.yaml").write_text(
         "class: nightcrew.modules.Module\n" + overlay.format(name="mastermind")
     )
@@ -94,7 +113,8 @@ def sim_env(
 @pytest.fixture
 async def driver(supervised: SupervisedDirectory, wall_start: str, sim_env: None) -> AsyncIterator[Module]:
     module = Module(
-        comm=supervised.operator_comm(), clock=AcceleratedClock(CLOCK_START, SPEED, wall_start=wall_start)
+        comm=supervised.operator_comm(policy=str(policy_of(supervised))),
+        clock=AcceleratedClock(CLOCK_START, SPEED, wall_start=wall_start),
     )
     await module.open()
     try:

@@ -89,8 +89,9 @@ class SupervisedDirectory:
             f"password: {PASSWORD}\nserver: {prosody.address}\nroom: {room}\nca_file: {prosody.ca_file}\n"
         )
 
-    def operator_comm(self) -> XmppComm:
-        """A comm for the account ``operator`` (registered here) in the test's room."""
+    def operator_comm(self, **options: Any) -> XmppComm:
+        """A comm for the account ``operator`` (registered here) in the test's room (``options``:
+        more of XmppComm's, e.g. ``policy``)."""
         self.prosody.account("operator")
         return XmppComm(
             f"operator@{DOMAIN}",
@@ -98,6 +99,7 @@ class SupervisedDirectory:
             server=self.prosody.address,
             room=self.room,
             ca_file=str(self.prosody.ca_file),
+            **options,
         )
 
     def env(self) -> dict[str, str]:

@@ -464,7 +464,8 @@ export class TestEvent extends Event {
 
 /**
  * The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs
- * and telescopes that name it releases when these stop (nightcrew.modules.motion.base).
+ * and telescopes that name it releases when these stop (nightcrew.modules.motion.base). Trusted
+ * only from its senders, since a forged one would hold a roof open under a frozen watchdog.
  */
 export class WatchdogHeartbeatEvent extends Event {
   static eventName = "WatchdogHeartbeatEvent";
@@ -1069,7 +1070,7 @@ export const EVENT_SCHEMAS = {
     "x-persistent": false
   },
   "WatchdogHeartbeatEvent": {
-    "description": "The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs\nand telescopes that name it releases when these stop (nightcrew.modules.motion.base).",
+    "description": "The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs\nand telescopes that name it releases when these stop (nightcrew.modules.motion.base). Trusted\nonly from its senders, since a forged one would hold a roof open under a frozen watchdog.",
     "properties": {},
     "title": "WatchdogHeartbeatEvent",
     "type": "object",

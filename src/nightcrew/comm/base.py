@@ -21,7 +21,7 @@ import re
 from abc import ABC, abstractmethod
 from collections.abc import Awaitable, Callable, Coroutine, Iterator
 from contextvars import ContextVar
-from typing import Any, TypeVar, overload
+from typing import Any, ClassVar, TypeVar, overload
 
 from nightcrew.clock import Clock, ClockTimeout, RealClock
 from nightcrew.comm.proxy import Proxy, proxy_class
@@ -89,6 +89,10 @@ class Comm(ABC):
             incoming call is checked against it. Without one, every caller may call everything.
         audit: A JSON-lines file where every state-changing call to this module is recorded.
     """
+
+    #: Whether other processes reach this comm (XMPP): then, without a policy, events that move
+    #: hardware are refused (any member of the room could send them).
+    networked: ClassVar[bool] = False
 
     def __init__(
         self, *, rpc_grace: float = 0.0, policy: str | Policy | None = None, audit: str | None = None
@@ -371,11 +375,9 @@ class Comm(ABC):
         handlers = self._handlers.get(name)
         if not handlers:
             return
-        if self._policy is not None and not self._policy.accepts_event(self._sender_account(sender), name):
-            # A forged verdict (a bad-weather event from an observer) must not close or open a roof.
-            log.warning("refused %s from %s: the policy does not trust it with this event", name, sender)
-            return
         event_type = event_by_name(name) or handlers[0][0]
+        if not self._trusts_event(event_type, payload, sender):
+            return
         try:
             event = event_type.from_dict(payload)
         except (NightcrewError, TypeError) as exc:
@@ -383,6 +385,32 @@ class Comm(ABC):
             return
         for _, handler in handlers:
             self._spawn(self._run_handler(handler, event, sender), f"{name} handler")
+
+    def _trusts_event(self, event_type: type[Event], payload: dict[str, Any], sender: str) -> bool:
+        """Whether an event from ``sender`` may reach the handlers; a refused one is logged and audited.
+
+        A forged verdict or alarm (a SafetyClearedEvent from an observer) must not move hardware:
+        such events are trusted only from the senders the policy names, and without a policy on a
+        network transport from nobody (every room member could send them).
+        """
+        name, account = event_type.event_name(), self._sender_account(sender)
+        if self._policy is not None:
+            trusted = self._policy.accepts_event(account, name, moves_hardware=event_type.moves_hardware)
+        else:
+            trusted = not (event_type.moves_hardware and self.networked)
+        if not trusted:
+            log.warning(
+                "refused %s from %s: %s",
+                name,
+                account if account == sender else f"{sender} ({account})",
+                "the policy does not name it as a sender of this event"
+                if self._policy is not None
+                else "without an access policy, events that move hardware are trusted from nobody on "
+                "a network (docs/security.md)",
+            )
+            if self._audit is not None:
+                self._audit.record(account, self.name, name, [payload], "forbidden")
+        return trusted
 
     def trusts_headers_from(self, module: str) -> bool:
         """Whether FITS header cards from ``module`` may be used (the policy's ``header_providers``)."""

@@ -3,7 +3,7 @@
 Importing this package registers every event class, so :func:`event_by_name` knows every name.
 """
 
-from nightcrew.events.base import Event, event_by_name
+from nightcrew.events.base import Event, event_by_name, hardware_event_names
 from nightcrew.events.focus import FocusFailedEvent, FocusFoundEvent
 from nightcrew.events.image import ExposureStatusChangedEvent, NewImageEvent, NewSpectrumEvent
 from nightcrew.events.log import LogEvent
@@ -47,4 +47,5 @@ __all__ = [
     "TestEvent",
     "WatchdogHeartbeatEvent",
     "event_by_name",
+    "hardware_event_names",
 ]

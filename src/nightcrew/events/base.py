@@ -3,6 +3,10 @@
 An event is a frozen dataclass of wire-encodable fields (see :mod:`nightcrew.comm.codec`). Every
 event class registers itself by class name, which is also its name on the wire, so a receiver can
 rebuild it (:func:`event_by_name`). On the wire an event is a JSON object of its fields.
+
+An event on which receivers close, open, park or clear an alarm sets ``moves_hardware``: comms
+trust it only from the senders the access policy names for it (docs/security.md), so a new such
+event cannot be forgotten by the policy.
 """
 
 from __future__ import annotations
@@ -10,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar, Self
 
-__all__ = ["Event", "event_by_name", "event_names"]
+__all__ = ["Event", "event_by_name", "event_names", "hardware_event_names"]
 
 _EVENTS: dict[str, type[Event]] = {}
 
@@ -21,6 +25,9 @@ class Event:
 
     #: Whether the event is worth keeping for late subscribers (not used for routing).
     persistent: ClassVar[bool] = False
+    #: Whether receivers move hardware on it (close, open, park, clear an alarm): trusted only from
+    #: the senders the access policy names for it, refused from everyone else.
+    moves_hardware: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -55,3 +62,8 @@ def event_names() -> list[str]:
 def event_by_name(name: str) -> type[Event] | None:
     """The event class called ``name``, or None if this process does not know it."""
     return _EVENTS.get(name)
+
+
+def hardware_event_names() -> list[str]:
+    """Names of the event classes that move hardware (``moves_hardware``), sorted."""
+    return sorted(name for name, event in _EVENTS.items() if event.moves_hardware)

@@ -14,6 +14,7 @@ class SafetyAlarmEvent(Event):
     """A module that keeps the observatory safe went silent or into error: close, park, stay closed."""
 
     persistent = True
+    moves_hardware = True
 
     reason: str = ""  # which modules, since when, for a person
 
@@ -23,9 +24,13 @@ class SafetyClearedEvent(Event):
     """Every safety heartbeat is back and the weather is good: the roof may open again."""
 
     persistent = True
+    moves_hardware = True
 
 
 @dataclass(frozen=True, kw_only=True)
 class WatchdogHeartbeatEvent(Event):
     """The safety watchdog is alive and watching (sent every round): the dead-man's switch of roofs
-    and telescopes that name it releases when these stop (nightcrew.modules.motion.base)."""
+    and telescopes that name it releases when these stop (nightcrew.modules.motion.base). Trusted
+    only from its senders, since a forged one would hold a roof open under a frozen watchdog."""
+
+    moves_hardware = True

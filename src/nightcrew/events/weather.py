@@ -15,6 +15,7 @@ class GoodWeatherEvent(Event):
     """The weather became good."""
 
     persistent = True
+    moves_hardware = True
 
     #: When the observatory may open (the weather module may demand a waiting period); None: now.
     eta: datetime | None = None
@@ -25,5 +26,6 @@ class BadWeatherEvent(Event):
     """The weather became bad: close and park now."""
 
     persistent = True
+    moves_hardware = True
 
     reason: str = ""  # which sensors failed, for a person

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from nightcrew.robotic.archive_ports import ArchiveBlockSource
 from nightcrew.robotic.archives import SqliteTaskArchive, TaskArchive
-from nightcrew.robotic.tasks.blocks import ArchiveBlockSource
 from nightcrew.robotic.tasks.calibration import (
     CALIBRATION_WEIGHT,
     SKY_FLAT_SECONDS,

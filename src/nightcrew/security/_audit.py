@@ -54,9 +54,14 @@ class AuditLog:
             outcome=outcome,
         )
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        # Created 0600: the trail names accounts and arguments, not for every local user to read.
         # One write of one line in append mode: records of several processes do not interleave.
-        with self.path.open("a", encoding="utf-8") as stream:
-            stream.write(json.dumps(asdict(entry), ensure_ascii=False) + "\n")
+        line = (json.dumps(asdict(entry), ensure_ascii=False) + "\n").encode()
+        descriptor = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o600)
+        try:
+            os.write(descriptor, line)
+        finally:
+            os.close(descriptor)
 
 
 def _shown(value: Any) -> str:

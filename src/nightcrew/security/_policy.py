@@ -15,12 +15,16 @@ A policy file::
     events:                                        # event -> roles whose members may send it
       BadWeatherEvent: [safety]
       GoodWeatherEvent: [safety]
+      SafetyAlarmEvent: [safety]
+      SafetyClearedEvent: [safety]
     header_providers: [devices]                    # roles whose modules may give FITS headers
 
 A right with a dot is a shell-style pattern over ``module.method``; one without a dot is an
 interface name (all its methods on any module), ``*`` is everything. An account not listed, or
 listed without roles, may call nothing. Events named under ``events`` are accepted only from
-accounts holding one of the roles given; other events from anyone. With ``header_providers``,
+accounts holding one of the roles given; other events from anyone, except the events that move
+hardware (weather verdicts, safety alarms: ``nightcrew.events.hardware_event_names()``), which
+are trusted from nobody unless named here. With ``header_providers``,
 a camera takes FITS header cards only from accounts holding one of those roles.
 """
 
@@ -70,10 +74,16 @@ class Policy:
                     return True
         return False
 
-    def accepts_event(self, sender: str, event: str) -> bool:
-        """Whether an event called ``event`` is trusted from account ``sender``."""
+    def accepts_event(self, sender: str, event: str, *, moves_hardware: bool = False) -> bool:
+        """Whether an event called ``event`` is trusted from account ``sender``.
+
+        An event that moves hardware (``Event.moves_hardware``) is trusted only from the roles
+        named for it under ``events``; one the policy does not name, from nobody.
+        """
         senders = self.events.get(event)
-        return senders is None or any(role in senders for role in self.accounts.get(sender, ()))
+        if senders is None:
+            return not moves_hardware
+        return any(role in senders for role in self.accounts.get(sender, ()))
 
     def accepts_headers(self, provider: str) -> bool:
         """Whether FITS header cards from account ``provider`` may go into a frame."""

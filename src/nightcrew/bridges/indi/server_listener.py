@@ -7,6 +7,13 @@ protocol says). What a client sends is never trusted: malformed XML, an element 
 ``max_element_bytes``, or a client that does not read what it is sent (more than
 ``max_pending_bytes`` queued) closes that client's connection with a log line, and nothing else.
 
+Nobody locks the others out: one address holds at most ``max_clients_per_address`` connections,
+and a connection that says nothing - no complete element within ``idle_timeout`` wall seconds of
+connecting, or an element begun and not finished within it - is dropped. A client that spoke
+(every INDI client starts with ``getProperties``) may then listen in silence as long as it likes.
+When a new connection finds its address, or the server, full, the oldest connection of that
+address (or any) that never spoke makes room; if every one spoke, the new one is refused.
+
 Each connection is an :class:`asyncio.Protocol` rather than a stream pair on purpose: a client
 such as ``indi_setprop`` sends its request and hangs up without reading the rest of the property
 definitions; the next write then fails, and a StreamReader would drop the request it had
@@ -40,6 +47,9 @@ class IndiClient(asyncio.Protocol):
 
     def __init__(self, max_pending_bytes: int, on_connected: Callable[[IndiClient], None]) -> None:
         self.address = "?"
+        self.host = "?"  # the address without the port: what the per-address limit counts
+        #: Whether the client completed an element: a silent connection can be dropped for it.
+        self.spoke = False
         self._on_connected = on_connected
         self._transport: asyncio.Transport | None = None
         self._received: asyncio.Queue[bytes] = asyncio.Queue()  # b"" marks the end of the stream
@@ -61,6 +71,7 @@ class IndiClient(asyncio.Protocol):
         self._transport = transport
         peer = transport.get_extra_info("peername")
         self.address = f"{peer[0]}:{peer[1]}" if isinstance(peer, tuple) else str(peer)
+        self.host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
         self._on_connected(self)
 
     def data_received(self, data: bytes) -> None:
@@ -177,7 +188,10 @@ class IndiListener:
     Args:
         handler: Called with every complete top-level element a client sends except
             ``enableBLOB``; awaited before the client's next element is read.
-        max_clients: Connections beyond this are closed at once.
+        max_clients: Connections beyond this are closed at once (unless a silent one makes room).
+        max_clients_per_address: The same for the connections of one address.
+        idle_timeout: Wall seconds a client may take to send its first complete element, and
+            to finish each element it begins; then it is disconnected.
         max_element_bytes: Largest element a client may send (the server accepts no BLOBs).
         max_pending_bytes: Most a client may leave unread before it is disconnected.
     """
@@ -189,12 +203,16 @@ class IndiListener:
         handler: ElementHandler,
         *,
         max_clients: int = 16,
+        max_clients_per_address: int = 4,
+        idle_timeout: float = 30.0,
         max_element_bytes: int = 1 << 20,
         max_pending_bytes: int = 256 << 20,
     ) -> None:
         self._host, self._port = host, port
         self._handler = handler
         self._max_clients = max_clients
+        self._max_per_address = max_clients_per_address
+        self._idle_timeout = idle_timeout
         self._max_element = max_element_bytes
         self._max_pending = max_pending_bytes
         self._server: asyncio.Server | None = None
@@ -253,8 +271,9 @@ class IndiListener:
         self._clients[client] = task
 
     async def _serve(self, client: IndiClient) -> None:
-        if len(self.clients) > self._max_clients:
-            log.warning("INDI client %s refused: already %d clients", client.address, self._max_clients)
+        refusal = self._make_room(client)
+        if refusal is not None:
+            log.warning("INDI client %s refused: %s", client.address, refusal)
             client.close()
             self._clients.pop(client, None)
             return
@@ -269,13 +288,50 @@ class IndiListener:
             self._clients.pop(client, None)
             log.info("INDI client %s disconnected", client.address)
 
+    def _make_room(self, new: IndiClient) -> str | None:
+        """Room for ``new`` within the limits (dropping silent connections), or why there is none."""
+        others = [c for c in self.clients if c is not new]
+        for limit, group, what in (
+            (self._max_per_address, [c for c in others if c.host == new.host], f"from {new.host}"),
+            (self._max_clients, others, "in all"),
+        ):
+            if len(group) < limit:
+                continue
+            silent = next((c for c in group if not c.spoke), None)  # oldest first (insertion order)
+            if silent is None:
+                return f"already {limit} clients {what}"
+            log.warning("INDI client %s dropped: it never spoke, and a new one needs room", silent.address)
+            silent.close()
+            others.remove(silent)
+        return None
+
+    async def _receive(self, client: IndiClient, deadline: float | None) -> bytes | None:
+        """The client's next chunk; None when ``deadline`` (loop time) passes first."""
+        if deadline is None:
+            return await client.receive()
+        try:
+            async with asyncio.timeout_at(deadline):
+                return await client.receive()
+        except TimeoutError:
+            return None
+
     async def _read_loop(self, client: IndiClient) -> None:
         # INDI is a stream of top-level elements without a document around them: feed them into one.
         parser: ET.XMLPullParser[ET.Element] = ET.XMLPullParser(events=("start", "end"))
         parser.feed(b"<indi>")
-        depth, document, unfinished = 0, None, 0
+        depth, document, unfinished, in_tag = 0, None, 0, False
+        loop = asyncio.get_running_loop()
+        # Until the first complete element, and while one is unfinished, the client must go on.
+        deadline: float | None = loop.time() + self._idle_timeout
         while True:
-            chunk = await client.receive()
+            chunk = await self._receive(client, deadline)
+            if chunk is None:
+                log.warning(
+                    "INDI client %s sent no complete element within %g s; disconnecting it",
+                    client.address,
+                    self._idle_timeout,
+                )
+                return
             if not chunk:
                 return  # the client hung up (an unfinished element is dropped with it)
             unfinished += len(chunk)
@@ -295,7 +351,7 @@ class IndiListener:
                 depth -= 1
                 if depth != 1:
                     continue
-                unfinished = 0
+                unfinished, client.spoke = 0, True
                 if document is not None:
                     document.remove(element)  # keep memory flat over a long session
                 if element.tag == "enableBLOB":
@@ -312,3 +368,9 @@ class IndiListener:
                     self._max_element,
                 )
                 return
+            if chunk.strip():
+                in_tag = not chunk.rstrip().endswith(b">")  # a tag begun, not finished
+            if client.spoke and depth <= 1 and not in_tag:
+                deadline = None  # between elements: a client may listen in silence
+            elif deadline is None:
+                deadline = loop.time() + self._idle_timeout  # an element begun must be finished

@@ -62,6 +62,8 @@ class XmppComm(Comm):
             calls pyobs modules in their value format; its resource defaults to ``pyobs``.
     """
 
+    networked = True
+
     def __init__(
         self,
         jid: str,

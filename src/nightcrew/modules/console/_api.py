@@ -98,8 +98,9 @@ class _Routes:
         check_origin(request)
         body = await json_body(request)
         user, password = field_of(body, "user", str), field_of(body, "password", str)
-        limiters = ((self.console.user_limiter, user), (self.console.address_limiter, str(request.remote)))
-        wait = max(limiter.retry_after([key]) for limiter, key in limiters)
+        throttle = self.console.login_throttle
+        client = throttle.client_address(request.remote, request.headers.getall("X-Forwarded-For", []))
+        wait = throttle.retry_after(user, client)
         if wait > 0:
             raise ApiError(
                 429,
@@ -110,12 +111,11 @@ class _Routes:
         account = await asyncio.to_thread(check_login, self.console.accounts, user, password)
         if account is None:
             # Not the name tried: people type their password into the wrong field.
-            log.warning("%s: failed login from %s", self.console.name, request.remote)
-            for limiter, key in limiters:
-                limiter.failed([key])
+            log.warning("%s: failed login from %s", self.console.name, client)
+            throttle.failed(user, client)
             raise ApiError(401, "LoginError", "wrong user name or password")
         session = self.console.sessions.create(account)
-        who = (self.console.name, account.user, account.role.value, request.remote)
+        who = (self.console.name, account.user, account.role.value, client)
         log.info("%s: %s logged in (%s) from %s", *who)
         response = web.json_response(self._session_body(session))
         response.set_cookie(

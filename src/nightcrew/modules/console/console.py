@@ -35,7 +35,7 @@ from nightcrew.events.base import event_by_name, event_names
 from nightcrew.interfaces import IWeather, ModuleState
 from nightcrew.log import current_module
 from nightcrew.modules.console._api import build_app
-from nightcrew.modules.console._auth import Account, Sessions, accounts_from_config
+from nightcrew.modules.console._auth import Account, LoginThrottle, Sessions, accounts_from_config
 from nightcrew.modules.console._describe import to_json
 from nightcrew.modules.console._directory import ModuleDirectory, ModuleEntry
 from nightcrew.modules.console._images import Frame, View, frame_from_hdul, render_png
@@ -43,7 +43,6 @@ from nightcrew.modules.console._relay import Relay
 from nightcrew.modules.console._robotic import WeatherVerdicts, robotic_view
 from nightcrew.modules.console._tasks import EditableTaskArchive, build_task_archive
 from nightcrew.modules.module import Module
-from nightcrew.security import LoginLimiter
 
 __all__ = ["STATIC_DIR", "WebConsole"]
 
@@ -55,7 +54,6 @@ _NOT_LISTED = frozenset(
     {LogEvent.event_name(), ModuleOpenedEvent.event_name(), ModuleClosedEvent.event_name()}
 )
 _HISTORY = 1000
-_ADDRESS_FACTOR = 4
 
 
 class WebConsole(Module):
@@ -75,8 +73,10 @@ class WebConsole(Module):
             on that module's page.
         session_lifetime: Wall seconds a session lives after its last use.
         cookie_secure: Mark the session cookie Secure (HTTPS only): set it behind a TLS proxy.
-        login_attempts, login_window: At most this many failed logins per user name (four times
-            as many per client address) within this many wall seconds.
+        login_attempts, login_window: At most this many failed logins per user name and client
+            address (four times as many per client address) within this many wall seconds.
+        trusted_proxies: Addresses or networks (``10.0.0.0/8``) of the reverse proxies in front of
+            the console: only from them is ``X-Forwarded-For`` believed for the client address.
         status_interval: Wall seconds between two polls of module states and the robotic status.
         weather_interval: Clock seconds between two polls of the weather modules.
         tasks: The task archive for the Tasks page (e.g. ``{class:
@@ -101,6 +101,7 @@ class WebConsole(Module):
         cookie_secure: bool = False,
         login_attempts: int = 5,
         login_window: float = 300.0,
+        trusted_proxies: list[str] | None = None,
         status_interval: float = 2.0,
         weather_interval: float = 60.0,
         tasks: EditableTaskArchive | dict[str, Any] | None = None,
@@ -138,10 +139,7 @@ class WebConsole(Module):
         self._host, self._port = host, port
         self.sessions = Sessions(session_lifetime)
         self.cookie_secure = cookie_secure
-        self.user_limiter = LoginLimiter(login_attempts, login_window)
-        # Everyone behind one proxy shares an address: a wider limit there, so one person's
-        # typing cannot lock the others out, while guessing across many names still stops.
-        self.address_limiter = LoginLimiter(_ADDRESS_FACTOR * login_attempts, login_window)
+        self.login_throttle = LoginThrottle(login_attempts, login_window, trusted_proxies or [])
         self.relay = Relay()
         self.events: deque[dict[str, Any]] = deque(maxlen=_HISTORY)
         self.log_records: deque[dict[str, Any]] = deque(maxlen=_HISTORY)

@@ -74,6 +74,10 @@ class IndiServer(Module):
         poll_interval: Wall seconds between two reads of each device (clients see in wall time,
             also when the observatory runs on a fast simulated clock).
         max_clients: Most INDI clients connected at once.
+        max_clients_per_address: Most INDI clients connected at once from one address.
+        idle_timeout: Wall seconds a client may take to send its first complete element (every
+            INDI client starts with ``getProperties``) and to finish each element it begins; then
+            it is disconnected. A client that spoke may listen in silence.
         **kwargs: Module options (``site`` gives the telescope's GEOGRAPHIC_COORD).
     """
 
@@ -89,6 +93,8 @@ class IndiServer(Module):
         dome: str | None = None,
         poll_interval: float = 1.0,
         max_clients: int = 16,
+        max_clients_per_address: int = 4,
+        idle_timeout: float = 30.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -98,6 +104,10 @@ class IndiServer(Module):
             raise ConfigError(f"must be > 0 seconds, got {poll_interval}", key="poll_interval")
         if not max_clients >= 1:
             raise ConfigError(f"must be >= 1, got {max_clients}", key="max_clients")
+        if not max_clients_per_address >= 1:
+            raise ConfigError(f"must be >= 1, got {max_clients_per_address}", key="max_clients_per_address")
+        if not 0.1 <= idle_timeout <= 86400:
+            raise ConfigError(f"must be 0.1 .. 86400 seconds, got {idle_timeout}", key="idle_timeout")
         kinds: dict[str, tuple[str | None, type[ServedDevice[Any]]]] = {
             "telescope": (telescope, ServedTelescope),
             "camera": (camera, ServedCamera),
@@ -121,7 +131,14 @@ class IndiServer(Module):
         self._poll_interval = float(poll_interval)
         self._wakes = {name: asyncio.Event() for name in self._devices}
         self._attached: set[str] = set()
-        self._listener = IndiListener(host, port, self._on_element, max_clients=max_clients)
+        self._listener = IndiListener(
+            host,
+            port,
+            self._on_element,
+            max_clients=max_clients,
+            max_clients_per_address=max_clients_per_address,
+            idle_timeout=float(idle_timeout),
+        )
         for name in self._devices:
             self.add_background_task(functools.partial(self._serve_device, name), name=f"INDI device {name}")
 

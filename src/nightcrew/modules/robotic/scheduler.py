@@ -32,9 +32,9 @@ from nightcrew.events import (
 from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask, UnplannedTask
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
+from nightcrew.robotic.archive_ports import as_block_source, as_schedule_writer
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
-from nightcrew.robotic.scheduler.adapters import as_block_source, as_schedule_writer
 from nightcrew.robotic.scheduler.faults import DeviceFaults
 from nightcrew.robotic.scheduler.ports import (
     BlockSource,

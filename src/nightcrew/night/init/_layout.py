@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from nightcrew.events import hardware_event_names
 from nightcrew.night.init._found import FoundDevice
 from nightcrew.night.init._options import InitOptions
 from nightcrew.night.init._robotic import images_vfs, robotic_modules
@@ -22,15 +23,9 @@ __all__ = ["Layout", "observatory_files"]
 
 #: Files that hold passwords: written with mode 0600 (their folder 0700).
 SECRETS = "secrets"
-POLICY = "access.policy"
+POLICY = "access.policy"  # not *.yaml: `check` and `up` would take it for a module file
 #: The people's accounts: the operator may do everything, the observer only read (policy, console).
 PEOPLE = ("operator", "observer")
-_SAFETY_EVENTS = (
-    "BadWeatherEvent",
-    "GoodWeatherEvent",
-    "SafetyAlarmEvent",
-    "SafetyClearedEvent",
-)  # not *.yaml: `check` and `up` would take it for a module file
 
 
 @dataclass
@@ -153,8 +148,9 @@ def _policy(options: InitOptions, modules: list[str]) -> str:
         },
         "accounts": accounts,
         "safety_roles": ["safety"],
-        # Events that open, close or clear an alarm: only from the safety modules (docs/security.md).
-        "events": {name: ["safety"] for name in _SAFETY_EVENTS},
+        # Events that open, close, park or clear an alarm: only from the safety modules
+        # (docs/security.md); every event class marked so, that a new one is not forgotten.
+        "events": {name: ["safety"] for name in hardware_event_names()},
         "header_providers": ["modules"],
     }
     return module_text(

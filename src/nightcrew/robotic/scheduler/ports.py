@@ -25,7 +25,7 @@ class BlockSource(Protocol):
     """Source of the blocks to schedule (those neither done nor expired).
 
     Not a task archive (:class:`nightcrew.robotic.archives.TaskArchive`): the scheduler only reads
-    blocks, and :func:`~nightcrew.robotic.scheduler.adapters.as_block_source` wraps an archive.
+    blocks, and :func:`~nightcrew.robotic.archive_ports.as_block_source` wraps an archive.
     """
 
     async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
@@ -47,7 +47,7 @@ class ScheduleWriter(Protocol):
     """Takes the current schedule.
 
     Not a schedule store (:class:`nightcrew.robotic.archives.ScheduleStore`): the scheduler only
-    writes, and :func:`~nightcrew.robotic.scheduler.adapters.as_schedule_writer` wraps a store.
+    writes, and :func:`~nightcrew.robotic.archive_ports.as_schedule_writer` wraps a store.
     """
 
     async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:

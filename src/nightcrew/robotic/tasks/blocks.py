@@ -12,7 +12,8 @@ The scheduler knows nothing of the task model; this adapter gives it what it nee
 
 A task without any target (only BIAS, DARK, SKY_FLAT or SCRIPT configurations) has no block of
 its own: :func:`blocks_of` lists it in :attr:`BlockConversion.left_out`, and
-:class:`ArchiveBlockSource` (what the scheduler reads) gives it a calibration block
+:func:`every_block` (what the scheduler reads, through
+:class:`~nightcrew.robotic.archive_ports.ArchiveBlockSource`) gives it a calibration block
 (:mod:`.calibration`: near the pole, by window and Sun; sky flats in the site's twilight).
 """
 
@@ -21,7 +22,6 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from nightcrew.robotic.archives import TaskArchive
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks._duration import DEFAULT_OVERHEADS, OverheadModel, estimate_duration
@@ -29,7 +29,7 @@ from nightcrew.robotic.tasks._task import Task
 from nightcrew.robotic.tasks.calibration import NOTHING_LEFT_S, calibration_block
 from nightcrew.site import Site
 
-__all__ = ["NOTHING_LEFT_S", "ArchiveBlockSource", "BlockConversion", "block_of", "blocks_of", "every_block"]
+__all__ = ["NOTHING_LEFT_S", "BlockConversion", "block_of", "blocks_of", "every_block"]
 
 
 def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
@@ -98,39 +98,3 @@ def every_block(
             block = calibration_block(task, site, fit=fit, overheads=overheads)
         blocks.append(block)
     return blocks
-
-
-class ArchiveBlockSource:
-    """The scheduler's view of a task archive: ``await source.get_schedulable_blocks()``.
-
-    Every schedulable task gets a block: those with a target by :func:`block_of`, the others
-    (calibrations) by :func:`~.calibration.calibration_block`.
-
-    Args:
-        archive: Where the tasks come from.
-        overheads: For the durations.
-        site: Where the observatory is, for the twilight of sky flats (None: they take 30 min).
-        fit: The scheduler's grid, so that sky flats fit their twilight.
-    """
-
-    def __init__(
-        self,
-        archive: TaskArchive,
-        overheads: OverheadModel = DEFAULT_OVERHEADS,
-        *,
-        site: Site | None = None,
-        fit: GridFit | None = None,
-    ) -> None:
-        self.archive = archive
-        self.overheads = overheads
-        self.site = site
-        self.fit = fit or GridFit()
-
-    async def get_schedulable_blocks(self) -> list[SchedulableBlock]:
-        """Blocks of the archive's schedulable tasks, calibrations included."""
-        tasks = await self.archive.get_schedulable_tasks()
-        return every_block(tasks, self.site, fit=self.fit, overheads=self.overheads)
-
-    async def block_names(self) -> dict[str, str]:
-        """Block id → task name (a block's id is its task's)."""
-        return {task.id: task.name for task in await self.archive.get_schedulable_tasks()}
