@@ -87,8 +87,10 @@ def environment(tmp_path: Path) -> Iterator[dict[str, str]]:
         "OBSERVATORY_DATA": str(tmp_path / "data"),
         "NIGHTCREW_SUPERVISOR_SOCKET": str(tmp_path / "supervisor.sock"),
     }
-    files = sorted(str(path) for path in [*OBSERVATORY.glob("*.yaml"), *OBSERVATORY.glob("robotic/*.yaml")])
-    nightcrew("server", "init", "xmpp", "--port", str(port), *files, env=env, cwd=tmp_path)
+    # As docs/observatory.md: *.yaml robotic/*.yaml shared/operator.yaml
+    modules = [*OBSERVATORY.glob("*.yaml"), *OBSERVATORY.glob("robotic/*.yaml")]
+    files = [*modules, OBSERVATORY / "shared" / "operator.yaml"]
+    nightcrew("server", "init", "xmpp", "--port", str(port), *map(str, files), env=env, cwd=tmp_path)
     nightcrew("server", "start", "xmpp", env=env, cwd=tmp_path)
     try:
         yield env
