@@ -20,8 +20,14 @@ from nightcrew.errors import ConfigError
 from nightcrew.night.build import bundled_observatory
 
 OBSERVATORY = bundled_observatory()
-MUTATED_FILES = ("camera.yaml", "roof.yaml", "telescope.yaml", "conditions.yaml", "focuser.yaml")
-MUTATED_FILES += ("filters.yaml",)
+MUTATED_FILES = (
+    "camera.yaml",
+    "roof.yaml",
+    "telescope.yaml",
+    "conditions.yaml",
+    "focuser.yaml",
+    "filters.yaml",
+)
 
 ALIAS_BOMB = "".join(
     f"{name}: &{name} [{', '.join([f'*{prev}'] * 10) if prev else ', '.join(['lol'] * 10)}]\n"
