@@ -5,22 +5,34 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Awaitable, Callable
+from importlib import resources
+from typing import Any
 
 import pytest
+import yaml
 
 from nightcrew.bridges.alpaca import AlpacaClient
 from nightcrew.clock import RealClock
 from nightcrew.errors import GrabImageError, ModuleError
-from nightcrew.interfaces import ExposureStatus, ICamera, IFilters, IFocuser, IModule, ITelescope, ModuleState
+from nightcrew.interfaces import (
+    ExposureStatus,
+    ICamera,
+    IFilters,
+    IFocuser,
+    IModule,
+    ITelescope,
+    ModuleState,
+    MotionStatus,
+)
 from nightcrew.modules.alpaca import AlpacaCamera, AlpacaFilterWheel, AlpacaFocuser, AlpacaTelescope
 from nightcrew.testing import ContractProbe, Observatory, wait_for
-from nightcrew.testing.alpaca import SIMULATOR_SITE, AlpacaSimulator
+from nightcrew.testing.alpaca import SIMULATOR_SITE, TEST_OVERRIDES, AlpacaSimulator, merge_config
 
 _QUICK = {"reconnect_interval": 0.2, "timeout": 5.0}
 
 
 async def test_modules_recover_when_the_server_comes_back(
-    start_alpaca_simulator: Callable[..., AlpacaSimulator],
+    start_alpaca_simulator: Callable[..., AlpacaSimulator], caplog: pytest.LogCaptureFixture
 ) -> None:
     simulator = start_alpaca_simulator()
     async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
@@ -32,6 +44,11 @@ async def test_modules_recover_when_the_server_comes_back(
             await obs.start(AlpacaFilterWheel, "filters", server=simulator.url, **_QUICK),
         ]
         assert all(m.state is ModuleState.READY for m in modules)
+        telescope = await caller.comm.proxy("telescope", ITelescope)
+        await telescope.init()
+        _, az = await telescope.get_altaz()
+        pointing = (45.0, (az + 5.0) % 360.0)
+        await telescope.move_altaz(*pointing)  # as for flats: an Alt/Az position, not tracked
         pid = simulator.pid
         simulator.stop()
 
@@ -51,10 +68,12 @@ async def test_modules_recover_when_the_server_comes_back(
         )
         await focuser.set_focus(10.2)
         assert await focuser.get_focus() == pytest.approx(10.2)
-        telescope = await caller.comm.proxy("telescope", ITelescope)
-        await telescope.init()
-        _, az = await telescope.get_altaz()
-        await telescope.move_altaz(45.0, (az + 5.0) % 360.0)
+        # The mount came back parked; the module pointed it at its Alt/Az position again.
+        assert "telescope: the mount came back: pointing at Alt 45.000°" in caplog.text
+        assert await telescope.get_motion_status() is MotionStatus.IDLE
+        device = modules[0].device
+        assert (await device.get("altitude"), await device.get("azimuth")) == pytest.approx(pointing, abs=0.1)
+        await telescope.move_altaz(50.0, pointing[1])
         wheel = await caller.comm.proxy("filters", IFilters)
         await wheel.set_filter("Blue")
         assert await wheel.get_filter() == "Blue"
@@ -120,11 +139,30 @@ async def test_a_new_camera_module_aborts_the_exposure_a_killed_one_left_running
         assert (await camera.grab_data()).endswith(".fits")
 
 
+def _second(device_type: str, **changes: Any) -> dict[str, Any]:
+    """alpaca-simulators' device 1 of ``device_type``: its template's device 0 with ``changes``."""
+    template_file = resources.files("alpaca_simulators").joinpath("config/template.yaml")
+    template = yaml.safe_load(template_file.read_text())
+    return {device_type: {1: {**template["devices"][device_type][0], **changes}}}
+
+
 async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
     start_alpaca_simulator: Callable[..., AlpacaSimulator], caplog: pytest.LogCaptureFixture
 ) -> None:
-    simulator = start_alpaca_simulator()
+    """Device 1 of the telescope powers up unparked, device 1 of the focuser counts relative steps
+    only: the one module parks its mount again, the other (its motor does not move when its server
+    restarts) keeps the position it counted, so nothing is sent to it."""
+    devices = {**_second("telescope", atpark=False), **_second("focuser", absolute=False)}
+    simulator = start_alpaca_simulator(overrides=merge_config(TEST_OVERRIDES, {"devices": devices}))
+    quick = {"server": simulator.url, **_QUICK}
     async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        parked = await obs.start(AlpacaTelescope, "parked", device_number=1, **quick)
+        relative = await obs.start(AlpacaFocuser, "relative", device_number=1, **quick)
+        await parked.init()
+        await parked.park()
+        assert await parked.device.get("atpark") is True
+        relative_focus = await relative.get_focus() + 0.5
+        await relative.set_focus(relative_focus)
         focuser = await obs.start(AlpacaFocuser, "focuser", server=simulator.url, **_QUICK)
         wheel = await obs.start(AlpacaFilterWheel, "filters", server=simulator.url, **_QUICK)
         camera = await obs.start(AlpacaCamera, "camera", server=simulator.url, **_QUICK)
@@ -143,7 +181,7 @@ async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
         simulator.stop()
         await wait_for(lambda: focuser.state is ModuleState.ERROR, 30.0, message="focuser in ERROR")
         simulator.start()
-        modules = (focuser, wheel, camera, telescope)
+        modules = (focuser, wheel, camera, telescope, parked, relative)
         await wait_for(lambda: all(m.state is ModuleState.READY for m in modules), 30.0, message="READY")
         # The devices came back in their defaults, and each module set again what it had set.
         assert "focuser: the focuser came back at" in caplog.text
@@ -160,3 +198,8 @@ async def test_after_a_server_restart_the_modules_set_again_what_they_had_set(
         )
         ra, dec = await telescope.get_radec()
         assert (ra, dec) == pytest.approx(target, abs=0.05)
+        assert "parked: the mount came back unparked: parking it again" in caplog.text
+        assert await parked.device.get("atpark") is True
+        assert await parked.get_motion_status() is MotionStatus.PARKED
+        assert "relative: the focuser came back" not in caplog.text
+        assert await relative.get_focus() == pytest.approx(relative_focus)

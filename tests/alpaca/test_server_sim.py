@@ -62,8 +62,8 @@ async def test_sim_serves_its_devices_to_alpyca(sim_server: tuple[subprocess.Pop
         ("Dome", "roof"),
         ("Focuser", "focuser"),
         ("FilterWheel", "filters"),
-        ("SafetyMonitor", "safety"),
-        ("ObservingConditions", "weather"),
+        ("SafetyMonitor", "weather"),
+        ("ObservingConditions", "conditions"),
     }
 
     dome, telescope, camera = Dome(address, 0), Telescope(address, 0), Camera(address, 0)

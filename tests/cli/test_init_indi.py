@@ -6,13 +6,18 @@ Without indi-bin or root the test skips, except under CI=true, where it fails.
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from nightcrew.cli.main import main
+from nightcrew.clock import RealClock
 from nightcrew.config import load_config
+from nightcrew.interfaces import MotionStatus
+from nightcrew.modules.indi import IndiRoof
+from nightcrew.testing import Observatory
 from nightcrew.testing.indi import IndiServer
 from tests.observatory.simulators import run_indi_simulators, server_init
 
@@ -64,3 +69,34 @@ def test_an_indi_server_that_is_not_there(tmp_path: Path, capsys: pytest.Capture
     err = capsys.readouterr().err.strip()
     assert err.startswith("nightcrew: error: INDI server 127.0.0.1:9: no connection") and "\n" not in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def roll_off_server(tmp_path: Path) -> Iterator[IndiServer]:
+    yield from run_indi_simulators(tmp_path / "indiserver", ["indi_rolloff_dome"])
+
+
+def test_a_roll_off_roof_is_named_roof_and_opened_by_unparking(
+    roll_off_server: IndiServer, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """indi_rolloff_dome is a DOME device like the dome simulator; its driver's name says roll-off,
+    so init names it ``roof`` and writes the IndiRoof module (DOME_PARK), which drives it."""
+    server = roll_off_server
+    directory = tmp_path / "observatory"
+    site = ["--latitude", "51.5", "--longitude", "9.9", "--comm", "embedded"]
+    args = ["init", str(directory), "--non-interactive", "--indi", f"{server.host}:{server.port}", *site]
+    assert main(args) == 0
+    assert capsys.readouterr().out.startswith(f"wrote {directory}: roof, ")
+    config = load_config(directory / "roof.yaml")
+    assert (config["class"], config["device"]) == ("nightcrew.modules.indi.IndiRoof", "RollOff Simulator")
+    asyncio.run(_close(server.host, server.port, "RollOff Simulator"))
+
+
+async def _close(host: str, port: int, device: str) -> None:
+    """The roof module reads the simulator open, closes it and reads it closed."""
+    async with Observatory(clock=RealClock()) as obs:
+        roof = await obs.start(IndiRoof, "roof", host=host, port=port, device=device)
+        assert await roof.get_motion_status() is MotionStatus.IDLE  # the simulator starts open
+        await roof.close_roof()  # 10 wall seconds in the simulator
+        assert await roof.get_motion_status() is MotionStatus.PARKED
+        assert roof._indi.vector("DOME_PARK").members["PARK"] is True

@@ -1,7 +1,8 @@
 """The simulated observatory on three simulated hosts, each host's modules under ``nightcrew up``.
 
-* **dome**: Prosody (``nightcrew server start``), roof, telescope, weather (``examples/sim-processes``)
-  and a safety watchdog watching the weather and the office's mastermind; OpenSSH and Samba
+* **dome**: Prosody (``nightcrew server start``), roof, telescope, the weather station
+  ``conditions`` (``examples/sim-processes``)
+  and a safety watchdog watching the station and the office's mastermind; OpenSSH and Samba
   serving the frames' copies.
 * **camera**: the camera and the HTTP file cache it writes into (``examples/multi-host``), and
   the filter wheel (a FITS header provider).
@@ -51,12 +52,12 @@ MODULE_FILES: dict[str, dict[str, str]] = {
     "dome": {
         **{
             name: f"<<: !include {EXAMPLES}/sim-processes/{name}.yaml\n"
-            for name in ("roof", "telescope", "weather")
+            for name in ("roof", "telescope", "conditions")
         },
         "watchdog": (
             "class: nightcrew.modules.safety.SafetyWatchdog\n"
-            f"watch: {{weather: {SILENCE_LIMIT}, mastermind: {SILENCE_LIMIT}}}\n"
-            "roof: roof\ntelescope: telescope\nweather: weather\ninterval: 20\nanswer_timeout: 40\n"
+            f"watch: {{conditions: {SILENCE_LIMIT}, mastermind: {SILENCE_LIMIT}}}\n"
+            "roof: roof\ntelescope: telescope\nweather: conditions\ninterval: 20\nanswer_timeout: 40\n"
             + _OVERLAY.format(name="watchdog")
         ),
     },

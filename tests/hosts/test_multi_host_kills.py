@@ -30,7 +30,7 @@ from tests.hosts.observatory_hosts import HOST_OF, MODULES, Observatory
 pytestmark = pytest.mark.xmpp
 #: The order of the kills.
 KILLS = [
-    "filters", "telescope", "roof", "weather", "watchdog", "mastermind", "writer-ssh", "writer-smb",
+    "filters", "telescope", "roof", "conditions", "watchdog", "mastermind", "writer-ssh", "writer-smb",
     "camera", "cache",
 ]  # fmt: skip
 RESTART_TIMEOUT = 120.0  # wall seconds for a killed module to be back

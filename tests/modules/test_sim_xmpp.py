@@ -41,7 +41,7 @@ from tests.comm.xmpp_servers import DOMAIN, PASSWORD
 from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes
 
 pytestmark = pytest.mark.xmpp
-MODULES = ["weather", "roof", "telescope", "focuser", "filters", "camera"]
+MODULES = ["conditions", "roof", "telescope", "focuser", "filters", "camera"]
 M39 = (322.95, 48.43)
 #: Wall seconds for all processes to come up (the camera loads its star catalog).
 START_TIMEOUT = 60.0

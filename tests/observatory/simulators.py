@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 import pytest
@@ -53,16 +53,17 @@ def server_init(directory: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     assert main(["server", "init", "xmpp", *sorted(p.name for p in directory.glob("*.yaml"))]) == 0
 
 
-def run_indi_simulators(log_dir: Path) -> Iterator[IndiServer]:
+def run_indi_simulators(log_dir: Path, drivers: Iterable[str] = SIMULATORS) -> Iterator[IndiServer]:
     """indiserver with every indi-bin simulator in a network namespace of its own (reached at
-    ``server.host:server.port`` like a remote server). Skips without indi-bin or root, not on CI."""
+    ``server.host:server.port`` like a remote server), or with ``drivers`` only. Skips without
+    indi-bin or root, not on CI."""
     missing = indi_missing()
     if missing:
         message = f"INDI tests need: {', '.join(missing)} (make system-deps installs indi-bin)"
         if os.environ.get("CI") == "true":
             pytest.fail(message)
         pytest.skip(message)
-    server = IndiServer(SIMULATORS, log_dir=log_dir)
+    server = IndiServer(drivers, log_dir=log_dir)
     try:
         server.start()
         yield server

@@ -20,7 +20,14 @@ from nightcrew.errors import ConfigError
 from nightcrew.night.build import bundled_observatory
 
 OBSERVATORY = bundled_observatory()
-MUTATED_FILES = ("camera.yaml", "roof.yaml", "telescope.yaml", "weather.yaml", "focuser.yaml", "filters.yaml")
+MUTATED_FILES = (
+    "camera.yaml",
+    "roof.yaml",
+    "telescope.yaml",
+    "conditions.yaml",
+    "focuser.yaml",
+    "filters.yaml",
+)
 
 ALIAS_BOMB = "".join(
     f"{name}: &{name} [{', '.join([f'*{prev}'] * 10) if prev else ', '.join(['lol'] * 10)}]\n"
@@ -90,6 +97,10 @@ def _mutate(text: str, rng: random.Random) -> bytes:
 def test_mutated_configs_check_and_run_agree(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     shutil.copytree(OBSERVATORY, tmp_path / "obs")
     monkeypatch.chdir(tmp_path / "obs")
+    # What the files' comm needs (shared/comm.yaml): the password and the server's certificate.
+    (tmp_path / "ca.crt").write_text("a certificate\n")
+    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
+    monkeypatch.setenv("SIM_XMPP_CA_FILE", str(tmp_path / "ca.crt"))
     rng = random.Random(20261124)
     originals = {name: Path(name).read_text() for name in MUTATED_FILES}
     verdicts = {"ok": 0, "refused": 0}

@@ -1,9 +1,10 @@
-"""The bundled observatory as processes, robotic tasks end to end, started as its README says.
+"""The bundled observatory as processes, robotic tasks end to end, started as docs/observatory.md says.
 
 ``nightcrew check``, ``nightcrew server init`` and ``server start`` (Prosody), ``nightcrew up
-examples/sim-processes`` (every module of examples/observatory, devices and robotic, each a process
-on the shared accelerated clock), ``nightcrew tasks add``: the task is observed, its frames are
-written and it ends COMPLETED. Only commands; no Python of the test's own talks to the modules.
+examples/observatory`` (every module of the bundled observatory, devices and robotic, each a process
+on the shared accelerated clock, as its files name them), ``nightcrew tasks add``: the task is
+observed, its frames are written and it ends COMPLETED. Only commands; no Python of the test's own
+talks to the modules.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import pytest
 from .conftest import REPOSITORY
 
 pytestmark = [pytest.mark.xmpp, pytest.mark.timeout(900)]
-PROCESSES = REPOSITORY / "examples" / "sim-processes"
+OBSERVATORY = REPOSITORY / "examples" / "observatory"
 #: M39, high in the north-east at dusk of the default night; two short frames.
 TASK = """\
 name: M39 from the command line
@@ -69,7 +70,7 @@ def nightcrew(*args: str, env: dict[str, str], cwd: Path) -> str:
 
 @pytest.fixture
 def environment(tmp_path: Path) -> Iterator[dict[str, str]]:
-    """The variables of examples/observatory/README.md, pointing into ``tmp_path``; Prosody set up
+    """The variables of docs/observatory.md, pointing into ``tmp_path``; Prosody set up
     and started with ``nightcrew server``, stopped after."""
     if shutil.which("prosody") is None:
         if os.environ.get("CI") == "true":
@@ -83,12 +84,13 @@ def environment(tmp_path: Path) -> Iterator[dict[str, str]]:
         "SIM_XMPP_CA_FILE": str(tmp_path / "xmpp" / "certs" / "observatory.local.crt"),
         "SIM_CLOCK_SPEED": SPEED,
         "SIM_WALL_START": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S"),
-        "SIM_IMAGES": str(tmp_path / "images"),
         "OBSERVATORY_DATA": str(tmp_path / "data"),
         "NIGHTCREW_SUPERVISOR_SOCKET": str(tmp_path / "supervisor.sock"),
     }
-    files = sorted(str(path) for path in PROCESSES.glob("*.yaml"))
-    nightcrew("server", "init", "xmpp", "--port", str(port), *files, env=env, cwd=tmp_path)
+    # As docs/observatory.md: *.yaml robotic/*.yaml shared/operator.yaml
+    modules = [*OBSERVATORY.glob("*.yaml"), *OBSERVATORY.glob("robotic/*.yaml")]
+    files = [*modules, OBSERVATORY / "shared" / "operator.yaml"]
+    nightcrew("server", "init", "xmpp", "--port", str(port), *map(str, files), env=env, cwd=tmp_path)
     nightcrew("server", "start", "xmpp", env=env, cwd=tmp_path)
     try:
         yield env
@@ -100,7 +102,7 @@ def environment(tmp_path: Path) -> Iterator[dict[str, str]]:
 
 def test_up_runs_a_task_added_with_nightcrew_tasks(environment: dict[str, str], tmp_path: Path) -> None:
     env = environment
-    assert "OK" in nightcrew("check", str(PROCESSES), env=env, cwd=tmp_path)
+    assert "OK" in nightcrew("check", str(OBSERVATORY), env=env, cwd=tmp_path)
     (tmp_path / "data").mkdir()
     (tmp_path / "m39.yaml").write_text(TASK, encoding="utf-8")
     database = str(tmp_path / "data" / "tasks.sqlite")
@@ -108,7 +110,7 @@ def test_up_runs_a_task_added_with_nightcrew_tasks(environment: dict[str, str], 
     assert "task 1" in added, added
     with open(tmp_path / "supervisor.log", "wb") as log:
         up = subprocess.Popen(
-            [sys.executable, "-m", "nightcrew", "up", str(PROCESSES), "--log-dir", "logs"],
+            [sys.executable, "-m", "nightcrew", "up", str(OBSERVATORY), "--log-dir", "logs"],
             env=env,
             cwd=tmp_path,
             stdout=subprocess.DEVNULL,
@@ -125,8 +127,9 @@ def test_up_runs_a_task_added_with_nightcrew_tasks(environment: dict[str, str], 
             time.sleep(2.0)
         assert up.poll() is None, (tmp_path / "supervisor.log").read_text()
         assert "COMPLETED" in state, _logs(tmp_path, state)
-        science = sorted((tmp_path / "images").rglob("*object*.fits"))
-        assert len(science) >= 2, [path.name for path in (tmp_path / "images").rglob("*.fits")]
+        frames = tmp_path / "data" / "frames"
+        science = sorted(frames.rglob("*object*.fits"))
+        assert len(science) >= 2, [path.name for path in frames.rglob("*.fits")]
         assert (tmp_path / "data" / "events.jsonl").stat().st_size > 0
     finally:
         if up.poll() is None:
@@ -138,7 +141,7 @@ def test_up_runs_a_task_added_with_nightcrew_tasks(environment: dict[str, str], 
 def _logs(tmp_path: Path, state: str) -> str:
     """The task's state and the tails of the robotic modules' logs, for a failure message."""
     parts = [state]
-    for name in ("scheduler", "mastermind", "safety", "roof", "camera"):
+    for name in ("scheduler", "mastermind", "weather", "roof", "camera"):
         path = tmp_path / "logs" / f"{name}.log"
         if path.is_file():
             parts.append(f"--- {name}\n" + path.read_text(errors="replace")[-1500:])

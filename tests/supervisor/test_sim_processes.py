@@ -1,9 +1,15 @@
-"""``nightcrew up examples/sim-processes``: the simulated observatory as supervised processes on Prosody."""
+"""``nightcrew up examples/sim-processes``: the simulated observatory as supervised processes on Prosody.
+
+The directory is a copy of the repository's ``examples/observatory`` and ``examples/sim-processes``
+whose weather station's overlay plays a rainy scenario, as a user changes a file: the weather
+verdict must then send a BadWeatherEvent (issue 29: no weather event was ever sent).
+"""
 
 from __future__ import annotations
 
 import asyncio
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -13,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from nightcrew.comm.xmpp import XmppComm
+from nightcrew.events import BadWeatherEvent, Event
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
@@ -20,12 +27,24 @@ from tests.comm.xmpp_servers import DOMAIN, PASSWORD
 from .conftest import REPOSITORY, START_TIMEOUT, Prosody
 
 pytestmark = pytest.mark.xmpp
-EXAMPLE = REPOSITORY / "examples" / "sim-processes"
-DEVICES = {"camera", "filters", "focuser", "roof", "telescope", "weather", "watchdog"}
+DEVICES = {"camera", "filters", "focuser", "roof", "telescope", "conditions", "watchdog"}
 #: examples/observatory/robotic, each a process too (test_observatory_up.py gives them a task).
-ROBOTIC = {"safety", "scheduler", "mastermind", "focus", "flatfield", "flatpointing", "acquisition"}
+ROBOTIC = {"weather", "scheduler", "mastermind", "focus", "flatfield", "flatpointing", "acquisition"}
 ROBOTIC |= {"guiding", "seeing", "recorder"}
 MODULES = DEVICES | ROBOTIC
+#: Rain from the start (a key in the overlay wins over the bundled file's): the verdict's first look
+#: finds it bad and says so at once.
+RAIN = "scenario: [{at: 0, rain: true, humidity: 97}]\n"
+
+
+def rainy_copy(tmp_path: Path) -> Path:
+    """``examples/sim-processes`` beside ``examples/observatory`` in ``tmp_path``, the station raining."""
+    for name in ("observatory", "sim-processes"):
+        ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
+        shutil.copytree(REPOSITORY / "examples" / name, tmp_path / "examples" / name, ignore=ignore)
+    overlay = tmp_path / "examples" / "sim-processes" / "conditions.yaml"
+    overlay.write_text(overlay.read_text(encoding="utf-8") + RAIN, encoding="utf-8")
+    return overlay.parent
 
 
 @pytest.fixture
@@ -54,6 +73,13 @@ async def nightcrew(*args: str, env: dict[str, str]) -> tuple[int, str]:
 async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Module, tmp_path: Path) -> None:
     for name in MODULES:
         prosody.account(name)
+    example = rainy_copy(tmp_path)
+    bad_weather: list[str] = []
+
+    async def on_bad_weather(event: Event, sender: str) -> None:
+        bad_weather.append(sender)
+
+    await operator.comm.register_event(BadWeatherEvent, on_bad_weather)
     socket = Path(os.environ.get("TMPDIR", "/tmp")) / f"nc-sim-{os.getpid()}.sock"
     env = {
         **os.environ,
@@ -70,7 +96,7 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
     stderr = os.open(log, os.O_WRONLY | os.O_CREAT, 0o600)
     try:
         up = await asyncio.create_subprocess_exec(
-            sys.executable, "-m", "nightcrew", "up", str(EXAMPLE), "--log-dir", str(tmp_path / "logs"),
+            sys.executable, "-m", "nightcrew", "up", str(example), "--log-dir", str(tmp_path / "logs"),
             env=env, cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=stderr,
         )  # fmt: skip
     finally:
@@ -95,6 +121,8 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
 
         code, logs = await nightcrew("logs", "weather", "-n", "200", env=env)
         assert code == 0 and "weather is ready" in logs
+        # The verdict looks every 30 clock s (3 wall s at the overlays' speed 10).
+        await wait_for(lambda: bad_weather == ["weather"], 30, message="BadWeatherEvent from the verdict")
     finally:
         if up.returncode is None:
             up.send_signal(signal.SIGTERM)

@@ -126,6 +126,8 @@ def test_module_files_lists_modules_and_broken_files_skips_others(tmp_path: Path
     (tmp_path / "secret.yaml").write_text(
         "class: nightcrew.modules.test.StandAlone\nmessage: ${NO_SUCH_VAR_H1}\n"
     )
+    (tmp_path / "options").mkdir()  # module files added on request (nightcrew sim --console): not started
+    (tmp_path / "options" / "console.yaml").write_text("class: nightcrew.modules.test.StandAlone\n")
     found = {m.name: m for m in module_files(tmp_path)}
     assert sorted(found) == [
         "camera",

@@ -1,12 +1,12 @@
 """``nightcrew up DIR``: run every module configuration in DIR as its own supervised process.
 
-Each module file (``nightcrew check DIR`` lists them; files that are not modules are skipped) runs
-as ``nightcrew run FILE`` in a process of its own, on the comm the file names. A module that exits
-or crashes is restarted after a growing delay (1 s, 2 s, 4 s … up to 60 s; a module that ran 30 s
-counts as healthy again); after 5 restarts within 5 minutes the supervisor gives up on it. A module
-whose event loop stops its heartbeat to the supervisor for 30 s (``--frozen-after``) is ``frozen``:
-it is killed and restarted the same way. A module
-whose configuration is broken (exit code 2) is not restarted; ``nightcrew status`` shows why.
+Each module file (``nightcrew check DIR`` lists them; files that are not modules, and those in a
+folder ``options/``, are skipped) runs as ``nightcrew run FILE`` in a process of its own, on the
+comm the file names. A module that exits or crashes is restarted after a growing delay (1 s, 2 s,
+4 s … up to 60 s; a module that ran 30 s counts as healthy again); after 5 restarts within 5
+minutes the supervisor gives up on it. A module whose event loop stops its heartbeat to the
+supervisor for 30 s (``--frozen-after``) is ``frozen``: it is killed and restarted the same way. A
+module whose configuration is broken (exit code 2) is not restarted; ``nightcrew status`` shows why.
 ``nightcrew status|start|stop|restart|logs`` talk to it over a Unix socket only its user can use.
 SIGTERM or Ctrl-C stops every module cleanly (each closes itself), then the supervisor. With
 ``--comm FILE`` the supervisor joins the bus as a module (READY, or ERROR while a module is failed

@@ -3,8 +3,8 @@
 Instead of running a night, the bundled (or ``--configs``) devices run on a clock at real speed
 (``--speed`` to change it) that starts at dusk of ``--date`` (or ``--start``), and an AlpacaServer
 serves them on 127.0.0.1:PORT: telescope, camera (frames are also written to ``--out``), roof as
-Dome, focuser, filter wheel, the weather station as ObservingConditions and the weather verdict
-of ``robotic/safety.yaml`` as SafetyMonitor.
+Dome, focuser, filter wheel, the weather station (``conditions.yaml``) as ObservingConditions and
+the weather verdict of ``robotic/weather.yaml`` as SafetyMonitor.
 Any Alpaca client (N.I.N.A., SharpCap, alpyca scripts) can then drive the simulated sky; it finds
 the server by Alpaca discovery on loopback (``--alpaca-discovery-port``). On Ctrl-C or SIGTERM the
 telescope parks, the roof closes and everything stops.
@@ -34,6 +34,7 @@ from nightcrew.night.build import (
     build_observatory,
     bundled_observatory,
     data_environ,
+    files_environ,
     images_vfs,
     observatory_site,
     park_and_close,
@@ -43,12 +44,12 @@ from nightcrew.night.options import SimOptions
 from nightcrew.night.running import quiet_module_logs, stop_on_signals
 from nightcrew.sim.render import CameraModel
 
-__all__ = ["SAFETY", "STATION", "serve_alpaca"]
+__all__ = ["STATION", "VERDICT", "serve_alpaca"]
 
-#: The weather verdict module (robotic/safety.yaml) served as the SafetyMonitor.
-SAFETY = "safety"
-#: The weather station (weather.yaml) served as ObservingConditions.
-STATION = "weather"
+#: The weather verdict module (robotic/weather.yaml) served as the SafetyMonitor.
+VERDICT = "weather"
+#: The weather station (conditions.yaml) served as ObservingConditions.
+STATION = "conditions"
 
 
 def serve_alpaca(options: SimOptions) -> int:
@@ -85,13 +86,13 @@ async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) 
     }
     if any(module.name == STATION for module in modules):
         devices["observingconditions"] = STATION
-    safety = directory / "robotic" / f"{SAFETY}.yaml"
-    if safety.is_file():
-        config = load_config(safety, environ=environ)
+    verdict = directory / "robotic" / f"{VERDICT}.yaml"
+    if verdict.is_file():
+        config = load_config(verdict, environ=environ)
         validate_config(config, Module)
-        config.update({"comm": LocalComm(SAFETY, network=network), "clock": clock, "vfs": vfs})
+        config.update({"comm": LocalComm(VERDICT, network=network), "clock": clock, "vfs": vfs})
         modules.append(build_object(config, Module))
-        devices["safetymonitor"] = SAFETY
+        devices["safetymonitor"] = VERDICT
     server = AlpacaServer(
         comm=LocalComm("alpaca", network=network),
         clock=clock,
@@ -130,6 +131,7 @@ async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) 
 def _pixel_size(directory: Path) -> float:
     """The simulated camera's pixel size in µm (its detector's pixel_size_um)."""
     path = directory / f"{CAMERA}.yaml"
-    detector = to_plain(load_config(path).get("detector") or {}) if path.is_file() else {}
+    config = load_config(path, environ=files_environ()) if path.is_file() else {}
+    detector = to_plain(config.get("detector") or {})
     size = detector.get("pixel_size_um") if isinstance(detector, dict) else None
     return float(size) if isinstance(size, int | float) else CameraModel().pixel_size_um

@@ -33,6 +33,7 @@ __all__ = [
     "build_observatory",
     "bundled_observatory",
     "data_environ",
+    "files_environ",
     "images_vfs",
     "observatory_site",
     "options_directory",
@@ -61,10 +62,21 @@ def bundled_observatory() -> Path:
     return Path(__file__).resolve().with_name("observatory")
 
 
+#: The variables the observatory's files need only for their ``comm`` (shared/comm.yaml, read by
+#: ``nightcrew up``): in one process every module gets the in-process comm instead, so a stand-in
+#: lets the files load where the variable is not set; it is never used.
+_COMM_ONLY = {"SIM_XMPP_PASSWORD": "unused-in-one-process"}
+
+
+def files_environ() -> dict[str, str]:
+    """The environment the observatory's files are read in when their modules run in one process."""
+    return {**_COMM_ONLY, **os.environ}
+
+
 def data_environ(out: Path) -> dict[str, str]:
     """The environment the observatory's files are read in for a night into ``out``: its data
     (``$OBSERVATORY_DATA``: task archive, event record) go there."""
-    return {**os.environ, DATA_VARIABLE: str(out.resolve())}
+    return {**files_environ(), DATA_VARIABLE: str(out.resolve())}
 
 
 def options_directory(directory: Path) -> Path:
@@ -84,7 +96,7 @@ def observatory_site(directory: Path) -> Site:
     path = directory / "telescope.yaml"
     if not path.is_file():
         raise ConfigError(f"no telescope.yaml in {directory}: the night needs a telescope")
-    site = load_config(path).get("site")
+    site = load_config(path, environ=files_environ()).get("site")
     if not isinstance(site, dict):
         raise ConfigError("the telescope needs a site (latitude, longitude, elevation)", file=str(path))
     try:
@@ -110,14 +122,14 @@ def build_observatory(
     modules: the caller closes it after them) and a comm on ``network`` named after its file;
     ``seed`` replaces the seed of every file that sets one, and ``overrides`` (by module name)
     replace keys after validation (objects the file cannot say); ``environ`` gives the files'
-    ``${NAME}`` placeholders (default: the environment); ``names``: only the files with these
+    ``${NAME}`` placeholders (default: :func:`files_environ`); ``names``: only the files with these
     stems. Nothing is opened. Files in subdirectories (fragments, extras, options) are not
     modules of the night.
     """
     paths = sorted(p for p in directory.glob("*.yaml") if names is None or p.stem in names)
     if not paths:
         raise ConfigError(f"no module files (*.yaml) in {directory}")
-    configs = [load_config(path, environ=environ) for path in paths]
+    configs = [load_config(path, environ=environ or files_environ()) for path in paths]
     for config in configs:
         validate_config(config, Module)
     modules = []

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 import sys
 import time
 from dataclasses import dataclass
@@ -22,6 +21,7 @@ from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
 from nightcrew.night.build import (
     bundled_observatory,
+    files_environ,
     observatory_site,
 )
 from nightcrew.night.engine import (
@@ -140,7 +140,8 @@ def _quick_tasks(options: SimOptions, site: Site, start: datetime, end: datetime
     if not filters:
         raise ConfigError(f"--filters {options.filters!r}: name at least one filter")
     wheel = (options.configs or bundled_observatory()) / "filters.yaml"
-    known = [str(name) for name in load_config(wheel).get("filters", [])] if wheel.is_file() else []
+    config = load_config(wheel, environ=files_environ()) if wheel.is_file() else {}
+    known = [str(name) for name in config.get("filters", [])]
     unknown = [name for name in filters if known and name not in known]
     if unknown:
         # Said before the night starts, not as a task failing at the telescope.
@@ -184,7 +185,7 @@ def run_one_night(
     # The solvers' index files of the simulated sky, for the night's fields (kept for later nights);
     # the observatory's files find them by $SIM_SEED.
     build_night_sky_indexes(
-        directory, tasks, environ={**os.environ, **environ}, seed=seed, progress=_index_progress
+        directory, tasks, environ={**files_environ(), **environ}, seed=seed, progress=_index_progress
     )
     wall_start, cpu_start = time.monotonic(), time.process_time()
 
@@ -240,7 +241,7 @@ def _device_overrides(weather: str, duration: float, seed: int | None) -> dict[s
     station: dict[str, Any] = {"scenario": weather_scenario(weather, duration), "duration": duration + 3600}
     if seed is not None:
         station["seed"] = seed
-    return {"weather": station}
+    return {"conditions": station}
 
 
 def _night_environ(seed: int | None, *, quarter_chip: bool) -> dict[str, str]:

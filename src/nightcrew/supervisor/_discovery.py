@@ -4,7 +4,9 @@ The files are those ``nightcrew check DIR`` checks (fragments that others includ
 those, a file whose ``class`` is a Module is a module, named after its file (``roof.yaml`` →
 ``roof``). A file that is not a module (an operator's comm description, a clock) is skipped. A file
 that cannot be read or names no importable class is still listed, with its error: it may well be a
-module with a typo, and the operator must see it in ``nightcrew status``.
+module with a typo, and the operator must see it in ``nightcrew status``. Files in a folder
+``options/`` are left out: module files one adds on request, as ``nightcrew sim --indi`` or
+``--console`` does from the bundled observatory's ``options/``, not modules of the observatory.
 """
 
 from __future__ import annotations
@@ -20,6 +22,9 @@ from nightcrew.errors import ConfigError
 __all__ = ["ModuleFile", "module_files"]
 
 log = logging.getLogger(__name__)
+
+#: The folder of module files that are not started (see the module doc).
+OPTIONS = "options"
 
 
 @dataclass(frozen=True)
@@ -39,6 +44,8 @@ def module_files(directory: Path) -> list[ModuleFile]:
 
     found: dict[str, ModuleFile] = {}
     for path in config_files([directory]):
+        if OPTIONS in path.relative_to(directory).parts[:-1]:
+            continue
         name = path.stem
         if name in found:
             raise ConfigError(f"two module files named '{name}': {found[name].path} and {path}")

@@ -79,7 +79,7 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
                 site.latitude,
                 site.longitude,
             )
-        await self._restore_tracking()
+        await self._restore_pointing()
 
     # --- motions -------------------------------------------------------------------------------
 
@@ -101,6 +101,9 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
             await self._poll_until(
                 "atpark", lambda parked: parked is False, self._slew_timeout, "unpark", MoveError
             )
+
+    async def _hw_at_park(self) -> bool:
+        return bool(await self._get("atpark"))
 
     async def _hw_park(self) -> None:
         if not self._can.get("canpark", True):

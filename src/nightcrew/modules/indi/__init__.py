@@ -5,6 +5,7 @@ from nightcrew.modules.indi.dome import IndiDome
 from nightcrew.modules.indi.filters import IndiFilterWheel
 from nightcrew.modules.indi.focuser import IndiFocuser
 from nightcrew.modules.indi.link import IndiLink, IndiModule
+from nightcrew.modules.indi.roof import IndiRoof
 from nightcrew.modules.indi.rotator import IndiRotator
 from nightcrew.modules.indi.server import IndiServer
 from nightcrew.modules.indi.telescope import IndiTelescope
@@ -17,6 +18,7 @@ __all__ = [
     "IndiFocuser",
     "IndiLink",
     "IndiModule",
+    "IndiRoof",
     "IndiRotator",
     "IndiServer",
     "IndiTelescope",

@@ -66,7 +66,7 @@ class IndiTelescope(IndiModule, BaseTelescope):
                 {"LAT": site.latitude, "LONG": site.longitude % 360.0, "ELEV": site.elevation},
                 wait=indi.connect_timeout,
             )
-        await self._restore_tracking()  # before the status is read from the (restarted) device
+        await self._restore_pointing()  # before the status is read from the (restarted) device
         if not self._motion.busy:
             await self._set_motion_status(self._device_status())
 
@@ -102,6 +102,9 @@ class IndiTelescope(IndiModule, BaseTelescope):
                 wait=self._move_timeout,
                 done=lambda v: v.members.get("UNPARK") is True,
             )
+
+    async def _hw_at_park(self) -> bool:
+        return bool(self._indi.vector("TELESCOPE_PARK").members.get("PARK"))
 
     async def _hw_park(self) -> None:
         await self._indi.send(

@@ -8,9 +8,10 @@ Decisions (documented for drivers and callers):
 * Targets below ``min_altitude`` are refused with MoveError before anything moves.
 * Offsets: RA/Dec offsets apply while tracking an RA/Dec target, Alt/Az offsets while pointing at an
   Alt/Az position; a new move resets both.
-* A mount that comes back from a restart of its server while the module was tracking an RA/Dec
-  target is unparked and tracks it again before the module is ready (drivers call
-  ``_restore_tracking``).
+* A mount that comes back from a restart of its server is put back where the module had it
+  before the module is ready (drivers call ``_restore_pointing``): tracking its RA/Dec target,
+  at its Alt/Az position (unparked first, as a mount comes back parked), or parked again when the
+  module had parked it and the mount came back unparked.
 * On BadWeatherEvent and on SafetyAlarmEvent (the safety watchdog's) the telescope parks by itself
   (aborting any slew), and so it does after ``park_when_offline`` clock seconds (default 300)
   without a connection to the other modules, and, with ``watchdog`` set, after
@@ -91,6 +92,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         self._target_altaz: tuple[float, float] | None = None
         self._offsets_radec = (0.0, 0.0)
         self._offsets_altaz = (0.0, 0.0)
+        self._parked_here = False  # parked by park(), not merely found parked at start-up
 
     @property
     def observatory(self) -> Site:
@@ -147,20 +149,35 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         """Thermometers of the mount (none by default)."""
         return {}
 
+    async def _hw_at_park(self) -> bool | None:
+        """Whether the mount says it is parked; None if it cannot tell (then a mount that came back
+        from a restart is not parked again)."""
+        return None
+
     # --- helpers -------------------------------------------------------------------------------
 
-    async def _restore_tracking(self) -> None:
-        """Track the RA/Dec target (with its offsets) again if this module was tracking it, e.g.
-        after the mount's server restarted and it came back parked; drivers call this after reading
-        the device, before they report ready again."""
-        target = self._target_radec
-        if target is None or self._motion_status is not MotionStatus.TRACKING or self._motion.busy:
+    async def _restore_pointing(self) -> None:
+        """Put the mount back where this module had it, e.g. after its server restarted and it came
+        back parked (or unparked): the RA/Dec target tracked, the Alt/Az position (each with its
+        offsets), or parked. Drivers call this after reading the device, before they report ready."""
+        if self._motion.busy:
             return
-        dra, ddec = self._offsets_radec
-        ra, dec = (target[0] + dra) % 360.0, max(-90.0, min(90.0, target[1] + ddec))
-        log.warning("%s: the mount came back: tracking RA %.4f°, Dec %.4f° again", self.name, ra, dec)
-        await self._hw_init()
-        await self._hw_move_radec(ra, dec)
+        status, radec, altaz = self._motion_status, self._target_radec, self._target_altaz
+        if status is MotionStatus.TRACKING and radec is not None:
+            dra, ddec = self._offsets_radec
+            ra, dec = (radec[0] + dra) % 360.0, max(-90.0, min(90.0, radec[1] + ddec))
+            log.warning("%s: the mount came back: tracking RA %.4f°, Dec %.4f° again", self.name, ra, dec)
+            await self._hw_init()
+            await self._hw_move_radec(ra, dec)
+        elif status is MotionStatus.IDLE and altaz is not None:
+            dalt, daz = self._offsets_altaz
+            alt, az = altaz[0] + dalt, (altaz[1] + daz) % 360.0
+            log.warning("%s: the mount came back: pointing at Alt %.3f°, Az %.3f° again", self.name, alt, az)
+            await self._hw_init()
+            await self._hw_move_altaz(alt, az)
+        elif status is MotionStatus.PARKED and self._parked_here and await self._hw_at_park() is False:
+            log.warning("%s: the mount came back unparked: parking it again", self.name)
+            await self._hw_park()
 
     def _altaz_of(self, ra: float, dec: float) -> tuple[float, float]:
         site = self.observatory
@@ -195,6 +212,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
 
         async def motion() -> None:
             await self._set_motion_status(MotionStatus.INITIALIZING)
+            self._parked_here = False
             await self._guarded(self._hw_init(), "init failed", InitError)
             await self._set_motion_status(MotionStatus.IDLE)
 
@@ -214,6 +232,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
             self._target_radec = self._target_altaz = None
             self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
             await self._guarded(self._hw_park(), "park failed", ParkError)
+            self._parked_here = True
             await self._set_motion_status(MotionStatus.PARKED)
 
         await self._run_motion("park", motion(), preempt=True)

@@ -3,8 +3,10 @@
 A driver says what it is in ``DRIVER_INFO.DRIVER_INTERFACE`` (a bit mask: 1 telescope, 2 CCD,
 8 focuser, 16 filter wheel, 32 dome, 128 weather, 4096 rotator, ...). One device may set several
 bits (a CCD with a built-in wheel); it takes the first role of :data:`_BITS` it has, so a camera
-stays a camera. Every DOME device is a ``dome`` (IndiDome: its shutter is the roof): before a
-client connects the device, a driver defines too little to tell a roll-off roof from a dome.
+stays a camera. A DOME device is a ``dome`` (IndiDome: shutter and azimuth), or a ``roof``
+(IndiRoof: opened by unparking) when its driver calls itself a roll-off or a roof in
+``DRIVER_EXEC`` or ``DRIVER_NAME``: before a client connects the device, that name is all a
+driver says to tell the two apart (``indi_rolloff_dome``: "RollOff Simulator").
 
 INDI has no "that was all" message: the server forwards ``getProperties`` to its drivers, each
 answers when it does. So the list is complete once every device seen has defined ``DRIVER_INFO``
@@ -23,6 +25,10 @@ from nightcrew.errors import NightcrewError
 from nightcrew.night.init._found import FoundDevice
 
 __all__ = ["find_indi_devices"]
+
+#: A DOME driver whose DRIVER_EXEC or DRIVER_NAME holds one of these (lower case) drives a roof.
+_ROOF_WORDS = ("rolloff", "roll-off", "roll off", "roof")
+_ROOF = ("roof", "nightcrew.modules.indi.IndiRoof")
 
 #: DRIVER_INTERFACE bit → role and module class, in the order a device with several bits is judged.
 _BITS: tuple[tuple[int, str, str], ...] = (
@@ -84,6 +90,9 @@ def _found(client: IndiClient, host: str, port: int) -> list[FoundDevice]:
         if kind is None:
             continue
         role, cls = kind
+        named = " ".join(str(vector.members.get(key, "")) for key in ("DRIVER_EXEC", "DRIVER_NAME")).lower()
+        if role == "dome" and any(word in named for word in _ROOF_WORDS):
+            role, cls = _ROOF
         filters: tuple[str, ...] = ()
         names = client.properties.get((device, "FILTER_NAME"))
         if role == "filters" and names is not None:
