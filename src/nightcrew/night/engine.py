@@ -284,7 +284,7 @@ def _plan_record(schedule: Schedule) -> dict[str, Any]:
         "objective": schedule.objective,
         "bound": schedule.bound,
         "slots": [
-            {"task": s.block_id, "start": s.start.isoformat(), "end": s.end.isoformat()}
+            {"task": s.task_id, "start": s.start.isoformat(), "end": s.end.isoformat()}
             for s in schedule.slots
         ],
     }

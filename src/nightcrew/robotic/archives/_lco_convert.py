@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-from nightcrew.robotic.archives._base import ScheduleEntry
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import ObservationType, Task, TaskProgress, parse_request_group, tasks_of_group
 
 __all__ = ["PortalTasks", "configuration_status_updates", "observation_document", "tasks_from_portal"]
@@ -121,7 +121,7 @@ def _instrument_config(instrument_config: dict[str, Any]) -> dict[str, Any]:
 
 
 def observation_document(
-    entry: ScheduleEntry,
+    entry: PlannedSlot,
     configuration_ids: list[int],
     *,
     site: str,

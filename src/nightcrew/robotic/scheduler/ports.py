@@ -14,7 +14,8 @@ from typing import Protocol, runtime_checkable
 
 from nightcrew.astro import sun_altitude, sun_crossing
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
+from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock
 from nightcrew.site import Site
 
 __all__ = ["BlockSource", "MemoryScheduleStore", "NamedBlockSource", "ScheduleWriter", "night_around"]
@@ -50,7 +51,7 @@ class ScheduleWriter(Protocol):
     writes, and :func:`~nightcrew.robotic.archive_ports.as_schedule_writer` wraps a store.
     """
 
-    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+    async def set_schedule(self, slots: Sequence[PlannedSlot], planned_at: datetime) -> None:
         """Replace the schedule by ``slots`` (ordered by start), planned at ``planned_at``."""
         ...
 
@@ -59,10 +60,10 @@ class MemoryScheduleStore:
     """The schedule in memory, with the time it was planned at (a :class:`ScheduleWriter`)."""
 
     def __init__(self) -> None:
-        self.slots: tuple[ScheduledSlot, ...] = ()
+        self.slots: tuple[PlannedSlot, ...] = ()
         self.planned_at: datetime | None = None
 
-    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+    async def set_schedule(self, slots: Sequence[PlannedSlot], planned_at: datetime) -> None:
         self.slots = tuple(slots)
         self.planned_at = planned_at
 
