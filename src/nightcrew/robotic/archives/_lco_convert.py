@@ -130,7 +130,7 @@ def observation_document(
     instrument_name: str,
     guide_camera_name: str | None,
 ) -> dict[str, Any]:
-    """The portal's observation for one schedule entry (``POST /api/observations/``)."""
+    """The portal's observation for one planned slot (``POST /api/observations/``)."""
     statuses = []
     for configuration_id in configuration_ids:
         status: dict[str, Any] = {"configuration": configuration_id, "instrument_name": instrument_name}

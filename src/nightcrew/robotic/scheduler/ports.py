@@ -1,8 +1,9 @@
 """What the scheduler module needs from the outside world, as minimal protocols, and the night.
 
 A block source offers the blocks still to observe (over a task archive: YAML, SQLite, LCO portal
-...; see :mod:`.adapters`); a schedule writer takes the plan, for the mastermind to read (from an
-archive's schedule store). Both are implemented elsewhere; :class:`MemoryScheduleStore` is the
+...; see :mod:`nightcrew.robotic.archive_ports`); a schedule writer takes the plan, its
+:class:`~nightcrew.robotic.planning.PlannedSlot` values as they are, for the mastermind to read
+(from an archive's schedule store). Both are implemented elsewhere; :class:`MemoryScheduleStore` is the
 in-process writer for the simulator and the tests.
 """
 
