@@ -20,6 +20,7 @@ from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
 from nightcrew.robotic.mastermind import EarlyStarts, Slot, SunLimits, startable_now
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import TaskState, TaskStatus, load_request_group_file, tasks_of_group
 from nightcrew.site import Site
 
@@ -36,7 +37,7 @@ STEPS = [NOW + POLL * i for i in range(int(WAIT / POLL))]
     [TaskStatus(state=TaskState.SCHEDULED)],
 )
 SLOT = Slot(
-    task_id="7", name="rising", start=NOW + WAIT, end=NOW + 2 * WAIT, needs_sky=True, sun=SunLimits(-12.0)
+    planned=PlannedSlot("7", NOW + WAIT, NOW + 2 * WAIT), name="rising", needs_sky=True, sun=SunLimits(-12.0)
 )
 
 

@@ -86,7 +86,7 @@ async def test_the_pages_see_what_the_mastermind_does_and_what_the_scheduler_pla
     plan = view["scheduler"]["plan"]
     assert scheduler.schedule is not None
     assert plan["solver"] == "mip" and plan["objective"] == pytest.approx(scheduler.schedule.objective)
-    assert [s["task_id"] for s in plan["slots"]] == [s.block_id for s in scheduler.schedule.slots]
+    assert [s["task_id"] for s in plan["slots"]] == [s.task_id for s in scheduler.schedule.slots]
     priorities = {b.id: b.priority for b in blocks}
     assert all(s["priority"] == priorities[s["task_id"]] for s in plan["slots"])
     assert all(s["name"] == f"field {s['task_id']}" for s in plan["slots"])

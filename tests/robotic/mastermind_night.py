@@ -33,7 +33,8 @@ from nightcrew.modules.sim import (
     SimWeatherStation,
 )
 from nightcrew.modules.weather import ModuleStation, Weather
-from nightcrew.robotic.archives import ScheduleEntry, SqliteTaskArchive
+from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts import ImagingScript
 from nightcrew.robotic.tasks import Task, TaskState, parse_request_group
@@ -117,8 +118,8 @@ class QueueScheduler(Module):
             self.plans += 1
 
 
-def queue(tasks: list[Task], start: datetime, slot: timedelta) -> list[ScheduleEntry]:
-    return [ScheduleEntry(t.id, start + i * slot, start + (i + 1) * slot) for i, t in enumerate(tasks)]
+def queue(tasks: list[Task], start: datetime, slot: timedelta) -> list[PlannedSlot]:
+    return [PlannedSlot(t.id, start + i * slot, start + (i + 1) * slot) for i, t in enumerate(tasks)]
 
 
 def group(

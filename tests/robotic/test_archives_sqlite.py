@@ -11,7 +11,8 @@ import pytest
 
 from nightcrew.clock import Clock
 from nightcrew.errors import InvalidArgumentError, ModuleError
-from nightcrew.robotic.archives import ScheduleEntry, SqliteTaskArchive, TaskChange, _sqlite_schema
+from nightcrew.robotic.archives import SqliteTaskArchive, TaskChange, _sqlite_schema
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import (
     InvalidTransitionError,
     TaskError,
@@ -148,8 +149,8 @@ async def test_schedulable_tasks_expire_after_their_last_window(tmp_path: Path, 
 async def test_the_schedule_is_written_read_and_sets_states(tmp_path: Path, clock: ManualClock) -> None:
     async with _archive(tmp_path / "t.sqlite", clock) as archive:
         await archive.add_request_group(parse_request_group(valid_group_data()))
-        first = ScheduleEntry("1", NIGHT, NIGHT + timedelta(minutes=10))
-        second = ScheduleEntry("2", NIGHT + timedelta(minutes=10), NIGHT + timedelta(minutes=15))
+        first = PlannedSlot("1", NIGHT, NIGHT + timedelta(minutes=10))
+        second = PlannedSlot("2", NIGHT + timedelta(minutes=10), NIGHT + timedelta(minutes=15))
         await archive.write_schedule([second, first], replace_from=NIGHT)
         assert await archive.read_schedule() == [first, second]
         assert [t.state for t in await archive.list_tasks()] == [TaskState.SCHEDULED] * 2
@@ -162,7 +163,7 @@ async def test_the_schedule_is_written_read_and_sets_states(tmp_path: Path, cloc
         # An unknown task spoils the whole schedule: nothing changes.
         with pytest.raises(TaskNotFoundError, match="no task '7'"):
             await archive.write_schedule(
-                [second, ScheduleEntry("7", NIGHT, NIGHT + timedelta(1))], replace_from=NIGHT
+                [second, PlannedSlot("7", NIGHT, NIGHT + timedelta(1))], replace_from=NIGHT
             )
         assert await archive.read_schedule() == [first]
 

@@ -11,7 +11,8 @@ import pytest
 import yaml
 
 from nightcrew.clock import AcceleratedClock
-from nightcrew.robotic.archives import ScheduleEntry, TaskChange, YamlTaskArchive
+from nightcrew.robotic.archives import TaskChange, YamlTaskArchive
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import InvalidTaskError, TaskNotFoundError, TaskProgress, TaskState
 from tests.robotic.test_archives_sqlite import NIGHT, ManualClock
 from tests.robotic.test_tasks_model import valid_group_data
@@ -104,7 +105,7 @@ async def test_states_schedule_and_expiry_in_memory(tmp_path: Path) -> None:
     clock = ManualClock(NIGHT)
     async with YamlTaskArchive(path, clock=clock, poll_interval=0) as archive:
         a, b = "m15 photometry/0", "m15 photometry/1"
-        entry = ScheduleEntry(b, NIGHT, NIGHT + timedelta(minutes=5))
+        entry = PlannedSlot(b, NIGHT, NIGHT + timedelta(minutes=5))
         await archive.write_schedule([entry], replace_from=NIGHT)
         assert await archive.read_schedule() == [entry]
         assert (await archive.get_task(b)).state is TaskState.SCHEDULED

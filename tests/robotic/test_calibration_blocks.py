@@ -75,7 +75,7 @@ def test_flats_fit_the_twilight_at_the_sites_latitude(site: Site, step_s: float)
     scheduler = Scheduler(step_s=step_s, slew_overhead_s=60.0)
     night = night_around(site, block.windows[0][0] - timedelta(hours=1), max_sun_altitude=-3.0)
     schedule = scheduler.schedule([block], night)
-    assert [slot.block_id for slot in schedule.slots] == ["1"], (site, longest, block.duration_s)
+    assert [slot.task_id for slot in schedule.slots] == ["1"], (site, longest, block.duration_s)
     slot = schedule.slots[0]
     assert any(start <= slot.start and slot.end <= end for start, end in block.windows)
     print(
@@ -140,7 +140,7 @@ async def test_a_scheduler_on_a_plain_archive_plans_the_flats_in_its_sites_twili
         )
         await obs.wait_for(lambda: scheduler.schedule is not None, 60.0)
         assert scheduler.schedule is not None
-        (slot,) = [s for s in scheduler.schedule.slots if s.block_id == flats.id]
+        (slot,) = [s for s in scheduler.schedule.slots if s.task_id == flats.id]
         spans = [s for w in flats.request.windows for s in twilights(GOETTINGEN, w.start, w.end, -9.0, -3.0)]
         assert len(spans) == 2  # dusk and dawn
         assert any(start <= slot.start and slot.end <= end for start, end in spans), (slot, spans)

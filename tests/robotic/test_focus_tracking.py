@@ -17,7 +17,7 @@ from nightcrew.astro import angular_separation, radec_to_altaz
 from nightcrew.interfaces import IAutoFocus, ITelescope, MotionStatus
 from nightcrew.modules import Module
 from nightcrew.modules.sim.interfaces import ISimTelescopeTruth
-from nightcrew.robotic.archives import ScheduleEntry
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.scripts import AutoFocusScript
 from nightcrew.robotic.tasks import TaskState
 from nightcrew.testing import SITE
@@ -83,9 +83,7 @@ async def test_the_mastermind_focuses_on_a_tracked_field_not_where_the_flats_lef
     await site.telescope.move_altaz(80.0, 90.0)  # as the flat-field pointing leaves it: not tracking
     (task,) = site.tasks
     now = clock.now()
-    await site.archive.write_schedule(
-        [ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now
-    )
+    await site.archive.write_schedule([PlannedSlot(task.id, now, now + timedelta(hours=1))], replace_from=now)
     await start_mastermind(site, autofocus="probe", focus_altitude=60.0)
 
     start = clock.time()

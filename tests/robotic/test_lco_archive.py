@@ -22,9 +22,9 @@ from nightcrew.robotic.archives import (
     LcoPortalArchive,
     LcoPortalClient,
     PortalError,
-    ScheduleEntry,
     TaskChange,
 )
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import ConfigurationType, TaskNotFoundError, TaskProgress, TaskState
 from tests.robotic.test_archives_sqlite import NIGHT, ManualClock
 
@@ -282,8 +282,8 @@ async def test_schedule_upload_read_back_and_status_updates(portal: tuple[Replay
     async with _archive(url, clock) as archive:
         archive.add_listener(heard.append)
         task = (await archive.get_schedulable_tasks())[0]
-        entry = ScheduleEntry(task.id, NIGHT, NIGHT + timedelta(minutes=20))
-        later = ScheduleEntry(task.id, NIGHT + timedelta(hours=3), NIGHT + timedelta(hours=3, minutes=20))
+        entry = PlannedSlot(task.id, NIGHT, NIGHT + timedelta(minutes=20))
+        later = PlannedSlot(task.id, NIGHT + timedelta(hours=3), NIGHT + timedelta(hours=3, minutes=20))
         await archive.write_schedule([entry, later], replace_from=NIGHT)
         assert replay.canceled[0]["site"] == "sim" and replay.canceled[0]["start"] == NIGHT.isoformat()
         assert replay.observations[0] | {"id": 0, "state": "", "configuration_statuses": []} == {
@@ -329,7 +329,7 @@ async def test_a_retry_keeps_the_progress_and_reports_only_its_own_time(
     clock = ManualClock(NIGHT)
     async with _archive(url, clock) as archive:
         task = (await archive.get_schedulable_tasks())[0]
-        first = ScheduleEntry(task.id, NIGHT, NIGHT + timedelta(minutes=20))
+        first = PlannedSlot(task.id, NIGHT, NIGHT + timedelta(minutes=20))
         await archive.write_schedule([first], replace_from=NIGHT)
         await archive.mark_started(task.id)
         clock.advance(300)
@@ -337,7 +337,7 @@ async def test_a_retry_keeps_the_progress_and_reports_only_its_own_time(
         await archive.mark_failed(task.id, "interrupted by bad weather", half)
 
         # Planned again later: the task still knows what was done, so the runner resumes from it.
-        retry = ScheduleEntry(task.id, NIGHT + timedelta(hours=2), NIGHT + timedelta(hours=2, minutes=20))
+        retry = PlannedSlot(task.id, NIGHT + timedelta(hours=2), NIGHT + timedelta(hours=2, minutes=20))
         await archive.write_schedule([retry], replace_from=NIGHT + timedelta(hours=1))
         clock.advance(7200)
         again = await archive.mark_started((await archive.get_schedulable_tasks())[0].id)

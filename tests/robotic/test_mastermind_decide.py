@@ -8,7 +8,6 @@ from typing import Any
 import pytest
 
 from nightcrew.interfaces import MotionStatus
-from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind import (
     CloseAndPark,
     Conditions,
@@ -30,6 +29,7 @@ from nightcrew.robotic.mastermind import (
     sun_limits,
     task_cards,
 )
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import (
     CutShortFrame,
     Task,
@@ -63,10 +63,8 @@ SAFE = Conditions(
 def _slot(name: str, start_min: float, end_min: float, *, sky: bool = True, **kwargs: Any) -> Slot:
     kwargs.setdefault("sun", SunLimits(high=-12.0))
     return Slot(
-        task_id=name,
+        planned=PlannedSlot(name, NOW + timedelta(minutes=start_min), NOW + timedelta(minutes=end_min)),
         name=name,
-        start=NOW + timedelta(minutes=start_min),
-        end=NOW + timedelta(minutes=end_min),
         needs_sky=sky,
         **kwargs,
     )
@@ -343,7 +341,7 @@ def test_sky_and_sun_limits_come_from_the_configurations_capped_by_the_observato
 
 
 def test_a_slot_may_run_only_for_a_schedulable_task_not_failed_in_it() -> None:
-    entry = ScheduleEntry("7", NOW, NOW + timedelta(minutes=30))
+    entry = PlannedSlot("7", NOW, NOW + timedelta(minutes=30))
 
     def slot_of(task: Task, failed_here: bool = False) -> Slot:
         return slot_for(

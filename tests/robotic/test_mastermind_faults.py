@@ -29,8 +29,8 @@ from nightcrew.events import (
 )
 from nightcrew.interfaces import MotionStatus
 from nightcrew.modules.sim import SimCamera
-from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind import DeviceFault, device_fault
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.runner import ScriptError
 from nightcrew.robotic.tasks import Task, TaskState
 
@@ -90,7 +90,7 @@ async def _run_for_an_hour(night: Night) -> Task:
     (task,) = night.tasks
     now = night.obs.clock.now()
     await night.archive.write_schedule(
-        [ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now
+        [PlannedSlot(task.id, now, now + timedelta(hours=1))], replace_from=now
     )
     await start_mastermind(night, device_wait=60.0)
     return task
@@ -140,8 +140,8 @@ async def test_a_device_that_stays_away_fails_the_task_as_a_device_fault_and_the
     now = obs.clock.now()
     await archive.write_schedule(
         [
-            ScheduleEntry(first.id, now, now + timedelta(minutes=10)),
-            ScheduleEntry(second.id, now + timedelta(minutes=10), now + timedelta(minutes=20)),
+            PlannedSlot(first.id, now, now + timedelta(minutes=10)),
+            PlannedSlot(second.id, now + timedelta(minutes=10), now + timedelta(minutes=20)),
         ],
         replace_from=now,
     )

@@ -10,7 +10,7 @@ from __future__ import annotations
 from datetime import datetime, timedelta
 
 from nightcrew.events import Event, GoodWeatherEvent, NewImageEvent, RoofOpenedEvent, TaskStartedEvent
-from nightcrew.robotic.archives import ScheduleEntry
+from nightcrew.robotic.planning import PlannedSlot
 
 from .mastermind_night import HYADES, ORION, PLEIADES, Night, Parts, group, start_mastermind, start_night
 
@@ -30,7 +30,7 @@ async def test_the_telescope_slews_to_the_first_target_while_the_roof_opens(part
     now = site.obs.clock.now()
     (task,) = site.tasks
     await site.archive.write_schedule(
-        [ScheduleEntry(task.id, now, now + timedelta(seconds=1200))], replace_from=now
+        [PlannedSlot(task.id, now, now + timedelta(seconds=1200))], replace_from=now
     )
     await start_mastermind(site)
     await _run_until(site, NewImageEvent)
@@ -52,8 +52,8 @@ async def test_a_due_task_that_no_longer_fits_hands_over_to_the_next_at_once(par
     late, next_one = site.tasks
     await site.archive.write_schedule(
         [
-            ScheduleEntry(late.id, now, now + timedelta(seconds=600)),
-            ScheduleEntry(next_one.id, now + timedelta(seconds=900), now + timedelta(seconds=1500)),
+            PlannedSlot(late.id, now, now + timedelta(seconds=600)),
+            PlannedSlot(next_one.id, now + timedelta(seconds=900), now + timedelta(seconds=1500)),
         ],
         replace_from=now,
     )

@@ -19,7 +19,8 @@ from nightcrew.events import (
     TaskStartedEvent,
 )
 from nightcrew.interfaces import IWeather, MotionStatus, SensorValue, WeatherReport, WeatherSensor
-from nightcrew.robotic.archives import ScheduleEntry, ScheduleStore
+from nightcrew.robotic.archives import ScheduleStore
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import TaskState
 from nightcrew.testing import SITE
 
@@ -50,7 +51,7 @@ async def test_without_weather_information_the_roof_stays_closed_then_stop_and_d
     night = await start_night(parts, groups, readout_time=120.0)
     (task,) = night.tasks
     now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await archive.write_schedule([PlannedSlot(task.id, now, now + timedelta(hours=1))], replace_from=now)
     mastermind = await start_mastermind(night, weather=None)
     rec = night.recorder
 
@@ -106,7 +107,7 @@ async def test_a_task_that_would_run_into_dawn_is_not_started_and_stays_in_the_p
     night = await start_night(parts, [group(ARCTURUS, count=40, exposure_time=30.0)])  # 24 min
     (task,) = night.tasks
     now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await archive.write_schedule([PlannedSlot(task.id, now, now + timedelta(hours=1))], replace_from=now)
     await start_mastermind(night, weather=GoodWeather())
     await obs.clock.sleep(300.0)
     assert "not starting task 1 (Arcturus in V) now: with 1428 s left it would end at 06:0" in caplog.text
@@ -135,12 +136,12 @@ class FlakyStore(ScheduleStore):
     def __init__(self, store: ScheduleStore) -> None:
         self._store, self.broken, self.failures = store, True, 0
 
-    async def write_schedule(self, entries: Sequence[ScheduleEntry], *, replace_from: datetime) -> None:
+    async def write_schedule(self, entries: Sequence[PlannedSlot], *, replace_from: datetime) -> None:
         await self._store.write_schedule(entries, replace_from=replace_from)
 
     async def read_schedule(
         self, *, start: datetime | None = None, end: datetime | None = None
-    ) -> list[ScheduleEntry]:
+    ) -> list[PlannedSlot]:
         if self.broken:
             self.failures += 1
             raise OSError("schedule disk gone")
@@ -154,7 +155,7 @@ async def test_an_error_in_the_loop_closes_and_parks_and_the_loop_goes_on(
     night = await start_night(parts, [group(PLEIADES, count=2, exposure_time=5.0)])
     (task,) = night.tasks
     now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await archive.write_schedule([PlannedSlot(task.id, now, now + timedelta(hours=1))], replace_from=now)
     await night.roof.open_roof()  # as a person (or an earlier crash) left it
     await night.telescope.init()
     store = FlakyStore(archive)
@@ -182,7 +183,7 @@ async def test_a_task_left_running_by_a_killed_mastermind_is_failed_then_run_aga
     night = await start_night(parts, [group(PLEIADES, count=2, exposure_time=5.0)])
     (task,) = night.tasks
     now = obs.clock.now()
-    await archive.write_schedule([ScheduleEntry(task.id, now, now + timedelta(hours=1))], replace_from=now)
+    await archive.write_schedule([PlannedSlot(task.id, now, now + timedelta(hours=1))], replace_from=now)
     await archive.mark_started(task.id)  # and then the process died
     await obs.clock.sleep(60.0)
     await start_mastermind(night, weather=GoodWeather())

@@ -23,7 +23,8 @@ from nightcrew.events import (
     TaskFinishedEvent,
     TaskStartedEvent,
 )
-from nightcrew.robotic.archives import ScheduleEntry, SqliteTaskArchive
+from nightcrew.robotic.archives import SqliteTaskArchive
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import TaskState
 
 from .mastermind_night import (
@@ -58,9 +59,9 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
     a, b, c = site.tasks
     await site.archive.write_schedule(
         [
-            ScheduleEntry(a.id, now, now + timedelta(seconds=600)),
-            ScheduleEntry(b.id, now + timedelta(seconds=600), now + timedelta(seconds=1200)),
-            ScheduleEntry(c.id, now + timedelta(seconds=1200), now + timedelta(seconds=1800)),
+            PlannedSlot(a.id, now, now + timedelta(seconds=600)),
+            PlannedSlot(b.id, now + timedelta(seconds=600), now + timedelta(seconds=1200)),
+            PlannedSlot(c.id, now + timedelta(seconds=1200), now + timedelta(seconds=1800)),
         ],
         replace_from=now,
     )

@@ -10,12 +10,12 @@ import pytest
 
 from nightcrew.astro import radec_to_altaz, sun_altitude
 from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.scheduler import (
     Constraints,
     Night,
     SchedulableBlock,
     Schedule,
-    ScheduledSlot,
     Scheduler,
     SkyGrid,
     Target,
@@ -70,7 +70,7 @@ def test_a_target_below_the_airmass_limit_is_never_scheduled() -> None:
         block("fine", target=Target(83.8, -5.4)),
     ]
     schedule = Scheduler().schedule(blocks, NIGHT)
-    assert [s.block_id for s in schedule.slots] == ["fine"]
+    assert [s.task_id for s in schedule.slots] == ["fine"]
     slot = schedule.slots[0]
     for moment in (slot.start, slot.end):
         alt, _ = radec_to_altaz(83.8, -5.4, SITE.latitude, SITE.longitude, moment.timestamp())
@@ -93,7 +93,7 @@ def test_observation_windows_are_respected() -> None:
     window = (hours(5.0), hours(6.5))
     blocks = [block("windowed", priority=5.0, windows=(window,))] + [block(f"other{i}") for i in range(30)]
     schedule = Scheduler().schedule(blocks, NIGHT)
-    slot = next(s for s in schedule.slots if s.block_id == "windowed")
+    slot = next(s for s in schedule.slots if s.task_id == "windowed")
     assert window[0] <= slot.start and slot.end <= window[1]
     assert_no_overlap(schedule)
 
@@ -105,7 +105,7 @@ def test_moon_constraints_exclude_blocks() -> None:
         block("fine", constraints=Constraints(max_moon_illumination=0.5, min_moon_distance=30.0)),
     ]
     schedule = Scheduler().schedule(blocks, NIGHT)
-    assert [s.block_id for s in schedule.slots] == ["fine"]
+    assert [s.task_id for s in schedule.slots] == ["fine"]
 
 
 # --- optimality -----------------------------------------------------------------------------------
@@ -134,10 +134,10 @@ def test_mip_beats_astroplan_in_a_greedy_trap() -> None:
     ]
     optimal = Scheduler(slew_overhead_s=0.0).schedule(blocks, NIGHT)
     greedy = Scheduler(solver="priority", slew_overhead_s=0.0).schedule(blocks, NIGHT)
-    assert sorted(s.block_id for s in optimal.slots) == ["B", "C"]
+    assert sorted(s.task_id for s in optimal.slots) == ["B", "C"]
     assert optimal.objective == pytest.approx(60.0)
     assert optimal.bound == pytest.approx(60.0)
-    assert "A" in {s.block_id for s in greedy.slots}
+    assert "A" in {s.task_id for s in greedy.slots}
     assert greedy.objective <= 40.0  # A and at most one of B, C
 
 
@@ -170,7 +170,7 @@ def test_no_overlaps_and_the_objective_adds_up() -> None:
     schedule = Scheduler(time_limit_s=QUICK).schedule(blocks, NIGHT)
     assert_no_overlap(schedule)
     by_id = {b.id: b for b in blocks}
-    expected = sum(by_id[s.block_id].priority * by_id[s.block_id].duration_s / 3600 for s in schedule.slots)
+    expected = sum(by_id[s.task_id].priority * by_id[s.task_id].duration_s / 3600 for s in schedule.slots)
     assert schedule.objective == pytest.approx(expected)
     assert all(NIGHT.start <= s.start and s.end <= NIGHT.end for s in schedule.slots)
 
@@ -182,15 +182,15 @@ def test_replanning_excludes_done_blocks_and_starts_now() -> None:
     blocks = synthetic_blocks(NIGHT, 40, seed=7)
     scheduler = Scheduler(time_limit_s=QUICK)
     first = scheduler.schedule(blocks, NIGHT)
-    done = {s.block_id for s in first.slots[:2]}
-    failed = first.slots[2].block_id
-    running = ScheduledSlot(first.slots[3].block_id, hours(3.0), hours(3.4))
+    done = {s.task_id for s in first.slots[:2]}
+    failed = first.slots[2].task_id
+    running = PlannedSlot(first.slots[3].task_id, hours(3.0), hours(3.4))
     now = hours(3.0)
     again = scheduler.schedule(blocks, NIGHT, now=now, exclude=done | {failed}, in_progress=running)
     assert again.slots[0] == running
-    ids = [s.block_id for s in again.slots]
+    ids = [s.task_id for s in again.slots]
     assert not (done | {failed}) & set(ids)
-    assert ids.count(running.block_id) == 1
+    assert ids.count(running.task_id) == 1
     assert all(s.start >= running.end for s in again.slots[1:])
     assert_no_overlap(again)
 

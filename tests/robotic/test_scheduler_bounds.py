@@ -110,7 +110,7 @@ def test_a_fine_grid_schedule_is_feasible() -> None:
     for earlier, later in itertools.pairwise(schedule.slots):
         assert earlier.end <= later.start
     for slot in schedule.slots:
-        block = by_id[slot.block_id]
+        block = by_id[slot.task_id]
         occupied = (slot.end - slot.start).total_seconds()
         assert occupied == pytest.approx(block.setup_s + 100.0 + block.duration_s)
         assert NIGHT.start <= slot.start and slot.end <= NIGHT.end

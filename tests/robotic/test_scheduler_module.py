@@ -78,17 +78,17 @@ async def test_the_first_plan_is_written_at_start(setup: Setup) -> None:
 
 
 async def test_a_failed_task_is_left_out_of_the_new_plan(setup: Setup) -> None:
-    failed = setup.store.slots[0].block_id
+    failed = setup.store.slots[0].task_id
     await setup.sender.comm.send_event(TaskFailedEvent(name=failed, id=failed, reason="dome stuck"))
     await setup.store.next_write()
     assert setup.store.writes == 2
-    assert failed not in {slot.block_id for slot in setup.store.slots}
+    assert failed not in {slot.task_id for slot in setup.store.slots}
     assert setup.store.planned_at is not None
     assert all(slot.start >= setup.store.planned_at - timedelta(seconds=1) for slot in setup.store.slots)
 
 
 async def test_an_interrupted_task_stays_in_the_new_plan(setup: Setup) -> None:
-    interrupted = setup.store.slots[0].block_id
+    interrupted = setup.store.slots[0].task_id
     await setup.sender.comm.send_event(
         TaskFailedEvent(
             name=interrupted,
@@ -99,7 +99,7 @@ async def test_an_interrupted_task_stays_in_the_new_plan(setup: Setup) -> None:
     )
     await setup.store.next_write()
     assert setup.store.writes == 2
-    assert interrupted in {slot.block_id for slot in setup.store.slots}
+    assert interrupted in {slot.task_id for slot in setup.store.slots}
 
 
 async def test_good_weather_plans_from_its_eta(setup: Setup) -> None:
@@ -111,10 +111,10 @@ async def test_good_weather_plans_from_its_eta(setup: Setup) -> None:
 
 
 async def test_changed_tasks_are_noticed_by_polling(setup: Setup) -> None:
-    first = setup.store.slots[0].block_id
+    first = setup.store.slots[0].task_id
     setup.archive.blocks = [b for b in setup.archive.blocks if b.id != first]
     await setup.store.next_write()  # within one poll interval (20 clock s) and a solve
-    assert first not in {slot.block_id for slot in setup.store.slots}
+    assert first not in {slot.task_id for slot in setup.store.slots}
 
 
 def test_the_night_is_found_around_now() -> None:
@@ -202,7 +202,7 @@ async def test_a_task_added_is_planned_at_once_on_the_event(few: Setup) -> None:
 
 async def test_a_device_fault_plans_the_task_again_after_a_doubling_back_off(few: Setup) -> None:
     clock = few.scheduler.clock
-    task = few.store.slots[0].block_id
+    task = few.store.slots[0].task_id
     for fault, backoff in enumerate((300.0, 600.0), start=1):
         at = clock.now()
         event = TaskFailedEvent(
@@ -210,7 +210,7 @@ async def test_a_device_fault_plans_the_task_again_after_a_doubling_back_off(few
         )
         await few.sender.comm.send_event(event)
         await few.store.next_write()
-        (slot,) = [slot for slot in few.store.slots if slot.block_id == task]
+        (slot,) = [slot for slot in few.store.slots if slot.task_id == task]
         assert slot.start >= at + timedelta(seconds=backoff), f"fault {fault}"
     await few.sender.comm.send_event(
         TaskFailedEvent(name=task, id=task, reason="camera is not idle", device_fault=True)
@@ -225,7 +225,7 @@ async def test_a_device_fault_plans_the_task_again_after_a_doubling_back_off(few
 
 async def test_a_device_fault_is_not_a_failure_of_the_task(few: Setup) -> None:
     """Without device_fault and retryable, the task is dropped for the night, as before."""
-    task = few.store.slots[0].block_id
+    task = few.store.slots[0].task_id
     await few.sender.comm.send_event(TaskFailedEvent(name=task, id=task, reason="bad script"))
     await few.store.next_write()
     plan = await few.scheduler.get_plan()

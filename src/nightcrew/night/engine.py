@@ -26,7 +26,7 @@ from nightcrew.clock import Clock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent
-from nightcrew.interfaces import IStartStop
+from nightcrew.interfaces import IRoboticScheduler, IStartStop, Plan
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import Mastermind, SchedulerModule
 from nightcrew.night.build import (
@@ -43,7 +43,6 @@ from nightcrew.night.plan import one_window_each, samples_for_night, survey_grou
 from nightcrew.night.recorder import NIGHT_RECORD, SCHEDULE_RECORD, EventRecorder
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.samples import load_samples
-from nightcrew.robotic.scheduler import Schedule
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.site import Site
 
@@ -135,7 +134,7 @@ async def run_whole_night(
             *build_observatory(directory / ROBOTIC, overrides=robotic_overrides, **common),
             *(build_observatory(options_directory(directory), names=extras, **common) if extras else []),
         ]
-        recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule)
+        recorder, scheduler = _the(modules, EventRecorder), _the(modules, SchedulerModule).name
         _check_archives(modules, out_dir / TASKS_FILE)
         for module in [watcher, *modules]:
             await module.open()
@@ -250,18 +249,21 @@ class _Watcher(Module):
         self,
         end: datetime,
         recorder: EventRecorder,
-        scheduler: SchedulerModule,
+        scheduler: str,
         progress: ProgressCallback | None,
         stop: asyncio.Event,
     ) -> bool:
-        """Until ``end`` (True) or ``stop`` (False): progress and the scheduler's plans."""
+        """Until ``end`` (True) or ``stop`` (False): progress and the plans of ``scheduler``."""
         start = self.clock.now()
         total = max(1.0, (end - start).total_seconds())
-        last_plan: Schedule | None = None
+        # As every other client sees the plan: through the interface, not the module's attributes.
+        planner = await self.proxy(scheduler, IRoboticScheduler)
+        last_plan: Plan | None = None
         while self.clock.now() < end:
-            if scheduler.schedule is not None and scheduler.schedule is not last_plan:
-                last_plan = scheduler.schedule
-                recorder.record(SCHEDULE_RECORD, _plan_record(last_plan), sender=scheduler.name)
+            plan = await planner.get_plan()
+            if plan is not None and plan != last_plan:
+                last_plan = plan
+                recorder.record(SCHEDULE_RECORD, _plan_record(plan), sender=scheduler)
             if progress is not None:
                 now = self.clock.now()
                 sun = sun_altitude(self._where.latitude, self._where.longitude, now.timestamp())
@@ -277,14 +279,13 @@ class _Watcher(Module):
         return True
 
 
-def _plan_record(schedule: Schedule) -> dict[str, Any]:
+def _plan_record(plan: Plan) -> dict[str, Any]:
     return {
-        "solver": schedule.solver,
-        "status": schedule.status,
-        "objective": schedule.objective,
-        "bound": schedule.bound,
+        "solver": plan.solver,
+        "status": plan.status,
+        "objective": plan.objective,
+        "bound": plan.bound,
         "slots": [
-            {"task": s.block_id, "start": s.start.isoformat(), "end": s.end.isoformat()}
-            for s in schedule.slots
+            {"task": s.task_id, "start": s.start.isoformat(), "end": s.end.isoformat()} for s in plan.slots
         ],
     }

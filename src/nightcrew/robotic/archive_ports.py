@@ -12,7 +12,8 @@ from collections.abc import Sequence
 from datetime import datetime
 
 from nightcrew.robotic import archives
-from nightcrew.robotic.scheduler.blocks import SchedulableBlock, ScheduledSlot
+from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.scheduler.blocks import SchedulableBlock
 from nightcrew.robotic.scheduler.ports import BlockSource, ScheduleWriter
 from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks import DEFAULT_OVERHEADS, OverheadModel
@@ -65,10 +66,9 @@ class ArchiveScheduleWriter:
     def __init__(self, store: archives.ScheduleStore) -> None:
         self.store = store
 
-    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
-        # The slot running now started before planned_at: the archive keeps its own entry for it.
-        entries = [archives.ScheduleEntry(s.block_id, s.start, s.end) for s in slots if s.start >= planned_at]
-        await self.store.write_schedule(entries, replace_from=planned_at)
+    async def set_schedule(self, slots: Sequence[PlannedSlot], planned_at: datetime) -> None:
+        # The slot running now started before planned_at: the archive keeps its own copy of it.
+        await self.store.write_schedule([s for s in slots if s.start >= planned_at], replace_from=planned_at)
 
 
 def as_block_source(value: object, *, site: Site | None = None, fit: GridFit | None = None) -> BlockSource:

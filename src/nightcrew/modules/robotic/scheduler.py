@@ -34,7 +34,8 @@ from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.robotic.archive_ports import as_block_source, as_schedule_writer
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
-from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, ScheduledSlot, Scheduler
+from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.scheduler import Night, SchedulableBlock, Schedule, Scheduler
 from nightcrew.robotic.scheduler.faults import DeviceFaults
 from nightcrew.robotic.scheduler.ports import (
     BlockSource,
@@ -118,7 +119,7 @@ class SchedulerModule(Module, IRoboticScheduler):
         self._faults = DeviceFaults(backoff_s=device_fault_backoff_s, limit=max_device_faults)
         self._logged_reasons: dict[str, str] = {}
         self._done: set[str] = set()
-        self._in_progress: ScheduledSlot | None = None
+        self._in_progress: PlannedSlot | None = None
         self._last_blocks: tuple[SchedulableBlock, ...] | None = None
         #: The last schedule made (for status displays and tests).
         self.schedule: Schedule | None = None
@@ -161,18 +162,23 @@ class SchedulerModule(Module, IRoboticScheduler):
         else:
             log.info("task %s failed (%s): re-planning without it", event.id, event.reason)
             self._failed[event.id] = f"failed tonight ({event.reason})"
-        if self._in_progress is not None and self._in_progress.block_id == event.id:
+        if self._in_progress is not None and self._in_progress.task_id == event.id:
             self._in_progress = None
         self._replan_wanted.set()
 
     async def on_task_started(self, event: TaskStartedEvent, sender: str) -> None:
         now = self.clock.now()
-        end = event.eta or now + timedelta(seconds=self._scheduler.step_s)
-        self._in_progress = ScheduledSlot(event.id, now, end)
+        # Without an end still ahead (a planned slot ends after it starts): one time slice.
+        end = (
+            event.eta
+            if event.eta is not None and event.eta > now
+            else now + timedelta(seconds=self._scheduler.step_s)
+        )
+        self._in_progress = PlannedSlot(event.id, now, end)
 
     async def on_task_finished(self, event: TaskFinishedEvent, sender: str) -> None:
         self._done.add(event.id)
-        if self._in_progress is not None and self._in_progress.block_id == event.id:
+        if self._in_progress is not None and self._in_progress.task_id == event.id:
             self._in_progress = None
         # At once, not at the next poll: a task that ended before its slot leaves a gap that only
         # a new plan fills (the next slot may be too far ahead to start early).
@@ -215,7 +221,7 @@ class SchedulerModule(Module, IRoboticScheduler):
         if self.schedule is None or self._in_progress is not None:
             return None
         settled = self._done | self._failed.keys()
-        ends = [slot.end for slot in self.schedule.slots if slot.block_id not in settled]
+        ends = [slot.end for slot in self.schedule.slots if slot.task_id not in settled]
         return min(ends, default=None)
 
     async def replan(self, blocks: Sequence[SchedulableBlock]) -> Schedule:
@@ -274,7 +280,7 @@ class SchedulerModule(Module, IRoboticScheduler):
         night: Night,
         start: datetime,
         exclude: frozenset[str],
-        in_progress: ScheduledSlot | None,
+        in_progress: PlannedSlot | None,
         names: dict[str, str],
     ) -> tuple[Schedule, dict[str, str]]:
         scheduler = self._scheduler
@@ -309,11 +315,11 @@ def plan_of(
         wall_time_s=schedule.wall_time_s,
         slots=tuple(
             PlannedTask(
-                task_id=s.block_id,
+                task_id=s.task_id,
                 start=s.start,
                 end=s.end,
-                priority=priorities.get(s.block_id),
-                name=names.get(s.block_id),
+                priority=priorities.get(s.task_id),
+                name=names.get(s.task_id),
             )
             for s in schedule.slots
         ),

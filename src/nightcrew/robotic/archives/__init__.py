@@ -10,7 +10,6 @@
 from __future__ import annotations
 
 from nightcrew.robotic.archives._base import (
-    ScheduleEntry,
     ScheduleStore,
     TaskArchive,
     TaskChange,
@@ -32,7 +31,6 @@ __all__ = [
     "LcoPortalClient",
     "LocalTaskArchive",
     "PortalError",
-    "ScheduleEntry",
     "ScheduleStore",
     "SqliteTaskArchive",
     "TaskArchive",

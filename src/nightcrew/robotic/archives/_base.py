@@ -20,29 +20,12 @@ from types import TracebackType
 from typing import Self
 
 from nightcrew.clock import Clock, RealClock
-from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import Task, TaskProgress
 
-__all__ = ["ScheduleEntry", "ScheduleStore", "TaskArchive", "TaskChange", "TaskListener"]
+__all__ = ["ScheduleStore", "TaskArchive", "TaskChange", "TaskListener"]
 
 log = logging.getLogger(__name__)
-
-
-@dataclass(frozen=True)
-class ScheduleEntry:
-    """Task ``task_id`` is planned from ``start`` to ``end`` (aware datetimes)."""
-
-    task_id: str
-    start: datetime
-    end: datetime
-
-    def __post_init__(self) -> None:
-        if self.start.tzinfo is None or self.end.tzinfo is None:
-            raise InvalidArgumentError(f"schedule entry {self.task_id}: start and end need a time zone")
-        if self.end <= self.start:
-            raise InvalidArgumentError(
-                f"schedule entry {self.task_id}: end {self.end} is not after {self.start}"
-            )
 
 
 @dataclass(frozen=True)
@@ -156,17 +139,17 @@ class TaskArchive(ABC):
 
 
 class ScheduleStore(ABC):
-    """Keeps the schedule: entries of (task id, start, end)."""
+    """Keeps the schedule: planned slots (task id, start, end), as the scheduler made them."""
 
     @abstractmethod
-    async def write_schedule(self, entries: Sequence[ScheduleEntry], *, replace_from: datetime) -> None:
-        """Replace the entries starting at or after ``replace_from`` by ``entries``.
+    async def write_schedule(self, entries: Sequence[PlannedSlot], *, replace_from: datetime) -> None:
+        """Replace the slots starting at or after ``replace_from`` by ``entries``.
 
-        Earlier entries (the past, the task running now) stay as they are.
+        Earlier slots (the past, the task running now) stay as they are.
         """
 
     @abstractmethod
     async def read_schedule(
         self, *, start: datetime | None = None, end: datetime | None = None
-    ) -> list[ScheduleEntry]:
-        """Entries overlapping ``[start, end)`` (all if not given), by start time."""
+    ) -> list[PlannedSlot]:
+        """Slots overlapping ``[start, end)`` (all if not given), by start time."""

@@ -20,7 +20,7 @@ from datetime import datetime, timedelta
 from typing import Any
 
 from nightcrew.clock import Clock
-from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore, TaskArchive
+from nightcrew.robotic.archives._base import ScheduleStore, TaskArchive
 from nightcrew.robotic.archives._lco_client import LcoPortalClient, PortalError
 from nightcrew.robotic.archives._lco_convert import (
     configuration_status_updates,
@@ -28,6 +28,7 @@ from nightcrew.robotic.archives._lco_convert import (
     tasks_from_portal,
 )
 from nightcrew.robotic.archives._local import schedulable_at
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import InvalidTaskError, Task, TaskNotFoundError, TaskProgress, TaskState
 
 __all__ = ["LcoPortalArchive"]
@@ -177,7 +178,7 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
         chosen = running[0] if running else min(current, key=lambda o: datetime.fromisoformat(o["start"]))
         return [int(s["id"]) for s in chosen.get("configuration_statuses", [])]
 
-    async def write_schedule(self, entries: Sequence[ScheduleEntry], *, replace_from: datetime) -> None:
+    async def write_schedule(self, entries: Sequence[PlannedSlot], *, replace_from: datetime) -> None:
         documents = []
         for entry in entries:
             if entry.task_id not in self._configuration_ids:
@@ -203,14 +204,14 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
 
     async def read_schedule(
         self, *, start: datetime | None = None, end: datetime | None = None
-    ) -> list[ScheduleEntry]:
+    ) -> list[PlannedSlot]:
         params: dict[str, Any] = _telescope(self) | {"state": "PENDING"}
         if start is not None:
             params["end_after"] = start.isoformat()
         if end is not None:
             params["start_before"] = end.isoformat()
         entries = [
-            ScheduleEntry(
+            PlannedSlot(
                 str(o["request"]["id"] if isinstance(o["request"], dict) else o["request"]),
                 datetime.fromisoformat(o["start"]),
                 datetime.fromisoformat(o["end"]),

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-from nightcrew.robotic.archives._base import ScheduleEntry
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import ObservationType, Task, TaskProgress, parse_request_group, tasks_of_group
 
 __all__ = ["PortalTasks", "configuration_status_updates", "observation_document", "tasks_from_portal"]
@@ -121,7 +121,7 @@ def _instrument_config(instrument_config: dict[str, Any]) -> dict[str, Any]:
 
 
 def observation_document(
-    entry: ScheduleEntry,
+    entry: PlannedSlot,
     configuration_ids: list[int],
     *,
     site: str,
@@ -130,7 +130,7 @@ def observation_document(
     instrument_name: str,
     guide_camera_name: str | None,
 ) -> dict[str, Any]:
-    """The portal's observation for one schedule entry (``POST /api/observations/``)."""
+    """The portal's observation for one planned slot (``POST /api/observations/``)."""
     statuses = []
     for configuration_id in configuration_ids:
         status: dict[str, Any] = {"configuration": configuration_id, "instrument_name": instrument_name}

@@ -24,8 +24,9 @@ from nightcrew.clock import Clock
 from nightcrew.config import DataPath
 from nightcrew.errors import ModuleError
 from nightcrew.robotic.archives import _sqlite_schema as db
-from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore
+from nightcrew.robotic.archives._base import ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import RequestGroup, Task, TaskNotFoundError, TaskState, TaskStatus
 
 __all__ = ["SqliteTaskArchive"]
@@ -99,7 +100,7 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
 
     # --- the schedule ------------------------------------------------------------------------------
 
-    async def write_schedule(self, entries: Sequence[ScheduleEntry], *, replace_from: datetime) -> None:
+    async def write_schedule(self, entries: Sequence[PlannedSlot], *, replace_from: datetime) -> None:
         changed = await self._run(
             self._blocking_write_schedule, list(entries), replace_from, self.clock.now()
         )
@@ -108,7 +109,7 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
 
     async def read_schedule(
         self, *, start: datetime | None = None, end: datetime | None = None
-    ) -> list[ScheduleEntry]:
+    ) -> list[PlannedSlot]:
         return await self._run(self._blocking_read_schedule, start, end)
 
     async def _change_status(self, task_id: str, change: StatusChange) -> Task:
@@ -202,7 +203,7 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
         return changed
 
     def _blocking_write_schedule(
-        self, entries: list[ScheduleEntry], replace_from: datetime, now: datetime
+        self, entries: list[PlannedSlot], replace_from: datetime, now: datetime
     ) -> list[str]:
         conn = self._connection
         with db.transaction(conn):
@@ -215,7 +216,7 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
                 db.update_status(conn, task_id, status)
         return list(statuses)
 
-    def _blocking_read_schedule(self, start: datetime | None, end: datetime | None) -> list[ScheduleEntry]:
+    def _blocking_read_schedule(self, start: datetime | None, end: datetime | None) -> list[PlannedSlot]:
         return db.select_schedule(self._connection, start, end)
 
 

@@ -12,7 +12,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from datetime import UTC, datetime
 
-from nightcrew.robotic.archives._base import ScheduleEntry
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import Request, RequestGroup, Task, TaskStatus
 from nightcrew.robotic.tasks._errors import TaskError
 
@@ -172,7 +172,7 @@ def update_status(conn: sqlite3.Connection, task_id: str, status: TaskStatus) ->
 
 
 def replace_schedule(
-    conn: sqlite3.Connection, entries: Sequence[ScheduleEntry], replace_from: datetime
+    conn: sqlite3.Connection, entries: Sequence[PlannedSlot], replace_from: datetime
 ) -> None:
     """Drop entries starting at or after ``replace_from``; insert ``entries``."""
     conn.execute("DELETE FROM schedule WHERE start >= ?", (replace_from.timestamp(),))
@@ -184,7 +184,7 @@ def replace_schedule(
 
 def select_schedule(
     conn: sqlite3.Connection, start: datetime | None, end: datetime | None
-) -> list[ScheduleEntry]:
+) -> list[PlannedSlot]:
     """Entries overlapping ``[start, end)``, by start."""
     low = start.timestamp() if start else float("-inf")
     high = end.timestamp() if end else float("inf")
@@ -193,6 +193,6 @@ def select_schedule(
         (low, high),
     )
     return [
-        ScheduleEntry(str(task_id), datetime.fromtimestamp(s, UTC), datetime.fromtimestamp(e, UTC))
+        PlannedSlot(str(task_id), datetime.fromtimestamp(s, UTC), datetime.fromtimestamp(e, UTC))
         for task_id, s, e in rows
     ]

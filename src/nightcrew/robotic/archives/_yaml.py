@@ -21,8 +21,9 @@ from pathlib import Path
 from nightcrew.clock import Clock
 from nightcrew.config import InputPath, parse_yaml
 from nightcrew.errors import ConfigError
-from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore
+from nightcrew.robotic.archives._base import ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import (
     SCHEDULABLE_STATES,
     InvalidTaskError,
@@ -57,7 +58,7 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
         #: The problem that kept the last change of the file from being used, if any.
         self.last_error: InvalidTaskError | None = None
         self._tasks: dict[str, Task] = {}
-        self._schedule: list[ScheduleEntry] = []
+        self._schedule: list[PlannedSlot] = []
         self._stamp: tuple[int, int] | None = None
         self._digest = ""
         self._lock = asyncio.Lock()
@@ -136,7 +137,7 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
             self._tasks[task_id] = updated
         return updated
 
-    async def write_schedule(self, entries: Sequence[ScheduleEntry], *, replace_from: datetime) -> None:
+    async def write_schedule(self, entries: Sequence[PlannedSlot], *, replace_from: datetime) -> None:
         async with self._lock:
             for entry in entries:
                 await self.get_task(entry.task_id)  # an unknown task fails the whole schedule
@@ -151,7 +152,7 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
 
     async def read_schedule(
         self, *, start: datetime | None = None, end: datetime | None = None
-    ) -> list[ScheduleEntry]:
+    ) -> list[PlannedSlot]:
         return [
             e for e in self._schedule if (start is None or e.end > start) and (end is None or e.start < end)
         ]

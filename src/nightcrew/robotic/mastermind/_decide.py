@@ -1,8 +1,8 @@
 """What the mastermind does next, decided from plain values: :func:`decide` and :func:`abort_cause`.
 
 Between tasks the mastermind looks at the world (:class:`Conditions`) and the schedule around now
-(:class:`Slot` values) and takes one :data:`Action`; while a task runs it asks :func:`abort_cause`
-whether the task must stop. The rules, in order:
+(:class:`Slot` values: the planned slots with what their tasks need) and takes one
+:data:`Action`; while a task runs it asks :func:`abort_cause` whether the task must stop. The rules, in order:
 
 1. **Bad (or unknown) weather** and anything open or unparked: :class:`CloseAndPark`.
 2. A slot is **due** (``start <= now < end``, its task may run; of overlapping ones the earliest
@@ -39,6 +39,7 @@ from datetime import datetime, timedelta
 from enum import StrEnum
 
 from nightcrew.interfaces import MotionStatus
+from nightcrew.robotic.planning import PlannedSlot
 
 __all__ = [
     "Action",
@@ -125,13 +126,12 @@ class Conditions:
 
 @dataclass(frozen=True)
 class Slot:
-    """A schedule entry with what deciding needs from its task.
+    """A planned slot with what deciding needs from its task.
 
     Args:
-        task_id: The archive's task id.
+        planned: The slot as the scheduler planned it: its task begins at ``start`` and is not
+            started at or after ``end``.
         name: The task's name (for logs).
-        start: When the schedule wants it to begin.
-        end: When its slot ends; it is not started at or after ``end``.
         needs_sky: It needs the roof open (anything but BIAS and DARK).
         sun: Where the Sun must be (the observatory's cap applied).
         may_run: False when the task is no longer to do (done, cancelled) or already failed by its
@@ -143,16 +143,29 @@ class Slot:
             None: not before ``start``; the roof is kept open for it from then on (rule 4).
     """
 
-    task_id: str
+    planned: PlannedSlot
     name: str
-    start: datetime
-    end: datetime
     needs_sky: bool
     sun: SunLimits
     may_run: bool = True
     needs_focus: bool = False
     startable_now: bool = False
     early_from: datetime | None = None
+
+    @property
+    def task_id(self) -> str:
+        """The archive's task id."""
+        return self.planned.task_id
+
+    @property
+    def start(self) -> datetime:
+        """When the plan wants the task to begin."""
+        return self.planned.start
+
+    @property
+    def end(self) -> datetime:
+        """When its slot ends."""
+        return self.planned.end
 
     def is_due(self, now: datetime) -> bool:
         """Its slot has begun and not ended."""

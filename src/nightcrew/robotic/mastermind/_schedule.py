@@ -53,19 +53,19 @@ class ScheduleReader:
 
     async def read(self, now: datetime) -> tuple[list[Slot], dict[str, Task]]:
         """The slots from ``now`` to the horizon, and their tasks by id."""
-        entries = await self._store.read_schedule(start=now, end=now + self._horizon)
+        planned_slots = await self._store.read_schedule(start=now, end=now + self._horizon)
         slots: list[Slot] = []
         tasks: dict[str, Task] = {}
-        for entry in entries:
+        for planned in planned_slots:
             try:
-                task = tasks.get(entry.task_id) or await self._archive.get_task(entry.task_id)
+                task = tasks.get(planned.task_id) or await self._archive.get_task(planned.task_id)
             except TaskNotFoundError:
                 name = self._host.context_name
-                log.warning("%s: scheduled task %s is not in the archive", name, entry.task_id)
+                log.warning("%s: scheduled task %s is not in the archive", name, planned.task_id)
                 continue
             tasks[task.id] = task
-            failed_here = (task.id, entry.start) in self._failed_slots
-            slots.append(slot_for(entry, task, failed_here=failed_here, **self._sun_caps))
+            failed_here = (task.id, planned.start) in self._failed_slots
+            slots.append(slot_for(planned, task, failed_here=failed_here, **self._sun_caps))
         return slots, tasks
 
     async def recover_orphans(self, now: datetime) -> None:
@@ -73,8 +73,8 @@ class ScheduleReader:
 
         Assumes one mastermind per archive; the progress recorded so far is kept.
         """
-        for entry in await self._store.read_schedule(start=now - timedelta(days=1), end=now):
-            task = await self._archive.get_task(entry.task_id)
+        for planned in await self._store.read_schedule(start=now - timedelta(days=1), end=now):
+            task = await self._archive.get_task(planned.task_id)
             if task.state is TaskState.RUNNING:
                 reason = interruption_reason("a restart of the mastermind", task, task.status.progress)
                 log.warning("%s: task %s was left running: %s", self._host.context_name, task.id, reason)

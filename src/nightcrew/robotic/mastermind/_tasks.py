@@ -6,8 +6,8 @@ import math
 from datetime import datetime, timedelta
 
 from nightcrew.interfaces import FitsCard
-from nightcrew.robotic.archives import ScheduleEntry
 from nightcrew.robotic.mastermind._decide import Slot, SunLimits
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress, estimate_duration
 from nightcrew.robotic.tasks.visibility import observable_stretches
 from nightcrew.site import Site
@@ -63,19 +63,17 @@ def sun_limits(task: Task, *, max_sun_altitude: float, twilight_max_sun_altitude
 
 
 def slot_for(
-    entry: ScheduleEntry,
+    planned: PlannedSlot,
     task: Task,
     *,
     max_sun_altitude: float,
     twilight_max_sun_altitude: float,
     failed_here: bool = False,
 ) -> Slot:
-    """The :class:`Slot` of a schedule entry; ``failed_here``: the task failed by its own fault in it."""
+    """The :class:`Slot` of a planned slot; ``failed_here``: the task failed by its own fault in it."""
     return Slot(
-        task_id=task.id,
+        planned=planned,
         name=task.name,
-        start=entry.start,
-        end=entry.end,
         needs_sky=needs_sky(task),
         sun=sun_limits(
             task, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude

@@ -11,7 +11,6 @@ from nightcrew.robotic.scheduler.blocks import (
     Night,
     SchedulableBlock,
     Schedule,
-    ScheduledSlot,
     Target,
 )
 from nightcrew.robotic.scheduler.constraints import (
@@ -40,7 +39,6 @@ __all__ = [
     "Placement",
     "SchedulableBlock",
     "Schedule",
-    "ScheduledSlot",
     "Scheduler",
     "SchedulingProblem",
     "SkyGrid",

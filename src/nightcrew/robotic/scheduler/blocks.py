@@ -1,7 +1,8 @@
 """The scheduler's own input and output values: what to observe, in which night, and when.
 
-These are deliberately small and free of the task model: an adapter turns requests into
-:class:`SchedulableBlock` values, so the scheduler can be tested (and benchmarked) on its own.
+These are deliberately small and free of the task model: a block source turns requests into
+:class:`SchedulableBlock` values, so the scheduler can be tested (and benchmarked) on its own. A
+placed block is a :class:`~nightcrew.robotic.planning.PlannedSlot`, the one shape of a planned task.
 Every value is checked when it is built; a bad one raises :class:`InvalidArgumentError` naming the
 block and the field. Times are aware ``datetime`` values (UTC or any other zone).
 """
@@ -14,9 +15,10 @@ from datetime import datetime
 
 from nightcrew.astro import julian_year
 from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.site import Site
 
-__all__ = ["Constraints", "Night", "SchedulableBlock", "Schedule", "ScheduledSlot", "Target"]
+__all__ = ["Constraints", "Night", "SchedulableBlock", "Schedule", "Target"]
 
 
 def _check_aware(value: datetime, what: str) -> None:
@@ -153,24 +155,11 @@ class Night:
 
 
 @dataclass(frozen=True)
-class ScheduledSlot:
-    """A block placed in time.
-
-    ``start`` is when the telescope begins with it (slew and set-up first); ``end`` is
-    ``start`` + overhead + duration, so the observation itself ends at ``end``.
-    """
-
-    block_id: str
-    start: datetime
-    end: datetime
-
-
-@dataclass(frozen=True)
 class Schedule:
     """A solver's answer.
 
     Args:
-        slots: Placed blocks, ordered by start.
+        slots: Placed blocks (the block id is the task id), ordered by start.
         objective: Sum of priority x duration_s (hours) over placed blocks.
         bound: Upper bound on the objective the solver proved (MIP dual bound); None if it has none.
         solver: Which solver produced it ("mip", "priority").
@@ -178,7 +167,7 @@ class Schedule:
         status: The solver's word on the result ("optimal", "time limit", ...).
     """
 
-    slots: tuple[ScheduledSlot, ...]
+    slots: tuple[PlannedSlot, ...]
     objective: float
     bound: float | None
     solver: str

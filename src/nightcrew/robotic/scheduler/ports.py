@@ -1,8 +1,9 @@
 """What the scheduler module needs from the outside world, as minimal protocols, and the night.
 
 A block source offers the blocks still to observe (over a task archive: YAML, SQLite, LCO portal
-...; see :mod:`.adapters`); a schedule writer takes the plan, for the mastermind to read (from an
-archive's schedule store). Both are implemented elsewhere; :class:`MemoryScheduleStore` is the
+...; see :mod:`nightcrew.robotic.archive_ports`); a schedule writer takes the plan, its
+:class:`~nightcrew.robotic.planning.PlannedSlot` values as they are, for the mastermind to read
+(from an archive's schedule store). Both are implemented elsewhere; :class:`MemoryScheduleStore` is the
 in-process writer for the simulator and the tests.
 """
 
@@ -14,7 +15,8 @@ from typing import Protocol, runtime_checkable
 
 from nightcrew.astro import sun_altitude, sun_crossing
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, ScheduledSlot
+from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock
 from nightcrew.site import Site
 
 __all__ = ["BlockSource", "MemoryScheduleStore", "NamedBlockSource", "ScheduleWriter", "night_around"]
@@ -50,7 +52,7 @@ class ScheduleWriter(Protocol):
     writes, and :func:`~nightcrew.robotic.archive_ports.as_schedule_writer` wraps a store.
     """
 
-    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+    async def set_schedule(self, slots: Sequence[PlannedSlot], planned_at: datetime) -> None:
         """Replace the schedule by ``slots`` (ordered by start), planned at ``planned_at``."""
         ...
 
@@ -59,10 +61,10 @@ class MemoryScheduleStore:
     """The schedule in memory, with the time it was planned at (a :class:`ScheduleWriter`)."""
 
     def __init__(self) -> None:
-        self.slots: tuple[ScheduledSlot, ...] = ()
+        self.slots: tuple[PlannedSlot, ...] = ()
         self.planned_at: datetime | None = None
 
-    async def set_schedule(self, slots: Sequence[ScheduledSlot], planned_at: datetime) -> None:
+    async def set_schedule(self, slots: Sequence[PlannedSlot], planned_at: datetime) -> None:
         self.slots = tuple(slots)
         self.planned_at = planned_at
 

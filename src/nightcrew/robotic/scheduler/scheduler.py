@@ -15,8 +15,9 @@ from typing import Literal
 import numpy as np
 
 from nightcrew.errors import InvalidArgumentError
+from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.scheduler.baseline import solve_priority
-from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, Schedule, ScheduledSlot
+from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, Schedule
 from nightcrew.robotic.scheduler.constraints import DEFAULT_CONSTRAINTS, Constraint
 from nightcrew.robotic.scheduler.mip import solve_time_indexed
 from nightcrew.robotic.scheduler.problem import Placement, SchedulingProblem, build_problem, check_placement
@@ -113,7 +114,7 @@ class Scheduler:
         *,
         now: datetime | None = None,
         exclude: Collection[str] = (),
-        in_progress: ScheduledSlot | None = None,
+        in_progress: PlannedSlot | None = None,
     ) -> Schedule:
         """Plan the (rest of the) night.
 
@@ -148,13 +149,13 @@ class Scheduler:
         *,
         now: datetime | None = None,
         exclude: Collection[str] = (),
-        in_progress: ScheduledSlot | None = None,
+        in_progress: PlannedSlot | None = None,
         names: Mapping[str, str] | None = None,
     ) -> dict[str, str]:
         """Block id → why it is not in ``schedule``, for every block of ``blocks`` that may still be
         planned and is not (see :mod:`.why`); the arguments are those ``schedule`` was made with."""
         start, candidates = _remaining(blocks, night, now, exclude, in_progress)
-        planned = {slot.block_id for slot in schedule.slots}
+        planned = {slot.task_id for slot in schedule.slots}
         if all(b.id in planned for b in candidates):
             return {}  # the common case: no second look at the sky
         if start >= night.end:
@@ -173,24 +174,24 @@ def _remaining(
     night: Night,
     now: datetime | None,
     exclude: Collection[str],
-    in_progress: ScheduledSlot | None,
+    in_progress: PlannedSlot | None,
 ) -> tuple[datetime, list[SchedulableBlock]]:
     """Where planning starts, and the blocks it may place."""
     start = night.start if now is None else max(night.start, now)
     if in_progress is not None:
         start = max(start, in_progress.end)
-    skip = set(exclude) | ({in_progress.block_id} if in_progress is not None else set())
+    skip = set(exclude) | ({in_progress.task_id} if in_progress is not None else set())
     return start, [b for b in blocks if b.id not in skip]
 
 
-def _slots(problem: SchedulingProblem, placement: Placement) -> tuple[ScheduledSlot, ...]:
+def _slots(problem: SchedulingProblem, placement: Placement) -> tuple[PlannedSlot, ...]:
     """The placed blocks as time slots, by start; a slot ends when its observation does."""
     slots = []
     for row in np.flatnonzero(placement.starts >= 0):
         block = problem.blocks[row]
         begin = problem.grid.start + problem.grid.step * float(placement.starts[row])
         end = begin + float(problem.overhead_s[row]) + block.duration_s
-        slots.append(ScheduledSlot(block.id, _utc(begin), _utc(end)))
+        slots.append(PlannedSlot(block.id, _utc(begin), _utc(end)))
     return tuple(sorted(slots, key=lambda slot: slot.start))
 
 

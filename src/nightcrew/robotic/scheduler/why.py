@@ -21,7 +21,8 @@ from datetime import UTC, datetime, timedelta
 import numpy as np
 import numpy.typing as npt
 
-from nightcrew.robotic.scheduler.blocks import SchedulableBlock, ScheduledSlot
+from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.scheduler.blocks import SchedulableBlock
 from nightcrew.robotic.scheduler.constraints import (
     AirmassConstraint,
     Constraint,
@@ -59,7 +60,7 @@ def _never(constraint: Constraint, block: SchedulableBlock, night: str) -> str:
 
 def unplanned_reasons(
     problem: SchedulingProblem,
-    slots: Sequence[ScheduledSlot],
+    slots: Sequence[PlannedSlot],
     constraints: Sequence[Constraint],
     *,
     names: Mapping[str, str] | None = None,
@@ -74,7 +75,7 @@ def unplanned_reasons(
         names: Block id → task name, to name the displacing tasks (else their ids).
         priorities: Block id → priority of the planned blocks not in ``problem`` (in progress).
     """
-    planned = {slot.block_id for slot in slots}
+    planned = {slot.task_id for slot in slots}
     rows = [row for row, block in enumerate(problem.blocks) if block.id not in planned]
     if not rows:
         return {}
@@ -107,7 +108,7 @@ def unplanned_reasons(
     return reasons
 
 
-def _displacing(problem: SchedulingProblem, row: int, slots: Sequence[ScheduledSlot]) -> list[str]:
+def _displacing(problem: SchedulingProblem, row: int, slots: Sequence[PlannedSlot]) -> list[str]:
     """Ids of the planned blocks that overlap any start the block could have had, by start."""
     grid = problem.grid
     starts = grid.start + grid.step * np.flatnonzero(problem.can_start[row])
@@ -116,7 +117,7 @@ def _displacing(problem: SchedulingProblem, row: int, slots: Sequence[ScheduledS
     for slot in slots:
         begin, end = slot.start.timestamp(), slot.end.timestamp()
         if np.any((starts < end) & (ends > begin)):
-            found.append(slot.block_id)
+            found.append(slot.task_id)
     return found
 
 

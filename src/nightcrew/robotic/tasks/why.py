@@ -40,7 +40,7 @@ def why_not_planned(
     blocks = every_block([task, *others], night.site, fit=fit)
     schedule = scheduler.schedule(blocks, night, now=now)
     for slot in schedule.slots:
-        if slot.block_id == task.id:
+        if slot.task_id == task.id:
             return f"planned {slot.start:%Y-%m-%d %H:%M} - {slot.end:%H:%M} UTC"
     names = {t.id: f"{t.name} ({t.id})" for t in others}
     reasons = scheduler.explain(blocks, night, schedule, now=now, names=names)
