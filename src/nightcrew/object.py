@@ -23,6 +23,7 @@ from nightcrew.comm.base import Comm
 from nightcrew.error_limits import ErrorLimit, ErrorLimits, Escalation
 from nightcrew.errors import ConfigError, InterfaceError
 from nightcrew.interfaces.base import Interface
+from nightcrew.interfaces.quantities import TimeZoneName
 from nightcrew.log import module_context
 from nightcrew.site import Site
 from nightcrew.vfs import VirtualFileSystem
@@ -64,7 +65,7 @@ class Object:
         clock: Clock | dict[str, Any] | None = None,
         vfs: VirtualFileSystem | dict[str, Any] | None = None,
         site: Site | dict[str, Any] | None = None,
-        timezone: str = "UTC",
+        timezone: TimeZoneName = "UTC",
     ) -> None:
         self._comm: Comm | None = _built(comm, Comm, "comm")
         self._clock: Clock | None = _built(clock, Clock, "clock")

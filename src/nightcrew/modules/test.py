@@ -6,6 +6,7 @@ import logging
 from typing import Any
 
 from nightcrew.errors import ConfigError, InvalidArgumentError
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 
 __all__ = ["StandAlone"]
@@ -21,7 +22,7 @@ class StandAlone(Module):
         interval: Seconds between two messages (clock seconds), > 0.
     """
 
-    def __init__(self, message: str = "Hello world", interval: float = 10.0, **kwargs: Any) -> None:
+    def __init__(self, message: str = "Hello world", interval: Period = 10.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         if not interval > 0:
             raise ConfigError(f"interval must be > 0 seconds, got {interval}", key="interval")
@@ -43,7 +44,7 @@ class StandAlone(Module):
     def _get_config_interval(self) -> float:
         return self._interval
 
-    def _set_config_interval(self, interval: float) -> None:
+    def _set_config_interval(self, interval: Period) -> None:
         if not interval > 0:
             raise InvalidArgumentError(f"interval must be > 0 seconds, got {interval}")
         self._interval = float(interval)
