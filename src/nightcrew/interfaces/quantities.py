@@ -35,9 +35,11 @@ __all__ = [
     "Declination",
     "Degrees",
     "ExposureTime",
+    "FocusCount",
     "Period",
     "RightAscension",
     "Seconds",
+    "SwitchIndex",
     "Temperature",
     "TimeZoneName",
     "Unit",
@@ -138,4 +140,8 @@ MIN_PERIOD = 0.01
 Period = Annotated[float, Interval(ge=MIN_PERIOD, le=86_400.0), Unit("s")]
 #: A temperature on Earth or in a cooled camera (the absolute zero and boiling water bound it).
 Temperature = Annotated[float, Interval(ge=-273.15, le=100.0), Unit("degC")]
+#: How many frames a focus series takes (a thousand would take all night).
+FocusCount = Annotated[int, Interval(ge=1, le=1000)]
+#: The number of a switch (ASCOM's Id) or another device channel.
+SwitchIndex = Annotated[int, Interval(ge=0, le=1_000_000)]
 TimeZoneName = Annotated[str, Valid(is_time_zone, "an IANA time zone name such as 'Europe/Berlin'")]

@@ -63,7 +63,7 @@ export class IDome extends RemoteInterface {
    * Turn the slit to azimuth ``az`` in degrees east of north.
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} az
+   * @param {number} az [deg]
    * @returns {Promise<null>}
    */
   move_azimuth(az) {
@@ -116,7 +116,8 @@ IDome.spec = {
           "name": "az",
           "required": true,
           "schema": {
-            "type": "number"
+            "type": "number",
+            "x-unit": "deg"
           }
         }
       ],
