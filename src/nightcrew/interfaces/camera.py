@@ -104,8 +104,7 @@ class IExposureTime(Interface):
 
     @abstractmethod
     async def set_exposure_time(self, exposure_time: ExposureTime) -> None:
-        """Set the exposure time in seconds for the next frames (a camera may allow less than
-        the declared maximum: its configured ``max_exposure_time`` and what the device reports)."""
+        """Set the exposure time in seconds for the next frames (up to the camera's maximum)."""
 
     @abstractmethod
     async def get_exposure_time(self) -> float:

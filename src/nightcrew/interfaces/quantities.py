@@ -31,6 +31,7 @@ __all__ = [
     "MAX_EXPOSURE_TIME",
     "MIN_PERIOD",
     "Altitude",
+    "Angle",
     "Azimuth",
     "Declination",
     "Degrees",
@@ -128,7 +129,10 @@ Degrees = Annotated[float, Unit("deg")]
 RightAscension = Annotated[float, Interval(ge=0.0, lt=360.0), Unit("deg")]
 Declination = Annotated[float, Interval(ge=-90.0, le=90.0), Unit("deg")]
 Altitude = Annotated[float, Interval(ge=-90.0, le=90.0), Unit("deg")]
-Azimuth = Annotated[float, Unit("deg")]  # east of north; implementations wrap it into 0..360
+#: An angle of a full turn or less either way (a position angle, a move by): more is a typo.
+Angle = Annotated[float, Interval(ge=-360.0, le=360.0), Unit("deg")]
+#: East of north; implementations wrap it into 0..360.
+Azimuth = Angle
 Seconds = Annotated[float, Ge(0.0), Unit("s")]
 
 #: The longest exposure any camera takes: a day (a camera's ``max_exposure_time`` is lower).

@@ -51,8 +51,7 @@ export class IAutoGuiding extends RemoteInterface {
     return this._invoke("is_running", arguments);
   }
   /**
-   * Set the exposure time in seconds for the next frames (a camera may allow less than
-   * the declared maximum: its configured ``max_exposure_time`` and what the device reports).
+   * Set the exposure time in seconds for the next frames (up to the camera's maximum).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {number} exposure_time [s] minimum 0.0 maximum 86400.0

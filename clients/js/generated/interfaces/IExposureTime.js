@@ -25,8 +25,7 @@ export class IExposureTime extends RemoteInterface {
     return this._invoke("get_exposure_time_left", arguments);
   }
   /**
-   * Set the exposure time in seconds for the next frames (a camera may allow less than
-   * the declared maximum: its configured ``max_exposure_time`` and what the device reports).
+   * Set the exposure time in seconds for the next frames (up to the camera's maximum).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {number} exposure_time [s] minimum 0.0 maximum 86400.0

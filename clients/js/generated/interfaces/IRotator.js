@@ -74,7 +74,7 @@ export class IRotator extends RemoteInterface {
    * Turn to mechanical angle ``angle`` in degrees (0..360), ignoring the sync offset.
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} angle [deg]
+   * @param {number} angle [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_mechanical(angle) {
@@ -84,7 +84,7 @@ export class IRotator extends RemoteInterface {
    * Turn to sky position angle ``angle`` in degrees (0..360).
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} angle [deg]
+   * @param {number} angle [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_position_angle(angle) {
@@ -94,7 +94,7 @@ export class IRotator extends RemoteInterface {
    * Turn by ``delta`` degrees from the current position angle (negative turns back).
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} delta [deg]
+   * @param {number} delta [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_position_angle_by(delta) {
@@ -168,6 +168,8 @@ IRotator.spec = {
           "name": "angle",
           "required": true,
           "schema": {
+            "maximum": 360.0,
+            "minimum": -360.0,
             "type": "number",
             "x-unit": "deg"
           }
@@ -187,6 +189,8 @@ IRotator.spec = {
           "name": "angle",
           "required": true,
           "schema": {
+            "maximum": 360.0,
+            "minimum": -360.0,
             "type": "number",
             "x-unit": "deg"
           }
@@ -206,6 +210,8 @@ IRotator.spec = {
           "name": "delta",
           "required": true,
           "schema": {
+            "maximum": 360.0,
+            "minimum": -360.0,
             "type": "number",
             "x-unit": "deg"
           }
