@@ -203,6 +203,11 @@ def _check_union(
     if len(shaped) == 1:
         yield from check_value(value, shaped[0], key, location)
         return
+    # A value of the right type but out of a member's bounds: its range says more than the types.
+    bounded = [m for m in members if typing.get_origin(m) is typing.Annotated and accepts(value, unwrap(m))]
+    if bounded:
+        yield from check_value(value, bounded[0], key, location)
+        return
     yield _mismatch(hint, value, key, location)
 
 

@@ -38,6 +38,7 @@ __all__ = [
     "ExposureTime",
     "FocusCount",
     "Period",
+    "PeriodOrOff",
     "RightAscension",
     "Seconds",
     "SwitchIndex",
@@ -142,6 +143,14 @@ ExposureTime = Annotated[float, Interval(ge=0.0, le=MAX_EXPOSURE_TIME), Unit("s"
 MIN_PERIOD = 0.01
 #: The period of a loop, a day at most (longer is a typo, and a timer that never fires).
 Period = Annotated[float, Interval(ge=MIN_PERIOD, le=86_400.0), Unit("s")]
+
+
+def _off_or_period(seconds: float) -> bool:
+    return seconds == 0 or MIN_PERIOD <= seconds <= 86_400.0
+
+
+#: A period where 0 turns the loop off (an archive that is not polled).
+PeriodOrOff = Annotated[float, Valid(_off_or_period, "0 (off) or a period of 0.01..86400 s"), Unit("s")]
 #: A temperature on Earth or in a cooled camera (the absolute zero and boiling water bound it).
 Temperature = Annotated[float, Interval(ge=-273.15, le=100.0), Unit("degC")]
 #: How many frames a focus series takes (a thousand would take all night).

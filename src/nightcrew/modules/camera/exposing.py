@@ -126,7 +126,7 @@ class ExposingModule(Module, IAbortable, IExposure):
         high = min(device_high, self._max_exposure_time)
         if math.isfinite(exposure_time) and (exposure_time == 0 or low <= exposure_time <= high):
             return float(exposure_time)
-        limit = "max_exposure_time" if self._max_exposure_time <= device_high else "the device's ExposureMax"
+        limit = "max_exposure_time" if self._max_exposure_time <= device_high else "the device's maximum"
         allowed = f"0..{high:g} s" if low == 0 else f"0 or {low:g}..{high:g} s"
         raise InvalidArgumentError(
             f"exposure_time {exposure_time!r} s is out of range for {self.name}: {allowed} "

@@ -23,6 +23,7 @@ from typing import TypeVar
 from nightcrew.clock import Clock
 from nightcrew.config import DataPath
 from nightcrew.errors import ModuleError
+from nightcrew.interfaces.quantities import PeriodOrOff
 from nightcrew.robotic.archives import _sqlite_schema as db
 from nightcrew.robotic.archives._base import ScheduleEntry, ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
@@ -44,7 +45,11 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
     """
 
     def __init__(
-        self, path: DataPath | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
+        self,
+        path: DataPath | os.PathLike[str],
+        *,
+        clock: Clock | None = None,
+        poll_interval: PeriodOrOff = 10.0,
     ) -> None:
         super().__init__(clock=clock)
         self.path = Path(path)
