@@ -71,7 +71,7 @@ class Object:
         self._clock: Clock | None = _built(clock, Clock, "clock")
         self._vfs: VirtualFileSystem | None = _built(vfs, VirtualFileSystem, "vfs")
         self._owns_vfs = self._vfs is not None and not isinstance(vfs, VirtualFileSystem)
-        self._site: Site | None = Site(**site) if isinstance(site, dict) else site
+        self._site: Site | None = _site(site) if isinstance(site, dict) else site
         self.timezone = timezone
         self._children: list[Object] = []
         self._task_factories: list[tuple[str, Callable[[], Coroutine[Any, Any, Any]], bool]] = []
@@ -222,6 +222,14 @@ class Object:
         finally:
             if self._owns_vfs and self._vfs is not None:
                 await self._vfs.close()  # logs a root that fails to close, never raises
+
+
+def _site(description: dict[str, Any]) -> Site:
+    """The site a configuration describes; a bad one is a ConfigError naming the key."""
+    try:
+        return Site(**description)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(str(exc), key="site") from exc
 
 
 def _built(value: Any, expected: type[T], key: str) -> T | None:

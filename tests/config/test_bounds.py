@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import pytest
 
+from nightcrew.cli.main import main
 from nightcrew.config import check_value
 from nightcrew.interfaces.quantities import Altitude, ExposureTime, Period, PeriodOrOff, TimeZoneName
 
@@ -44,3 +46,17 @@ def _problem(value: object, hint: Any) -> str | None:
 )
 def test_declared_bounds(value: object, hint: Any, message: str | None) -> None:
     assert _problem(value, hint) == message
+
+
+def test_a_site_out_of_bounds_is_one_line_naming_the_key(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("x.yaml").write_text(
+        "class: nightcrew.modules.test.StandAlone\nsite: {latitude: 10, longitude: 10, elevation: 1e308}\n"
+    )
+    assert main(["check", "x.yaml"]) == 2
+    assert (
+        capsys.readouterr().err
+        == "x.yaml:2: key 'site': elevation must be within -500..9000 metres, got 1e+308\n"
+    )
