@@ -31,6 +31,7 @@ from nightcrew.modules.sim import (
     SimSwitch,
     SimTelescope,
 )
+from nightcrew.modules.test import StandAlone
 from nightcrew.testing import EventRecorder, Observatory
 
 #: Numbers no setting means: an exposure of 10^308 s, 2^70 as an int and as a float, infinities.
@@ -47,12 +48,18 @@ DEVICES: tuple[tuple[type[Module], str, dict[str, Any]], ...] = (
     (SimRotator, "rotator", {}),
     (SimSwitch, "switch", {"switches": [{"name": "Heater", "max_value": 100, "step": 1}]}),
     (SimCoverCalibrator, "flats", {}),
+    (StandAlone, "standalone", {"interval": 10.0}),  # a module with a changeable config option
 )
 
 
-def numeric_setters(module: Module) -> list[tuple[str, list[Any], list[int]]]:
-    """(method, sensible arguments, indexes of its numeric parameters) for every method taking a number."""
-    found = []
+async def numeric_setters(module: Module) -> list[tuple[str, list[Any], list[int]]]:
+    """(method, sensible arguments, indexes of its numeric parameters) for every method taking a
+    number, and ``set_config_value`` for every option that can be changed."""
+    found = [
+        ("set_config_value", [name, 1.0], [1])
+        for name, (_, settable, _) in (await module.get_config_caps()).items()
+        if settable
+    ]
     for name, declaration in sorted(interface_methods(interfaces_of(type(module))).items()):
         if name.startswith(("get_", "list_", "is_")):
             continue
@@ -90,7 +97,7 @@ async def test_every_numeric_setter_refuses_values_beyond_physics(
     outcomes: dict[str, int] = {}
     obeyed: list[str] = []
     for module in modules:
-        for method, sensible, numeric in numeric_setters(module):
+        for method, sensible, numeric in await numeric_setters(module):
             for index in numeric:
                 for value in BEYOND_PHYSICS + DOUBTFUL:
                     args = list(sensible)
