@@ -23,6 +23,7 @@ from nightcrew.comm.base import Comm
 from nightcrew.error_limits import ErrorLimit, ErrorLimits, Escalation
 from nightcrew.errors import ConfigError, InterfaceError
 from nightcrew.interfaces.base import Interface
+from nightcrew.interfaces.quantities import TimeZoneName
 from nightcrew.log import module_context
 from nightcrew.site import Site
 from nightcrew.vfs import VirtualFileSystem
@@ -64,13 +65,13 @@ class Object:
         clock: Clock | dict[str, Any] | None = None,
         vfs: VirtualFileSystem | dict[str, Any] | None = None,
         site: Site | dict[str, Any] | None = None,
-        timezone: str = "UTC",
+        timezone: TimeZoneName = "UTC",
     ) -> None:
         self._comm: Comm | None = _built(comm, Comm, "comm")
         self._clock: Clock | None = _built(clock, Clock, "clock")
         self._vfs: VirtualFileSystem | None = _built(vfs, VirtualFileSystem, "vfs")
         self._owns_vfs = self._vfs is not None and not isinstance(vfs, VirtualFileSystem)
-        self._site: Site | None = Site(**site) if isinstance(site, dict) else site
+        self._site: Site | None = _site(site) if isinstance(site, dict) else site
         self.timezone = timezone
         self._children: list[Object] = []
         self._task_factories: list[tuple[str, Callable[[], Coroutine[Any, Any, Any]], bool]] = []
@@ -221,6 +222,14 @@ class Object:
         finally:
             if self._owns_vfs and self._vfs is not None:
                 await self._vfs.close()  # logs a root that fails to close, never raises
+
+
+def _site(description: dict[str, Any]) -> Site:
+    """The site a configuration describes; a bad one is a ConfigError naming the key."""
+    try:
+        return Site(**description)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(str(exc), key="site") from exc
 
 
 def _built(value: Any, expected: type[T], key: str) -> T | None:

@@ -56,6 +56,22 @@ async def test_gain_readout_mode_and_cooling(alpaca_simulator: AlpacaSimulator) 
         assert await camera.device.get("cooleron") is False
 
 
+async def test_exposure_times_beyond_the_devices_maximum_are_refused(
+    alpaca_simulator: AlpacaSimulator,
+) -> None:
+    async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
+        # Configured above what the device can do: the device's ExposureMax is the limit.
+        camera = await obs.start(AlpacaCamera, "camera", server=alpaca_simulator.url, max_exposure_time=7200)
+        device_max = await camera.device.get("exposuremax")
+        assert device_max < 7200
+        await camera.set_exposure_time(device_max)
+        with pytest.raises(
+            InvalidArgumentError, match=r"out of range for camera: .*\(the maximum is the device's"
+        ):
+            await camera.set_exposure_time(device_max + 1)
+        assert await camera.get_exposure_time() == device_max
+
+
 CAMERA_MEMBERS: dict[str, Any] = {
     "cameraxsize": 8,
     "cameraysize": 4,

@@ -248,6 +248,7 @@ def test_public_api() -> None:
         "InputPath",
         "Location",
         "build_object",
+        "check_value",
         "config_files",
         "is_secret_key",
         "load_and_build",

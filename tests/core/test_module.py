@@ -85,7 +85,9 @@ async def test_config_values_read_and_changed_through_a_proxy() -> None:
         assert await config.get_config_value("message") == "hi"
         await config.set_config_value("message", "bye")
         assert await config.get_config_value("message") == "bye"
-        with pytest.raises(InvalidArgumentError, match="interval must be > 0"):
+        with pytest.raises(
+            InvalidArgumentError, match=r"config option .interval.: -1 is out of range \(must be >= 0.01 s\)"
+        ):
             await config.set_config_value("interval", -1)
         with pytest.raises(InvalidArgumentError, match="config option 'colour' is not readable"):
             await config.get_config_value("colour")

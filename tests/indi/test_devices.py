@@ -12,8 +12,10 @@ from astropy.io import fits  # type: ignore[import-untyped]
 from nightcrew.astro import angular_separation, j2000_to_of_date
 from nightcrew.bridges.indi import IndiClient
 from nightcrew.clock import RealClock
+from nightcrew.errors import InvalidArgumentError
 from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, MotionStatusChangedEvent
 from nightcrew.interfaces import ImageType, ModuleState, MotionStatus, WeatherSensor
+from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME
 from nightcrew.modules.indi import IndiCamera, IndiFocuser, IndiRotator, IndiTelescope, IndiWeather
 from nightcrew.modules.weather import ModuleStation, Weather
 from nightcrew.testing import EventRecorder, Observatory, wait_for
@@ -98,6 +100,21 @@ async def test_weather_parameters_are_sensors_and_the_indi_state_is_an_evaluator
             )
             await control.send("Weather Simulator", "WEATHER_REFRESH", {"REFRESH": True}, wait=10)
             await control.close()
+
+
+async def test_camera_refuses_exposures_beyond_the_drivers_maximum(indi_server: IndiServer) -> None:
+    async with Observatory(clock=RealClock()) as obs:
+        camera = await obs.start(
+            IndiCamera, "camera", max_exposure_time=MAX_EXPOSURE_TIME, **_at(indi_server, "CCD Simulator")
+        )
+        high = camera._indi.vector("CCD_EXPOSURE").limits["CCD_EXPOSURE_VALUE"][1]
+        assert 0 < high < MAX_EXPOSURE_TIME
+        await camera.set_exposure_time(high)
+        with pytest.raises(
+            InvalidArgumentError, match=r"out of range for camera: .*\(the maximum is the device's"
+        ):
+            await camera.set_exposure_time(high + 1)
+        assert await camera.get_exposure_time() == high
 
 
 @pytest.mark.parametrize("compress", [False, True])

@@ -135,6 +135,7 @@ async def _add(args: argparse.Namespace) -> int:
 async def _list(args: argparse.Namespace) -> int:
     async with _archive(args) as archive:
         tasks = await archive.list_tasks(states=args.state)
+        unreadable = await archive.list_unreadable(states=args.state)
     rows = [["ID", "STATE", "NAME", "PROPOSAL", "PRIORITY", "DURATION", "WINDOWS", "CONFIGURATIONS"]]
     for task in tasks:
         rows.append(
@@ -149,8 +150,10 @@ async def _list(args: argparse.Namespace) -> int:
                 " ".join(_configuration_summary(c.type.value, c.target) for c in task.request.configurations),
             ]
         )
+    # A row stored before a bound it breaks existed is shown, named, never a crash for everyone.
+    rows.extend([row.id, "UNREADABLE", row.name, "-", "-", "-", "-", row.problem] for row in unreadable)
     print(_table(rows))
-    if not tasks:
+    if not tasks and not unreadable:
         print("(no tasks)")
     return 0
 

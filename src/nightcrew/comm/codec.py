@@ -34,9 +34,8 @@ from collections.abc import Callable, Mapping
 from datetime import UTC, datetime
 from typing import Any
 
-import annotated_types
-
 from nightcrew.errors import CodecError
+from nightcrew.interfaces.quantities import bound_problem
 
 __all__ = [
     "Parameter",
@@ -144,27 +143,11 @@ def decode(value: Any, hint: Any, path: str = "value") -> Any:
     return value
 
 
-# annotated-types bounds (``Annotated[float, Interval(ge=0, lt=360)]``) the codec enforces.
-_BOUNDS: tuple[tuple[type[Any], str, str, Callable[[Any, Any], bool]], ...] = (
-    (annotated_types.Ge, "ge", ">=", lambda v, b: v >= b),
-    (annotated_types.Gt, "gt", ">", lambda v, b: v > b),
-    (annotated_types.Le, "le", "<=", lambda v, b: v <= b),
-    (annotated_types.Lt, "lt", "<", lambda v, b: v < b),
-)
-
-
 def _check_constraints(value: Any, metadata: tuple[Any, ...], path: str) -> None:
     """Refuse ``value`` when it breaks a bound declared with annotated-types (NaN breaks every one)."""
-    if value is None:
-        return  # an optional argument left out; bounds apply to values only
-    for item in metadata:
-        parts = list(item) if isinstance(item, annotated_types.GroupedMetadata) else [item]
-        for part in parts:
-            for kind, attribute, symbol, holds in _BOUNDS:
-                if isinstance(part, kind):
-                    bound = getattr(part, attribute)
-                    if not holds(value, bound):
-                        raise CodecError(f"{path}: {value!r} is out of range (must be {symbol} {bound!r})")
+    problem = bound_problem(value, metadata)
+    if problem is not None:
+        raise CodecError(f"{path}: {value!r} {problem}")
 
 
 def _decode_plain(value: Any, hint: Any, path: str) -> Any:

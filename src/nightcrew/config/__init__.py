@@ -37,7 +37,7 @@ from nightcrew.config._hints import describe_value
 from nightcrew.config._loader import load_file
 from nightcrew.config._nodes import ConfigList, ConfigNode, Location
 from nightcrew.config._paths import DataPath, InputPath
-from nightcrew.config._validator import is_secret_key, iter_problems
+from nightcrew.config._validator import check_value, is_secret_key, iter_problems
 from nightcrew.config._yaml import load_data_file, parse_data, parse_yaml
 from nightcrew.errors import ConfigError
 
@@ -48,6 +48,7 @@ __all__ = [
     "InputPath",
     "Location",
     "build_object",
+    "check_value",
     "config_files",
     "is_secret_key",
     "load_and_build",

@@ -171,7 +171,8 @@ def _path_roles(init: Callable[..., Any]) -> dict[str, PathRole]:
 
 def _parameter_hints(init: Callable[..., Any]) -> dict[str, Any]:
     try:
-        return typing.get_type_hints(init)
+        # With extras: bounds declared with Annotated (interfaces.quantities) are checked too.
+        return typing.get_type_hints(init, include_extras=True)
     except Exception:
         pass
     # Some annotation cannot be evaluated here (e.g. a name imported only under TYPE_CHECKING):

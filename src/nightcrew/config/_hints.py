@@ -46,9 +46,10 @@ mapping_origins: frozenset[Any] = frozenset({dict, collections.abc.Mapping, coll
 
 
 def unwrap(hint: Any) -> Any:
-    """``NewType`` to its base type, ``None`` to ``NoneType``; other hints unchanged."""
-    while hasattr(hint, "__supertype__"):
-        hint = hint.__supertype__
+    """``NewType`` and ``Annotated[X, ...]`` to their base type, ``None`` to ``NoneType``; other
+    hints unchanged."""
+    while hasattr(hint, "__supertype__") or typing.get_origin(hint) is typing.Annotated:
+        hint = hint.__supertype__ if hasattr(hint, "__supertype__") else hint.__origin__
     return NoneType if hint is None else hint
 
 

@@ -40,6 +40,7 @@ from nightcrew.config._hints import (
 from nightcrew.config._nodes import ConfigNode, Location, join_key, location_in
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces.base import is_interface
+from nightcrew.interfaces.quantities import bound_problem
 
 __all__ = [
     "accepts",
@@ -129,6 +130,15 @@ def check_object(
 
 def check_value(value: object, hint: Any, key: str, location: Location | None) -> Iterator[ConfigError]:
     """Problems of ``value`` given for a parameter with type hint ``hint``."""
+    if typing.get_origin(hint) is typing.Annotated:
+        problems = list(check_value(value, hint.__origin__, key, location))
+        if problems:
+            yield from problems
+            return
+        problem = bound_problem(value, hint.__metadata__)
+        if problem is not None:
+            yield _problem(f"{_shown(value, key)} {problem}", location, key)
+        return
     hint = unwrap(hint)
     if hint is Any or hint is object:
         return
@@ -193,6 +203,11 @@ def _check_union(
     if len(shaped) == 1:
         yield from check_value(value, shaped[0], key, location)
         return
+    # A value of the right type but out of a member's bounds: its range says more than the types.
+    bounded = [m for m in members if typing.get_origin(m) is typing.Annotated and accepts(value, unwrap(m))]
+    if bounded:
+        yield from check_value(value, bounded[0], key, location)
+        return
     yield _mismatch(hint, value, key, location)
 
 
@@ -244,11 +259,15 @@ def _check_class(value: object, hint: type, key: str, location: Location | None)
         ok = isinstance(value, bool)
     elif hint is int:
         ok = isinstance(value, int) and not isinstance(value, bool)
+        if ok and not -_INT64 <= value < _INT64:  # type: ignore[operator]
+            # What no setting means and no RPC can carry (XML-RPC integers are 64-bit).
+            yield _problem(f"expected an integer of at most 64 bits, got {_shown(value, key)}", location, key)
+            return
     elif hint is float:
         ok = isinstance(value, int | float) and not isinstance(value, bool)
-        if ok and not math.isfinite(value):  # type: ignore[arg-type]
+        if ok and not _is_finite(value):
             # NaN never compares, infinity never arrives: a move or a wait would never end.
-            yield _problem(f"expected a finite number, got {value}", location, key)
+            yield _problem(f"expected a finite number, got {_shown(value, key)}", location, key)
             return
     elif hint in (tuple, set, frozenset):
         ok = isinstance(value, list | hint)
@@ -266,6 +285,26 @@ def _check_class(value: object, hint: type, key: str, location: Location | None)
         yield _problem(f"expected {wanted}, got {describe_value(value)}", location, key)
     else:
         yield _mismatch(hint, value, key, location)
+
+
+#: Integers a setting may hold: those of 64 bits (what XML-RPC carries).
+_INT64 = 2**63
+
+
+def _is_finite(value: Any) -> bool:
+    """Whether the int or float ``value`` is a finite float (a 400-digit int is not)."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
+def _shown(value: object, key: str) -> str:
+    """``value`` for a message: a secret's never, a long number's cut (400 digits help nobody)."""
+    if is_secret_key(key):
+        return f"{type(value).__name__} (value not shown)"
+    text = repr(value)
+    return text if len(text) <= 40 else f"{text[:37]}... ({len(text)} characters)"
 
 
 def _as_mapping(value: object) -> Mapping[str, Any]:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.control import IAbortable
 from nightcrew.interfaces.enums import ExposureStatus, ImageType
-from nightcrew.interfaces.quantities import Seconds
+from nightcrew.interfaces.quantities import ExposureTime, Temperature
 from nightcrew.timeout import timeout
 
 __all__ = [
@@ -103,8 +103,8 @@ class IExposureTime(Interface):
     """A settable exposure time."""
 
     @abstractmethod
-    async def set_exposure_time(self, exposure_time: Seconds) -> None:
-        """Set the exposure time in seconds for the next frames."""
+    async def set_exposure_time(self, exposure_time: ExposureTime) -> None:
+        """Set the exposure time in seconds for the next frames (up to the camera's maximum)."""
 
     @abstractmethod
     async def get_exposure_time(self) -> float:
@@ -163,7 +163,7 @@ class ICooling(Interface):
     """Detector cooling."""
 
     @abstractmethod
-    async def set_cooling(self, enabled: bool, setpoint: float) -> None:
+    async def set_cooling(self, enabled: bool, setpoint: Temperature) -> None:
         """Switch cooling on or off and set its target temperature in °C."""
 
     @abstractmethod

@@ -8,6 +8,7 @@ from typing import Any
 from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.control import IAbortable
 from nightcrew.interfaces.motion import IMotion
+from nightcrew.interfaces.quantities import ExposureTime, FocusCount
 from nightcrew.timeout import timeout
 
 __all__ = ["IAutoFocus", "IFocusModel", "IFocuser"]
@@ -53,7 +54,9 @@ class IAutoFocus(IAbortable):
 
     @timeout(1800)
     @abstractmethod
-    async def auto_focus(self, count: int, step: float, exposure_time: float) -> tuple[float, float]:
+    async def auto_focus(
+        self, count: FocusCount, step: float, exposure_time: ExposureTime
+    ) -> tuple[float, float]:
         """Take ``count`` images ``step`` mm apart, ``exposure_time`` s each; return (focus, error) in mm."""
 
     @abstractmethod

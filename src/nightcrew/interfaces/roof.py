@@ -5,6 +5,7 @@ from __future__ import annotations
 from abc import abstractmethod
 
 from nightcrew.interfaces.motion import IMotion
+from nightcrew.interfaces.quantities import Azimuth
 from nightcrew.timeout import timeout
 
 __all__ = ["IDome", "IRoof"]
@@ -29,7 +30,7 @@ class IDome(IRoof):
 
     @timeout(300)
     @abstractmethod
-    async def move_azimuth(self, az: float) -> None:
+    async def move_azimuth(self, az: Azimuth) -> None:
         """Turn the slit to azimuth ``az`` in degrees east of north."""
 
     @abstractmethod

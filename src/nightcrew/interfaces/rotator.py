@@ -5,6 +5,7 @@ from __future__ import annotations
 from abc import abstractmethod
 
 from nightcrew.interfaces.motion import IMotion
+from nightcrew.interfaces.quantities import Angle
 from nightcrew.timeout import timeout
 
 __all__ = ["IRotator"]
@@ -18,12 +19,12 @@ class IRotator(IMotion):
 
     @timeout(300)
     @abstractmethod
-    async def move_position_angle(self, angle: float) -> None:
+    async def move_position_angle(self, angle: Angle) -> None:
         """Turn to sky position angle ``angle`` in degrees (0..360)."""
 
     @timeout(300)
     @abstractmethod
-    async def move_position_angle_by(self, delta: float) -> None:
+    async def move_position_angle_by(self, delta: Angle) -> None:
         """Turn by ``delta`` degrees from the current position angle (negative turns back)."""
 
     @abstractmethod
@@ -32,7 +33,7 @@ class IRotator(IMotion):
 
     @timeout(300)
     @abstractmethod
-    async def move_mechanical(self, angle: float) -> None:
+    async def move_mechanical(self, angle: Angle) -> None:
         """Turn to mechanical angle ``angle`` in degrees (0..360), ignoring the sync offset."""
 
     @abstractmethod

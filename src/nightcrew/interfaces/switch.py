@@ -6,6 +6,7 @@ from abc import abstractmethod
 from dataclasses import dataclass
 
 from nightcrew.interfaces.base import Interface
+from nightcrew.interfaces.quantities import SwitchIndex
 
 __all__ = ["ISwitch", "SwitchInfo"]
 
@@ -37,17 +38,17 @@ class ISwitch(Interface):
         """Every switch of the device, in index order."""
 
     @abstractmethod
-    async def get_switch(self, switch: int) -> bool:
+    async def get_switch(self, switch: SwitchIndex) -> bool:
         """Whether switch ``switch`` is on (its value is above its minimum)."""
 
     @abstractmethod
-    async def set_switch(self, switch: int, state: bool) -> None:
+    async def set_switch(self, switch: SwitchIndex, state: bool) -> None:
         """Turn switch ``switch`` on (its maximum) or off (its minimum)."""
 
     @abstractmethod
-    async def get_switch_value(self, switch: int) -> float:
+    async def get_switch_value(self, switch: SwitchIndex) -> float:
         """Value of switch ``switch``, between its min_value and max_value."""
 
     @abstractmethod
-    async def set_switch_value(self, switch: int, value: float) -> None:
+    async def set_switch_value(self, switch: SwitchIndex, value: float) -> None:
         """Set switch ``switch`` to ``value`` (within min..max, a multiple of step from min)."""

@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import inspect
 import logging
+import typing
 from typing import Any
 
 from nightcrew import __version__
 from nightcrew.comm.base import Comm
 from nightcrew.comm.local import LocalComm
+from nightcrew.config import check_value
 from nightcrew.errors import ConfigError, InvalidArgumentError, ModuleError
 from nightcrew.interfaces import IConfig, IModule, ModuleState
 from nightcrew.log import LogForwarder
@@ -216,12 +218,30 @@ class Module(Object, IModule, IConfig):
         return await _call_hook(self._config_hook("_get_config_", name), name, "readable")
 
     async def set_config_value(self, name: str, value: Any) -> None:
-        await _call_hook(self._config_hook("_set_config_", name), name, "changeable", value)
+        hook = self._config_hook("_set_config_", name)
+        if hook is not None:
+            _check_config_value(hook, name, value)
+        await _call_hook(hook, name, "changeable", value)
         log.info("config option %s set to %r", name, value)
 
     async def get_config_value_options(self, name: str) -> list[str]:
         options = await _call_hook(self._config_hook("_get_config_options_", name), name, "a choice")
         return list(options)
+
+
+def _check_config_value(hook: Any, name: str, value: Any) -> None:
+    """Refuse ``value`` unless it fits the hook's type hint and its bounds, as the same key in a
+    configuration file would be checked (``Period``, ``Altitude``, ...)."""
+    try:
+        hints = typing.get_type_hints(hook, include_extras=True)
+    except Exception:  # a hint that cannot be evaluated here: the hook checks for itself
+        return
+    parameters = [key for key in hints if key != "return"]
+    if not parameters:
+        return
+    problem = next(check_value(value, hints[parameters[0]], name, None), None)
+    if problem is not None:
+        raise InvalidArgumentError(f"config option '{name}': {problem.message}")
 
 
 async def _call_hook(hook: Any, name: str, what: str, *args: Any) -> Any:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import logging
 from typing import Any
 
-from nightcrew.errors import ConfigError, InvalidArgumentError
+from nightcrew.errors import ConfigError
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 
 __all__ = ["StandAlone"]
@@ -18,10 +19,10 @@ class StandAlone(Module):
 
     Args:
         message: What to log.
-        interval: Seconds between two messages (clock seconds), > 0.
+        interval: Seconds between two messages (clock seconds), 0.01 s to a day.
     """
 
-    def __init__(self, message: str = "Hello world", interval: float = 10.0, **kwargs: Any) -> None:
+    def __init__(self, message: str = "Hello world", interval: Period = 10.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         if not interval > 0:
             raise ConfigError(f"interval must be > 0 seconds, got {interval}", key="interval")
@@ -43,7 +44,6 @@ class StandAlone(Module):
     def _get_config_interval(self) -> float:
         return self._interval
 
-    def _set_config_interval(self, interval: float) -> None:
-        if not interval > 0:
-            raise InvalidArgumentError(f"interval must be > 0 seconds, got {interval}")
+    def _set_config_interval(self, interval: Period) -> None:
+        # Its bounds are its hint's: set_config_value checks them before this runs.
         self._interval = float(interval)

@@ -22,9 +22,9 @@ export class IAutoFocus extends RemoteInterface {
    * Take ``count`` images ``step`` mm apart, ``exposure_time`` s each; return (focus, error) in mm.
    *
    * Timeout: announced, 1800 clock seconds.
-   * @param {number} count
+   * @param {number} count minimum 1 maximum 1000
    * @param {number} step
-   * @param {number} exposure_time
+   * @param {number} exposure_time [s] minimum 0.0 maximum 86400.0
    * @returns {Promise<[number, number]>}
    */
   auto_focus(count, step, exposure_time) {
@@ -48,6 +48,8 @@ IAutoFocus.spec = {
           "name": "count",
           "required": true,
           "schema": {
+            "maximum": 1000,
+            "minimum": 1,
             "type": "integer"
           }
         },
@@ -62,7 +64,10 @@ IAutoFocus.spec = {
           "name": "exposure_time",
           "required": true,
           "schema": {
-            "type": "number"
+            "maximum": 86400.0,
+            "minimum": 0.0,
+            "type": "number",
+            "x-unit": "s"
           }
         }
       ],

@@ -51,10 +51,10 @@ export class IAutoGuiding extends RemoteInterface {
     return this._invoke("is_running", arguments);
   }
   /**
-   * Set the exposure time in seconds for the next frames.
+   * Set the exposure time in seconds for the next frames (up to the camera's maximum).
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} exposure_time [s] minimum 0.0
+   * @param {number} exposure_time [s] minimum 0.0 maximum 86400.0
    * @returns {Promise<null>}
    */
   set_exposure_time(exposure_time) {

@@ -24,7 +24,7 @@ export class ICooling extends RemoteInterface {
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {boolean} enabled
-   * @param {number} setpoint
+   * @param {number} setpoint [degC] minimum -273.15 maximum 100.0
    * @returns {Promise<null>}
    */
   set_cooling(enabled, setpoint) {
@@ -56,7 +56,10 @@ ICooling.spec = {
           "name": "setpoint",
           "required": true,
           "schema": {
-            "type": "number"
+            "maximum": 100.0,
+            "minimum": -273.15,
+            "type": "number",
+            "x-unit": "degC"
           }
         }
       ],

@@ -63,7 +63,7 @@ export class IDome extends RemoteInterface {
    * Turn the slit to azimuth ``az`` in degrees east of north.
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} az
+   * @param {number} az [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_azimuth(az) {
@@ -116,7 +116,10 @@ IDome.spec = {
           "name": "az",
           "required": true,
           "schema": {
-            "type": "number"
+            "maximum": 360.0,
+            "minimum": -360.0,
+            "type": "number",
+            "x-unit": "deg"
           }
         }
       ],

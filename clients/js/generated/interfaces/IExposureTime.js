@@ -25,10 +25,10 @@ export class IExposureTime extends RemoteInterface {
     return this._invoke("get_exposure_time_left", arguments);
   }
   /**
-   * Set the exposure time in seconds for the next frames.
+   * Set the exposure time in seconds for the next frames (up to the camera's maximum).
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} exposure_time [s] minimum 0.0
+   * @param {number} exposure_time [s] minimum 0.0 maximum 86400.0
    * @returns {Promise<null>}
    */
   set_exposure_time(exposure_time) {
@@ -63,6 +63,7 @@ IExposureTime.spec = {
           "name": "exposure_time",
           "required": true,
           "schema": {
+            "maximum": 86400.0,
             "minimum": 0.0,
             "type": "number",
             "x-unit": "s"

@@ -20,7 +20,7 @@ export class IPointingAltAz extends RemoteInterface {
    *
    * Timeout: announced, 300 clock seconds.
    * @param {number} alt [deg] minimum -90.0 maximum 90.0
-   * @param {number} az [deg]
+   * @param {number} az [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_altaz(alt, az) {
@@ -65,6 +65,8 @@ IPointingAltAz.spec = {
           "name": "az",
           "required": true,
           "schema": {
+            "maximum": 360.0,
+            "minimum": -360.0,
             "type": "number",
             "x-unit": "deg"
           }

@@ -74,7 +74,7 @@ export class IRotator extends RemoteInterface {
    * Turn to mechanical angle ``angle`` in degrees (0..360), ignoring the sync offset.
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} angle
+   * @param {number} angle [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_mechanical(angle) {
@@ -84,7 +84,7 @@ export class IRotator extends RemoteInterface {
    * Turn to sky position angle ``angle`` in degrees (0..360).
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} angle
+   * @param {number} angle [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_position_angle(angle) {
@@ -94,7 +94,7 @@ export class IRotator extends RemoteInterface {
    * Turn by ``delta`` degrees from the current position angle (negative turns back).
    *
    * Timeout: announced, 300 clock seconds.
-   * @param {number} delta
+   * @param {number} delta [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_position_angle_by(delta) {
@@ -168,7 +168,10 @@ IRotator.spec = {
           "name": "angle",
           "required": true,
           "schema": {
-            "type": "number"
+            "maximum": 360.0,
+            "minimum": -360.0,
+            "type": "number",
+            "x-unit": "deg"
           }
         }
       ],
@@ -186,7 +189,10 @@ IRotator.spec = {
           "name": "angle",
           "required": true,
           "schema": {
-            "type": "number"
+            "maximum": 360.0,
+            "minimum": -360.0,
+            "type": "number",
+            "x-unit": "deg"
           }
         }
       ],
@@ -204,7 +210,10 @@ IRotator.spec = {
           "name": "delta",
           "required": true,
           "schema": {
-            "type": "number"
+            "maximum": 360.0,
+            "minimum": -360.0,
+            "type": "number",
+            "x-unit": "deg"
           }
         }
       ],

@@ -17,7 +17,7 @@ export class ISwitch extends RemoteInterface {
    * Whether switch ``switch`` is on (its value is above its minimum).
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} switch_
+   * @param {number} switch_ minimum 0 maximum 1000000
    * @returns {Promise<boolean>}
    */
   get_switch(switch_) {
@@ -27,7 +27,7 @@ export class ISwitch extends RemoteInterface {
    * Value of switch ``switch``, between its min_value and max_value.
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} switch_
+   * @param {number} switch_ minimum 0 maximum 1000000
    * @returns {Promise<number>}
    */
   get_switch_value(switch_) {
@@ -46,7 +46,7 @@ export class ISwitch extends RemoteInterface {
    * Turn switch ``switch`` on (its maximum) or off (its minimum).
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} switch_
+   * @param {number} switch_ minimum 0 maximum 1000000
    * @param {boolean} state
    * @returns {Promise<null>}
    */
@@ -57,7 +57,7 @@ export class ISwitch extends RemoteInterface {
    * Set switch ``switch`` to ``value`` (within min..max, a multiple of step from min).
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} switch_
+   * @param {number} switch_ minimum 0 maximum 1000000
    * @param {number} value
    * @returns {Promise<null>}
    */
@@ -73,6 +73,8 @@ ISwitch.spec = {
           "name": "switch",
           "required": true,
           "schema": {
+            "maximum": 1000000,
+            "minimum": 0,
             "type": "integer"
           }
         }
@@ -91,6 +93,8 @@ ISwitch.spec = {
           "name": "switch",
           "required": true,
           "schema": {
+            "maximum": 1000000,
+            "minimum": 0,
             "type": "integer"
           }
         }
@@ -122,6 +126,8 @@ ISwitch.spec = {
           "name": "switch",
           "required": true,
           "schema": {
+            "maximum": 1000000,
+            "minimum": 0,
             "type": "integer"
           }
         },
@@ -147,6 +153,8 @@ ISwitch.spec = {
           "name": "switch",
           "required": true,
           "schema": {
+            "maximum": 1000000,
+            "minimum": 0,
             "type": "integer"
           }
         },

@@ -66,7 +66,7 @@ export class ITelescope extends RemoteInterface {
    *
    * Timeout: announced, 300 clock seconds.
    * @param {number} alt [deg] minimum -90.0 maximum 90.0
-   * @param {number} az [deg]
+   * @param {number} az [deg] minimum -360.0 maximum 360.0
    * @returns {Promise<null>}
    */
   move_altaz(alt, az) {

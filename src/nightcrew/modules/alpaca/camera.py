@@ -85,6 +85,7 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
         self._gains = await self._optional_list("gains")
         self._readout_modes = await self._optional_list("readoutmodes")
         self._can_stop = await self._optional_flag("canstopexposure")
+        await self._read_exposure_range()
         if chip != self._chip:
             self._chip, self._window, self._binning = chip, chip, Binning(1, 1)
         if not self._busy:  # a reconnect during our own exposure: that exposure fails by itself
@@ -114,6 +115,14 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
             "aborting the exposure",
             GrabImageError,
         )
+
+    async def _read_exposure_range(self) -> None:
+        """Narrow the accepted exposure times to the device's ExposureMin..ExposureMax."""
+        try:
+            low, high = float(await self._get("exposuremin")), float(await self._get("exposuremax"))
+        except (NightcrewError, TypeError, ValueError):  # optional in practice: keep the configured range
+            return
+        self._set_device_exposure_range(low, high)
 
     async def _optional_flag(self, member: str) -> bool:
         try:

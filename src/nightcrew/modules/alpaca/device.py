@@ -27,6 +27,7 @@ from nightcrew.bridges.alpaca import AlpacaClient, AlpacaDevice, check_server_ur
 from nightcrew.bridges.alpaca.errors import AlpacaConnectionError, AlpacaNotConnectedError
 from nightcrew.errors import ConfigError, NightcrewError, RemoteTimeoutError
 from nightcrew.interfaces import ModuleState
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 
 __all__ = ["LOST_DEVICE_ERRORS", "AlpacaModule"]
@@ -60,8 +61,8 @@ class AlpacaModule(Module):
         device_number: int = 0,
         timeout: float = 10.0,
         connect_timeout: float = 30.0,
-        poll_interval: float = 0.1,
-        reconnect_interval: float = 2.0,
+        poll_interval: Period = 0.1,
+        reconnect_interval: Period = 2.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)

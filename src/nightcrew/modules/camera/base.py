@@ -37,7 +37,7 @@ from nightcrew.interfaces import (
     IWindow,
     Window,
 )
-from nightcrew.modules.camera.exposing import ExposingModule, Frame, check_exposure_time
+from nightcrew.modules.camera.exposing import ExposingModule, Frame
 
 __all__ = ["BaseCamera", "ExposureSettings"]
 
@@ -160,7 +160,7 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
     # --- settings ------------------------------------------------------------------------------
 
     async def set_exposure_time(self, exposure_time: float) -> None:
-        self._exposure_time = check_exposure_time(exposure_time)
+        self._exposure_time = self._checked_exposure_time(exposure_time)
 
     async def get_exposure_time(self) -> float:
         return self._exposure_time

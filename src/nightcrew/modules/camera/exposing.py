@@ -43,12 +43,13 @@ from nightcrew.errors import (
 )
 from nightcrew.events import ExposureStatusChangedEvent
 from nightcrew.interfaces import ExposureStatus, FitsCard, FitsValue, IAbortable, IExposure, ModuleState
+from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME, ExposureTime
 from nightcrew.modules.camera.fitsfile import blocking_fits_bytes
 from nightcrew.modules.camera.headers import HeaderReplies, MissingHeaders, ask_header_providers, clean_cards
 from nightcrew.modules.module import Module
 from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
-__all__ = ["ExposingModule", "Frame", "check_exposure_time"]
+__all__ = ["ExposingModule", "Frame"]
 
 log = logging.getLogger(__name__)
 
@@ -70,6 +71,9 @@ class ExposingModule(Module, IAbortable, IExposure):
         header_timeout: Clock seconds each header provider may take before it is left out.
         expect_headers_from: Modules whose FITS cards every frame should carry (e.g. ``[telescope,
             filters]``); a frame without them names them in ``HDRMISS``, from the first frame on.
+        max_exposure_time: The longest exposure ``set_exposure_time`` accepts, in seconds; a
+            device that reports a shorter maximum (Alpaca ``ExposureMax``, INDI ``CCD_EXPOSURE``)
+            lowers it further.
         **kwargs: Module options.
     """
 
@@ -82,9 +86,12 @@ class ExposingModule(Module, IAbortable, IExposure):
         fits_headers: dict[str, FitsValue] | None = None,
         header_timeout: float = 5.0,
         expect_headers_from: list[str] | None = None,
+        max_exposure_time: ExposureTime = 3600.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
+        self._max_exposure_time = float(max_exposure_time)
+        self._device_exposure_range = (0.0, MAX_EXPOSURE_TIME)
         self._filename_pattern = filename_pattern or self.default_pattern
         check_filename_pattern(self._filename_pattern)
         if not header_timeout > 0:
@@ -104,6 +111,27 @@ class ExposingModule(Module, IAbortable, IExposure):
         self._exposure_length = 0.0
         self._stop_requested = asyncio.Event()
         self._exposed_until_stop: float | None = None
+
+    def _set_device_exposure_range(self, low: float, high: float) -> None:
+        """Drivers call this with the range the device reports when they connect."""
+        if not (math.isfinite(low) and math.isfinite(high) and 0 <= low <= high and high > 0):
+            log.warning("%s: ignoring the device's exposure range %r..%r s", self.name, low, high)
+            return
+        self._device_exposure_range = (float(low), float(high))
+
+    def _checked_exposure_time(self, exposure_time: float) -> float:
+        """``exposure_time`` as float if this camera can take it: 0 (a bias) or within the device's
+        range and at most ``max_exposure_time``; otherwise InvalidArgumentError naming the range."""
+        low, device_high = self._device_exposure_range
+        high = min(device_high, self._max_exposure_time)
+        if math.isfinite(exposure_time) and (exposure_time == 0 or low <= exposure_time <= high):
+            return float(exposure_time)
+        limit = "max_exposure_time" if self._max_exposure_time <= device_high else "the device's maximum"
+        allowed = f"0..{high:g} s" if low == 0 else f"0 or {low:g}..{high:g} s"
+        raise InvalidArgumentError(
+            f"exposure_time {exposure_time!r} s is out of range for {self.name}: {allowed} "
+            f"(the maximum is {limit})"
+        )
 
     def _check_expected_providers(self, names: list[str] | None) -> set[str]:
         if names is None:
@@ -300,12 +328,3 @@ def _time_cards(unix_time: float) -> dict[str, FitsCard]:
         "MJD-OBS": (round(mjd, 8), "Modified Julian date of start of exposure"),
         "ORIGIN": ("nightcrew", "Software that wrote this file"),
     }
-
-
-def check_exposure_time(exposure_time: float) -> float:
-    """``exposure_time`` as float if it is a finite number of seconds >= 0."""
-    if not math.isfinite(exposure_time) or exposure_time < 0:
-        raise InvalidArgumentError(
-            f"exposure time must be a finite number of seconds >= 0, got {exposure_time}"
-        )
-    return float(exposure_time)

@@ -33,6 +33,7 @@ from nightcrew.events import (
 )
 from nightcrew.events.base import event_by_name, event_names
 from nightcrew.interfaces import IWeather, ModuleState
+from nightcrew.interfaces.quantities import Period
 from nightcrew.log import current_module
 from nightcrew.modules.console._api import build_app
 from nightcrew.modules.console._auth import Account, LoginThrottle, Sessions, accounts_from_config
@@ -102,8 +103,8 @@ class WebConsole(Module):
         login_attempts: int = 5,
         login_window: float = 300.0,
         trusted_proxies: list[str] | None = None,
-        status_interval: float = 2.0,
-        weather_interval: float = 60.0,
+        status_interval: Period = 2.0,
+        weather_interval: Period = 60.0,
         tasks: EditableTaskArchive | dict[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:

@@ -32,6 +32,7 @@ from nightcrew.focus import (
 )
 from nightcrew.focus.sources import TemperatureSource, sources_from_config
 from nightcrew.interfaces import IFilters, IFocuser, IFocusModel, ITemperatures, IWeather, ModuleState
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 
 __all__ = ["FocusModel"]
@@ -69,7 +70,7 @@ class FocusModel(Module, IFocusModel):
         min_measurements: int | None = None,
         max_history: int = 500,
         history_file: str | None = None,
-        interval: float | None = 600.0,
+        interval: Period | None = 600.0,
         filter_offsets: dict[str, float] | None = None,
         filter_wheel: str | IFilters | None = None,
         **kwargs: Any,

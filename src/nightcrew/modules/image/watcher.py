@@ -22,6 +22,7 @@ from typing import Any
 from nightcrew.config import DataPath
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.image.watch_state import Backoff, PendingFile, WatchState
 from nightcrew.modules.module import Module
 from nightcrew.vfs import LocalFile, VfsError, VfsFormatError
@@ -58,7 +59,7 @@ class ImageWatcher(Module):
         watch: str,
         destinations: list[str],
         pattern: str = "**",
-        interval: float = 5.0,
+        interval: Period = 5.0,
         retry_delay: float = 10.0,
         max_retry_delay: float = 600.0,
         state_file: DataPath | None = None,

@@ -32,6 +32,7 @@ from nightcrew.config import DataPath
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import NewImageEvent
 from nightcrew.interfaces import FitsValue, ImageType, ModuleState
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.image.watch_state import Backoff
 from nightcrew.modules.module import Module
 from nightcrew.vfs import LocalFile, VfsError, VfsFileNotFoundError, VfsFormatError
@@ -76,7 +77,7 @@ class ImageWriter(Module):
         retry_delay: float = 5.0,
         max_retry_delay: float = 120.0,
         sweep: str | None = None,
-        sweep_interval: float = 60.0,
+        sweep_interval: Period = 60.0,
         state_file: DataPath | None = None,
         **kwargs: Any,
     ) -> None:

@@ -190,6 +190,9 @@ class IndiCamera(IndiModule, BaseCamera):
         self._chip = chip
         binning = indi.vector("CCD_BINNING")
         self._max_binning = max(1, round(binning.limits.get("HOR_BIN", (1, 1, 1))[1]))
+        exposure_limits = indi.vector("CCD_EXPOSURE").limits.get("CCD_EXPOSURE_VALUE")
+        if exposure_limits is not None:
+            self._set_device_exposure_range(exposure_limits[0], exposure_limits[1])
         if indi.has("UPLOAD_MODE"):
             await indi.switch("UPLOAD_MODE", "UPLOAD_CLIENT", wait=wait)
         if indi.has("CCD_TRANSFER_FORMAT"):

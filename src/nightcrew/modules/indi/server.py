@@ -44,6 +44,7 @@ from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import ExposureStatusChangedEvent, FilterChangedEvent, MotionStatusChangedEvent
 from nightcrew.events.base import Event
 from nightcrew.interfaces import ModuleState
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.indi.server_camera import ServedCamera
 from nightcrew.modules.indi.server_device import ServedDevice
 from nightcrew.modules.indi.server_motion import ServedDome, ServedFilterWheel, ServedFocuser
@@ -91,7 +92,7 @@ class IndiServer(Module):
         focuser: str | None = None,
         filters: str | None = None,
         dome: str | None = None,
-        poll_interval: float = 1.0,
+        poll_interval: Period = 1.0,
         max_clients: int = 16,
         max_clients_per_address: int = 4,
         idle_timeout: float = 30.0,

@@ -33,6 +33,7 @@ from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
 from nightcrew.images import Image, ImageProcessor
 from nightcrew.images.processors.offsets import OFFSETS_KEY, Offsets
 from nightcrew.interfaces import IAcquisition, ICamera, IExposureTime, IImageType, ImageType
+from nightcrew.interfaces.quantities import ExposureTime
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
 from nightcrew.modules.pointing.apply import ApplyOffsets, ApplyRaDecOffsets, SkyError, sky_error
@@ -70,7 +71,7 @@ class Acquisition(Module, IAcquisition):
         pipeline: ImageProcessor,
         telescope: str = "telescope",
         apply: ApplyOffsets | None = None,
-        exposure_time: float = 2.0,
+        exposure_time: ExposureTime = 2.0,
         tolerance: float = 2.0,
         max_offset: float = 1200.0,
         max_attempts: int = 5,

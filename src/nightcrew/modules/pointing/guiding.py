@@ -41,6 +41,7 @@ from nightcrew.interfaces import (
     ImageType,
     LoopState,
 )
+from nightcrew.interfaces.quantities import ExposureTime
 from nightcrew.modules.module import Module
 from nightcrew.modules.pointing.apply import ApplyOffsets, ApplyRaDecOffsets, SkyError, sky_error
 
@@ -74,7 +75,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         pipeline: ImageProcessor,
         telescope: str = "telescope",
         apply: ApplyOffsets | None = None,
-        exposure_time: float = 5.0,
+        exposure_time: ExposureTime = 5.0,
         gain: float = 0.7,
         max_correction: float = 5.0,
         max_error: float = 30.0,

@@ -53,6 +53,7 @@ from nightcrew.images import Image, ImageProcessor, Pipeline
 from nightcrew.images.astrometry import AstrometryResult, CatalogAstrometry
 from nightcrew.images.processors.detection import SepSourceDetection
 from nightcrew.interfaces import IBinning, ICamera, IExposureTime, ImageType, IPointingSeries, ITelescope
+from nightcrew.interfaces.quantities import Altitude, ExposureTime
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
 
@@ -182,9 +183,9 @@ class PointingSeries(Module, IPointingSeries):
         alt_range: tuple[float, float] = (30.0, 80.0),
         alt_steps: int = 3,
         az_steps: int = 8,
-        min_altitude: float = 20.0,
+        min_altitude: Altitude = 20.0,
         move: Literal["radec", "altaz"] = "radec",
-        exposure_time: float = 2.0,
+        exposure_time: ExposureTime = 2.0,
         binning: int = 1,
         filename: str = "/pointing/pointing-{time}.csv",
         **kwargs: Any,

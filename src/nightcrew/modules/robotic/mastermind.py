@@ -78,6 +78,7 @@ from nightcrew.interfaces import (
     IWeather,
     RoboticStatus,
 )
+from nightcrew.interfaces.quantities import Altitude, Azimuth, ExposureTime, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.modules.robotic.task_runs import TaskRuns
@@ -163,20 +164,20 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         autofocus: str | IAutoFocus | None = None,
         temperatures: str | ITemperatures | None = None,
         temperature_sensor: str = "temperature",
-        max_sun_altitude: float = -12.0,
-        twilight_max_sun_altitude: float = 0.0,
+        max_sun_altitude: Altitude = -12.0,
+        twilight_max_sun_altitude: Altitude = 0.0,
         keep_open: float = 900.0,
         early_start: float = 0.0,
-        poll_interval: float = 10.0,
+        poll_interval: Period = 10.0,
         abort_timeout: float = 60.0,
         refocus_temperature_change: float = 2.0,
-        focus_max_sun_altitude: float = -10.0,
+        focus_max_sun_altitude: Altitude = -10.0,
         focus_count: int = 7,
         focus_step: float = 0.05,
-        focus_exposure_time: float = 5.0,
-        focus_altitude: float | None = 75.0,
-        focus_azimuth: float | None = None,
-        focus_retry_interval: float = 1800.0,
+        focus_exposure_time: ExposureTime = 5.0,
+        focus_altitude: Altitude | None = 75.0,
+        focus_azimuth: Azimuth | None = None,
+        focus_retry_interval: Period = 1800.0,
         device_wait: float = 60.0,
         device_retries: int = 2,
         autostart: bool = True,

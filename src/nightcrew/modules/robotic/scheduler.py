@@ -30,6 +30,7 @@ from nightcrew.events import (
     TaskStartedEvent,
 )
 from nightcrew.interfaces import IRoboticScheduler, Plan, PlannedTask, UnplannedTask
+from nightcrew.interfaces.quantities import Altitude, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.robotic.archive_ports import as_block_source, as_schedule_writer
@@ -88,8 +89,8 @@ class SchedulerModule(Module, IRoboticScheduler):
         step_s: float = 300.0,
         slew_overhead_s: float = 100.0,
         time_limit_s: float = 10.0,
-        poll_interval_s: float = 60.0,
-        max_sun_altitude: float = -12.0,
+        poll_interval_s: Period = 60.0,
+        max_sun_altitude: Altitude = -12.0,
         device_fault_backoff_s: float = 300.0,
         max_device_faults: int = 3,
         **kwargs: Any,

@@ -9,6 +9,7 @@ from typing import Any
 
 from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
 from nightcrew.interfaces import FitsCard, IDome, IFitsHeaderBefore, IPointingAltAz, MotionStatus
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.motion import MotionRunner
 from nightcrew.modules.roof.base import BaseRoof
 from nightcrew.modules.roof.geometry import DomeGeometry, slit_azimuth
@@ -46,7 +47,7 @@ class BaseDome(BaseRoof, IDome, IFitsHeaderBefore):
         *,
         follow: str | None = None,
         follow_tolerance: float = 2.0,
-        follow_interval: float = 5.0,
+        follow_interval: Period = 5.0,
         dome_radius: float | None = None,
         mount_offset: tuple[float, float, float] = (0.0, 0.0, 0.0),
         **kwargs: Any,

@@ -8,6 +8,7 @@ from typing import Any
 
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.interfaces import ITemperatures
+from nightcrew.interfaces.quantities import Temperature
 from nightcrew.modules.focuser import BaseFocuser
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth
 
@@ -38,8 +39,8 @@ class SimFocuser(BaseFocuser, ISimFocuserTruth, ITemperatures):
         speed: float = 0.5,
         best_focus: float = 25.0,
         temperature_coefficient: float = -0.05,
-        reference_temperature: float = 10.0,
-        temperature: float = 10.0,
+        reference_temperature: Temperature = 10.0,
+        temperature: Temperature = 10.0,
         weather_station: str | None = None,
         **kwargs: Any,
     ) -> None:

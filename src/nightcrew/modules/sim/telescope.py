@@ -10,6 +10,7 @@ import numpy as np
 
 from nightcrew.astro import angular_separation
 from nightcrew.errors import ConfigError
+from nightcrew.interfaces.quantities import Altitude, Azimuth
 from nightcrew.modules.sim.interfaces import ISimTelescopeTruth
 from nightcrew.modules.telescope import BaseTelescope
 from nightcrew.sim.mount import MountErrorModel, SlewError, apply_sky_offset, slew_time
@@ -45,8 +46,8 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         slew_rate: float = 4.0,
         settle_time: float = 3.0,
         init_time: float = 10.0,
-        park_alt: float = 85.0,
-        park_az: float = 0.0,
+        park_alt: Altitude = 85.0,
+        park_az: Azimuth = 0.0,
         pointing_error: float = 1.0,
         drift_rate: float = 1.0,
         periodic_amplitude: float = 5.0,

@@ -7,7 +7,7 @@ from typing import Any
 
 from nightcrew.events import NewSpectrumEvent
 from nightcrew.interfaces import FitsCard, IExposureTime, ISpectrograph
-from nightcrew.modules.camera.exposing import ExposingModule, Frame, check_exposure_time
+from nightcrew.modules.camera.exposing import ExposingModule, Frame
 
 __all__ = ["BaseSpectrograph"]
 
@@ -48,7 +48,7 @@ class BaseSpectrograph(ExposingModule, ISpectrograph, IExposureTime):
         return await self._take_exposure(expose, exposure_time, own_cards, announce if broadcast else None)
 
     async def set_exposure_time(self, exposure_time: float) -> None:
-        self._exposure_time = check_exposure_time(exposure_time)
+        self._exposure_time = self._checked_exposure_time(exposure_time)
 
     async def get_exposure_time(self) -> float:
         return self._exposure_time

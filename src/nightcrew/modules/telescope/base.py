@@ -53,6 +53,7 @@ from nightcrew.interfaces import (
     ModuleState,
     MotionStatus,
 )
+from nightcrew.interfaces.quantities import Altitude
 from nightcrew.modules.motion import BaseMotion
 from nightcrew.modules.telescope.headers import pointing_cards
 from nightcrew.site import Site
@@ -78,7 +79,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     initial_status = MotionStatus.PARKED
 
     def __init__(
-        self, *, min_altitude: float = 10.0, park_when_offline: float | None = 300.0, **kwargs: Any
+        self, *, min_altitude: Altitude = 10.0, park_when_offline: float | None = 300.0, **kwargs: Any
     ) -> None:
         super().__init__(park_when_offline=park_when_offline, **kwargs)
         if not 0.0 <= min_altitude < 90.0:

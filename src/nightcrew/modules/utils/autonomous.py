@@ -13,6 +13,7 @@ from typing import Any
 
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import IAutonomous
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 
 __all__ = ["AutonomousWarning"]
@@ -37,7 +38,7 @@ class AutonomousWarning(Module):
     def __init__(
         self,
         *,
-        interval: float = 10.0,
+        interval: Period = 10.0,
         repeat: float = 300.0,
         flag_file: str | None = None,
         command: list[str] | None = None,

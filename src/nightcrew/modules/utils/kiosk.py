@@ -19,6 +19,7 @@ from nightcrew.errors import ConfigError
 from nightcrew.events import NewImageEvent
 from nightcrew.images.png import encode_png, stretch_to_uint8
 from nightcrew.interfaces import IData, IExposureTime, ModuleState
+from nightcrew.interfaces.quantities import ExposureTime, Period
 from nightcrew.modules.module import Module
 
 __all__ = ["Kiosk"]
@@ -52,8 +53,8 @@ class Kiosk(Module):
         self,
         *,
         camera: str | None = None,
-        interval: float = 60.0,
-        exposure_time: float | None = None,
+        interval: Period = 60.0,
+        exposure_time: ExposureTime | None = None,
         host: str = "127.0.0.1",
         port: int = 37080,
         max_size: int = 1024,

@@ -36,6 +36,7 @@ from nightcrew.interfaces import (
     WeatherReport,
     WeatherSensor,
 )
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.weather.stations import CombinedStation, Station, SunStation
 from nightcrew.weather import CheckResult, Evaluator, GoodWeatherGate, Reading, SensorCheck, WeatherChange
@@ -78,7 +79,7 @@ class Weather(Module, IWeather, IFitsHeaderBefore):
         *,
         stations: dict[str, Station],
         checks: dict[str, Evaluator | list[Evaluator]],
-        interval: float = 30.0,
+        interval: Period = 30.0,
         min_good_time: float = 900.0,
         station_timeout: float = 20.0,
         **kwargs: Any,

@@ -22,6 +22,7 @@ from nightcrew.interfaces import (
     WeatherReport,
     WeatherSensor,
 )
+from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
 
 __all__ = ["BaseWeatherStation"]
@@ -40,7 +41,7 @@ class BaseWeatherStation(Module, IWeather, ITemperatures):
         **kwargs: Module options.
     """
 
-    def __init__(self, *, interval: float = 30.0, **kwargs: Any) -> None:
+    def __init__(self, *, interval: Period = 30.0, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         if not interval > 0:
             raise ConfigError(f"must be > 0 seconds, got {interval}", key="interval")

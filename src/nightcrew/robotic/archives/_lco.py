@@ -20,6 +20,7 @@ from datetime import datetime, timedelta
 from typing import Any
 
 from nightcrew.clock import Clock
+from nightcrew.interfaces.quantities import PeriodOrOff
 from nightcrew.robotic.archives._base import ScheduleStore, TaskArchive
 from nightcrew.robotic.archives._lco_client import LcoPortalClient, PortalError
 from nightcrew.robotic.archives._lco_convert import (
@@ -64,7 +65,7 @@ class LcoPortalArchive(TaskArchive, ScheduleStore):
         telescope_classes: Sequence[str] = (),
         horizon: timedelta = timedelta(days=2),
         clock: Clock | None = None,
-        poll_interval: float = 60.0,
+        poll_interval: PeriodOrOff = 60.0,
     ) -> None:
         super().__init__(clock=clock)
         self.client = LcoPortalClient(url, token)

@@ -23,11 +23,12 @@ from typing import TypeVar
 from nightcrew.clock import Clock
 from nightcrew.config import DataPath
 from nightcrew.errors import ModuleError
+from nightcrew.interfaces.quantities import PeriodOrOff
 from nightcrew.robotic.archives import _sqlite_schema as db
 from nightcrew.robotic.archives._base import ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
 from nightcrew.robotic.planning import PlannedSlot
-from nightcrew.robotic.tasks import RequestGroup, Task, TaskNotFoundError, TaskState, TaskStatus
+from nightcrew.robotic.tasks import RequestGroup, Task, TaskError, TaskNotFoundError, TaskState, TaskStatus
 
 __all__ = ["SqliteTaskArchive"]
 
@@ -45,7 +46,11 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
     """
 
     def __init__(
-        self, path: DataPath | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
+        self,
+        path: DataPath | os.PathLike[str],
+        *,
+        clock: Clock | None = None,
+        poll_interval: PeriodOrOff = 10.0,
     ) -> None:
         super().__init__(clock=clock)
         self.path = Path(path)
@@ -85,6 +90,12 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
     async def list_tasks(self, *, states: Collection[TaskState] | None = None) -> list[Task]:
         """All tasks (or those in ``states``), by id."""
         return await self._run(self._blocking_list, tuple(states) if states is not None else None)
+
+    async def list_unreadable(
+        self, *, states: Collection[TaskState] | None = None
+    ) -> list[db.UnreadableTask]:
+        """The stored tasks (or those in ``states``) that the task model refuses, by id."""
+        return await self._run(self._blocking_unreadable, tuple(states) if states is not None else None)
 
     async def get_task(self, task_id: str) -> Task:
         return await self._run(self._blocking_get, task_id)
@@ -172,13 +183,15 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
         return tasks
 
     def _blocking_list(self, states: tuple[TaskState, ...] | None) -> list[Task]:
-        if states is None:
-            return db.select_tasks(self._connection)
-        marks = ", ".join("?" for _ in states)
-        return db.select_tasks(self._connection, f"t.state IN ({marks})", [s.value for s in states])
+        return db.select_tasks(self._connection, *_state_condition(states))
+
+    def _blocking_unreadable(self, states: tuple[TaskState, ...] | None) -> list[db.UnreadableTask]:
+        return db.select_rows(self._connection, *_state_condition(states))[1]
 
     def _blocking_get(self, task_id: str) -> Task:
-        tasks = db.select_tasks(self._connection, "t.id = ?", (_row_id(task_id),))
+        tasks, unreadable = db.select_rows(self._connection, "t.id = ?", (_row_id(task_id),))
+        if unreadable:
+            raise TaskError(f"task {task_id} in {self.path} cannot be read: {unreadable[0].problem}")
         if not tasks:
             raise TaskNotFoundError(f"no task {task_id!r} in {self.path}")
         return tasks[0]
@@ -218,6 +231,13 @@ class SqliteTaskArchive(LocalTaskArchive, ScheduleStore):
 
     def _blocking_read_schedule(self, start: datetime | None, end: datetime | None) -> list[PlannedSlot]:
         return db.select_schedule(self._connection, start, end)
+
+
+def _state_condition(states: tuple[TaskState, ...] | None) -> tuple[str, list[object]]:
+    """The SQL condition (and its parameters) for tasks in ``states``; none for all."""
+    if states is None:
+        return "", []
+    return f"t.state IN ({', '.join('?' for _ in states)})", [s.value for s in states]
 
 
 def _row_id(task_id: str) -> int:

@@ -7,16 +7,33 @@ in the table ``schema_version``; :data:`MIGRATIONS` ``[n]`` takes a database fro
 
 from __future__ import annotations
 
+import logging
 import sqlite3
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass
 from datetime import UTC, datetime
+
+from pydantic import ValidationError
 
 from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import Request, RequestGroup, Task, TaskStatus
 from nightcrew.robotic.tasks._errors import TaskError
+from nightcrew.robotic.tasks._validation import problems_of
 
-__all__ = ["MIGRATIONS", "SCHEMA_VERSION", "migrate", "transaction"]
+__all__ = ["MIGRATIONS", "SCHEMA_VERSION", "UnreadableTask", "migrate", "transaction"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class UnreadableTask:
+    """A stored task the task model refuses (e.g. stored before a bound it breaks existed)."""
+
+    id: str
+    name: str
+    problem: str
+
 
 MIGRATIONS: tuple[str, ...] = (
     # 0 -> 1: request groups, one task per request, the schedule.
@@ -140,9 +157,32 @@ _TASK_COLUMNS = (
 
 
 def select_tasks(conn: sqlite3.Connection, where: str = "", parameters: Sequence[object] = ()) -> list[Task]:
-    """Tasks matching the SQL condition ``where`` (on ``t`` = tasks, ``g`` = groups), by id."""
+    """Tasks matching the SQL condition ``where`` (on ``t`` = tasks, ``g`` = groups), by id.
+
+    A row that cannot be read is left out with a warning naming it (one bad row must not stop
+    the scheduler or ``tasks list``); :func:`select_rows` says which.
+    """
+    tasks, unreadable = select_rows(conn, where, parameters)
+    for row in unreadable:
+        log.warning("task %s (%s) cannot be read and is left out: %s", row.id, row.name, row.problem)
+    return tasks
+
+
+def select_rows(
+    conn: sqlite3.Connection, where: str = "", parameters: Sequence[object] = ()
+) -> tuple[list[Task], list[UnreadableTask]]:
+    """The tasks matching ``where`` and the matching rows that cannot be read, by id."""
     sql = _TASK_COLUMNS + (f" WHERE {where}" if where else "") + " ORDER BY t.id"
-    return [_task_of(row) for row in conn.execute(sql, tuple(parameters))]
+    tasks: list[Task] = []
+    unreadable: list[UnreadableTask] = []
+    for row in conn.execute(sql, tuple(parameters)):
+        try:
+            tasks.append(_task_of(row))
+        except ValueError as exc:  # pydantic's ValidationError, bad JSON included
+            problems = list(problems_of(exc)) if isinstance(exc, ValidationError) else []
+            problem = str(problems[0]) if problems else str(exc).splitlines()[0]
+            unreadable.append(UnreadableTask(str(row[0]), str(row[2]), problem))
+    return tasks, unreadable
 
 
 def _task_of(row: sqlite3.Row | tuple[object, ...]) -> Task:

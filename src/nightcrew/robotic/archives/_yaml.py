@@ -21,6 +21,7 @@ from pathlib import Path
 from nightcrew.clock import Clock
 from nightcrew.config import InputPath, parse_yaml
 from nightcrew.errors import ConfigError
+from nightcrew.interfaces.quantities import PeriodOrOff
 from nightcrew.robotic.archives._base import ScheduleStore
 from nightcrew.robotic.archives._local import LocalTaskArchive, StatusChange, expired, schedule_changes
 from nightcrew.robotic.planning import PlannedSlot
@@ -50,7 +51,11 @@ class YamlTaskArchive(LocalTaskArchive, ScheduleStore):
     """
 
     def __init__(
-        self, path: InputPath | os.PathLike[str], *, clock: Clock | None = None, poll_interval: float = 10.0
+        self,
+        path: InputPath | os.PathLike[str],
+        *,
+        clock: Clock | None = None,
+        poll_interval: PeriodOrOff = 10.0,
     ) -> None:
         super().__init__(clock=clock)
         self.path = Path(path)

@@ -15,6 +15,11 @@ SKY_FLAT       -       >= 1, exposure_time > 0      (a first guess; the flat-fie
 AUTO_FOCUS     any     >= 1, exposure_time > 0
 SCRIPT         any     any, exposure_time > 0       ``extra_params.script`` (str), ``.duration`` (s)
 =============  ======  ===========================  =============================================
+
+Physical bounds hold for every type: an exposure time is at most
+:data:`~nightcrew.interfaces.quantities.MAX_EXPOSURE_TIME` (a day, what a camera may be asked for),
+a series at most :data:`MAX_EXPOSURE_COUNT` exposures, and a repeat or a script's duration at most
+:data:`MAX_TASK_SECONDS`, so every duration derived from a task is a finite number of seconds.
 """
 
 from __future__ import annotations
@@ -25,9 +30,12 @@ from typing import Annotated, Self
 
 from pydantic import Field, Strict, model_validator
 
+from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME
 from nightcrew.robotic.tasks._base import ExtraParams, Integer, Number, TaskModel, raise_problems
 
 __all__ = [
+    "MAX_EXPOSURE_COUNT",
+    "MAX_TASK_SECONDS",
     "AcquisitionConfig",
     "AcquisitionMode",
     "Configuration",
@@ -38,6 +46,11 @@ __all__ = [
     "InstrumentConfig",
     "Target",
 ]
+
+#: Most exposures in one series (a night of one-second frames is about 40,000).
+MAX_EXPOSURE_COUNT = 100_000
+#: Longest repeat or script, in seconds: a request runs in one go, within a night.
+MAX_TASK_SECONDS = 86_400.0
 
 
 class ConfigurationType(StrEnum):
@@ -122,7 +135,7 @@ class AcquisitionConfig(TaskModel):
     """How to acquire the target; ``exposure_time`` (s) of the acquisition images, if not the default."""
 
     mode: AcquisitionMode = AcquisitionMode.OFF
-    exposure_time: Number | None = Field(default=None, gt=0.0)
+    exposure_time: Number | None = Field(default=None, gt=0.0, le=MAX_EXPOSURE_TIME)
     extra_params: ExtraParams = Field(default_factory=dict)
 
 
@@ -131,7 +144,7 @@ class GuidingConfig(TaskModel):
 
     mode: GuidingMode = GuidingMode.OFF
     optional: Annotated[bool, Strict()] = True
-    exposure_time: Number | None = Field(default=None, gt=0.0)
+    exposure_time: Number | None = Field(default=None, gt=0.0, le=MAX_EXPOSURE_TIME)
     extra_params: ExtraParams = Field(default_factory=dict)
 
 
@@ -146,8 +159,8 @@ class InstrumentConfig(TaskModel):
         extra_params: Free parameters for the camera (e.g. ``defocus``).
     """
 
-    exposure_time: Number = Field(ge=0.0)
-    exposure_count: Integer = Field(default=1, ge=1)
+    exposure_time: Number = Field(ge=0.0, le=MAX_EXPOSURE_TIME)
+    exposure_count: Integer = Field(default=1, ge=1, le=MAX_EXPOSURE_COUNT)
     optical_elements: dict[str, str] = Field(default_factory=dict)
     binning: Integer = Field(default=1, ge=1, le=16)
     extra_params: ExtraParams = Field(default_factory=dict)
@@ -175,7 +188,7 @@ class Configuration(TaskModel):
     acquisition_config: AcquisitionConfig = Field(default=AcquisitionConfig())
     guiding_config: GuidingConfig = Field(default=GuidingConfig())
     instrument_configs: tuple[InstrumentConfig, ...] = ()
-    repeat_duration: Number | None = Field(default=None, gt=0.0)
+    repeat_duration: Number | None = Field(default=None, gt=0.0, le=MAX_TASK_SECONDS)
     extra_params: ExtraParams = Field(default_factory=dict)
 
     @model_validator(mode="after")
@@ -215,5 +228,5 @@ def _script_problems(extra_params: ExtraParams) -> Iterator[tuple[str, str]]:
     duration = extra_params.get("duration")
     if isinstance(duration, bool) or not isinstance(duration, int | float):
         yield "extra_params.duration", "required for SCRIPT configurations (expected seconds, a number)"
-    elif not duration > 0:
-        yield "extra_params.duration", "must be > 0"
+    elif not 0 < duration <= MAX_TASK_SECONDS:
+        yield "extra_params.duration", f"must be > 0 and <= {MAX_TASK_SECONDS:g} (seconds)"

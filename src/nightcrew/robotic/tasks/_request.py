@@ -87,7 +87,7 @@ class RequestGroup(TaskModel):
         name: For people, 1..100 characters.
         proposal: The proposal (programme) it belongs to.
         observation_type: How urgent it is.
-        priority: Weight > 0 for the scheduler (larger goes first).
+        priority: Weight for the scheduler (larger goes first), > 0 and <= 1,000,000.
         ipp: Intra-proposal priority, 0.5..2.0: scales ``priority`` within the proposal.
         requests: At least one.
     """
@@ -95,7 +95,7 @@ class RequestGroup(TaskModel):
     name: str = Field(min_length=1, max_length=100)
     proposal: str = Field(min_length=1)
     observation_type: ObservationType = ObservationType.NORMAL
-    priority: Number = Field(default=1.0, gt=0.0)
+    priority: Number = Field(default=1.0, gt=0.0, le=1_000_000.0)
     ipp: Number = Field(default=1.0, ge=0.5, le=2.0)
     requests: tuple[Request, ...] = Field(min_length=1)
 
