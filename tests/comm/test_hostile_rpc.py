@@ -17,11 +17,12 @@ from typing import Any
 import pytest
 
 from nightcrew.comm.rpc import MAX_ARGUMENT_BYTES, MAX_ARGUMENT_DEPTH, MAX_FAULT_CHARS
-from nightcrew.comm.xmpp._xmlrpc import parse_call
+from nightcrew.comm.xmpp._xmlrpc import build_call, parse_call
 from nightcrew.errors import CodecError, InvalidArgumentError, NightcrewError
 
 from .conftest import Network
 from .sample import Calculator
+from .xmpp_servers import DOMAIN, XmppServer
 
 METHODS = ["add", "divide", "measure", "echo", "crash", "get_state", "no_such_method", "x" * 5000]
 
@@ -147,3 +148,33 @@ def test_xml_decoder_bounded_by_depth(kind: str) -> None:
         else:
             with pytest.raises(CodecError, match="nested deeper than"):
                 parse_call(query)
+
+
+@pytest.mark.xmpp
+async def test_raw_hostile_calls_over_prosody(
+    prosody_server: XmppServer, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A seeded sample of bench/hostile_rpc.py's raw calls (the bench sends 1,500): every call
+    answered, nothing private run, no traceback; oversized and deep calls refused while they
+    stream in, with one WARNING naming the sender. (Calls of a million small values are the
+    bench's: Prosody alone takes seconds to relay one.)"""
+    from bench.hostile_rpc import PASSWORD as BENCH_PASSWORD
+    from bench.hostile_rpc import HostileCall, attack, hostile_calls
+
+    calls = [call for call in hostile_calls(seed=26, count=100) if call.kind != "oversized values"]
+    calls.append(HostileCall("oversized string", build_call("echo", ["A" * 2_700_000])))
+    calls.append(HostileCall("deep event", "[" * 5000 + "]" * 5000))
+    for name in ("target", "attacker"):
+        prosody_server.account(name, BENCH_PASSWORD)
+    caplog.set_level(logging.WARNING)
+    report = await attack(prosody_server.address, DOMAIN, calls, ca_file=prosody_server.ca_file)
+    assert (report.hangs, report.private_reached, report.tracebacks) == (0, 0, 0), report
+    assert report.target_alive
+    kinds = {outcome.split(":")[0] for outcome in report.outcomes}
+    assert {"deep", "deep event", "private", "oversized string", "malformed", "random"} <= kinds
+    refusals = [r.getMessage() for r in caplog.records if r.getMessage().startswith("refused <iq")]
+    assert refusals and all(f"from attacker@{DOMAIN}/attack: " in line for line in refusals)
+    assert any(line.endswith("larger than 1048576 bytes") for line in refusals)
+    assert any("nested deeper than" in line for line in refusals)
+    deep_events = [r.getMessage() for r in caplog.records if "its payload is nested deeper" in r.getMessage()]
+    assert deep_events and all("from attacker" in line for line in deep_events)
