@@ -2,8 +2,9 @@
 
 A seeded generator writes raw ``jabber:iq:rpc`` calls as an attacker would, not as nightcrew's
 caller would (which refuses oversized calls before sending): random and wrong-typed values,
-non-finite numbers, malformed XML-RPC, private and unknown method names, calls of 1 to 3 MB of
-small values or one long string, values nested up to 5,000 deep, and events nested as deep. An
+non-finite numbers, malformed XML-RPC, private and unknown method names, calls of 1.1 to 1.9 MB
+of small values or one long string (past the module's 1-MiB limit, within the 2 MiB at which
+Prosody itself ends the sender's stream), values nested up to 5,000 deep, and events nested as deep. An
 attacker account sends them one at a time to a target module on a private Prosody; a ticker task
 measures the target's event-loop lag. Both run in this process (the payloads are written before
 the clock starts, so the attacker's cost is a socket write per call).
@@ -153,7 +154,7 @@ def hostile_calls(seed: int, count: int) -> Iterator[HostileCall]:
     for _ in range(count):
         roll = rng.random()
         if roll < 0.04:
-            size = rng.randrange(1_100_000, 3_000_000)
+            size = rng.randrange(1_100_000, 1_900_000)
             if rng.random() < 0.5:
                 yield HostileCall("oversized string", build_call("echo", ["A" * size]))
             else:
@@ -291,6 +292,7 @@ async def attack(
                 ] += 1
             except TimeoutError:
                 report.hangs += 1
+                report.outcomes[f"{call.kind}: no answer"] += 1
         report.target_alive = (
             await attacker.call(f"target@{domain}/nightcrew", build_call("add", [2.0, 3.0])) == "result"
         )

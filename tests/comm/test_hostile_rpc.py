@@ -17,6 +17,7 @@ from typing import Any
 import pytest
 
 from nightcrew.comm.rpc import MAX_ARGUMENT_BYTES, MAX_ARGUMENT_DEPTH, MAX_FAULT_CHARS
+from nightcrew.comm.xmpp._stanza_limits import MAX_PAYLOAD_BYTES
 from nightcrew.comm.xmpp._xmlrpc import build_call, parse_call
 from nightcrew.errors import CodecError, InvalidArgumentError, NightcrewError
 
@@ -162,7 +163,7 @@ async def test_raw_hostile_calls_over_prosody(
     from bench.hostile_rpc import HostileCall, attack, hostile_calls
 
     calls = [call for call in hostile_calls(seed=26, count=100) if call.kind != "oversized values"]
-    calls.append(HostileCall("oversized string", build_call("echo", ["A" * 2_700_000])))
+    calls.append(HostileCall("oversized string", build_call("echo", ["A" * 1_900_000])))
     calls.append(HostileCall("deep event", "[" * 5000 + "]" * 5000))
     for name in ("target", "attacker"):
         prosody_server.account(name, BENCH_PASSWORD)
@@ -178,3 +179,14 @@ async def test_raw_hostile_calls_over_prosody(
     assert any("nested deeper than" in line for line in refusals)
     deep_events = [r.getMessage() for r in caplog.records if "its payload is nested deeper" in r.getMessage()]
     assert deep_events and all("from attacker" in line for line in deep_events)
+
+
+@pytest.mark.xmpp
+async def test_an_oversized_call_is_refused_by_its_caller_before_sending(prosody_network: Network) -> None:
+    await prosody_network.start(Calculator, "calc")
+    caller = await prosody_network.start(Calculator, "caller")
+    with pytest.raises(
+        InvalidArgumentError, match=f"echo\\(\\): the call is larger than {MAX_PAYLOAD_BYTES} bytes"
+    ):
+        await caller.comm.execute("calc", "echo", ["B" * 1_500_000])
+    assert await caller.comm.execute("calc", "add", [2, 3]) == 5

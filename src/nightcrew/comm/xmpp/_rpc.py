@@ -31,7 +31,7 @@ from nightcrew.comm.xmpp._pyobs_values import (
     parse_pyobs_fault,
     parse_pyobs_params,
 )
-from nightcrew.comm.xmpp._stanza_limits import MAX_STANZA_BYTES, RefusedStanza, too_large
+from nightcrew.comm.xmpp._stanza_limits import MAX_PAYLOAD_BYTES, RefusedStanza, too_large
 from nightcrew.comm.xmpp._xmlrpc import (
     NS_RPC,
     build_call,
@@ -119,7 +119,7 @@ class RpcChannel:
                 acting = f'<acting xmlns="{NS_ACTING}" identity="{escape_attribute(call.acting_as)}"/>'
                 payload = f"{payload[: -len('</query>')]}{acting}</query>"
             if too_large(payload):  # the callee would refuse it: say so here, without sending
-                raise InvalidArgumentError(f"{method}(): the call is larger than {MAX_STANZA_BYTES} bytes")
+                raise InvalidArgumentError(f"{method}(): the call is larger than {MAX_PAYLOAD_BYTES} bytes")
         self._pending[iq_id] = _Outgoing(jid, module, call, method, pyobs)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
@@ -286,7 +286,7 @@ class RpcChannel:
             result = await self._serve(method, args, announce, caller, identity)
             payload = build_response(result)
             if too_large(payload):
-                raise RemoteError(f"the result of {method}() is larger than {MAX_STANZA_BYTES} bytes")
+                raise RemoteError(f"the result of {method}() is larger than {MAX_PAYLOAD_BYTES} bytes")
         except Exception as exc:
             # Every failure becomes a fault: the one place (nightcrew.comm.rpc) decides its content.
             payload = build_fault(fault_from_exception(exc))

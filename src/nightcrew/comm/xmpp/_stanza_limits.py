@@ -24,6 +24,7 @@ from nightcrew.errors import CodecError
 
 __all__ = [
     "MAX_EVENT_CHARS",
+    "MAX_PAYLOAD_BYTES",
     "MAX_STANZA_BYTES",
     "MAX_STANZA_DEPTH",
     "BoundedPullParser",
@@ -36,6 +37,9 @@ __all__ = [
 #: images (only VFS paths travel); parsing and decoding a stanza of this size of the smallest
 #: values takes some tens of milliseconds, so no accepted stanza holds the event loop for long.
 MAX_STANZA_BYTES = 1024 * 1024
+#: Largest call, result or event payload a module sends: the stanza around it, and the stanza's size
+#: being counted in slices, fit well within MAX_STANZA_BYTES.
+MAX_PAYLOAD_BYTES = MAX_STANZA_BYTES - 64 * 1024
 #: Deepest nesting of elements in a stanza: an XML-RPC value adds three per level (array, data,
 #: value), so any value within MAX_ARGUMENT_DEPTH fits, with room for the envelope.
 MAX_STANZA_DEPTH = 4 * MAX_ARGUMENT_DEPTH + 16
@@ -77,7 +81,7 @@ class RefusedStanza:
         return f"{kind} ({ns} {local}{' ' + what if what else ''})"
 
 
-def too_large(text: str, limit: int = MAX_STANZA_BYTES) -> bool:
+def too_large(text: str, limit: int = MAX_PAYLOAD_BYTES) -> bool:
     """Whether ``text`` takes more than ``limit`` bytes as UTF-8 (encoded only when it might)."""
     return len(text) > limit or (4 * len(text) > limit and len(text.encode("utf-8")) > limit)
 
