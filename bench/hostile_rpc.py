@@ -361,11 +361,14 @@ async def main() -> None:
     parser.add_argument("--calls", type=int, default=1500)
     parser.add_argument("--seed", type=int, default=26)
     options = parser.parse_args()
-    logging.basicConfig(level=logging.ERROR)
+    logging.basicConfig(level=logging.WARNING)
+    logging.getLogger("nightcrew").setLevel(logging.WARNING)  # refusals yes, every failed call no
     calls = list(hostile_calls(options.seed, options.calls))
+    started = time.perf_counter()
     async with private_prosody() as (address, ca_file):
         report = await attack(address, DOMAIN, calls, ca_file=ca_file)
     print_table(report, options.calls, options.seed)
+    print(f"{'wall seconds':<40} {time.perf_counter() - started:>6.0f}")
 
 
 if __name__ == "__main__":

@@ -88,6 +88,7 @@ class XmppClient(slixmpp.ClientXMPP):
         self.parser = BoundedPullParser(self._on_refused)
         self._backlog.clear()  # a new stream: what the old one left unparsed belongs to it
         self._backlog_bytes = 0
+        self._paused = False  # a new connection's transport reads
 
     def data_received(self, data: bytes | str) -> None:
         """Parse ``data`` at most :data:`_PARSE_SLICE` bytes per turn of the event loop."""

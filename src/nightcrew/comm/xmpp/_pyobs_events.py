@@ -88,10 +88,7 @@ def translate_event(text: str, name: str, sender: str) -> dict[str, Any] | None:
         if body.get("type") != name or not isinstance(data, dict):
             raise ValueError(f"type {body.get('type')!r} on the node of {name}, data {type(data).__name__}")
         age = time.time() - float(body.get("timestamp", 0.0))
-    except CodecError as exc:
-        log.warning("skipped pyobs %s from %s: its body is %s", name, sender, exc.message)
-        return None
-    except (ValueError, TypeError, AttributeError) as exc:
+    except (CodecError, ValueError, TypeError, AttributeError) as exc:
         log.warning("skipped malformed pyobs %s from %s: %s", name, sender, exc)
         return None
     if age > _MAX_EVENT_AGE:
