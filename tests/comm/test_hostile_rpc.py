@@ -20,6 +20,7 @@ from nightcrew.comm.rpc import MAX_ARGUMENT_BYTES, MAX_ARGUMENT_DEPTH, MAX_FAULT
 from nightcrew.comm.xmpp._stanza_limits import MAX_PAYLOAD_BYTES
 from nightcrew.comm.xmpp._xmlrpc import build_call, parse_call
 from nightcrew.errors import CodecError, InvalidArgumentError, NightcrewError
+from nightcrew.log import LogForwarder
 
 from .conftest import Network
 from .sample import Calculator
@@ -74,6 +75,9 @@ async def _fuzz(network: Network, calls: int, big: int, seed: int) -> dict[str, 
 
 
 async def test_hostile_payloads(network: Network, caplog: pytest.LogCaptureFixture) -> None:
+    # The forwarder lowers the root level to INFO once per process: installed first, that lasts;
+    # installed under caplog, caplog would undo it and later tests' modules forward no records.
+    LogForwarder.install()
     caplog.set_level(logging.INFO)
     # Prosody and ejabberd refuse stanzas beyond their size limit (256 kB) by closing the stream:
     # over XMPP the payloads stay below it; the in-process transport gets the large ones.
@@ -167,7 +171,6 @@ async def test_raw_hostile_calls_over_prosody(
     calls.append(HostileCall("deep event", "[" * 5000 + "]" * 5000))
     for name in ("target", "attacker"):
         prosody_server.account(name, BENCH_PASSWORD)
-    caplog.set_level(logging.WARNING)
     report = await attack(prosody_server.address, DOMAIN, calls, ca_file=prosody_server.ca_file)
     assert (report.hangs, report.private_reached, report.tracebacks) == (0, 0, 0), report
     assert report.target_alive

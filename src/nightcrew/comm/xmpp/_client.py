@@ -63,9 +63,8 @@ class XmppClient(slixmpp.ClientXMPP):
     slixmpp wraps every stanza in a stanza object, runs its filters and tries its ~17 handlers;
     for a remote call that was about a third of both sides' CPU time. nightcrew's handlers take
     the parsed element directly; what they do not consume (stream negotiation, disco, IQs slixmpp
-    waits for) takes slixmpp's way as before. ``_spawn_event`` is the method slixmpp's stream
-    calls with every top-level element, ``init_parser`` the one that makes its parser (both pinned
-    in pyproject; every XMPP test goes through them).
+    waits for) takes slixmpp's way as before. What it overrides of slixmpp is listed in this
+    module's docstring.
     """
 
     def __init__(
@@ -79,6 +78,7 @@ class XmppClient(slixmpp.ClientXMPP):
         self._nightcrew_handlers = handlers
         self._on_refused = on_refused
         self._backlog: deque[bytes] = deque()  # received, not parsed yet
+        self._parsed = 0  # bytes of the backlog's first chunk parsed already
         self._backlog_bytes = 0
         self._paused = False
 
@@ -87,7 +87,7 @@ class XmppClient(slixmpp.ClientXMPP):
         super().init_parser()
         self.parser = BoundedPullParser(self._on_refused)
         self._backlog.clear()  # a new stream: what the old one left unparsed belongs to it
-        self._backlog_bytes = 0
+        self._parsed = self._backlog_bytes = 0
         self._paused = False  # a new connection's transport reads
 
     def data_received(self, data: bytes | str) -> None:
@@ -108,14 +108,16 @@ class XmppClient(slixmpp.ClientXMPP):
     def _parse_backlog(self) -> None:
         if not self._backlog:
             return
-        data = self._backlog.popleft()
-        if len(data) > _PARSE_SLICE:
-            self._backlog.appendleft(data[_PARSE_SLICE:])
-            data = data[:_PARSE_SLICE]
+        first = self._backlog[0]
+        data = first[self._parsed : self._parsed + _PARSE_SLICE]
+        self._parsed += len(data)
+        if self._parsed == len(first):
+            self._backlog.popleft()
+            self._parsed = 0
         self._backlog_bytes -= len(data)
         if self.parser is None:  # the stream ended meanwhile
             self._backlog.clear()
-            self._backlog_bytes = 0
+            self._parsed = self._backlog_bytes = 0
         else:
             super().data_received(data)
         if self._backlog:
