@@ -79,8 +79,8 @@ async def test_hostile_payloads(network: Network, caplog: pytest.LogCaptureFixtu
     # installed under caplog, caplog would undo it and later tests' modules forward no records.
     LogForwarder.install()
     caplog.set_level(logging.INFO)
-    # Prosody and ejabberd refuse stanzas beyond their size limit (256 kB) by closing the stream:
-    # over XMPP the payloads stay below it; the in-process transport gets the large ones.
+    # Over XMPP the payloads stay small (oversized stanzas are test_raw_hostile_calls_over_prosody's);
+    # the in-process transport gets the large ones.
     local = network.kind == "local"
     outcomes = await _fuzz(network, 2000 if local else 500, 200_000 if local else 20_000, seed=9)
     assert outcomes.get("InvalidArgumentError", 0) > 50, outcomes
@@ -91,7 +91,7 @@ async def test_hostile_payloads(network: Network, caplog: pytest.LogCaptureFixtu
 
 
 async def test_oversized_argument_gets_a_short_fault(caplog: pytest.LogCaptureFixture) -> None:
-    # In-process only: over XMPP an 8-MB stanza is the server's to refuse (its stanza size limit).
+    # In-process: over XMPP the caller refuses an oversized call before sending (test below).
     network = Network("local")
     try:
         await network.start(Calculator, "calc")
