@@ -179,7 +179,9 @@ async def run(kind: str, dsn: str | None, args: argparse.Namespace, rows: list[d
             rate = await ingest(archive, frames)
             baseline = await asyncio.to_thread(disk_only, directory / "disk-only", frames)
             database = archive.server.database
-            facts = synthetic_facts(np.random.default_rng(1), inspect_fits(frames[0]), args.rows)
+            facts = synthetic_facts(
+                np.random.default_rng(1), inspect_fits(frames[0], max_pixels=64 * 64), args.rows
+            )
             fill_rate = await fill(database, facts)
             await database.fetch("ANALYZE")  # planner statistics, as after any bulk load
             queries = [query_params(np.random.default_rng(100 + i)) for i in range(args.queries)]

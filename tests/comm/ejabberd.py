@@ -48,7 +48,7 @@ listen:
     starttls: true
     shaper: none
     access: c2s
-    max_stanza_size: 16777216
+    max_stanza_size: 2097152
 auth_method: internal
 auth_password_format: scram
 acl:

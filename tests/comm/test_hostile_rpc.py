@@ -17,11 +17,14 @@ from typing import Any
 import pytest
 
 from nightcrew.comm.rpc import MAX_ARGUMENT_BYTES, MAX_ARGUMENT_DEPTH, MAX_FAULT_CHARS
-from nightcrew.comm.xmpp._xmlrpc import parse_call
+from nightcrew.comm.xmpp._stanza_limits import MAX_PAYLOAD_BYTES
+from nightcrew.comm.xmpp._xmlrpc import build_call, parse_call
 from nightcrew.errors import CodecError, InvalidArgumentError, NightcrewError
+from nightcrew.log import LogForwarder
 
 from .conftest import Network
 from .sample import Calculator
+from .xmpp_servers import DOMAIN, XmppServer
 
 METHODS = ["add", "divide", "measure", "echo", "crash", "get_state", "no_such_method", "x" * 5000]
 
@@ -72,9 +75,12 @@ async def _fuzz(network: Network, calls: int, big: int, seed: int) -> dict[str, 
 
 
 async def test_hostile_payloads(network: Network, caplog: pytest.LogCaptureFixture) -> None:
+    # The forwarder lowers the root level to INFO once per process: installed first, that lasts;
+    # installed under caplog, caplog would undo it and later tests' modules forward no records.
+    LogForwarder.install()
     caplog.set_level(logging.INFO)
-    # Prosody and ejabberd refuse stanzas beyond their size limit (256 kB) by closing the stream:
-    # over XMPP the payloads stay below it; the in-process transport gets the large ones.
+    # Over XMPP the payloads stay small (oversized stanzas are test_raw_hostile_calls_over_prosody's);
+    # the in-process transport gets the large ones.
     local = network.kind == "local"
     outcomes = await _fuzz(network, 2000 if local else 500, 200_000 if local else 20_000, seed=9)
     assert outcomes.get("InvalidArgumentError", 0) > 50, outcomes
@@ -85,7 +91,7 @@ async def test_hostile_payloads(network: Network, caplog: pytest.LogCaptureFixtu
 
 
 async def test_oversized_argument_gets_a_short_fault(caplog: pytest.LogCaptureFixture) -> None:
-    # In-process only: over XMPP an 8-MB stanza is the server's to refuse (its stanza size limit).
+    # In-process: over XMPP the caller refuses an oversized call before sending (test below).
     network = Network("local")
     try:
         await network.start(Calculator, "calc")
@@ -147,3 +153,43 @@ def test_xml_decoder_bounded_by_depth(kind: str) -> None:
         else:
             with pytest.raises(CodecError, match="nested deeper than"):
                 parse_call(query)
+
+
+@pytest.mark.xmpp
+async def test_raw_hostile_calls_over_prosody(
+    prosody_server: XmppServer, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A seeded sample of bench/hostile_rpc.py's raw calls (the bench sends 1,500): every call
+    answered, nothing private run, no traceback; oversized and deep calls refused while they
+    stream in, with one WARNING naming the sender. (Calls of a million small values are the
+    bench's: Prosody alone takes seconds to relay one.)"""
+    from bench.hostile_rpc import PASSWORD as BENCH_PASSWORD
+    from bench.hostile_rpc import HostileCall, attack, hostile_calls
+
+    calls = [call for call in hostile_calls(seed=26, count=100) if call.kind != "oversized values"]
+    calls.append(HostileCall("oversized string", build_call("echo", ["A" * 1_900_000])))
+    calls.append(HostileCall("deep event", "[" * 5000 + "]" * 5000))
+    for name in ("target", "attacker"):
+        prosody_server.account(name, BENCH_PASSWORD)
+    report = await attack(prosody_server.address, DOMAIN, calls, ca_file=prosody_server.ca_file)
+    assert (report.hangs, report.private_reached, report.tracebacks) == (0, 0, 0), report
+    assert report.target_alive
+    kinds = {outcome.split(":")[0] for outcome in report.outcomes}
+    assert {"deep", "deep event", "private", "oversized string", "malformed", "random"} <= kinds
+    refusals = [r.getMessage() for r in caplog.records if r.getMessage().startswith("refused <iq")]
+    assert refusals and all(f"from attacker@{DOMAIN}/attack: " in line for line in refusals)
+    assert any(line.endswith("larger than 1048576 bytes") for line in refusals)
+    assert any("nested deeper than" in line for line in refusals)
+    deep_events = [r.getMessage() for r in caplog.records if "its payload is nested deeper" in r.getMessage()]
+    assert deep_events and all("from attacker" in line for line in deep_events)
+
+
+@pytest.mark.xmpp
+async def test_an_oversized_call_is_refused_by_its_caller_before_sending(prosody_network: Network) -> None:
+    await prosody_network.start(Calculator, "calc")
+    caller = await prosody_network.start(Calculator, "caller")
+    with pytest.raises(
+        InvalidArgumentError, match=f"echo\\(\\): the call is larger than {MAX_PAYLOAD_BYTES} bytes"
+    ):
+        await caller.comm.execute("calc", "echo", ["B" * 1_500_000])
+    assert await caller.comm.execute("calc", "add", [2, 3]) == 5

@@ -52,11 +52,13 @@ def stretch_to_uint8(
         raise ValueError(f"expected a 2-D image, got shape {image.shape}")
     factor = max(1, -(-max(image.shape) // max_size))
     if factor > 1:
-        rows, cols = (image.shape[0] // factor) * factor, (image.shape[1] // factor) * factor
-        # Summing the factor² strided sub-grids is ~15x faster than a reshaped mean over two axes
+        # A side shorter than the factor (a 1 x N frame) is binned whole, not cut to nothing.
+        down, across = min(factor, image.shape[0]), min(factor, image.shape[1])
+        rows, cols = (image.shape[0] // down) * down, (image.shape[1] // across) * across
+        # Summing the strided sub-grids is ~15x faster than a reshaped mean over two axes
         # (0.1 s for a 2048² frame), and a live display waits for it.
-        image = (
-            sum(image[i:rows:factor, j:cols:factor] for i in range(factor) for j in range(factor)) / factor**2
+        image = sum(image[i:rows:down, j:cols:across] for i in range(down) for j in range(across)) / (
+            down * across
         )
     finite = image[np.isfinite(image)]
     if finite.size == 0:

@@ -96,7 +96,9 @@ def prosody_config(directory: Path, settings: ServerSettings) -> str:
         'authentication = "internal_hashed"  -- SCRAM-SHA-1 (passwords are stored hashed)',
         f"c2s_require_encryption = {require_tls}",
         "allow_registration = false",
-        "c2s_stanza_size_limit = 16 * 1024 * 1024",
+        "-- Modules refuse stanzas over 1 MiB themselves (docs/protocol.md); larger ones end the",
+        "-- sender's stream here, before the server spends seconds parsing them.",
+        "c2s_stanza_size_limit = 2 * 1024 * 1024",
         "-- Calls are many small stanzas answered at once: send them without waiting (no Nagle).",
         "network_settings = { nagle = false; opportunistic_writes = true }",
         f'log = {{ {{ levels = {{ min = "info" }}, to = "file", filename = {_lua(str(d / "prosody.log"))} }} }}',  # noqa: E501

@@ -14,8 +14,8 @@ link that went silent ends the session within seconds and the reconnect loop sta
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
-import re
 import socket
 import ssl
 import xml.etree.ElementTree as ET
@@ -25,14 +25,16 @@ from typing import Any
 
 import slixmpp
 
+from nightcrew.comm.xmpp._client import StanzaHandler, TagMatcher, XmppClient
 from nightcrew.comm.xmpp._errors import XmppAuthError
 from nightcrew.comm.xmpp._keepalive import Keepalive
 from nightcrew.comm.xmpp._settings import XmppSettings
+from nightcrew.comm.xmpp._stanza_limits import RefusedStanza
 from nightcrew.comm.xmpp._xmltext import escape_attribute, stanza_text
 from nightcrew.errors import NightcrewError, RemoteError
 from nightcrew.log import current_module
 
-__all__ = ["StanzaHandler", "XmppConnection", "error_condition", "split_jid"]
+__all__ = ["RefusalHandler", "StanzaHandler", "XmppConnection", "error_condition", "split_jid"]
 
 log = logging.getLogger(__name__)
 
@@ -40,12 +42,10 @@ log = logging.getLogger(__name__)
 _MECHANISMS = {"SCRAM-SHA-1", "SCRAM-SHA-256", "SCRAM-SHA-512"}
 _RECONNECT_DELAYS = (0.2, 0.5, 1.0, 1.0, 2.0)
 _STANZA_KINDS = frozenset({"iq", "message", "presence"})
-#: ``{ns}stanza`` or ``{ns}stanza/{ns}child`` (namespaces may contain slashes).
-_STANZA_PATH = re.compile(r"(?P<root>\{[^}]*\}[^/{}]+)(?:/(?P<child>\{[^}]*\}[^/{}]+))?")
 _NS_STANZAS = "{urn:ietf:params:xml:ns:xmpp-stanzas}"
 
-#: Gets an incoming stanza's element; returns True when it consumed it (slixmpp never sees it).
-StanzaHandler = Callable[[ET.Element], bool]
+#: Hears of a stanza refused while it streamed in; returns True when it answered it.
+RefusalHandler = Callable[[RefusedStanza], bool]
 
 
 class XmppConnection:
@@ -69,7 +69,8 @@ class XmppConnection:
         self._on_fatal = on_fatal
         self._features = features
         self._plugins = plugins  # slixmpp plugins beyond disco (PubSub for the pyobs dialect)
-        self._handlers: list[tuple[str, _TagMatcher, StanzaHandler]] = []
+        self._handlers: list[tuple[str, TagMatcher, StanzaHandler]] = []
+        self._refusal_handlers: list[RefusalHandler] = []
         self._client: slixmpp.ClientXMPP | None = None
         self._session: asyncio.Future[None] | None = None
         self._tls_done = False
@@ -101,7 +102,14 @@ class XmppConnection:
         a direct child element. Handlers see stanzas before slixmpp does; a stanza some handler
         consumed (returned True for) goes no further.
         """
-        self._handlers.append((name, _TagMatcher(xpath), handler))
+        self._handlers.append((name, TagMatcher(xpath), handler))
+
+    def add_refusal_handler(self, handler: RefusalHandler) -> None:
+        """Call ``handler`` for every stanza refused by its size or nesting (before :meth:`open`).
+
+        The refusal is logged here, once; a handler answers it (a fault to a refused call).
+        """
+        self._refusal_handlers.append(handler)
 
     # --- life cycle ----------------------------------------------------------------------------
 
@@ -193,8 +201,9 @@ class XmppConnection:
 
     def _make_client(self) -> slixmpp.ClientXMPP:
         s = self._settings
-        client = _Client(
+        client = XmppClient(
             self._handlers,  # all registered before open()
+            self._on_refused,
             s.full_jid,
             s.password,
             plugin_config={
@@ -242,6 +251,20 @@ class XmppConnection:
         for feature in self._features_for(str(ifrom) if ifrom else ""):
             answer.add_feature(feature)
         return answer
+
+    def _on_refused(self, refused: RefusedStanza) -> None:
+        log.warning("refused %s from %s: %s", refused.describe(), refused.sender or "?", refused.reason)
+        answered = False
+        for handler in self._refusal_handlers:
+            answered = handler(refused) or answered
+        if not answered and refused.kind == "iq" and refused.attrib.get("type") in ("get", "set"):
+            # Every request gets an answer (RFC 6120 8.2.3): a policy violation, said in words.
+            error = ET.Element(f"{{{self.client.default_ns}}}error", type="modify")
+            ET.SubElement(error, f"{_NS_STANZAS}policy-violation")
+            ET.SubElement(error, f"{_NS_STANZAS}text").text = f"stanza {refused.reason}"
+            with contextlib.suppress(NightcrewError):
+                to, iq_id = refused.sender, refused.attrib.get("id", "")
+                self.send(self.stanza("iq", to, error, id=iq_id, type="error"))
 
     async def _connect_once(self) -> None:
         s = self._settings
@@ -358,58 +381,6 @@ class XmppConnection:
                 return
         finally:
             self._reconnect_task = None
-
-
-class _TagMatcher:
-    """Matches ``{ns}stanza[/{ns}child]`` by comparing tags.
-
-    Every incoming stanza is tried against every handler: a tag comparison (plus a C-level
-    ``find`` for the child) costs next to nothing, unlike slixmpp's XPath matchers.
-    """
-
-    __slots__ = ("_child", "_root")
-
-    def __init__(self, xpath: str) -> None:
-        parsed = _STANZA_PATH.fullmatch(xpath)
-        if parsed is None:
-            raise ValueError(f"unsupported stanza path {xpath!r}")
-        self._root: str = parsed["root"]
-        self._child: str | None = parsed["child"]
-
-    def match(self, element: ET.Element) -> bool:
-        if element.tag != self._root:
-            return False
-        return self._child is None or element.find(self._child) is not None
-
-
-class _Client(slixmpp.ClientXMPP):
-    """slixmpp's client with nightcrew's handlers in front of its stanza machinery.
-
-    slixmpp wraps every stanza in a stanza object, runs its filters and tries its ~17 handlers;
-    for a remote call that was about a third of both sides' CPU time. nightcrew's handlers take
-    the parsed element directly; what they do not consume (stream negotiation, disco, IQs slixmpp
-    waits for) takes slixmpp's way as before. ``_spawn_event`` is the method slixmpp's stream
-    calls with every top-level element (pinned in pyproject; every XMPP test goes through it).
-    """
-
-    def __init__(self, handlers: list[tuple[str, _TagMatcher, StanzaHandler]], *args: Any, **kwargs: Any):
-        super().__init__(*args, **kwargs)
-        self._nightcrew_handlers = handlers
-
-    def _spawn_event(self, xml: ET.Element) -> None:
-        consumed = False
-        for name, matcher, handler in self._nightcrew_handlers:
-            if matcher.match(xml):
-                try:
-                    consumed = handler(xml) or consumed
-                except Exception:
-                    log.exception("handler '%s' failed on a stanza", name)
-                    consumed = True
-        if consumed:
-            if log.isEnabledFor(logging.DEBUG):
-                log.debug("RECV: %s", ET.tostring(xml, encoding="unicode"))
-        else:
-            super()._spawn_event(xml)
 
 
 def split_jid(jid: str) -> tuple[str, str]:

@@ -14,6 +14,8 @@ from dataclasses import fields
 from typing import Any
 
 from nightcrew.comm.xmpp._room import _json_value
+from nightcrew.comm.xmpp._stanza_limits import load_json_bounded
+from nightcrew.errors import CodecError
 from nightcrew.events.base import event_by_name
 
 __all__ = ["FIELD_NAMES", "IGNORED_FIELDS", "NS_PYOBS_EVENT", "PYOBS_EVENTS", "event_body", "translate_event"]
@@ -81,12 +83,12 @@ def translate_event(text: str, name: str, sender: str) -> dict[str, Any] | None:
         log.debug("pyobs event %s from %s has no nightcrew equivalent; skipped", name, sender)
         return None
     try:
-        body = json.loads(text)
+        body = load_json_bounded(text)
         data = body.get("data") or {}
         if body.get("type") != name or not isinstance(data, dict):
             raise ValueError(f"type {body.get('type')!r} on the node of {name}, data {type(data).__name__}")
         age = time.time() - float(body.get("timestamp", 0.0))
-    except (ValueError, TypeError, AttributeError) as exc:
+    except (CodecError, ValueError, TypeError, AttributeError) as exc:
         log.warning("skipped malformed pyobs %s from %s: %s", name, sender, exc)
         return None
     if age > _MAX_EVENT_AGE:

@@ -20,9 +20,11 @@ from collections.abc import Callable
 from datetime import datetime
 from typing import Any
 
+from nightcrew.comm.rpc import shorten
 from nightcrew.comm.xmpp._connection import XmppConnection, error_condition, split_jid
 from nightcrew.comm.xmpp._rpc import NS_HINTS
-from nightcrew.errors import ConfigError, NightcrewError, RemoteError
+from nightcrew.comm.xmpp._stanza_limits import MAX_EVENT_CHARS, load_json_bounded
+from nightcrew.errors import CodecError, ConfigError, NightcrewError, RemoteError
 
 __all__ = ["NS_EVENT", "NS_MODULE", "Room"]
 
@@ -309,6 +311,8 @@ class Room:
         """Send event ``name`` with wire fields ``payload`` to the room."""
         element = ET.Element(f"{{{NS_EVENT}}}event", name=name)
         element.text = json.dumps(payload, default=_json_value, separators=(",", ":"))
+        if len(element.text) > MAX_EVENT_CHARS:  # every receiver would refuse it
+            raise CodecError(f"{name} is larger than {MAX_EVENT_CHARS} characters of JSON")
         stanza = self._connection.stanza(
             "message", self._room_jid, element, ET.Element(f"{{{NS_HINTS}}}no-store"), type="groupchat"
         )
@@ -328,9 +332,9 @@ class Room:
             return True
         name = element.get("name", "")
         try:
-            payload = json.loads(element.text or "{}")
-        except ValueError:
-            log.warning("dropped %s from %s: payload is not JSON", name, nick)
+            payload = load_json_bounded(element.text or "{}")
+        except CodecError as exc:
+            log.warning("dropped %s from %s: its payload is %s", shorten(name), nick, exc.message)
             return True
         if isinstance(payload, dict) and name:
             self._on_event(name, payload, nick)

@@ -31,6 +31,7 @@ from nightcrew.comm.xmpp._pyobs_values import (
     parse_pyobs_fault,
     parse_pyobs_params,
 )
+from nightcrew.comm.xmpp._stanza_limits import MAX_PAYLOAD_BYTES, RefusedStanza, too_large
 from nightcrew.comm.xmpp._xmlrpc import (
     NS_RPC,
     build_call,
@@ -97,6 +98,7 @@ class RpcChannel:
         connection.add_handler("nightcrew rpc error", f"{_C}iq/{_C}error", self._on_error_iq)
         timeouts = f"{_C}message/{{{NS_TIMEOUT}}}timeout"
         connection.add_handler("nightcrew rpc timeout", timeouts, self._on_timeout)
+        connection.add_refusal_handler(self._on_refused)
 
     # --- calling -------------------------------------------------------------------------------
 
@@ -116,6 +118,8 @@ class RpcChannel:
                 # Inside the query: an IQ carries exactly one payload element (RFC 6120 §8.2.3).
                 acting = f'<acting xmlns="{NS_ACTING}" identity="{escape_attribute(call.acting_as)}"/>'
                 payload = f"{payload[: -len('</query>')]}{acting}</query>"
+            if too_large(payload):  # the callee would refuse it: say so here, without sending
+                raise InvalidArgumentError(f"{method}(): the call is larger than {MAX_PAYLOAD_BYTES} bytes")
         self._pending[iq_id] = _Outgoing(jid, module, call, method, pyobs)
         # When the caller gives up (timeout, cancellation), forget the call.
         call.future.add_done_callback(lambda _: self._pending.pop(iq_id, None))
@@ -143,8 +147,30 @@ class RpcChannel:
 
     def _take(self, iq_id: str, stanza: ET.Element) -> _Outgoing | None:
         """The call ``iq_id`` if ``stanza`` comes from its callee (else it is not ours, or forged)."""
+        return self._take_from(iq_id, stanza.get("from", ""))
+
+    def _take_from(self, iq_id: str, sender: str) -> _Outgoing | None:
         outgoing = self._pending.get(iq_id)
-        return outgoing if outgoing is not None and stanza.get("from") == outgoing.jid else None
+        return outgoing if outgoing is not None and sender == outgoing.jid else None
+
+    def _on_refused(self, refused: RefusedStanza) -> bool:
+        """Answer a call refused for its size or nesting; fail a call whose reply was refused."""
+        if refused.kind != "iq" or refused.payload != f"{_Q}query":
+            return False
+        caller, iq_id = refused.sender, refused.attrib.get("id", "")
+        kind = refused.attrib.get("type")
+        if kind == "set":
+            error = InvalidArgumentError(f"call refused: {refused.reason}")
+            if self._pyobs_caller(caller):
+                self._reply_pyobs(caller, iq_id, _pyobs_fault(error))
+            else:
+                self._reply(caller, iq_id, build_fault(fault_from_exception(error)))
+            return True
+        outgoing = self._take_from(iq_id, caller) if kind == "result" else None
+        if outgoing is not None:
+            del self._pending[iq_id]
+            outgoing.call.set_error(RemoteError(f"reply refused: {refused.reason}", module=outgoing.module))
+        return kind == "result"
 
     def _on_reply(self, stanza: ET.Element, query: ET.Element) -> None:
         iq_id = stanza.get("id", "")
@@ -259,6 +285,8 @@ class RpcChannel:
         try:
             result = await self._serve(method, args, announce, caller, identity)
             payload = build_response(result)
+            if too_large(payload):
+                raise RemoteError(f"the result of {method}() is larger than {MAX_PAYLOAD_BYTES} bytes")
         except Exception as exc:
             # Every failure becomes a fault: the one place (nightcrew.comm.rpc) decides its content.
             payload = build_fault(fault_from_exception(exc))

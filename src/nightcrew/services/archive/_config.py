@@ -9,6 +9,7 @@
     token_file: /etc/nightcrew/archive.token     # or  token: ${NIGHTCREW_ARCHIVE_TOKEN}
     max_upload_bytes: 200000000     # larger uploads get 413
     max_zip_frames: 500             # frames one zip download may hold
+    max_frame_pixels: 100000000     # frames declaring more pixels (NAXISn, ZNAXISn) get 422
 
 The upload token comes from a file readable by its owner only (``nightcrew archive --new-token
 FILE`` writes one) or from the environment through ``${...}``; it is never printed, and the repr
@@ -31,7 +32,17 @@ __all__ = ["DEFAULT_PORT", "ArchiveConfig", "load_archive_config", "new_token", 
 
 DEFAULT_PORT = 37190
 _KEYS = frozenset(
-    {"host", "port", "storage", "database", "token", "token_file", "max_upload_bytes", "max_zip_frames"}
+    {
+        "host",
+        "port",
+        "storage",
+        "database",
+        "token",
+        "token_file",
+        "max_upload_bytes",
+        "max_zip_frames",
+        "max_frame_pixels",
+    }
 )
 _MIN_TOKEN_CHARS = 16
 
@@ -49,6 +60,8 @@ class ArchiveConfig:
         port: Port to listen on (0: a free one).
         max_upload_bytes: The largest upload accepted.
         max_zip_frames: The most frames one zip download may hold.
+        max_frame_pixels: The most pixels a stored frame's image may declare (its NAXISn, or
+            ZNAXISn when tile-compressed: a small file may claim a huge image).
         sqlite_busy_timeout: Seconds SQLite waits for a lock before the request gets 503.
     """
 
@@ -59,6 +72,7 @@ class ArchiveConfig:
     port: int = DEFAULT_PORT
     max_upload_bytes: int = 200_000_000
     max_zip_frames: int = 500
+    max_frame_pixels: int = 100_000_000
     sqlite_busy_timeout: float = 5.0
 
     def __post_init__(self) -> None:
@@ -78,6 +92,8 @@ class ArchiveConfig:
             )
         if self.max_zip_frames < 1:
             raise ConfigError(f"must be >= 1, got {self.max_zip_frames}", key="max_zip_frames")
+        if self.max_frame_pixels < 1:
+            raise ConfigError(f"must be >= 1, got {self.max_frame_pixels}", key="max_frame_pixels")
 
     @property
     def dialect(self) -> str:
@@ -105,6 +121,7 @@ def load_archive_config(config: Mapping[str, Any], *, file: str | None = None) -
             port=_integer(config, "port", DEFAULT_PORT, file),
             max_upload_bytes=_integer(config, "max_upload_bytes", 200_000_000, file),
             max_zip_frames=_integer(config, "max_zip_frames", 500, file),
+            max_frame_pixels=_integer(config, "max_frame_pixels", 100_000_000, file),
         )
     except ConfigError as exc:
         raise ConfigError(exc.message, file=file, key=exc.key) from None

@@ -1,9 +1,11 @@
 """What the archive checks in an uploaded file, and the header values it indexes.
 
-An upload is accepted only as a complete FITS file: it starts with ``SIMPLE  =  T``, is a whole
-number of 2880-byte blocks, every HDU's data lies inside the file, and the header (the primary
-one, merged with the first extension's when the primary has no data, as in tile-compressed files)
-has the required keywords :data:`REQUIRED` with usable values. Blocking (astropy): run in a thread.
+An upload is accepted only as a complete FITS file (gzip-compressed when its name ends in ``.gz``):
+it starts with ``SIMPLE  =  T``, is a whole number of 2880-byte blocks, every HDU's data lies
+inside the file, no image declares more pixels than the configured limit, and the header (the
+primary one, merged with the first extension's when the primary has no data, as in
+tile-compressed files) has the required keywords :data:`REQUIRED` with usable values. Blocking
+(astropy, zlib): run in a thread.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import io
 import math
 import re
 import warnings
+import zlib
 from dataclasses import dataclass, field
 from datetime import UTC, datetime, timedelta
 from typing import Any
@@ -28,6 +31,8 @@ __all__ = [
     "FrameFacts",
     "FrameLink",
     "check_basename",
+    "declared_pixels",
+    "gunzip_upload",
     "inspect_fits",
     "iso_date_obs",
 ]
@@ -85,8 +90,43 @@ def check_basename(name: str) -> str:
     return name
 
 
-def inspect_fits(data: bytes) -> FrameFacts:
-    """Check ``data`` is a complete FITS file with the required keywords; return what to index."""
+_GZIP_MAGIC = b"\x1f\x8b"
+
+
+def gunzip_upload(basename: str, data: bytes, max_bytes: int) -> bytes:
+    """The FITS bytes of an upload: ``data`` itself, or unpacked when ``basename`` ends in ``.gz``.
+
+    Unpacks at most ``max_bytes`` (a small gzip file may unpack to gigabytes); the compression
+    must agree with the name, so that a download is what its name says.
+    """
+    packed = data.startswith(_GZIP_MAGIC)
+    if basename.lower().endswith(".gz") != packed:
+        say = "is gzip-compressed: name it .fits.gz" if packed else "ends in .gz but is not gzip-compressed"
+        raise Rejected(400, f"{basename} {say}")
+    if not packed:
+        return data
+    unpacker = zlib.decompressobj(wbits=16 + zlib.MAX_WBITS)
+    try:
+        fits_bytes = unpacker.decompress(data, max_bytes + 1)
+    except zlib.error as exc:
+        raise Rejected(400, f"{basename} is not a readable gzip file: {exc}") from None
+    if len(fits_bytes) > max_bytes:
+        raise Rejected(413, f"{basename} unpacks to more than the limit of {max_bytes} bytes")
+    if not unpacker.eof or unpacker.unused_data:
+        raise Rejected(400, f"{basename} is a truncated gzip file or holds more than one member")
+    return fits_bytes
+
+
+def declared_pixels(hdu: Any) -> int:
+    """The pixels an image HDU's header declares (ZNAXISn when tile-compressed); 0 if none."""
+    if not getattr(hdu, "is_image", False) or not hdu.shape:
+        return 0
+    return math.prod(int(side) for side in hdu.shape)
+
+
+def inspect_fits(data: bytes, max_pixels: int) -> FrameFacts:
+    """Check ``data`` is a complete FITS file with the required keywords and no image of more
+    than ``max_pixels`` pixels; return what to index."""
     if not data.startswith(b"SIMPLE  =                    T"):
         raise Rejected(415, "not a FITS file: it does not start with 'SIMPLE  =  T'")
     if len(data) % _BLOCK:
@@ -98,12 +138,24 @@ def inspect_fits(data: bytes) -> FrameFacts:
             warnings.simplefilter("error")  # astropy warns (not raises) about a short file
             hdus = fits.open(io.BytesIO(data), lazy_load_hdus=False, memmap=False)
             header = _merged_header(hdus, len(data))
+            _check_pixels(hdus, max_pixels)
     except Rejected:
         raise
     except Exception as exc:  # astropy's parse errors have no common class
         what = "truncated FITS file" if "truncated" in str(exc) else "not a readable FITS file"
         raise Rejected(400, f"{what}: {exc}") from exc
     return _facts(header)
+
+
+def _check_pixels(hdus: fits.HDUList, max_pixels: int) -> None:
+    for index, hdu in enumerate(hdus):
+        pixels = declared_pixels(hdu)
+        if pixels > max_pixels:
+            shape = " x ".join(str(side) for side in reversed(hdu.shape))
+            raise Rejected(
+                422,
+                f"HDU {index} declares {shape} = {pixels} pixels, more than max_frame_pixels ({max_pixels})",
+            )
 
 
 def _merged_header(hdus: fits.HDUList, size: int) -> fits.Header:

@@ -35,7 +35,7 @@ from nightcrew.services.archive._config import ArchiveConfig
 from nightcrew.services.archive._db import Database, Row, open_database
 from nightcrew.services.archive._errors import Rejected
 from nightcrew.services.archive._files import blocking_thumbnail, blocking_zip
-from nightcrew.services.archive._fits import check_basename, inspect_fits
+from nightcrew.services.archive._fits import FrameFacts, check_basename, gunzip_upload, inspect_fits
 from nightcrew.services.archive._index import FrameIndex, StoredFile
 from nightcrew.services.archive._search import parse_search
 from nightcrew.services.archive._store import FrameStore, storage_path
@@ -139,7 +139,8 @@ class ArchiveServer:
 
     async def _frame_row(self, request: web.Request) -> Row:
         frame_id = int(request.match_info["id"])
-        row = await self.index.frame(frame_id)
+        # Ids are 64-bit in both databases: a longer number names no frame (not a database error).
+        row = await self.index.frame(frame_id) if frame_id < 2**63 else None
         if row is None:
             raise Rejected(404, f"no frame with id {frame_id}")
         return row
@@ -176,7 +177,13 @@ class ArchiveServer:
         size = _integer(request.query.get("size", "256"), "size", 16, 1024)
         cache = self.config.storage / ".thumbnails" / f"{row['id']}-{size}.png"
         try:
-            png = await asyncio.to_thread(blocking_thumbnail, self.store.absolute(row["path"]), cache, size)
+            png = await asyncio.to_thread(
+                blocking_thumbnail,
+                self.store.absolute(row["path"]),
+                cache,
+                size,
+                self.config.max_frame_pixels,
+            )
         except ValueError as exc:
             raise Rejected(422, str(exc)) from exc
         return web.Response(body=png, content_type="image/png", headers={"Cache-Control": "max-age=86400"})
@@ -234,7 +241,7 @@ class ArchiveServer:
         basename = check_basename(request.query.get("filename", ""))
         data = await self._body(request)
         checksum = await asyncio.to_thread(lambda: hashlib.sha256(data).hexdigest())
-        facts = await asyncio.to_thread(inspect_fits, data)
+        facts = await asyncio.to_thread(self._inspect, basename, data)
         async with self._commit_lock:
             existing = await self.index.existing(checksum, basename)
             if existing is not None:
@@ -253,6 +260,11 @@ class ArchiveServer:
                 raise
         log.info("stored frame %d: %s (%d bytes)", row["id"], relative, len(data))
         return web.json_response({**frame_json(row, _base(request)), "duplicate": False}, status=201)
+
+    def _inspect(self, basename: str, data: bytes) -> FrameFacts:
+        """Blocking: what to index of an upload (unpacked first when it is a ``.gz``)."""
+        fits_bytes = gunzip_upload(basename, data, self.config.max_upload_bytes)
+        return inspect_fits(fits_bytes, self.config.max_frame_pixels)
 
     def _authorize(self, request: web.Request) -> None:
         given = request.headers.get("Authorization", "")
