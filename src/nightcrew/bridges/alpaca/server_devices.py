@@ -56,7 +56,8 @@ class ServedFocuser(ServedDevice):
 
     device_type = "focuser"
     type_name = "Focuser"
-    interface_version = 3
+    interface_version = 4  # IFocuserV4 (Platform 7)
+    state_members = ("IsMoving", "Position", "Temperature")
     interface = IFocuser
 
     def __init__(self, *args: Any, step: float = 0.001, max_step: int = 100_000, **kwargs: Any) -> None:
@@ -124,7 +125,8 @@ class ServedFilterWheel(ServedDevice):
 
     device_type = "filterwheel"
     type_name = "FilterWheel"
-    interface_version = 2
+    interface_version = 3  # IFilterWheelV3 (Platform 7)
+    state_members = ("Position",)
     interface = IFilters
 
     async def _wheel(self) -> IFilters:
@@ -160,7 +162,8 @@ class ServedDome(ServedDevice):
 
     device_type = "dome"
     type_name = "Dome"
-    interface_version = 2
+    interface_version = 3  # IDomeV3 (Platform 7)
+    state_members = ("Altitude", "AtHome", "AtPark", "Azimuth", "ShutterStatus", "Slewing")
     interface = IRoof
 
     async def _roof(self) -> IRoof:
@@ -228,7 +231,8 @@ class ServedSafetyMonitor(ServedDevice):
 
     device_type = "safetymonitor"
     type_name = "SafetyMonitor"
-    interface_version = 1
+    interface_version = 3  # ISafetyMonitorV3 (Platform 7)
+    state_members = ("IsSafe",)
     interface = IWeather
 
     async def get_issafe(self, request: AlpacaRequest) -> bool:
@@ -255,7 +259,22 @@ class ServedObservingConditions(ServedDevice):
 
     device_type = "observingconditions"
     type_name = "ObservingConditions"
-    interface_version = 1
+    interface_version = 2  # IObservingConditionsV2 (Platform 7)
+    state_members = (
+        "CloudCover",
+        "DewPoint",
+        "Humidity",
+        "Pressure",
+        "RainRate",
+        "SkyBrightness",
+        "SkyQuality",
+        "SkyTemperature",
+        "StarFWHM",
+        "Temperature",
+        "WindDirection",
+        "WindGust",
+        "WindSpeed",
+    )
     interface = IWeather
 
     async def _sensor(self, member: str) -> float:

@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 from nightcrew.astro import local_sidereal_time
+from nightcrew.bridges.alpaca.errors import AlpacaValueNotSetError
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
 from nightcrew.errors import InvalidArgumentError, NotSupportedError
@@ -33,7 +34,21 @@ class ServedTelescope(ServedDevice):
 
     device_type = "telescope"
     type_name = "Telescope"
-    interface_version = 3
+    interface_version = 4  # ITelescopeV4 (Platform 7)
+    state_members = (
+        "Altitude",
+        "AtHome",
+        "AtPark",
+        "Azimuth",
+        "Declination",
+        "IsPulseGuiding",
+        "RightAscension",
+        "SideOfPier",
+        "SiderealTime",
+        "Slewing",
+        "Tracking",
+        "UTCDate",
+    )
     interface = ITelescope
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
@@ -153,7 +168,7 @@ class ServedTelescope(ServedDevice):
 
     async def get_targetrightascension(self, request: AlpacaRequest) -> float:
         if self._target_ra_hours is None:
-            raise InvalidArgumentError("targetrightascension has not been set")
+            raise AlpacaValueNotSetError("targetrightascension has not been set")
         return self._target_ra_hours
 
     async def put_targetrightascension(self, request: AlpacaRequest) -> None:
@@ -161,7 +176,7 @@ class ServedTelescope(ServedDevice):
 
     async def get_targetdeclination(self, request: AlpacaRequest) -> float:
         if self._target_dec is None:
-            raise InvalidArgumentError("targetdeclination has not been set")
+            raise AlpacaValueNotSetError("targetdeclination has not been set")
         return self._target_dec
 
     async def put_targetdeclination(self, request: AlpacaRequest) -> None:

@@ -1,0 +1,67 @@
+"""ConformU's Alpaca protocol checks against nightcrew's AlpacaServer and against alpaca-simulators.
+
+Each served device type gets the same checks on both servers (:mod:`tests.alpaca.conformance`):
+nightcrew must pass every one (so everywhere the reference passes, and also where it does not).
+One server of each for the module; the reference's results are printed (``-s``) for comparison.
+"""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator, Iterator
+from pathlib import Path
+
+import aiohttp
+import pytest
+import pytest_asyncio
+
+from nightcrew.testing.alpaca import start_simulator
+
+from .conformance import Outcome
+from .conformance_run import run_device_checks
+from .served import DEVICES, served_observatory
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+#: The device types nightcrew's server serves here (all of ``nightcrew sim --alpaca``'s).
+SERVED = {**DEVICES, "observingconditions": "weather"}
+
+
+@pytest_asyncio.fixture(scope="module", loop_scope="module")
+async def nightcrew_url() -> AsyncIterator[str]:
+    async with served_observatory(devices=SERVED) as served:
+        yield served.url
+
+
+@pytest.fixture(scope="module")
+def reference_url(tmp_path_factory: pytest.TempPathFactory, alpaca_star_table: Path) -> Iterator[str]:
+    """A private alpaca-simulators: the first-use checks need devices nobody has used yet."""
+    simulator = start_simulator(
+        tmp_path_factory.mktemp("conformance-reference"), star_table=alpaca_star_table
+    )
+    try:
+        yield simulator.url
+    finally:
+        simulator.stop(grace=1.0)
+
+
+@pytest_asyncio.fixture(scope="module", loop_scope="module")
+async def session() -> AsyncIterator[aiohttp.ClientSession]:
+    async with aiohttp.ClientSession() as session:
+        yield session
+
+
+def _summary(server: str, outcomes: list[Outcome]) -> str:
+    failed = [o for o in outcomes if o.problem]
+    lines = [f"{server}: {len(outcomes)} checks, {len(outcomes) - len(failed)} conformant, {len(failed)} not"]
+    lines += [f"  {o.check.name}: {o.problem}  [{o.detail.get('body', '')[:120]}]" for o in failed]
+    return "\n".join(lines)
+
+
+@pytest.mark.parametrize("device_type", sorted(SERVED))
+async def test_nightcrew_passes_every_check(
+    device_type: str, nightcrew_url: str, reference_url: str, session: aiohttp.ClientSession
+) -> None:
+    reference = await run_device_checks(session, reference_url, device_type, 0)
+    ours = await run_device_checks(session, nightcrew_url, device_type, 0)
+    print(f"\n{device_type}\n{_summary('alpaca-simulators', reference)}\n{_summary('nightcrew', ours)}")
+    assert [o for o in ours if o.problem] == [], _summary("nightcrew", ours)
