@@ -59,6 +59,7 @@ class Current:
 
     member: str
     fallback: str
+    params: tuple[tuple[str, str], ...] = ()
 
 
 Value = str | Current
@@ -358,15 +359,40 @@ def _methods(device_type: str, base: str) -> list[Check]:
         ]
     if device_type == "switch":
         ident = (("Id", "0"),)
-        members = (
-            "CanWrite",
-            "GetSwitchDescription",
-            "GetSwitchName",
-            "MinSwitchValue",
-            "MaxSwitchValue",
-            "SwitchStep",
-        )
-        return [check for member in members for check in calls(base, "GET", member, ident)]
+        members = "CanWrite GetSwitch GetSwitchDescription GetSwitchName GetSwitchValue MinSwitchValue "
+        members += "MaxSwitchValue CanAsync SwitchStep"
+        checks = [check for member in members.split() for check in calls(base, "GET", member, ident)]
+        state = Current("GetSwitch", "False", ident)
+        value = Current("GetSwitchValue", "0", ident)
+        name = Current("GetSwitchName", "switch", ident)
+        checks += calls(base, "PUT", "SetSwitch", (*ident, ("State", state)))
+        checks += calls(base, "PUT", "SetSwitchName", (*ident, ("Name", name)), bad_values=("Id",))
+        checks += calls(base, "PUT", "SetSwitchValue", (*ident, ("Value", value)))
+        return checks
     if device_type == "rotator":
-        return calls(base, "PUT", "Halt")
+        moving: tuple[str, Any] = ("IsMoving", True)
+        return [
+            *calls(base, "PUT", "Halt"),
+            *calls(base, "PUT", "Move", (("Position", "0"),), wait_while=moving),
+            *calls(base, "PUT", "MoveAbsolute", (("Position", Current("Position", "0")),), wait_while=moving),
+            *calls(
+                base,
+                "PUT",
+                "MoveMechanical",
+                (("Position", Current("MechanicalPosition", "0")),),
+                wait_while=moving,
+            ),
+            *calls(base, "PUT", "Sync", (("Position", Current("Position", "0")),)),
+        ]
+    if device_type == "covercalibrator":
+        changing: tuple[str, Any] = ("CalibratorState", 2)
+        cover: tuple[str, Any] = ("CoverState", 2)
+        brightness = (("Brightness", Current("MaxBrightness", "1")),)
+        return [
+            *calls(base, "PUT", "CalibratorOff", wait_while=changing),
+            *calls(base, "PUT", "CalibratorOn", brightness, wait_while=changing),
+            *calls(base, "PUT", "OpenCover", wait_while=cover),
+            *calls(base, "PUT", "HaltCover", wait_while=cover),
+            *calls(base, "PUT", "CloseCover", wait_while=cover),
+        ]
     return []

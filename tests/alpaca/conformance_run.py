@@ -131,10 +131,12 @@ def _uint32(text: str) -> int:
     return value if 0 <= value < 2**32 else 0
 
 
-async def _read(session: aiohttp.ClientSession, url: str, path: str) -> Any:
+async def _read(
+    session: aiohttp.ClientSession, url: str, path: str, params: tuple[tuple[str, str], ...] = ()
+) -> Any:
     """A member's Value, None on any error."""
     try:
-        async with session.get(url + path, params={"ClientID": CLIENT_ID}) as response:
+        async with session.get(url + path, params=[("ClientID", CLIENT_ID), *params]) as response:
             body = await response.json(content_type=None)
     except (aiohttp.ClientError, ValueError):
         return None
@@ -146,7 +148,7 @@ async def _read(session: aiohttp.ClientSession, url: str, path: str) -> Any:
 async def _resolve(session: aiohttp.ClientSession, url: str, base: str, value: str | Current) -> str:
     if isinstance(value, str):
         return value
-    current = await _read(session, url, f"{base}/{value.member.lower()}")
+    current = await _read(session, url, f"{base}/{value.member.lower()}", value.params)
     if current is None:
         return value.fallback
     return str(current) if not isinstance(current, bool) else ("True" if current else "False")

@@ -18,17 +18,17 @@ from nightcrew.testing.alpaca import start_simulator
 
 from .conformance import Outcome
 from .conformance_run import run_device_checks
-from .served import DEVICES, served_observatory
+from .served import DEVICES, MORE_DEVICES, served_observatory
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
-#: The device types nightcrew's server serves here (all of ``nightcrew sim --alpaca``'s).
-SERVED = {**DEVICES, "observingconditions": "weather"}
+#: The device types nightcrew's server serves here: all ten (nightcrew sim --alpaca serves seven).
+SERVED = {**DEVICES, **MORE_DEVICES, "observingconditions": "weather"}
 
 
 @pytest_asyncio.fixture(scope="module", loop_scope="module")
 async def nightcrew_url() -> AsyncIterator[str]:
-    async with served_observatory(devices=SERVED) as served:
+    async with served_observatory(devices=SERVED, more_devices=True) as served:
         yield served.url
 
 
