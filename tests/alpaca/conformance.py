@@ -336,6 +336,13 @@ def _methods(device_type: str, base: str) -> list[Check]:
             *calls(base, "GET", "AxisRates", (("Axis", "0"),)),
             *calls(base, "GET", "CanMoveAxis", (("Axis", "0"),)),
             *calls(base, "PUT", "MoveAxis", (("Axis", "0"), ("Rate", "0.0"))),
+            *calls(
+                base,
+                "PUT",
+                "PulseGuide",
+                (("Direction", "0"), ("Duration", "0")),
+                wait_while=("IsPulseGuiding", True),
+            ),
         ]
     if device_type == "focuser":
         return [

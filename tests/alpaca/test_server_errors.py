@@ -146,7 +146,7 @@ async def test_unimplemented_members_and_wrong_methods(client: Client) -> None:
     status, text = await client.call("GET", "TELESCOPE/0/description")
     assert (status, "Alpaca URLs are lower case") == (400, text[text.index("Alpaca") :].split(" (")[0])
     # Members of the interface nightcrew does not implement are NotImplemented, with either method.
-    _, body = await client.call("PUT", "telescope/0/pulseguide", Direction="0", Duration="0")
+    _, body = await client.call("PUT", "telescope/0/synctotarget")
     assert body["ErrorNumber"] == NOT_IMPLEMENTED
     _, body = await client.call("PUT", "telescope/0/action", Action="nosuch", Parameters="")
     assert body["ErrorNumber"] == ACTION_NOT_IMPLEMENTED
