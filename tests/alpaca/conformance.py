@@ -78,6 +78,7 @@ class Check:
     miscased_transaction: bool = False
     errors: frozenset[int] | None = None
     device_state: bool = False
+    image_array: bool = False
     wait_while: tuple[str, Any] | None = None
 
 
@@ -344,6 +345,8 @@ def _methods(device_type: str, base: str) -> list[Check]:
                 wait_while=("IsPulseGuiding", True),
             ),
         ]
+    if device_type == "camera":
+        return _exposure(base)
     if device_type == "focuser":
         return [
             *calls(base, "PUT", "Halt"),
@@ -403,3 +406,41 @@ def _methods(device_type: str, base: str) -> list[Check]:
             *calls(base, "PUT", "CloseCover", wait_while=cover),
         ]
     return []
+
+
+def _exposure(base: str) -> list[Check]:
+    """One short exposure of a 64 x 64 window (so the JSON ImageArray stays small), its image and
+    times; then StartExposure's malformed variants, which must not start one."""
+    ids, expose = _ids(), f"{base}/startexposure"
+    window = [Check(f"PUT {n}=64", "PUT", f"{base}/{n.lower()}", (*ids, (n, "64"))) for n in ("NumX", "NumY")]
+    good = (*ids, ("Duration", "0.1"), ("Light", "True"))
+    return [
+        *window,
+        Check("PUT StartExposure", "PUT", expose, good, wait_while=("ImageReady", False)),
+        *calls(base, "GET", "ImageArray", image_array=True),
+        *calls(base, "GET", "LastExposureDuration"),
+        *calls(base, "GET", "LastExposureStartTime"),
+        Check(
+            "PUT StartExposure: Duration meaningless",
+            "PUT",
+            expose,
+            (*ids, ("Duration", BAD_VALUE), ("Light", "True")),
+            statuses=_BAD,
+            invalid_value_ok=True,
+        ),
+        Check(
+            "PUT StartExposure: Light meaningless",
+            "PUT",
+            expose,
+            (*ids, ("Duration", "0.1"), ("Light", BAD_VALUE)),
+            statuses=_BAD,
+            invalid_value_ok=True,
+        ),
+        Check(
+            "PUT StartExposure: Duration mis-cased",
+            "PUT",
+            expose,
+            (*ids, ("dURATION", "0.1"), ("Light", "True")),
+            statuses=_BAD,
+        ),
+    ]

@@ -9,6 +9,8 @@ from typing import Any
 
 import aiohttp
 
+from nightcrew.bridges.alpaca.imagebytes import ImageBytesError, decode_header
+
 from .conformance import (
     CLIENT_ID,
     INVALID_VALUE,
@@ -23,6 +25,7 @@ from .conformance import (
 
 __all__ = ["judge", "run_device_checks"]
 
+_IMAGEBYTES = "application/imagebytes"
 _REPLY_KEYS = ("ClientTransactionID", "ServerTransactionID", "ErrorNumber", "ErrorMessage")
 #: Wall seconds a check may wait for a motion it started (a filter or focuser moving nowhere).
 _MOTION_WAIT = 10.0
@@ -52,16 +55,22 @@ def _ids_and(*params: tuple[str, str]) -> tuple[tuple[str, str | Current], ...]:
 async def run_check(session: aiohttp.ClientSession, url: str, check: Check) -> Outcome:
     base = check.path.rsplit("/", 1)[0]
     params = [(name, await _resolve(session, url, base, value)) for name, value in check.params]
+    # As ConformU asks for images: ImageBytes preferred, JSON accepted.
+    headers = {"Accept": f"{_IMAGEBYTES}, application/json"} if check.image_array else {}
     try:
         if check.method == "GET":
-            request = session.get(url + check.path, params=params)
+            request = session.get(url + check.path, params=params, headers=headers)
         else:
             request = session.request(check.method, url + check.path, data=params)
         async with request as response:
-            status, content_type, text = response.status, response.content_type, await response.text()
+            status, content_type, payload = response.status, response.content_type, await response.read()
     except aiohttp.ClientError as exc:
         return Outcome(check, f"no answer: {exc!r}")
-    problem = judge(check, status, content_type, text, params)
+    if status == 200 and content_type == _IMAGEBYTES:
+        problem, text = _judge_imagebytes(check, payload, params), f"<{len(payload)} bytes of ImageBytes>"
+    else:
+        text = payload.decode("utf-8", errors="replace")
+        problem = judge(check, status, content_type, text, params)
     if check.wait_while is not None:
         await _wait_while(session, url, base, *check.wait_while)
     return Outcome(check, problem, {"status": status, "body": text[:300]})
@@ -91,6 +100,26 @@ def judge(check: Check, status: int, content_type: str, text: str, params: list[
     return "" if body is None else _judge_reply(check, body, params)
 
 
+def _judge_imagebytes(check: Check, payload: bytes, params: list[tuple[str, str]]) -> str:
+    """An ImageBytes answer: judged on its header, as ConformU does (metadata version 1)."""
+    try:
+        header = decode_header(payload)
+    except ImageBytesError as exc:
+        return f"broken ImageBytes: {exc}"
+    if header.metadata_version != 1:
+        return f"ImageBytes metadata version {header.metadata_version}, expected 1"
+    body = {
+        "ClientTransactionID": header.client_transaction_id,
+        "ServerTransactionID": header.server_transaction_id,
+        "ErrorNumber": header.error_number,
+        "ErrorMessage": "",
+        "Value": None,
+        "Type": header.image_element_type,
+        "Rank": header.rank,
+    }
+    return _judge_reply(check, body, params)
+
+
 def _judge_reply(check: Check, body: dict[str, Any], params: list[tuple[str, str]]) -> str:
     for key in _REPLY_KEYS:
         miscased = [given for given in body if given.lower() == key.lower() and given != key]
@@ -114,6 +143,8 @@ def _judge_reply(check: Check, body: dict[str, Any], params: list[tuple[str, str
     if check.errors is not None and number not in check.errors:
         wanted = " or ".join(f"0x{n:X}" for n in sorted(check.errors))
         return f"ErrorNumber 0x{number:X} ({body.get('ErrorMessage', '')!r}), expected {wanted}"
+    if check.image_array and number == 0 and not {"Type", "Rank"} <= set(body):
+        return "an ImageArray reply without Type and Rank"
     if check.device_state and number == 0:
         value = body.get("Value")
         if not isinstance(value, list) or not all(
