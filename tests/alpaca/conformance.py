@@ -14,6 +14,7 @@ from its code: the same requests, and the same rule for each answer.
 * A parameter with a meaningless value, and a PUT parameter whose name is mis-cased (form names are
   case sensitive): HTTP 400, or 200 with InvalidValue (0x401); for a 400-only check a member that
   is NotImplemented (0x400) is tolerated.
+* A PUT whose parameter is in the query string instead of the form: HTTP 400 (the API reference).
 * Platform 7 interfaces: ``DeviceState`` is a list of ``{"Name", "Value"}``; ``Connect``,
   ``Disconnect`` and ``Connecting`` answer.
 
@@ -79,6 +80,8 @@ class Check:
     errors: frozenset[int] | None = None
     device_state: bool = False
     image_array: bool = False
+    #: Parameters of a PUT sent in the query string instead of the form.
+    query: tuple[tuple[str, str], ...] = ()
     wait_while: tuple[str, Any] | None = None
 
 
@@ -226,6 +229,11 @@ def common_checks(device_type: str, number: int, interface_version: int) -> list
             )
         )
     checks += calls(base, "PUT", "Connected", (("Connected", "True"),), bad_values=(), bad_ids=True)
+    # The Alpaca API: a PUT's parameters are in its form; one in the query string is not there.
+    in_query = (("Connected", "True"),)
+    checks.append(
+        Check("PUT Connected in the query string", "PUT", f"{base}/connected", _ids(), _BAD, query=in_query)
+    )
     for member in (
         "Description",
         "DriverInfo",

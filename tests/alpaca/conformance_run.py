@@ -61,7 +61,7 @@ async def run_check(session: aiohttp.ClientSession, url: str, check: Check) -> O
         if check.method == "GET":
             request = session.get(url + check.path, params=params, headers=headers)
         else:
-            request = session.request(check.method, url + check.path, data=params)
+            request = session.request(check.method, url + check.path, data=params, params=check.query)
         async with request as response:
             status, content_type, payload = response.status, response.content_type, await response.read()
     except aiohttp.ClientError as exc:

@@ -143,6 +143,10 @@ class ServedSwitch(ServedDevice):
     async def get_switchstep(self, request: AlpacaRequest) -> float:
         return (await self._info(request)).step
 
+    async def get_statechangecomplete(self, request: AlpacaRequest) -> bool:
+        await self._info(request)
+        return True  # switches are set synchronously: every change is complete when it returns
+
     async def get_getswitch(self, request: AlpacaRequest) -> bool:
         info = await self._info(request)
         return await (await self._switch()).get_switch(info.index)
@@ -167,6 +171,7 @@ class ServedSwitch(ServedDevice):
             state.append({"Name": f"GetSwitch{info.index}", "Value": await switch.get_switch(info.index)})
             value = await switch.get_switch_value(info.index)
             state.append({"Name": f"GetSwitchValue{info.index}", "Value": value})
+            state.append({"Name": f"StateChangeComplete{info.index}", "Value": True})
         state.append({"Name": "TimeStamp", "Value": self.owner.clock.now().strftime("%Y-%m-%dT%H:%M:%S.%fZ")})
         return state
 
