@@ -243,6 +243,9 @@ class ServedDevice:
                 state.append({"Name": name, "Value": await handler(request)})
             except NightcrewError:
                 continue
-        stamp = self.owner.clock.now().strftime("%Y-%m-%dT%H:%M:%S.%fZ")
-        state.append({"Name": "TimeStamp", "Value": stamp})
+        state.append(self.time_stamp())
         return state
+
+    def time_stamp(self) -> dict[str, Any]:
+        """DeviceState's TimeStamp entry: the server's clock, UTC, as Alpaca writes dates."""
+        return {"Name": "TimeStamp", "Value": self.owner.clock.now().strftime("%Y-%m-%dT%H:%M:%S.%fZ")}

@@ -172,7 +172,7 @@ class ServedSwitch(ServedDevice):
             value = await switch.get_switch_value(info.index)
             state.append({"Name": f"GetSwitchValue{info.index}", "Value": value})
             state.append({"Name": f"StateChangeComplete{info.index}", "Value": True})
-        state.append({"Name": "TimeStamp", "Value": self.owner.clock.now().strftime("%Y-%m-%dT%H:%M:%S.%fZ")})
+        state.append(self.time_stamp())
         return state
 
 
