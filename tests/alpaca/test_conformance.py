@@ -7,14 +7,16 @@ One server of each for the module; the reference's results are printed (``-s``) 
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Iterator
+import asyncio
+import contextlib
+from collections.abc import AsyncIterator
 from pathlib import Path
 
 import aiohttp
 import pytest
 import pytest_asyncio
 
-from nightcrew.testing.alpaca import start_simulator
+from nightcrew.testing.alpaca import AlpacaSimulator, start_simulator
 
 from .conformance import Outcome
 from .conformance_run import run_device_checks
@@ -27,21 +29,26 @@ SERVED = {**DEVICES, **MORE_DEVICES, "observingconditions": "weather"}
 
 
 @pytest_asyncio.fixture(scope="module", loop_scope="module")
-async def nightcrew_url() -> AsyncIterator[str]:
-    async with served_observatory(devices=SERVED, more_devices=True) as served:
-        yield served.url
-
-
-@pytest.fixture(scope="module")
-def reference_url(tmp_path_factory: pytest.TempPathFactory, alpaca_star_table: Path) -> Iterator[str]:
-    """A private alpaca-simulators: the first-use checks need devices nobody has used yet."""
-    simulator = start_simulator(
-        tmp_path_factory.mktemp("conformance-reference"), star_table=alpaca_star_table
+async def servers(
+    tmp_path_factory: pytest.TempPathFactory, alpaca_star_table: Path
+) -> AsyncIterator[tuple[str, str]]:
+    """The URLs of nightcrew's server and of a private alpaca-simulators (the first-use checks need
+    devices nobody has used yet), started side by side."""
+    directory = tmp_path_factory.mktemp("conformance-reference")
+    starting = asyncio.ensure_future(
+        asyncio.to_thread(start_simulator, directory, star_table=alpaca_star_table)
     )
+    simulator: AlpacaSimulator | None = None
     try:
-        yield simulator.url
+        async with served_observatory(devices=SERVED, more_devices=True) as served:
+            simulator = await starting
+            yield served.url, simulator.url
     finally:
-        simulator.stop(grace=1.0)
+        if simulator is None:
+            with contextlib.suppress(Exception):
+                simulator = await starting
+        if simulator is not None:
+            await asyncio.to_thread(simulator.stop, grace=1.0)
 
 
 @pytest_asyncio.fixture(scope="module", loop_scope="module")
@@ -59,8 +66,9 @@ def _summary(server: str, outcomes: list[Outcome]) -> str:
 
 @pytest.mark.parametrize("device_type", sorted(SERVED))
 async def test_nightcrew_passes_every_check(
-    device_type: str, nightcrew_url: str, reference_url: str, session: aiohttp.ClientSession
+    device_type: str, servers: tuple[str, str], session: aiohttp.ClientSession
 ) -> None:
+    nightcrew_url, reference_url = servers
     reference = await run_device_checks(session, reference_url, device_type, 0)
     ours = await run_device_checks(session, nightcrew_url, device_type, 0)
     print(f"\n{device_type}\n{_summary('alpaca-simulators', reference)}\n{_summary('nightcrew', ours)}")
