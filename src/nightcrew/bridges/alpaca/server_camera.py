@@ -74,7 +74,7 @@ class _Exposure:
 
 
 class ServedCamera(ServedDevice):
-    """Alpaca Camera (ICameraV3 members) on a nightcrew ICamera module.
+    """Alpaca Camera (ICameraV4 members) on a nightcrew ICamera module.
 
     Args:
         pixel_size: Pixel size in µm (the interface does not tell it).

@@ -47,7 +47,7 @@ _SHUTTER = {
 
 
 class ServedFocuser(ServedDevice):
-    """Alpaca Focuser (IFocuserV3 members) on a nightcrew IFocuser module.
+    """Alpaca Focuser (IFocuserV4 members) on a nightcrew IFocuser module.
 
     Args:
         step: Millimetres per Alpaca step (> 0).
@@ -121,7 +121,7 @@ class ServedFocuser(ServedDevice):
 
 
 class ServedFilterWheel(ServedDevice):
-    """Alpaca FilterWheel (IFilterWheelV2 members) on a nightcrew IFilters module."""
+    """Alpaca FilterWheel (IFilterWheelV3 members) on a nightcrew IFilters module."""
 
     device_type = "filterwheel"
     type_name = "FilterWheel"
@@ -158,7 +158,7 @@ class ServedFilterWheel(ServedDevice):
 
 
 class ServedDome(ServedDevice):
-    """Alpaca Dome (IDomeV2 members) on a nightcrew IRoof module; IDome adds the azimuth."""
+    """Alpaca Dome (IDomeV3 members) on a nightcrew IRoof module; IDome adds the azimuth."""
 
     device_type = "dome"
     type_name = "Dome"
