@@ -20,8 +20,8 @@ from .conformance import (
     Current,
     Outcome,
     common_checks,
-    device_checks,
 )
+from .conformance_devices import device_checks
 
 __all__ = ["judge", "run_device_checks"]
 
