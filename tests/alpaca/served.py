@@ -15,7 +15,16 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 from nightcrew.modules.alpaca.server import AlpacaServer
-from nightcrew.modules.sim import SimCamera, SimDome, SimFilterWheel, SimFocuser, SimTelescope
+from nightcrew.modules.sim import (
+    SimCamera,
+    SimCoverCalibrator,
+    SimDome,
+    SimFilterWheel,
+    SimFocuser,
+    SimRotator,
+    SimSwitch,
+    SimTelescope,
+)
 from nightcrew.modules.weather import SunStation, Weather
 from nightcrew.testing import Observatory
 from nightcrew.weather import Switch
@@ -28,6 +37,8 @@ T = TypeVar("T")
 DARK_NIGHT = "2024-08-04T22:00:00+00:00"
 #: A field rich in catalogue stars (the one tests/sim/test_solve_field.py solves), (ra, dec) in degrees.
 MILKY_WAY = (269.45, 4.7)
+#: The device types served with ``more_devices`` and the modules behind them.
+MORE_DEVICES = {"rotator": "rotator", "switch": "switch", "covercalibrator": "flatpanel"}
 #: The served device types and the modules behind them.
 DEVICES = {
     "telescope": "telescope",
@@ -64,11 +75,13 @@ async def served_observatory(
     focuser_speed: float = 20.0,
     filter_change_time: float = 0.2,
     dome_time: float = 1.0,
+    more_devices: bool = False,
     **server_options: Any,
 ) -> AsyncIterator[Served]:
     """Telescope (``slew_rate`` °/s), camera (``chip`` x ``chip`` pixels), dome (opens, closes and
     turns 90° in ``dome_time`` s), focuser (``focuser_speed`` mm/s), filter wheel
-    (``filter_change_time`` s) and weather, served by an AlpacaServer ``alpaca``."""
+    (``filter_change_time`` s) and weather, served by an AlpacaServer ``alpaca``; with
+    ``more_devices`` also a rotator, a switch box and a flat panel (:data:`MORE_DEVICES`), quick."""
     async with Observatory(speed=1.0, epoch=DARK_NIGHT) as obs:
         await obs.start(SimTelescope, "telescope", slew_rate=slew_rate, settle_time=0.0, init_time=0.0)
         await obs.start(
@@ -95,8 +108,13 @@ async def served_observatory(
             min_good_time=0.0,
             interval=1.0,
         )
+        if more_devices:
+            await obs.start(SimRotator, "rotator", speed=90.0)
+            switches = [{"name": "power"}, {"name": "dew heater", "max_value": 100.0, "step": 1.0}]
+            await obs.start(SimSwitch, "switch", switches=switches)
+            await obs.start(SimCoverCalibrator, "flatpanel", cover_time=0.05, warmup_time=0.05)
         options: dict[str, Any] = {
-            "devices": DEVICES,
+            "devices": {**DEVICES, **MORE_DEVICES} if more_devices else DEVICES,
             "port": 0,
             "discovery_port": 0,
             "pixel_sizes": {"camera": 9.0},

@@ -5,7 +5,10 @@ from __future__ import annotations
 import pytest
 
 from nightcrew.bridges.alpaca.errors import (
+    AlpacaActionNotImplementedError,
+    AlpacaInvalidOperationError,
     AlpacaNotConnectedError,
+    AlpacaValueNotSetError,
     error_from_reply,
     reply_from_error,
 )
@@ -28,12 +31,12 @@ from nightcrew.errors import (
     [
         (0x400, NotSupportedError, "NotImplemented"),
         (0x401, InvalidArgumentError, "InvalidValue"),
-        (0x402, InvalidArgumentError, "ValueNotSet"),
+        (0x402, AlpacaValueNotSetError, "ValueNotSet"),  # an InvalidArgumentError
         (0x407, AlpacaNotConnectedError, "NotConnected"),
         (0x408, MoveError, "InvalidWhileParked"),
         (0x409, DeviceBusyError, "InvalidWhileSlaved"),
         (0x40B, DeviceBusyError, "InvalidOperation"),
-        (0x40C, NotSupportedError, "ActionNotImplemented"),
+        (0x40C, AlpacaActionNotImplementedError, "ActionNotImplemented"),  # a NotSupportedError
         (0x40E, AbortedError, "OperationCancelled"),
         (0x500, RemoteError, "driver error"),
         (0xFFF, RemoteError, "driver error"),
@@ -62,6 +65,9 @@ def test_not_connected_is_a_module_error() -> None:
         (DeviceBusyError("exposing"), 0x40B),
         (ParkError("park failed"), 0x40B),
         (AbortedError("aborted"), 0x40E),
+        (AlpacaValueNotSetError("targetrightascension has not been set"), 0x402),
+        (AlpacaInvalidOperationError("no exposure has been started yet"), 0x40B),
+        (AlpacaActionNotImplementedError("no actions"), 0x40C),
         (GrabImageError("readout failed"), 0x500),
         (RuntimeError("boom"), 0x500),
     ],

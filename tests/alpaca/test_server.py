@@ -253,8 +253,8 @@ def test_the_example_configuration_builds() -> None:
         "dome 0 (module roof)",
         "focuser 0 (module focuser)",
         "filterwheel 0 (module filters)",
-        "safetymonitor 0 (module safety)",
-        "observingconditions 0 (module weather)",
+        "safetymonitor 0 (module weather)",
+        "observingconditions 0 (module conditions)",
     ]
 
 

@@ -14,6 +14,7 @@ import aiohttp
 import pytest
 
 from nightcrew.bridges.alpaca.errors import (
+    ACTION_NOT_IMPLEMENTED,
     DRIVER_ERROR,
     INVALID_OPERATION,
     INVALID_VALUE,
@@ -138,7 +139,18 @@ async def test_unimplemented_members_and_wrong_methods(client: Client) -> None:
     _, body = await client.call("PUT", "telescope/0/tracking", Tracking="true")  # CanSetTracking is false
     assert body["ErrorNumber"] == NOT_IMPLEMENTED
     status, text = await client.call("PUT", "telescope/0/rightascension", RightAscension="1")
-    assert (status, text) == (400, "telescope member rightascension is called with GET")
+    assert (status, text) == (400, "telescope member rightascension takes GET, not PUT")
+    # ConformU: a name that is no member of the interface, or a URL not in lower case, is a bad URL.
+    status, text = await client.call("GET", "telescope/0/descrip")
+    assert (status, text) == (400, "'descrip' is not a member of the Alpaca Telescope interface")
+    status, text = await client.call("GET", "TELESCOPE/0/description")
+    assert (status, "Alpaca URLs are lower case") == (400, text[text.index("Alpaca") :].split(" (")[0])
+    # Members of the interface nightcrew does not implement are NotImplemented, with either method.
+    _, body = await client.call("PUT", "telescope/0/synctotarget")
+    assert body["ErrorNumber"] == NOT_IMPLEMENTED
+    _, body = await client.call("PUT", "telescope/0/action", Action="nosuch", Parameters="")
+    assert body["ErrorNumber"] == ACTION_NOT_IMPLEMENTED
+    assert "supports no actions" in body["ErrorMessage"]
 
 
 async def test_refusals_of_the_module_reach_the_client(client: Client) -> None:
@@ -171,9 +183,18 @@ async def test_a_slew_below_the_horizon_is_refused_on_the_request_or_the_next_po
     assert "below the limit of 10°" in body["ErrorMessage"]
 
 
-async def test_parameter_names_ignore_case_and_transaction_ids_are_echoed(client: Client) -> None:
-    status, body = await client.call("PUT", "focuser/0/CONNECTED", connected="true", clienttransactionid="41")
-    assert (status, body["ErrorNumber"], body["ClientTransactionID"]) == (200, 0, 41)
+async def test_query_names_ignore_case_form_names_do_not_and_transaction_ids_are_echoed(
+    client: Client,
+) -> None:
+    status, text = await client.call("PUT", "focuser/0/connected", connected="true")
+    assert (status, text) == (
+        400,
+        "connected: missing parameter Connected (got connected: form parameter names are case sensitive)",
+    )
+    status, body = await client.call("PUT", "focuser/0/connected", Connected="true", clienttransactionid="41")
+    assert (status, body["ErrorNumber"], body["ClientTransactionID"]) == (200, 0, 0)  # mis-cased: ignored
+    status, body = await client.call("GET", "focuser/0/connected", clienttransactionid="41")
+    assert (status, body["Value"], body["ClientTransactionID"]) == (200, True, 41)
     first = body["ServerTransactionID"]
     _, body = await client.call("GET", "focuser/0/position", ClientTransactionID="4294967295")
     assert body["ClientTransactionID"] == 4294967295
@@ -181,7 +202,7 @@ async def test_parameter_names_ignore_case_and_transaction_ids_are_echoed(client
     for bad in ("-5", "abc", "4294967296"):
         _, body = await client.call("GET", "focuser/0/position", ClientTransactionID=bad)
         assert body["ClientTransactionID"] == 0
-    _, body = await client.call("PUT", "focuser/0/move", POSITION="1000")
+    _, body = await client.call("PUT", "focuser/0/move", Position="1000")
     assert body["ErrorNumber"] == 0
     _, body = await client.call("GET", "focuser/0/position", ClientID="x" * 5000)  # ignored
     assert body["ErrorNumber"] == 0

@@ -95,9 +95,14 @@ async def test_values_outside_range_or_step_are_refused(
 
 
 async def test_unknown_switch_is_refused_naming_the_range(switches: ISwitch, alpaca_server: str) -> None:
-    for call in (switches.get_switch(2), switches.get_switch_value(-1), switches.set_switch(7, True)):
+    for index in (2, 7):  # past the device's switches: the device's range is named
         with pytest.raises(InvalidArgumentError, match=f"switch 0 at {alpaca_server} has switches 0..1, not"):
-            await call
+            await switches.get_switch(index)
+        with pytest.raises(InvalidArgumentError, match=f"switch 0 at {alpaca_server} has switches 0..1, not"):
+            await switches.set_switch(index, True)
+    # below any switch: refused by the interface's bound before the device is asked
+    with pytest.raises(InvalidArgumentError, match=r"argument 'switch': -1 is out of range \(must be >= 0\)"):
+        await switches.get_switch_value(-1)
 
 
 def test_read_only_switch_is_refused_before_the_device() -> None:

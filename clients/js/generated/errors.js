@@ -25,6 +25,13 @@ export class AcquisitionFailedError extends NightcrewError {
 }
 
 /**
+ * A call that is not valid in the device's state (InvalidOperation, 0x40B), e.g.
+ * LastExposureDuration before any exposure.
+ */
+export class AlpacaInvalidOperationError extends NightcrewError {
+}
+
+/**
  * A flat-field light did not reach the state asked for (on and stable, or off).
  */
 export class CalibratorError extends NightcrewError {
@@ -127,6 +134,12 @@ export class XmppAuthError extends NightcrewError {
 }
 
 /**
+ * An ``Action`` name the device does not support (ActionNotImplemented, 0x40C).
+ */
+export class AlpacaActionNotImplementedError extends NotSupportedError {
+}
+
+/**
  * The Alpaca server cannot be reached, or it dropped the connection.
  */
 export class AlpacaConnectionError extends RemoteError {
@@ -142,6 +155,12 @@ export class AlpacaNotConnectedError extends ModuleError {
  * A reply that is not valid Alpaca (malformed JSON, missing field, HTTP error, broken image).
  */
 export class AlpacaReplyError extends RemoteError {
+}
+
+/**
+ * A value read before it was ever set (ValueNotSet, 0x402), e.g. TargetRightAscension.
+ */
+export class AlpacaValueNotSetError extends InvalidArgumentError {
 }
 
 /**
@@ -301,4 +320,4 @@ export class UnknownRootError extends VfsPathError {
 }
 
 /** Every error class, by the name a fault's `errorClass` carries. */
-export const ERRORS = {AbortedError, AcquisitionFailedError, AlpacaConnectionError, AlpacaNotConnectedError, AlpacaReplyError, AstrometryError, CacheFullError, CalibrationError, CalibratorError, CodecError, ConfigError, DeviceBusyError, ExpressionError, FocusOutsideSeriesError, FocusSeriesError, ForbiddenError, GrabImageError, ImageDataError, ImageError, ImageFormatError, InitError, InterfaceError, InvalidArgumentError, InvalidTaskError, InvalidTransitionError, MissingWcsError, ModuleError, MotionError, MoveError, NightcrewError, NoSolutionError, NoStarsError, NotSupportedError, ParkError, PortalError, RemoteError, RemoteTimeoutError, ScriptError, SolverUnavailableError, SupervisorError, TaskError, TaskNotFoundError, TooLargeError, UnknownRootError, VfsError, VfsFileNotFoundError, VfsFormatError, VfsPathError, XmppAuthError};
+export const ERRORS = {AbortedError, AcquisitionFailedError, AlpacaActionNotImplementedError, AlpacaConnectionError, AlpacaInvalidOperationError, AlpacaNotConnectedError, AlpacaReplyError, AlpacaValueNotSetError, AstrometryError, CacheFullError, CalibrationError, CalibratorError, CodecError, ConfigError, DeviceBusyError, ExpressionError, FocusOutsideSeriesError, FocusSeriesError, ForbiddenError, GrabImageError, ImageDataError, ImageError, ImageFormatError, InitError, InterfaceError, InvalidArgumentError, InvalidTaskError, InvalidTransitionError, MissingWcsError, ModuleError, MotionError, MoveError, NightcrewError, NoSolutionError, NoStarsError, NotSupportedError, ParkError, PortalError, RemoteError, RemoteTimeoutError, ScriptError, SolverUnavailableError, SupervisorError, TaskError, TaskNotFoundError, TooLargeError, UnknownRootError, VfsError, VfsFileNotFoundError, VfsFormatError, VfsPathError, XmppAuthError};

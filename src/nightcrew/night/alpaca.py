@@ -3,8 +3,9 @@
 Instead of running a night, the bundled (or ``--configs``) devices run on a clock at real speed
 (``--speed`` to change it) that starts at dusk of ``--date`` (or ``--start``), and an AlpacaServer
 serves them on 127.0.0.1:PORT: telescope, camera (frames are also written to ``--out``), roof as
-Dome, focuser, filter wheel, the weather station (``conditions.yaml``) as ObservingConditions and
-the weather verdict of ``robotic/weather.yaml`` as SafetyMonitor.
+Dome, focuser, filter wheel, the weather station (``conditions.yaml``) as ObservingConditions, the
+weather verdict of ``robotic/weather.yaml`` as SafetyMonitor, and any rotator, switch box or flat
+panel among the ``--configs`` modules.
 Any Alpaca client (N.I.N.A., SharpCap, alpyca scripts) can then drive the simulated sky; it finds
 the server by Alpaca discovery on loopback (``--alpaca-discovery-port``). On Ctrl-C or SIGTERM the
 telescope parks, the roof closes and everything stops.
@@ -21,6 +22,7 @@ from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
 from nightcrew.config import build_object, load_config, to_plain, validate_config
 from nightcrew.errors import ConfigError
+from nightcrew.interfaces import ICoverCalibrator, IRotator, ISwitch
 from nightcrew.modules import Module
 from nightcrew.modules.alpaca.server import AlpacaServer
 from nightcrew.night.build import (
@@ -86,6 +88,7 @@ async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) 
     }
     if any(module.name == STATION for module in modules):
         devices["observingconditions"] = STATION
+    devices.update(_more_devices(modules))
     verdict = directory / "robotic" / f"{VERDICT}.yaml"
     if verdict.is_file():
         config = load_config(verdict, environ=environ)
@@ -126,6 +129,14 @@ async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) 
             for module in reversed(opened):
                 await module.close()
             await vfs.close()
+
+
+def _more_devices(modules: list[Module]) -> dict[str, str | list[str]]:
+    """Rotators, switch boxes and flat panels among ``modules`` (a ``--configs`` directory may
+    have them), by Alpaca device type; numbered in the order of their files."""
+    kinds = (("rotator", IRotator), ("switch", ISwitch), ("covercalibrator", ICoverCalibrator))
+    found = {kind: [m.name for m in modules if isinstance(m, interface)] for kind, interface in kinds}
+    return {kind: names for kind, names in found.items() if names}
 
 
 def _pixel_size(directory: Path) -> float:

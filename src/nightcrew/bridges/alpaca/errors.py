@@ -9,12 +9,13 @@ number     Alpaca name             client raises                   server sends 
 =========  ======================  ==============================  ======================
 0x400      NotImplemented          NotSupportedError               NotSupportedError
 0x401      InvalidValue            InvalidArgumentError            InvalidArgumentError
-0x402      ValueNotSet             InvalidArgumentError            -
+0x402      ValueNotSet             AlpacaValueNotSetError          AlpacaValueNotSetError
 0x407      NotConnected            AlpacaNotConnectedError         ModuleError
 0x408      InvalidWhileParked      MoveError                       -
 0x409      InvalidWhileSlaved      DeviceBusyError                 -
-0x40B      InvalidOperation        DeviceBusyError                 DeviceBusyError, MotionError
-0x40C      ActionNotImplemented    NotSupportedError               -
+0x40B      InvalidOperation        DeviceBusyError                 DeviceBusyError, MotionError,
+                                                                   AlpacaInvalidOperationError
+0x40C      ActionNotImplemented    AlpacaActionNotImplementedError AlpacaActionNotImplementedError
 0x40E      OperationCancelled      AbortedError                    AbortedError
 0x500+     driver error            RemoteError                     any other error
 =========  ======================  ==============================  ======================
@@ -50,9 +51,12 @@ __all__ = [
     "NOT_IMPLEMENTED",
     "OPERATION_CANCELLED",
     "VALUE_NOT_SET",
+    "AlpacaActionNotImplementedError",
     "AlpacaConnectionError",
+    "AlpacaInvalidOperationError",
     "AlpacaNotConnectedError",
     "AlpacaReplyError",
+    "AlpacaValueNotSetError",
     "error_from_reply",
     "error_name",
     "reply_from_error",
@@ -84,21 +88,37 @@ class AlpacaNotConnectedError(ModuleError):
     """The Alpaca device says it is not connected (0x407); the module reconnects."""
 
 
+class AlpacaValueNotSetError(InvalidArgumentError):
+    """A value read before it was ever set (ValueNotSet, 0x402), e.g. TargetRightAscension."""
+
+
+class AlpacaInvalidOperationError(NightcrewError):
+    """A call that is not valid in the device's state (InvalidOperation, 0x40B), e.g.
+    LastExposureDuration before any exposure."""
+
+
+class AlpacaActionNotImplementedError(NotSupportedError):
+    """An ``Action`` name the device does not support (ActionNotImplemented, 0x40C)."""
+
+
 #: Client side: the class raised for an error number.
 _CLIENT_CLASSES: dict[int, type[NightcrewError]] = {
     NOT_IMPLEMENTED: NotSupportedError,
     INVALID_VALUE: InvalidArgumentError,
-    VALUE_NOT_SET: InvalidArgumentError,
+    VALUE_NOT_SET: AlpacaValueNotSetError,
     NOT_CONNECTED: AlpacaNotConnectedError,
     INVALID_WHILE_PARKED: MoveError,
     INVALID_WHILE_SLAVED: DeviceBusyError,
     INVALID_OPERATION: DeviceBusyError,
-    ACTION_NOT_IMPLEMENTED: NotSupportedError,
+    ACTION_NOT_IMPLEMENTED: AlpacaActionNotImplementedError,
     OPERATION_CANCELLED: AbortedError,
 }
 
 #: Server side: the number sent for an error class (the first match along its MRO wins).
 _SERVER_NUMBERS: dict[type[BaseException], int] = {
+    AlpacaValueNotSetError: VALUE_NOT_SET,
+    AlpacaInvalidOperationError: INVALID_OPERATION,
+    AlpacaActionNotImplementedError: ACTION_NOT_IMPLEMENTED,
     NotSupportedError: NOT_IMPLEMENTED,
     InvalidArgumentError: INVALID_VALUE,
     ModuleError: NOT_CONNECTED,

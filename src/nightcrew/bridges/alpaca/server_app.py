@@ -100,7 +100,7 @@ class _AlpacaHttp:
         return self._json(self._management_request(request), value)
 
     def _management_request(self, request: web.Request) -> AlpacaRequest:
-        return AlpacaRequest.from_params(request.path, request.query)
+        return AlpacaRequest.from_query(request.path, request.query)
 
     def _json(self, alpaca: AlpacaRequest, value: Any) -> web.Response:
         return web.json_response(reply(alpaca, self._transactions.next(), value))
@@ -109,7 +109,7 @@ class _AlpacaHttp:
 
     async def device_get(self, request: web.Request) -> web.StreamResponse:
         return await self._device_call(
-            "get", request, AlpacaRequest.from_params(_member(request), request.query)
+            "get", request, AlpacaRequest.from_query(_member(request), request.query)
         )
 
     async def device_put(self, request: web.Request) -> web.StreamResponse:
@@ -118,7 +118,7 @@ class _AlpacaHttp:
         except ValueError as exc:
             return _bad_request(f"PUT {_member(request)}: the body is not form-encoded: {exc}")
         fields = {name: value for name, value in form.items() if isinstance(value, str)}
-        return await self._device_call("put", request, AlpacaRequest.from_params(_member(request), fields))
+        return await self._device_call("put", request, AlpacaRequest.from_form(_member(request), fields))
 
     async def _device_call(
         self, method: str, request: web.Request, alpaca: AlpacaRequest
@@ -141,7 +141,14 @@ class _AlpacaHttp:
         return web.json_response(reply(alpaca, transaction, value))
 
     def _device(self, request: web.Request) -> ServedDevice:
-        device_type = request.match_info["device_type"].lower()
+        device_type = request.match_info["device_type"]
+        member = request.match_info["member"]
+        if device_type != device_type.lower() or member != member.lower():
+            # The Alpaca API: URLs are case sensitive and entirely lower case.
+            raise BadRequest(
+                f"/api/v1/{device_type}/.../{member}: Alpaca URLs are lower case "
+                f"(/api/v1/{device_type.lower()}/.../{member.lower()})"
+            )
         text = request.match_info["device_number"]
         try:
             number = int(text)
@@ -155,7 +162,7 @@ class _AlpacaHttp:
 
 
 def _member(request: web.Request) -> str:
-    return request.match_info["member"].lower()
+    return request.match_info["member"]
 
 
 def _bad_request(message: str) -> web.Response:

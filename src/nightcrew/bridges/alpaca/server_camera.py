@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from nightcrew.bridges.alpaca.errors import AlpacaInvalidOperationError
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
 from nightcrew.errors import (
@@ -73,7 +74,7 @@ class _Exposure:
 
 
 class ServedCamera(ServedDevice):
-    """Alpaca Camera (ICameraV3 members) on a nightcrew ICamera module.
+    """Alpaca Camera (ICameraV4 members) on a nightcrew ICamera module.
 
     Args:
         pixel_size: Pixel size in µm (the interface does not tell it).
@@ -81,7 +82,8 @@ class ServedCamera(ServedDevice):
 
     device_type = "camera"
     type_name = "Camera"
-    interface_version = 3
+    interface_version = 4  # ICameraV4 (Platform 7): V3 plus Connect/Disconnect and DeviceState
+    state_members = ("CameraState", "ImageReady", "IsPulseGuiding", "PercentCompleted")
     interface = ICamera
 
     def __init__(self, *args: Any, pixel_size: float | None = None, **kwargs: Any) -> None:
@@ -306,7 +308,7 @@ class ServedCamera(ServedDevice):
 
     def _taken(self, member: str) -> _Exposure:
         if self._last is None:
-            raise InvalidArgumentError(f"{member}: no exposure has been started yet")
+            raise AlpacaInvalidOperationError(f"{member}: no exposure has been started yet")
         return self._last
 
     async def get_lastexposureduration(self, request: AlpacaRequest) -> float:

@@ -28,9 +28,13 @@ from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any, ClassVar, TypeVar
 
 from nightcrew import __version__
-from nightcrew.bridges.alpaca.errors import AlpacaNotConnectedError
+from nightcrew.bridges.alpaca.errors import (
+    AlpacaActionNotImplementedError,
+    AlpacaNotConnectedError,
+)
+from nightcrew.bridges.alpaca.members import INFORMATIONAL_MEMBERS, has_method, is_member
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest, BadRequest
-from nightcrew.errors import DeviceBusyError, NotSupportedError
+from nightcrew.errors import DeviceBusyError, NightcrewError, NotSupportedError
 from nightcrew.interfaces import Interface
 from nightcrew.object import Object
 
@@ -40,21 +44,6 @@ log = logging.getLogger(__name__)
 
 I = TypeVar("I", bound=Interface)  # noqa: E741 - the conventional name for an interface type
 
-#: Members that answer without a connection (what a client reads to choose a device).
-_ALWAYS_ANSWERED = frozenset(
-    {
-        "connected",
-        "connecting",
-        "connect",
-        "disconnect",
-        "description",
-        "driverinfo",
-        "driverversion",
-        "interfaceversion",
-        "name",
-        "supportedactions",
-    }
-)
 _MEMBER = re.compile(r"[a-z][a-z0-9]*")
 
 
@@ -150,6 +139,8 @@ class ServedDevice:
     interface_version: ClassVar[int]
     #: The nightcrew interface the module must offer.
     interface: ClassVar[type[Interface]]
+    #: The operational properties Platform 7's DeviceState reports (as the interface spells them).
+    state_members: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, owner: Object, module: str, number: int, *, settle_time: float = 0.2) -> None:
         self.owner = owner
@@ -175,15 +166,15 @@ class ServedDevice:
 
     async def handle(self, method: str, member: str, request: AlpacaRequest) -> Any:
         """Answer ``method`` (``get`` or ``put``) of ``member``; the reply's value."""
-        if not _MEMBER.fullmatch(member):
-            raise BadRequest(f"{member!r} is not an Alpaca member name")
+        if not _MEMBER.fullmatch(member) or not is_member(self.device_type, member):
+            raise BadRequest(f"{member!r} is not a member of the Alpaca {self.type_name} interface")
         handler = self._handler(method, member)
         if handler is None:
-            other = "put" if method == "get" else "get"
-            if self._handler(other, member) is not None:
-                raise BadRequest(f"{self.device_type} member {member} is called with {other.upper()}")
+            if not has_method(self.device_type, method, member):
+                other = "PUT" if method == "get" else "GET"
+                raise BadRequest(f"{self.device_type} member {member} takes {other}, not {method.upper()}")
             raise NotSupportedError(f"{self.device_type} member {member} is not implemented by nightcrew")
-        if member not in _ALWAYS_ANSWERED and not self.connected:
+        if member not in INFORMATIONAL_MEMBERS and not self.connected:
             raise AlpacaNotConnectedError(
                 f"{self.describe()} is not connected; set Connected=true first ({method.upper()} {member})"
             )
@@ -231,3 +222,30 @@ class ServedDevice:
 
     async def get_supportedactions(self, request: AlpacaRequest) -> list[str]:
         return []
+
+    async def put_action(self, request: AlpacaRequest) -> str:
+        action = request.string("Action")
+        request.string("Parameters")
+        raise AlpacaActionNotImplementedError(
+            f"{self.describe()} supports no actions (SupportedActions is empty), not {action!r}"
+        )
+
+    async def get_devicestate(self, request: AlpacaRequest) -> list[dict[str, Any]]:
+        """Platform 7's DeviceState: the operational properties that can be read right now (one
+        that fails, e.g. a temperature the module does not measure, is left out, as the
+        specification allows), plus the time they were read."""
+        state: list[dict[str, Any]] = []
+        for name in self.state_members:
+            handler = self._handler("get", name.lower())
+            if handler is None:  # a member nightcrew does not implement
+                continue
+            try:
+                state.append({"Name": name, "Value": await handler(request)})
+            except NightcrewError:
+                continue
+        state.append(self.time_stamp())
+        return state
+
+    def time_stamp(self) -> dict[str, Any]:
+        """DeviceState's TimeStamp entry: the server's clock, UTC, as Alpaca writes dates."""
+        return {"Name": "TimeStamp", "Value": self.owner.clock.now().strftime("%Y-%m-%dT%H:%M:%S.%fZ")}

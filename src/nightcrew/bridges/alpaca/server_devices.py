@@ -47,7 +47,7 @@ _SHUTTER = {
 
 
 class ServedFocuser(ServedDevice):
-    """Alpaca Focuser (IFocuserV3 members) on a nightcrew IFocuser module.
+    """Alpaca Focuser (IFocuserV4 members) on a nightcrew IFocuser module.
 
     Args:
         step: Millimetres per Alpaca step (> 0).
@@ -56,7 +56,8 @@ class ServedFocuser(ServedDevice):
 
     device_type = "focuser"
     type_name = "Focuser"
-    interface_version = 3
+    interface_version = 4  # IFocuserV4 (Platform 7)
+    state_members = ("IsMoving", "Position", "Temperature")
     interface = IFocuser
 
     def __init__(self, *args: Any, step: float = 0.001, max_step: int = 100_000, **kwargs: Any) -> None:
@@ -120,11 +121,12 @@ class ServedFocuser(ServedDevice):
 
 
 class ServedFilterWheel(ServedDevice):
-    """Alpaca FilterWheel (IFilterWheelV2 members) on a nightcrew IFilters module."""
+    """Alpaca FilterWheel (IFilterWheelV3 members) on a nightcrew IFilters module."""
 
     device_type = "filterwheel"
     type_name = "FilterWheel"
-    interface_version = 2
+    interface_version = 3  # IFilterWheelV3 (Platform 7)
+    state_members = ("Position",)
     interface = IFilters
 
     async def _wheel(self) -> IFilters:
@@ -156,11 +158,12 @@ class ServedFilterWheel(ServedDevice):
 
 
 class ServedDome(ServedDevice):
-    """Alpaca Dome (IDomeV2 members) on a nightcrew IRoof module; IDome adds the azimuth."""
+    """Alpaca Dome (IDomeV3 members) on a nightcrew IRoof module; IDome adds the azimuth."""
 
     device_type = "dome"
     type_name = "Dome"
-    interface_version = 2
+    interface_version = 3  # IDomeV3 (Platform 7)
+    state_members = ("Altitude", "AtHome", "AtPark", "Azimuth", "ShutterStatus", "Slewing")
     interface = IRoof
 
     async def _roof(self) -> IRoof:
@@ -228,7 +231,8 @@ class ServedSafetyMonitor(ServedDevice):
 
     device_type = "safetymonitor"
     type_name = "SafetyMonitor"
-    interface_version = 1
+    interface_version = 3  # ISafetyMonitorV3 (Platform 7)
+    state_members = ("IsSafe",)
     interface = IWeather
 
     async def get_issafe(self, request: AlpacaRequest) -> bool:
@@ -255,7 +259,22 @@ class ServedObservingConditions(ServedDevice):
 
     device_type = "observingconditions"
     type_name = "ObservingConditions"
-    interface_version = 1
+    interface_version = 2  # IObservingConditionsV2 (Platform 7)
+    state_members = (
+        "CloudCover",
+        "DewPoint",
+        "Humidity",
+        "Pressure",
+        "RainRate",
+        "SkyBrightness",
+        "SkyQuality",
+        "SkyTemperature",
+        "StarFWHM",
+        "Temperature",
+        "WindDirection",
+        "WindGust",
+        "WindSpeed",
+    )
     interface = IWeather
 
     async def _sensor(self, member: str) -> float:

@@ -2,8 +2,10 @@
 
 What the ASCOM Alpaca API reference asks of a server, in one place:
 
-* parameters come in the query string (GET) or a form-encoded body (PUT); their names are matched
-  without regard to case (``rightascension`` and ``RightAscension`` are the same parameter);
+* parameters come in the query string (GET) or a form-encoded body (PUT). Query names are matched
+  without regard to case (``rightascension`` and ``RightAscension`` are the same parameter), form
+  names exactly (a PUT with ``rightascension`` lacks ``RightAscension``: HTTP 400, as ConformU
+  checks; a mis-cased ``clienttransactionid`` in a form is ignored and 0 is echoed);
 * ``ClientTransactionID`` is echoed back (0 when missing or not an unsigned 32-bit number), and
   every reply carries a ``ServerTransactionID`` that grows with each request;
 * a malformed request (missing parameter, a value that is not a number, NaN) is answered with
@@ -40,33 +42,41 @@ class TransactionCounter:
 
 @dataclass(frozen=True)
 class AlpacaRequest:
-    """One request's parameters (names lower-cased) and the member it is for (for messages)."""
+    """One request's parameters and the member it is for (for messages). Names are lower-cased
+    unless ``case_sensitive`` (a PUT's form)."""
 
     member: str
     params: Mapping[str, str]
+    case_sensitive: bool = False
 
     @classmethod
-    def from_params(cls, member: str, *sources: Mapping[str, str]) -> AlpacaRequest:
-        """Merge parameter sources (query, then form); names are compared case-insensitively."""
-        merged: dict[str, str] = {}
-        for source in sources:
-            for name, value in source.items():
-                merged[name.lower()] = value
-        return cls(member, merged)
+    def from_query(cls, member: str, query: Mapping[str, str]) -> AlpacaRequest:
+        """A GET's query parameters; names are compared case-insensitively."""
+        return cls(member, {name.lower(): value for name, value in query.items()})
+
+    @classmethod
+    def from_form(cls, member: str, form: Mapping[str, str]) -> AlpacaRequest:
+        """A PUT's form parameters; names must be spelled as the specification does."""
+        return cls(member, dict(form), case_sensitive=True)
+
+    def _get(self, name: str) -> str | None:
+        return self.params.get(name if self.case_sensitive else name.lower())
 
     @property
     def client_transaction_id(self) -> int:
-        return _uint32(self.params.get("clienttransactionid"))
+        return _uint32(self._get("ClientTransactionID"))
 
     @property
     def client_id(self) -> int:
-        return _uint32(self.params.get("clientid"))
+        return _uint32(self._get("ClientID"))
 
     def string(self, name: str) -> str:
         """The parameter ``name`` as given; BadRequest when it is missing."""
-        value = self.params.get(name.lower())
+        value = self._get(name)
         if value is None:
-            raise BadRequest(f"{self.member}: missing parameter {name}")
+            miscased = [given for given in self.params if given.lower() == name.lower()]
+            hint = f" (got {miscased[0]}: form parameter names are case sensitive)" if miscased else ""
+            raise BadRequest(f"{self.member}: missing parameter {name}{hint}")
         return value
 
     def number(self, name: str) -> float:

@@ -4,40 +4,65 @@ Alpaca gives right ascension in hours, nightcrew in degrees; both use ICRS/J2000
 (EquatorialSystem 2). Slews, park and unpark run in the background (``Slewing`` is true while the
 nightcrew move runs), the synchronous SlewTo* members wait for the move. Unpark is nightcrew's
 ``init()``; the mount tracks after an RA/Dec slew and stops tracking after an Alt/Az slew, so
-Tracking is read-only (CanSetTracking false). Members the interface cannot serve (sync, pulse
-guiding, axis rates, pier side) answer NotImplemented; the site members need the server's site.
+Tracking is read-only (CanSetTracking false). PulseGuide moves the module's RA/Dec offsets
+(IOffsetsRaDec) by the guide rate times the pulse's length; IsPulseGuiding stays true for the
+pulse's length (wall time) after the offset is applied. Members the interface cannot serve (sync,
+axis rates, pier side) answer NotImplemented; the site members need the server's site.
 """
 
 from __future__ import annotations
 
+import asyncio
 from typing import Any
 
 from nightcrew.astro import local_sidereal_time
+from nightcrew.bridges.alpaca.errors import AlpacaValueNotSetError
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
-from nightcrew.errors import InvalidArgumentError, NotSupportedError
-from nightcrew.interfaces import ITelescope, MotionStatus
+from nightcrew.errors import DeviceBusyError, InvalidArgumentError, NotSupportedError
+from nightcrew.interfaces import IOffsetsRaDec, ITelescope, MotionStatus
 from nightcrew.site import Site
 
-__all__ = ["ServedTelescope"]
+__all__ = ["GUIDE_RATE", "ServedTelescope"]
 
 #: EquatorialSystem: J2000 (nightcrew works in ICRS, which agrees with J2000 to milliarcseconds).
 _J2000 = 2
 #: DriveRates: sidereal.
 _SIDEREAL = 0
 _MOVING = frozenset({MotionStatus.SLEWING, MotionStatus.PARKING, MotionStatus.INITIALIZING})
+#: Guide rate in degrees per second on both axes: half the sidereal rate, as most mounts default.
+GUIDE_RATE = 0.5 * 360.0 / 86164.0905
+#: GuideDirections (north, south, east, west) → signs of the (RA, Dec) offset; east is +RA.
+_GUIDE_DIRECTIONS = {0: (0.0, 1.0), 1: (0.0, -1.0), 2: (1.0, 0.0), 3: (-1.0, 0.0)}
+#: The longest pulse accepted, ms (a guide pulse is seconds at most; this bounds a typo).
+_MAX_PULSE_MS = 60_000
 
 
 class ServedTelescope(ServedDevice):
-    """Alpaca Telescope (ITelescopeV3 members) on a nightcrew ITelescope module."""
+    """Alpaca Telescope (ITelescopeV4 members) on a nightcrew ITelescope module."""
 
     device_type = "telescope"
     type_name = "Telescope"
-    interface_version = 3
+    interface_version = 4  # ITelescopeV4 (Platform 7)
+    state_members = (
+        "Altitude",
+        "AtHome",
+        "AtPark",
+        "Azimuth",
+        "Declination",
+        "IsPulseGuiding",
+        "RightAscension",
+        "SideOfPier",
+        "SiderealTime",
+        "Slewing",
+        "Tracking",
+        "UTCDate",
+    )
     interface = ITelescope
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        self._pulses: dict[str, asyncio.Future[None]] = {}
         self._target_ra_hours: float | None = None
         self._target_dec: float | None = None
 
@@ -123,7 +148,44 @@ class ServedTelescope(ServedDevice):
         return 0.0
 
     async def get_ispulseguiding(self, request: AlpacaRequest) -> bool:
-        return False
+        return any(not pulse.done() for pulse in self._pulses.values())
+
+    # --- pulse guiding: a pulse is an offset of the module's IOffsetsRaDec ---------------------
+
+    async def get_canpulseguide(self, request: AlpacaRequest) -> bool:
+        return await self.optional(IOffsetsRaDec) is not None
+
+    async def get_guideraterightascension(self, request: AlpacaRequest) -> float:
+        return GUIDE_RATE
+
+    get_guideratedeclination = get_guideraterightascension
+
+    async def put_pulseguide(self, request: AlpacaRequest) -> None:
+        direction, duration = request.integer("Direction"), request.integer("Duration")
+        if direction not in _GUIDE_DIRECTIONS:
+            raise InvalidArgumentError(
+                f"direction must be 0 (north), 1 (south), 2 (east) or 3 (west), got {direction}"
+            )
+        if not 0 <= duration <= _MAX_PULSE_MS:
+            raise InvalidArgumentError(f"duration must be within 0..{_MAX_PULSE_MS} ms, got {duration}")
+        offsets = await self.optional(IOffsetsRaDec)
+        if offsets is None:
+            raise NotSupportedError(
+                f"pulseguide: module {self.module} has no RA/Dec offsets (CanPulseGuide is false)"
+            )
+        if self.action.running:
+            raise DeviceBusyError(f"pulseguide: {self.describe()} is busy with {self.action.current}")
+        axis = "dec" if direction < 2 else "ra"
+        running = self._pulses.get(axis)
+        if running is not None and not running.done():
+            raise DeviceBusyError(f"pulseguide: a pulse on the {axis} axis is still running")
+        ra_sign, dec_sign = _GUIDE_DIRECTIONS[direction]
+        step = GUIDE_RATE * duration / 1000.0
+        dra, ddec = await offsets.get_offsets_radec()
+        await offsets.set_offsets_radec(dra + ra_sign * step, ddec + dec_sign * step)
+        # The offset is applied at once; IsPulseGuiding then stays true for the pulse's length (wall
+        # time), as clients that time their guiding expect. AbortSlew ends it.
+        self._pulses[axis] = asyncio.get_running_loop().create_task(asyncio.sleep(duration / 1000.0))
 
     async def get_doesrefraction(self, request: AlpacaRequest) -> bool:
         return False
@@ -139,7 +201,7 @@ class ServedTelescope(ServedDevice):
     async def get_cansync(self, request: AlpacaRequest) -> bool:
         return False
 
-    get_cansyncaltaz = get_canfindhome = get_canpulseguide = get_cansettracking = get_cansync
+    get_cansyncaltaz = get_canfindhome = get_cansettracking = get_cansync
     get_cansetpark = get_cansetpierside = get_cansetguiderates = get_cansync
     get_cansetrightascensionrate = get_cansetdeclinationrate = get_cansync
 
@@ -153,7 +215,7 @@ class ServedTelescope(ServedDevice):
 
     async def get_targetrightascension(self, request: AlpacaRequest) -> float:
         if self._target_ra_hours is None:
-            raise InvalidArgumentError("targetrightascension has not been set")
+            raise AlpacaValueNotSetError("targetrightascension has not been set")
         return self._target_ra_hours
 
     async def put_targetrightascension(self, request: AlpacaRequest) -> None:
@@ -161,7 +223,7 @@ class ServedTelescope(ServedDevice):
 
     async def get_targetdeclination(self, request: AlpacaRequest) -> float:
         if self._target_dec is None:
-            raise InvalidArgumentError("targetdeclination has not been set")
+            raise AlpacaValueNotSetError("targetdeclination has not been set")
         return self._target_dec
 
     async def put_targetdeclination(self, request: AlpacaRequest) -> None:
@@ -210,6 +272,8 @@ class ServedTelescope(ServedDevice):
         telescope = await self._telescope()
         await telescope.stop_motion()
         await self.action.cancel()
+        for pulse in self._pulses.values():
+            pulse.cancel()
 
     async def put_park(self, request: AlpacaRequest) -> None:
         telescope = await self._telescope()

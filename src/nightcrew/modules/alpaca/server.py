@@ -39,6 +39,7 @@ from nightcrew.bridges.alpaca.server_devices import (
     ServedObservingConditions,
     ServedSafetyMonitor,
 )
+from nightcrew.bridges.alpaca.server_more import ServedCoverCalibrator, ServedRotator, ServedSwitch
 from nightcrew.bridges.alpaca.server_telescope import ServedTelescope
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
@@ -59,6 +60,9 @@ SERVED_TYPES: dict[str, type[ServedDevice]] = {
         ServedFilterWheel,
         ServedSafetyMonitor,
         ServedObservingConditions,
+        ServedRotator,
+        ServedSwitch,
+        ServedCoverCalibrator,
     )
 }
 
@@ -69,7 +73,7 @@ class AlpacaServer(Module):
     Args:
         devices: Alpaca device type → module name, or a list of names (device numbers 0, 1, ...).
             Types: telescope, camera, dome, focuser, filterwheel, safetymonitor,
-            observingconditions.
+            observingconditions, rotator, switch, covercalibrator.
         host: Address the HTTP server listens on.
         port: HTTP port (11111 is customary; 0 picks a free port, see :attr:`port`).
         discovery_host: Address of the discovery responder; ``host`` when None.
