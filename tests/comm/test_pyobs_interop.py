@@ -14,6 +14,7 @@ import logging
 import os
 import signal
 import subprocess
+import sys
 import time
 import xml.etree.ElementTree as ET
 from abc import abstractmethod
@@ -38,7 +39,7 @@ from .xmpp_servers import DOMAIN, PASSWORD, free_port, require_command
 
 pytestmark = pytest.mark.xmpp
 PEER_DIR = Path(__file__).resolve().parent / "pyobs_peer"
-NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw"]
+NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw", "operator"]
 #: pyobs modules by account: the class and extra YAML lines. pyobs' own dummy telescope stands at
 #: latitude 89.9°, so that dec 89.5° is above its altitude limit at any time of day.
 PYOBS_MODULES = {
@@ -327,3 +328,35 @@ async def test_a_pyobs_value_nightcrew_cannot_map_gets_one_clear_fault(
     assert fault.findtext("{urn:pyobs:rpc:1}exception") or fault.findtext("exception")
     message = fault.findtext("message") or fault.findtext("{urn:pyobs:rpc:1}message")
     assert message == "add(): argument 1: pyobs value <complex> has no nightcrew equivalent"
+
+
+async def test_one_shot_commands_see_and_call_pyobs_modules(
+    interop_server: Server, nightcrew_side: NightcrewCamera, tmp_path: Path
+) -> None:
+    # docs/pyobs.md "From the command line": the operator's file as written there, then its commands.
+    (tmp_path / "operator.yaml").write_text(
+        "class: nightcrew.comm.xmpp.XmppComm\n"
+        f"jid: operator@{DOMAIN}\n"
+        "password: ${OPERATOR_PASSWORD}\n"
+        f"server: {interop_server.address}\n"
+        f"ca_file: {interop_server.ca_file}\n"
+        "dialect: pyobs\n"
+    )
+
+    async def nightcrew(*args: str) -> tuple[str, str]:
+        process = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "nightcrew", *args, "--comm", "operator.yaml",
+            cwd=tmp_path, env={**os.environ, "OPERATOR_PASSWORD": PASSWORD},
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        out, err = await asyncio.wait_for(process.communicate(), 60)
+        assert "Traceback" not in err.decode() and "never retrieved" not in err.decode(), err.decode()
+        assert process.returncode == 0, err.decode()
+        return out.decode(), err.decode()
+
+    listed, _ = await nightcrew("modules")
+    rows = {line.split()[0]: line for line in listed.splitlines()}
+    assert set(PYOBS_MODULES) <= set(rows), listed
+    assert "IPointingRaDec" in rows["pytelescope"] and "IModule" in rows["shooter"]
+    moved, _ = await nightcrew("call", "pytelescope.move_radec", "10", "89.5")
+    assert moved.strip() == "null"

@@ -129,6 +129,10 @@ class XmppComm(Comm):
         if self._pyobs is not None:
             self._pyobs.advertise_state(state)
 
+    async def settle(self) -> None:
+        if self._pyobs is not None:
+            await self._pyobs.settled()
+
     # --- transport hooks -----------------------------------------------------------------------
 
     async def _open_transport(self) -> None:

@@ -89,6 +89,8 @@ class PyobsPeers:
         self._spawn = spawn
         self._peers: dict[str, PyobsPeer] = {}
         self._probing: set[str] = set()  # full JIDs whose disco is under way
+        self._probed = asyncio.Event()  # set whenever no disco is under way
+        self._probed.set()
         self._subscribed: set[str] = set()
         self._show = ""
         connection.add_handler("pyobs presence", f"{_C}presence", self._on_presence)
@@ -123,11 +125,29 @@ class PyobsPeers:
                 break
         self._send_presence()
 
+    async def settled(self) -> None:
+        """Wait until the pyobs modules online when this session began are discovered (bounded).
+
+        The server answers our initial presence with the presence of every contact online before
+        it answers anything we send later: one ping's round trip, and every such presence is here.
+        Each discovery started for them ends within its own timeout.
+        """
+        ping: Any = self._connection.client.plugin["xep_0199"]
+        try:
+            await ping.ping(timeout=_IQ_TIMEOUT)
+        except (IqError, IqTimeout):
+            log.debug("the server did not answer a ping; pyobs peers may be missing")
+        try:  # each discovery ends within _IQ_TIMEOUT; new presences may start more meanwhile
+            await asyncio.wait_for(self._probed.wait(), 2 * _IQ_TIMEOUT)
+        except TimeoutError:
+            log.debug("pyobs discovery still under way: %s", ", ".join(sorted(self._probing)))
+
     def lost(self) -> None:
         """The session is gone: every pyobs peer is offline for us (presence comes again later)."""
         for name in list(self._peers):
             self._drop(name)
         self._probing.clear()
+        self._probed.set()
         self._subscribed.clear()
 
     def advertise_state(self, state: str) -> None:
@@ -159,6 +179,7 @@ class PyobsPeers:
                 self._drop(local)
         elif kind == "available" and local not in self._peers and jid not in self._probing:
             self._probing.add(jid)
+            self._probed.clear()
             self._spawn(self._discover(local, jid), f"discover {local}")
         return False  # slixmpp may keep its roster view
 
@@ -169,8 +190,12 @@ class PyobsPeers:
         except (IqError, IqTimeout) as exc:
             log.warning("pyobs discovery of %s failed: %s", jid, type(exc).__name__)
             return
+        except RemoteError:
+            return  # the session ended meanwhile (the comm closed, or reconnects and asks again)
         finally:
             self._probing.discard(jid)
+            if not self._probing:
+                self._probed.set()
         query = info.xml.find(f"{{{NS_DISCO}}}query")
         features = (
             [f.get("var", "") for f in query.iter(f"{{{NS_DISCO}}}feature")] if query is not None else []
