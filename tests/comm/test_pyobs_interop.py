@@ -26,7 +26,7 @@ import pytest
 
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import InterfaceError
-from nightcrew.events import MotionStatusChangedEvent, MoveRaDecEvent, NewImageEvent
+from nightcrew.events import LogEvent, MotionStatusChangedEvent, MoveRaDecEvent, NewImageEvent
 from nightcrew.interfaces import IData, ImageType, IPointingRaDec, MotionStatus
 from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
@@ -74,12 +74,17 @@ class NightcrewCamera(Module, IData):
         self.heard: list[tuple[str, str, ImageType | None]] = []
         self.moves: list[tuple[str, float, float]] = []
         self.motions: list[tuple[str, MotionStatus]] = []
+        self.logs: list[tuple[str, LogEvent]] = []
 
     async def open(self) -> None:
         await super().open()
         await self.comm.register_event(NewImageEvent, self.on_new_image)
         await self.comm.register_event(MoveRaDecEvent, self.on_move)
         await self.comm.register_event(MotionStatusChangedEvent, self.on_motion)
+        await self.comm.register_event(LogEvent, self.on_log)
+
+    async def on_log(self, event: LogEvent, sender: str) -> None:
+        self.logs.append((sender, event))
 
     async def on_move(self, event: MoveRaDecEvent, sender: str) -> None:
         self.moves.append((sender, event.ra, event.dec))
@@ -232,7 +237,9 @@ async def _shooter(camera: NightcrewCamera) -> IInteropShooter:
 # --- the tests ----------------------------------------------------------------------------------
 
 
-async def test_nightcrew_moves_pyobs_own_dummy_telescope(nightcrew_side: NightcrewCamera) -> None:
+async def test_nightcrew_moves_pyobs_own_dummy_telescope(
+    nightcrew_side: NightcrewCamera, caplog: pytest.LogCaptureFixture
+) -> None:
     camera = nightcrew_side
     telescope = await camera.comm.proxy("pytelescope", IPointingRaDec)  # pyobs' interface of that name
     await telescope.move_radec(10.0, 89.5)
@@ -240,6 +247,10 @@ async def test_nightcrew_moves_pyobs_own_dummy_telescope(nightcrew_side: Nightcr
     await wait_for(lambda: ("pytelescope", 10.0, 89.5) in camera.moves, 20, message="MoveRaDecEvent")
     # Its MotionStatusChangedEvent carries per-interface statuses nightcrew drops knowingly.
     await wait_for(lambda: ("pytelescope", MotionStatus.SLEWING) in camera.motions, 20, message="slewing")
+    # pyobs forwards its log records as LogEvents: they arrive as nightcrew's, without a warning each.
+    await wait_for(lambda: any(s == "pytelescope" for s, _ in camera.logs), 20, message="pyobs' LogEvent")
+    assert "skipped pyobs LogEvent" not in caplog.text
+    assert {e.logger for s, e in camera.logs if s == "pytelescope"} == {"pyobs"}
 
 
 async def test_nightcrew_calls_pyobs_and_hears_its_event(nightcrew_side: NightcrewCamera) -> None:

@@ -7,13 +7,14 @@ import logging
 import time
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
+from datetime import UTC, datetime
 from typing import Any
 
 import pytest
 
 from nightcrew.comm.rpc import Fault
 from nightcrew.comm.xmpp import XmppComm
-from nightcrew.comm.xmpp._pyobs_events import translate_event
+from nightcrew.comm.xmpp._pyobs_events import event_body, translate_event
 from nightcrew.comm.xmpp._pyobs_values import (
     build_pyobs_fault,
     build_pyobs_params,
@@ -22,6 +23,7 @@ from nightcrew.comm.xmpp._pyobs_values import (
     parse_pyobs_params,
 )
 from nightcrew.errors import CodecError, ConfigError
+from nightcrew.events import LogEvent
 from nightcrew.focus.series import FocusOutsideSeriesError
 
 RPC = "{jabber:iq:rpc}"
@@ -125,6 +127,38 @@ def test_fields_pyobs_names_otherwise_are_renamed_and_known_extras_dropped() -> 
     assert translate_event(offsets, "OffsetsRaDecEvent", "tel") == {"dra": 0.5, "ddec": -0.25}
     task = _body("TaskFinishedEvent", {"name": "M31", "id": "7", "obsnum": 3})
     assert translate_event(task, "TaskFinishedEvent", "robotic") == {"name": "M31", "id": "7"}
+
+
+def test_pyobs_log_records_become_nightcrew_log_events_quietly(caplog: pytest.LogCaptureFixture) -> None:
+    # The fields pyobs-core 2.19's CommLoggingHandler sends (time is UTC without an offset).
+    record = {
+        "time": "2026-11-27T15:27:13.357000",
+        "level": "INFO",
+        "filename": "module.py",
+        "function": "open",
+        "line": 896,
+        "message": "Set module state to ready.",
+        "sender": "",
+    }
+    with caplog.at_level(logging.INFO, logger="nightcrew.comm.xmpp._pyobs_events"):
+        fields = translate_event(_body("LogEvent", record), "LogEvent", "pytel")
+    assert caplog.text == ""
+    assert fields is not None
+    event = LogEvent.from_dict(fields)
+    assert (event.level, event.logger, event.message) == ("INFO", "pyobs", "Set module state to ready.")
+    assert (event.filename, event.line, event.time.isoformat()) == (
+        "module.py",
+        896,
+        "2026-11-27T15:27:13.357000+00:00",
+    )
+
+
+def test_nightcrew_log_events_carry_every_field_pyobs_requires() -> None:
+    event = LogEvent(time=datetime(2026, 11, 27, tzinfo=UTC), level="WARNING", logger="x", message="m")
+    data = json.loads(event_body("LogEvent", event.to_dict()))["data"]
+    # pyobs builds LogEvent(time, level, filename, function, line, message) from these keys.
+    assert {"time", "level", "filename", "function", "line", "message"} <= set(data)
+    assert (data["filename"], data["function"], data["line"], data["message"]) == ("", "", 0, "m")
 
 
 @pytest.mark.parametrize(
