@@ -27,7 +27,7 @@ import pytest
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import InterfaceError
 from nightcrew.events import LogEvent, MotionStatusChangedEvent, MoveRaDecEvent, NewImageEvent
-from nightcrew.interfaces import IData, ImageType, IPointingRaDec, MotionStatus
+from nightcrew.interfaces import FitsCard, IData, IFitsHeaderBefore, ImageType, IPointingRaDec, MotionStatus
 from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
 from nightcrew.server import Account, init_server, start_server, stop_server
@@ -65,9 +65,12 @@ class IInteropShooter(Interface):
     @abstractmethod
     async def call_remote(self, module: str, method: str) -> str: ...
 
+    @abstractmethod
+    async def headers(self, module: str) -> list[str]: ...
 
-class NightcrewCamera(Module, IData):
-    """A nightcrew IData module that also keeps the NewImageEvents it hears."""
+
+class NightcrewCamera(Module, IData, IFitsHeaderBefore):
+    """A nightcrew IData module that also keeps the events it hears and gives one FITS card."""
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)  # type: ignore[arg-type]
@@ -94,6 +97,9 @@ class NightcrewCamera(Module, IData):
 
     async def on_new_image(self, event: NewImageEvent, sender: str) -> None:
         self.heard.append((sender, event.filename, event.image_type))
+
+    async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        return {"CCD-TEMP": (-10.5, "sensor temperature [degC]")}
 
     async def grab_data(self, broadcast: bool = True, image_type: ImageType | None = None) -> str:
         filename = "/nightcrew/images/nc-0001.fits"
@@ -279,6 +285,18 @@ async def test_pyobs_gets_typed_results_and_nightcrew_errors(nightcrew_side: Nig
     # A dataclass where nightcrew expects a number: refused with one clear error, as pyobs' own.
     refused = await shooter.add_remote("nccalc", 2.5, 4.0, True)
     assert refused == "InvalidArgumentError: add(): argument 'a': expected float, got dict"
+
+
+async def test_fits_cards_are_pairs_in_nightcrew_and_header_entries_in_pyobs(
+    nightcrew_side: NightcrewCamera,
+) -> None:
+    # pyobs-core 2.19 reads a card as FitsHeaderEntry(value, comment); nightcrew's is a pair.
+    shooter = await _shooter(nightcrew_side)
+    assert await shooter.headers("nccamera") == ["CCD-TEMP=-10.5/sensor temperature [degC]"]
+    telescope = await nightcrew_side.comm.proxy("pytelescope", IFitsHeaderBefore)
+    cards = await telescope.get_fits_header_before()
+    value, comment = cards["TEL-RA"]
+    assert isinstance(value, float) and comment == "Right ascension of telescope [degrees]"
 
 
 async def test_pyobs_callers_hear_nightcrews_timeout_announcements(nightcrew_side: NightcrewCamera) -> None:

@@ -9,7 +9,8 @@ against pyobs-core 2.19's public API (Module, Interface, events, proxies, ``time
 * ``Shooter`` offers ``IInteropShooter``, an interface nightcrew's test declares under the same name:
   it calls a nightcrew module's ``IData.grab_data`` and waits for that module's ``NewImageEvent``;
   ``add_remote`` calls a nightcrew ``ICalculator.add``, with arguments as given or as a
-  dataclass nightcrew cannot take for a number; ``call_remote`` calls any method without arguments.
+  dataclass nightcrew cannot take for a number; ``call_remote`` calls any method without arguments;
+  ``headers`` reads a module's FITS cards the way pyobs' cameras do (``entry.value``, ``.comment``).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from abc import ABCMeta, abstractmethod
 from typing import Any
 
 from pyobs.events import NewImageEvent  # type: ignore[import-not-found]
-from pyobs.interfaces import IData, Interface  # type: ignore[import-not-found]
+from pyobs.interfaces import IData, IFitsHeaderBefore, Interface  # type: ignore[import-not-found]
 from pyobs.modules import Module, timeout  # type: ignore[import-not-found]
 from pyobs.utils.enums import ImageType  # type: ignore[import-not-found]
 
@@ -34,6 +35,9 @@ class IInteropShooter(Interface, metaclass=ABCMeta):  # type: ignore[misc]
 
     @abstractmethod
     async def call_remote(self, module: str, method: str, **kwargs: Any) -> str: ...
+
+    @abstractmethod
+    async def headers(self, module: str, **kwargs: Any) -> list[str]: ...
 
 
 class ICalculator(Interface, metaclass=ABCMeta):  # type: ignore[misc]
@@ -116,3 +120,8 @@ class Shooter(Module, IInteropShooter):  # type: ignore[misc]
         except Exception as exc:
             return f"{type(exc).__name__}: {getattr(exc, 'message', exc)}"
         return f"{type(result).__name__} {result!r}"
+
+    async def headers(self, module: str, **kwargs: Any) -> list[str]:
+        async with self.proxy(module, IFitsHeaderBefore) as provider:
+            cards = await provider.get_fits_header_before()
+        return [f"{key}={entry.value!r}/{entry.comment}" for key, entry in cards.items()]
