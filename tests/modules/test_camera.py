@@ -8,8 +8,16 @@ import time
 import pytest
 
 from nightcrew.config import build_object
-from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, InvalidArgumentError
-from nightcrew.interfaces import Binning, ExposureStatus, ImageType, Window
+from nightcrew.errors import (
+    AbortedError,
+    ConfigError,
+    DeviceBusyError,
+    InvalidArgumentError,
+    RemoteTimeoutError,
+)
+from nightcrew.interfaces import Binning, ExposureStatus, IData, ImageType, Window
+from nightcrew.modules import Module
+from nightcrew.modules.camera import ExposureSettings, Frame
 from nightcrew.testing import Observatory
 
 from .devices import GradientCamera, HeaderPeer, ImageListener
@@ -194,3 +202,28 @@ def test_expected_providers_are_checked_when_built(providers: object, message: s
             }
         )
     assert info.value.key == "expect_headers_from"
+
+
+class _HungCamera(GradientCamera):
+    """A camera whose exposure never ends (a driver stuck in read-out)."""
+
+    def _hw_readout_allowance(self) -> float:
+        return 1.0
+
+    async def _hw_expose(self, settings: ExposureSettings) -> Frame:
+        await self.clock.sleep(1e9)
+        raise AssertionError("never")
+
+
+async def test_a_hung_exposure_is_noticed_once_overdue_not_after_an_hour(observatory: Observatory) -> None:
+    camera = await observatory.start(_HungCamera, "camera", header_timeout=5.0)
+    await camera.set_exposure_time(120.0)
+    caller = await observatory.start(Module, "caller")
+    remote = await caller.comm.proxy("camera", IData)
+    started = observatory.clock.time()
+    # exposure 120 s + read-out 1 s + header round 5 s + margin 60 s + 10 wall seconds (clock speed 1)
+    with pytest.raises(RemoteTimeoutError, match=r"grab_data\(\) did not finish within 196 s"):
+        await remote.grab_data()
+    assert 196 <= observatory.clock.time() - started < 210
+    # A bias exposes for no time: its timeout leaves the exposure time out.
+    assert camera.grab_timeout(ImageType.BIAS) == 76.0
