@@ -64,11 +64,17 @@ class IData(Interface):
     """A device that produces data files (images, spectra, video frames)."""
 
     # No exposure-time argument to derive a timeout from: a generous fixed one, which
-    # implementations override with @timeout(lambda ...) on their own grab_data.
+    # implementations replace with @timeout(lambda self, ...) computed from their settings.
     @timeout(3600)
     @abstractmethod
     async def grab_data(self, broadcast: bool = True, image_type: ImageType | None = None) -> str:
-        """Take one frame and return its VFS path; None image type means the one set by IImageType."""
+        """Take one frame and return its VFS path; None image type means the one set by IImageType.
+
+        ``broadcast``: also send a NewImageEvent with the path (false: only the caller learns of
+        the frame, e.g. for an acquisition or focus frame no image pipeline should take). The
+        announced timeout is at most 3600 s; nightcrew's cameras announce the exposure time plus
+        read-out, header round and a margin (docs/protocol.md, section 4).
+        """
 
 
 class IExposure(Interface):

@@ -43,4 +43,10 @@ class IWeather(Interface):
 
     @abstractmethod
     async def get_sensor_value(self, station: str, sensor: WeatherSensor) -> SensorValue:
-        """Latest value of ``sensor`` at weather station ``station``."""
+        """Latest value of ``sensor`` at one station.
+
+        ``station`` is a station's name in the weather module's configuration (the keys of its
+        ``stations:``, e.g. ``roof``; ``checks`` name the same stations as ``station.sensor``), not a
+        module name. An unknown name is refused with InvalidArgumentError listing the known ones;
+        ``value`` is None while that station has no reading of ``sensor``.
+        """

@@ -28,7 +28,12 @@ export class IWeather extends RemoteInterface {
     return this._invoke("get_current_weather", arguments);
   }
   /**
-   * Latest value of ``sensor`` at weather station ``station``.
+   * Latest value of ``sensor`` at one station.
+   *
+   * ``station`` is a station's name in the weather module's configuration (the keys of its
+   * ``stations:``, e.g. ``roof``; ``checks`` name the same stations as ``station.sensor``), not a
+   * module name. An unknown name is refused with InvalidArgumentError listing the known ones;
+   * ``value`` is None while that station has no reading of ``sensor``.
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string} station
