@@ -174,6 +174,7 @@ class PyobsPeers:
             return False  # the room's (its own handler) or our own
         kind = stanza.get("type", "available")
         if kind == "unavailable":
+            self._probing.discard(jid)  # gone before it answered: its discovery is moot
             peer = self._peers.get(local)
             if peer is not None and peer.jid == jid:
                 self._drop(local)
@@ -188,14 +189,18 @@ class PyobsPeers:
         try:
             info = await disco.get_info(jid=jid, local=False, timeout=_IQ_TIMEOUT)
         except (IqError, IqTimeout) as exc:
-            log.warning("pyobs discovery of %s failed: %s", jid, type(exc).__name__)
+            if jid in self._probing:  # else it left meanwhile (a one-shot command): nothing to say
+                log.warning("pyobs discovery of %s failed: %s", jid, type(exc).__name__)
             return
         except RemoteError:
             return  # the session ended meanwhile (the comm closed, or reconnects and asks again)
         finally:
+            gone = jid not in self._probing
             self._probing.discard(jid)
             if not self._probing:
                 self._probed.set()
+        if gone:
+            return
         query = info.xml.find(f"{{{NS_DISCO}}}query")
         features = (
             [f.get("var", "") for f in query.iter(f"{{{NS_DISCO}}}feature")] if query is not None else []
