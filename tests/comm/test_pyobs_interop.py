@@ -30,6 +30,7 @@ from nightcrew.events import LogEvent, MotionStatusChangedEvent, MoveRaDecEvent,
 from nightcrew.interfaces import FitsCard, IData, IFitsHeaderBefore, ImageType, IPointingRaDec, MotionStatus
 from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
+from nightcrew.modules.sim import SimFilterWheel
 from nightcrew.server import Account, init_server, start_server, stop_server
 from nightcrew.testing.waiting import wait_for
 
@@ -39,7 +40,7 @@ from .xmpp_servers import DOMAIN, PASSWORD, free_port, require_command
 
 pytestmark = pytest.mark.xmpp
 PEER_DIR = Path(__file__).resolve().parent / "pyobs_peer"
-NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw", "operator"]
+NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw", "ncwheel", "operator"]
 #: pyobs modules by account: the class and extra YAML lines. pyobs' own dummy telescope stands at
 #: latitude 89.9°, so that dec 89.5° is above its altitude limit at any time of day.
 PYOBS_MODULES = {
@@ -67,6 +68,9 @@ class IInteropShooter(Interface):
 
     @abstractmethod
     async def headers(self, module: str) -> list[str]: ...
+
+    @abstractmethod
+    async def states(self, module: str) -> list[str]: ...
 
 
 class NightcrewCamera(Module, IData, IFitsHeaderBefore):
@@ -297,6 +301,20 @@ async def test_fits_cards_are_pairs_in_nightcrew_and_header_entries_in_pyobs(
     cards = await telescope.get_fits_header_before()
     value, comment = cards["TEL-RA"]
     assert isinstance(value, float) and comment == "Right ascension of telescope [degrees]"
+
+
+async def test_pyobs_reads_a_nightcrew_filter_wheels_live_state(
+    interop_server: Server, nightcrew_side: NightcrewCamera
+) -> None:
+    wheel = SimFilterWheel(comm=_comm("ncwheel", interop_server), filters=["V", "R"], change_time=0.1)
+    await wheel.open()
+    try:
+        await wheel.set_filter("R")
+        shooter = await _shooter(nightcrew_side)
+        # As a pyobs GUI does: subscribe to the IFilters and IMotion states, read the current ones.
+        assert await shooter.states("ncwheel") == ["R", "idle"]
+    finally:
+        await wheel.close()
 
 
 async def test_pyobs_callers_hear_nightcrews_timeout_announcements(nightcrew_side: NightcrewCamera) -> None:

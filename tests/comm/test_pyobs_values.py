@@ -15,12 +15,14 @@ import pytest
 from nightcrew.comm.rpc import Fault
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.comm.xmpp._pyobs_events import event_body, translate_event
+from nightcrew.comm.xmpp._pyobs_states import pyobs_state, state_namespace
 from nightcrew.comm.xmpp._pyobs_values import (
     build_pyobs_fault,
     build_pyobs_params,
     is_pyobs_call,
     parse_pyobs_fault,
     parse_pyobs_params,
+    state_element,
 )
 from nightcrew.errors import CodecError, ConfigError
 from nightcrew.events import LogEvent
@@ -188,3 +190,22 @@ def test_the_dialect_is_checked_when_the_comm_is_built() -> None:
     with pytest.raises(ConfigError, match="unknown dialect 'pyobs2' \\(known: nightcrew, pyobs\\)") as caught:
         XmppComm("camera@obs.test", "pw", dialect="pyobs2")
     assert caught.value.key == "dialect"
+
+
+def test_own_events_become_the_pyobs_states_they_tell() -> None:
+    now = datetime(2026, 11, 27, 15, 0, 0, 500000, tzinfo=UTC)
+    motion = pyobs_state("MotionStatusChangedEvent", {"status": "moving", "devices": {"axis": "idle"}}, now)
+    assert motion is not None
+    element = state_element(state_namespace("IMotion"), motion, "state")
+    ns = "{urn:pyobs:state:IMotion:1}"
+    assert element.tag == f"{ns}state"
+    # nightcrew's "moving" is pyobs' "slewing"; times without an offset (astropy's Time reads them).
+    assert element.findtext(f"{ns}status/string") == "slewing"
+    assert element.findtext(f"{ns}time/string") == "2026-11-27T15:00:00.500000"
+    device = element.find(f"{ns}devices/items/item/{{urn:pyobs:rpc:1}}state")
+    assert device is not None and [child.tag.rpartition("}")[2] for child in device] == ["name", "status"]
+    assert pyobs_state("FilterChangedEvent", {"filter_name": "R"}, now) == {
+        "filter": "R",
+        "time": "2026-11-27T15:00:00.500000",
+    }
+    assert pyobs_state("NewImageEvent", {"filename": "/a.fits"}, now) is None

@@ -24,6 +24,8 @@ from slixmpp.exceptions import IqError, IqTimeout
 
 from nightcrew.comm.xmpp._connection import XmppConnection, split_jid
 from nightcrew.comm.xmpp._pyobs_events import NS_PYOBS_EVENT, PYOBS_EVENTS, event_body, translate_event
+from nightcrew.comm.xmpp._pyobs_states import STATE_INTERFACES, pyobs_state, state_namespace, state_node
+from nightcrew.comm.xmpp._pyobs_values import state_element
 from nightcrew.errors import RemoteError
 
 __all__ = ["PyobsPeer", "PyobsPeers"]
@@ -82,6 +84,9 @@ class PyobsPeers:
         self._service = f"pubsub.{domain}"
         self._features = [*features, *(f"{INTERFACE_PREFIX}{i}:1" for i in interfaces)]
         self._features += [f"{EVENT_PREFIX}{e}:1" for e in sorted(PYOBS_EVENTS)]
+        #: pyobs interfaces whose state this module publishes (docs/pyobs.md, "States").
+        self._states = sorted({i for i in STATE_INTERFACES.values() if i in interfaces})
+        self._features += [state_namespace(i) for i in self._states]
         self._on_online = on_online
         self._on_offline = on_offline
         self._deliver = deliver
@@ -115,9 +120,10 @@ class PyobsPeers:
         """After every session start: make our event nodes, then announce ourselves by presence."""
         pubsub: Any = self._connection.client.plugin["xep_0060"]
         # Nodes exist before pyobs peers see us, so their first subscription attempt succeeds.
-        for event in sorted(PYOBS_EVENTS):
+        nodes = [self._node(self._name, e) for e in sorted(PYOBS_EVENTS)]
+        for node in [*nodes, *(state_node(self._name, i) for i in self._states)]:
             try:
-                await pubsub.create_node(self._service, self._node(self._name, event), timeout=_IQ_TIMEOUT)
+                await pubsub.create_node(self._service, node, timeout=_IQ_TIMEOUT)
             except IqError:
                 pass  # conflict: made in an earlier session
             except IqTimeout:
@@ -248,15 +254,23 @@ class PyobsPeers:
     # --- events --------------------------------------------------------------------------------
 
     def publish(self, name: str, payload: dict[str, Any]) -> None:
-        """Publish event ``name`` (if pyobs knows it) on our PubSub node; fire and forget."""
-        if name not in PYOBS_EVENTS:
-            return
-        event = ET.Element(f"{{{NS_PYOBS_EVENT}}}event")
-        event.text = event_body(name, payload)
+        """Publish event ``name`` (if pyobs knows it) on our PubSub node, and the state it tells
+        (if any) on the state node of its interface; fire and forget."""
+        if name in PYOBS_EVENTS:
+            event = ET.Element(f"{{{NS_PYOBS_EVENT}}}event")
+            event.text = event_body(name, payload)
+            self._publish_item(self._node(self._name, name), event)
+        interface = STATE_INTERFACES.get(name)
+        state = pyobs_state(name, payload) if interface in self._states else None
+        if interface is not None and state is not None:
+            namespace = state_namespace(interface)
+            self._publish_item(state_node(self._name, interface), state_element(namespace, state, name))
+
+    def _publish_item(self, node: str, payload: ET.Element) -> None:
         pubsub = ET.Element(f"{{{NS_PUBSUB}}}pubsub")
-        publish = ET.SubElement(pubsub, f"{{{NS_PUBSUB}}}publish", node=self._node(self._name, name))
-        ET.SubElement(publish, f"{{{NS_PUBSUB}}}item").append(event)
-        iq_id = f"pyobs-event-{uuid.uuid4().hex[:12]}"
+        publish = ET.SubElement(pubsub, f"{{{NS_PUBSUB}}}publish", node=node)
+        ET.SubElement(publish, f"{{{NS_PUBSUB}}}item").append(payload)
+        iq_id = f"pyobs-publish-{uuid.uuid4().hex[:12]}"
         self._connection.send(self._connection.stanza("iq", self._service, pubsub, id=iq_id, type="set"))
 
     def subscribe(self, name: str) -> None:

@@ -36,6 +36,7 @@ from nightcrew.errors import CodecError, NightcrewError, error_class
 __all__ = [
     "NS_PYOBS_RPC",
     "PYOBS_ERRORS",
+    "PyobsState",
     "build_pyobs_fault",
     "build_pyobs_params",
     "is_pyobs_call",
@@ -43,6 +44,7 @@ __all__ = [
     "parse_pyobs_params",
     "result_from_pyobs",
     "result_to_pyobs",
+    "state_element",
 ]
 
 NS_PYOBS_RPC = "urn:pyobs:rpc:1"
@@ -72,7 +74,7 @@ _PYOBS_EXCEPTIONS = "pyobs.utils.exceptions."
 _FITS_HEADER_METHODS = frozenset({"get_fits_header_before", "get_fits_header_after"})
 
 
-class _PyobsState:
+class PyobsState:
     """A value pyobs reads as one of its dataclasses: ``<state>`` with one child per field."""
 
     __slots__ = ("fields",)
@@ -85,7 +87,7 @@ def result_to_pyobs(method: str, result: Any) -> Any:
     """A nightcrew result in the shape pyobs' method of that name returns (FITS cards as states)."""
     if method in _FITS_HEADER_METHODS and isinstance(result, dict):
         return {
-            key: _PyobsState({"value": card[0], "comment": card[1]})
+            key: PyobsState({"value": card[0], "comment": card[1]})
             if isinstance(card, list | tuple) and len(card) == 2
             else card
             for key, card in result.items()
@@ -136,12 +138,18 @@ def value_element(value: Any, path: str) -> ET.Element:
         return mapping
     if isinstance(value, datetime):
         return _text("string", value.isoformat())  # pyobs reads times as ISO strings
-    if isinstance(value, _PyobsState):
-        state = ET.Element(f"{{{NS_PYOBS_RPC}}}state")
-        for name, item in value.fields.items():
-            ET.SubElement(state, name).append(value_element(item, f"{path}.{name}"))
-        return state
+    if isinstance(value, PyobsState):
+        return state_element(NS_PYOBS_RPC, value.fields, path)
     raise CodecError(f"{path}: a {kind.__name__} cannot travel to pyobs (no such value in urn:pyobs:rpc:1)")
+
+
+def state_element(namespace: str, fields: dict[str, Any], path: str) -> ET.Element:
+    """``<state xmlns=namespace>`` with one child per field holding its pyobs element (a dataclass
+    as pyobs writes it, in calls and in its PubSub states alike)."""
+    state = ET.Element(f"{{{namespace}}}state")
+    for name, item in fields.items():
+        ET.SubElement(state, f"{{{namespace}}}{name}").append(value_element(item, f"{path}.{name}"))
+    return state
 
 
 def _text(tag: str, text: str) -> ET.Element:
