@@ -21,11 +21,7 @@ class IFlatField(IAbortable):
     async def flat_field(
         self, count: int, binning: Binning | None = None, filter_name: str | None = None
     ) -> tuple[int, float]:
-        """Take ``count`` flats; return (frames taken, total exposure s).
-
-        ``binning`` and ``filter_name`` (a name from the filter wheel's ``list_filters``) are set
-        on the camera and filter wheel first; None keeps the current one.
-        """
+        """Take ``count`` flats (binning, filter_name None: current); return (frames, total exposure s)."""
 
 
 class IAcquisition(IRunning, IAbortable):

@@ -8,15 +8,16 @@ import { RemoteInterface } from "../../src/remote.js";
  */
 /**
  * A device that produces data files (images, spectra, video frames).
+ *
+ * ``grab_data(broadcast, image_type)``: with ``broadcast`` false no NewImageEvent is sent, so only
+ * the caller learns of the frame (an acquisition or focus frame no image pipeline should take);
+ * ``image_type`` None takes the one set with IImageType. Its announced timeout is at most 3600 s;
+ * nightcrew's cameras announce the exposure time set plus read-out, header round and margins
+ * (docs/protocol.md, section 4).
  */
 export class IData extends RemoteInterface {
   /**
-   * Take one frame and return its VFS path; None image type means the one set by IImageType.
-   *
-   * ``broadcast``: also send a NewImageEvent with the path (false: only the caller learns of
-   * the frame, e.g. for an acquisition or focus frame no image pipeline should take). The
-   * announced timeout is at most 3600 s; nightcrew's cameras announce the exposure time plus
-   * read-out, header round and a margin (docs/protocol.md, section 4).
+   * Take a frame and return its VFS path (sent in a NewImageEvent if ``broadcast``).
    *
    * Timeout: announced, 3600 clock seconds.
    * @param {boolean} [broadcast] default true

@@ -23,10 +23,7 @@ export class IFlatField extends RemoteInterface {
     return this._invoke("abort", arguments);
   }
   /**
-   * Take ``count`` flats; return (frames taken, total exposure s).
-   *
-   * ``binning`` and ``filter_name`` (a name from the filter wheel's ``list_filters``) are set
-   * on the camera and filter wheel first; None keeps the current one.
+   * Take ``count`` flats (binning, filter_name None: current); return (frames, total exposure s).
    *
    * Timeout: announced, 3600 clock seconds.
    * @param {number} count

@@ -23,12 +23,7 @@ export class IVideo extends RemoteInterface {
     return this._invoke("get_video", arguments);
   }
   /**
-   * Take one frame and return its VFS path; None image type means the one set by IImageType.
-   *
-   * ``broadcast``: also send a NewImageEvent with the path (false: only the caller learns of
-   * the frame, e.g. for an acquisition or focus frame no image pipeline should take). The
-   * announced timeout is at most 3600 s; nightcrew's cameras announce the exposure time plus
-   * read-out, header round and a margin (docs/protocol.md, section 4).
+   * Take a frame and return its VFS path (sent in a NewImageEvent if ``broadcast``).
    *
    * Timeout: announced, 3600 clock seconds.
    * @param {boolean} [broadcast] default true
