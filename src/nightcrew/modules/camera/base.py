@@ -38,18 +38,11 @@ from nightcrew.interfaces import (
     Window,
 )
 from nightcrew.modules.camera.exposing import ExposingModule, Frame, check_exposure_time
-from nightcrew.timeout import timeout, wall_allowance
+from nightcrew.timeout import timeout
 
 __all__ = ["BaseCamera", "ExposureSettings"]
 
 log = logging.getLogger(__name__)
-
-#: Clock seconds a frame may take beyond its exposure, read-out and header round: the devices a
-#: driver asks before the shutter opens, writing the file.
-GRAB_MARGIN = 60.0
-#: Clock seconds read-out and download may take, for drivers that do not say (see
-#: :meth:`BaseCamera._hw_readout_allowance`).
-DEFAULT_READOUT_ALLOWANCE = 60.0
 
 
 @dataclass(frozen=True)
@@ -113,11 +106,6 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         is then), and ``await self._set_exposure_status(ExposureStatus.READOUT)`` when reading out.
         """
 
-    def _hw_readout_allowance(self) -> float:
-        """Clock seconds reading out and downloading one frame may take (part of ``grab_data``'s
-        announced timeout); drivers that know their read-out say so."""
-        return DEFAULT_READOUT_ALLOWANCE
-
     async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
         """Switch the cooler; the default camera has none."""
         raise NotSupportedError(f"{self.name} has no cooling")
@@ -150,12 +138,9 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         )
 
     def grab_timeout(self, image_type: ImageType | None = None) -> float:
-        """The timeout ``grab_data`` announces: the exposure time, plus read-out, plus the header
-        round (``header_timeout``), a margin (:data:`GRAB_MARGIN`) and the wall allowance
-        (:func:`~nightcrew.timeout.wall_allowance`), in clock seconds."""
+        """The timeout ``grab_data`` announces (see :meth:`ExposingModule._exposure_timeout`)."""
         kind = self._image_type if image_type is None else ImageType(image_type)
-        readout = self._hw_readout_allowance() + self._header_timeout
-        return self._frame_exposure_time(kind) + readout + GRAB_MARGIN + wall_allowance(self.clock.speed)
+        return self._exposure_timeout(self._frame_exposure_time(kind))
 
     def _frame_exposure_time(self, kind: ImageType) -> float:
         # A bias is a zero-second dark by definition; no driver should have to know that.
