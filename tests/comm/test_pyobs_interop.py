@@ -405,6 +405,7 @@ async def test_one_shot_commands_see_and_call_pyobs_modules(
     rows = {line.split()[0]: line for line in listed.splitlines()}
     assert set(PYOBS_MODULES) <= set(rows), listed
     assert "IPointingRaDec" in rows["pytelescope"] and "IModule" in rows["shooter"]
+    assert rows["pytelescope"].split()[1] == "ready"  # from its presence: pyobs has no get_state
     moved, _ = await nightcrew("call", "pytelescope.move_radec", "10", "89.5")
     assert moved.strip() == "null"
     # The command's own session comes and goes: the dialect modules here do not warn about it.

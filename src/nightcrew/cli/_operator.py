@@ -100,8 +100,8 @@ async def list_modules(comm: Comm) -> list[ModuleInfo]:
             interfaces = await comm.get_interface_names(name)
         except NightcrewError:
             continue  # went offline meanwhile
-        state, label = "?", name
-        if IModule.__name__ in interfaces:
+        state, label = comm.presence_state(name) or "?", name
+        if state == "?" and IModule.__name__ in interfaces:
             try:
                 module = await comm.proxy(name, IModule)
                 state, label = str(await module.get_state()), await module.get_label()

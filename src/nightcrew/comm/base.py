@@ -187,6 +187,11 @@ class Comm(ABC):
         opened. A transport that learns of some peers only after ``open()`` (pyobs modules announce
         themselves by presence, then answer discovery) waits for them here."""
 
+    def presence_state(self, client: str) -> str | None:
+        """The module state ``client`` shows by presence alone, for peers that cannot be asked
+        (pyobs modules have no ``get_state``); None for the others: ask them."""
+        return None
+
     async def wait_for_client(self, name: str, seconds: float) -> bool:
         """Wait up to ``seconds`` (clock seconds, plus the network grace) for module ``name`` to
         come online; whether it is online."""

@@ -94,6 +94,7 @@ class PyobsPeers:
         self._spawn = spawn
         self._peers: dict[str, PyobsPeer] = {}
         self._probing: set[str] = set()  # full JIDs whose disco is under way
+        self._shows: dict[str, str] = {}  # full JID → its presence <show> ("" when none)
         self._probed = asyncio.Event()  # set whenever no disco is under way
         self._probed.set()
         self._subscribed: set[str] = set()
@@ -108,6 +109,13 @@ class PyobsPeers:
 
     def peer(self, name: str) -> PyobsPeer | None:
         return self._peers.get(name)
+
+    def state(self, name: str) -> str | None:
+        """The module state pyobs peer ``name`` shows by presence (as pyobs reads it), or None."""
+        peer = self._peers.get(name)
+        if peer is None:
+            return None
+        return {"dnd": "error", "away": "local"}.get(self._shows.get(peer.jid, ""), "ready")
 
     def is_peer(self, jid: str) -> bool:
         """Whether the full JID ``jid`` is a pyobs module's session."""
@@ -152,6 +160,7 @@ class PyobsPeers:
         """The session is gone: every pyobs peer is offline for us (presence comes again later)."""
         for name in list(self._peers):
             self._drop(name)
+        self._shows.clear()
         self._probing.clear()
         self._probed.set()
         self._subscribed.clear()
@@ -179,7 +188,10 @@ class PyobsPeers:
         if not resource or not local or local == self._name or domain.startswith("conference."):
             return False  # the room's (its own handler) or our own
         kind = stanza.get("type", "available")
+        if kind == "available":
+            self._shows[jid] = stanza.findtext(f"{_C}show") or ""
         if kind == "unavailable":
+            self._shows.pop(jid, None)
             self._probing.discard(jid)  # gone before it answered: its discovery is moot
             peer = self._peers.get(local)
             if peer is not None and peer.jid == jid:
