@@ -99,6 +99,9 @@ def test_generated_client_observes_with_the_simulated_observatory(observatory: d
     assert {"ITelescope", "IPointingRaDec", "IModule"} <= set(report["modules"]["telescope"])
     assert {"ICamera", "IData", "IExposureTime"} <= set(report["modules"]["camera"])
     assert report["clock"]["speed"] == CLOCK_SPEED
+    # proxy(name, ITelescope, IModule) has IModule's methods; the camera's ICamera proxy has
+    # set_exposure_time (IExposureTime, which the camera also serves), used below.
+    assert report["telescope_state"] == "ready" and report["camera_is_icamera"]
     assert report["radec"] == pytest.approx([322.95, 48.43])
     filename = report["filename"]
     assert filename.startswith("/images/") and filename.endswith(".fits")
@@ -132,6 +135,9 @@ def test_generated_client_observes_with_the_simulated_observatory(observatory: d
     }
     assert bad["wrong_interface"]["class"] == "InterfaceError"
     assert bad["wrong_interface"]["message"].startswith("module 'camera' does not offer ITelescope (offers: ")
+    second = bad["wrong_second_interface"]
+    assert second["class"] == "InterfaceError"
+    assert second["message"].startswith("module 'camera' does not offer ITelescope (offers: ")
     assert report["wrong_password"] == {
         "class": "XmppAuthError",
         "message": f"the server refused the login of jsclient@{DOMAIN}",

@@ -120,6 +120,14 @@ async def test_proxy_for_missing_interface_or_module(network: Network) -> None:
         await caller.comm.proxy("ghost", ICalculator)
 
 
+async def test_a_caller_waits_boundedly_for_a_module_to_come_online(network: Network) -> None:
+    caller = await network.start(Module, "caller")
+    assert not await caller.comm.wait_for_client("calc", 0.2)  # nobody of that name: gives up
+    waiting = asyncio.create_task(caller.comm.wait_for_client("calc", 30.0))
+    await network.start(Calculator, "calc")
+    assert await asyncio.wait_for(waiting, 30.0)  # returns when it comes, not after the bound
+
+
 async def test_clients_and_interface_discovery(network: Network) -> None:
     await network.start(Calculator, "calc")
     await network.start(Module, "plain")

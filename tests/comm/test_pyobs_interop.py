@@ -14,6 +14,7 @@ import logging
 import os
 import signal
 import subprocess
+import sys
 import time
 import xml.etree.ElementTree as ET
 from abc import abstractmethod
@@ -25,10 +26,11 @@ import pytest
 
 from nightcrew.comm.xmpp import XmppComm
 from nightcrew.errors import InterfaceError
-from nightcrew.events import MotionStatusChangedEvent, MoveRaDecEvent, NewImageEvent
-from nightcrew.interfaces import IData, ImageType, IPointingRaDec, MotionStatus
+from nightcrew.events import LogEvent, MotionStatusChangedEvent, MoveRaDecEvent, NewImageEvent
+from nightcrew.interfaces import FitsCard, IData, IFitsHeaderBefore, ImageType, IPointingRaDec, MotionStatus
 from nightcrew.interfaces.base import Interface
 from nightcrew.modules import Module
+from nightcrew.modules.sim import SimFilterWheel
 from nightcrew.server import Account, init_server, start_server, stop_server
 from nightcrew.testing.waiting import wait_for
 
@@ -38,7 +40,7 @@ from .xmpp_servers import DOMAIN, PASSWORD, free_port, require_command
 
 pytestmark = pytest.mark.xmpp
 PEER_DIR = Path(__file__).resolve().parent / "pyobs_peer"
-NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw"]
+NIGHTCREW_MODULES = ["nccamera", "nccalc", "ncraw", "ncwheel", "operator"]
 #: pyobs modules by account: the class and extra YAML lines. pyobs' own dummy telescope stands at
 #: latitude 89.9°, so that dec 89.5° is above its altitude limit at any time of day.
 PYOBS_MODULES = {
@@ -64,21 +66,32 @@ class IInteropShooter(Interface):
     @abstractmethod
     async def call_remote(self, module: str, method: str) -> str: ...
 
+    @abstractmethod
+    async def headers(self, module: str) -> list[str]: ...
 
-class NightcrewCamera(Module, IData):
-    """A nightcrew IData module that also keeps the NewImageEvents it hears."""
+    @abstractmethod
+    async def states(self, module: str) -> list[str]: ...
+
+
+class NightcrewCamera(Module, IData, IFitsHeaderBefore):
+    """A nightcrew IData module that also keeps the events it hears and gives one FITS card."""
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)  # type: ignore[arg-type]
         self.heard: list[tuple[str, str, ImageType | None]] = []
         self.moves: list[tuple[str, float, float]] = []
         self.motions: list[tuple[str, MotionStatus]] = []
+        self.logs: list[tuple[str, LogEvent]] = []
 
     async def open(self) -> None:
         await super().open()
         await self.comm.register_event(NewImageEvent, self.on_new_image)
         await self.comm.register_event(MoveRaDecEvent, self.on_move)
         await self.comm.register_event(MotionStatusChangedEvent, self.on_motion)
+        await self.comm.register_event(LogEvent, self.on_log)
+
+    async def on_log(self, event: LogEvent, sender: str) -> None:
+        self.logs.append((sender, event))
 
     async def on_move(self, event: MoveRaDecEvent, sender: str) -> None:
         self.moves.append((sender, event.ra, event.dec))
@@ -88,6 +101,9 @@ class NightcrewCamera(Module, IData):
 
     async def on_new_image(self, event: NewImageEvent, sender: str) -> None:
         self.heard.append((sender, event.filename, event.image_type))
+
+    async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
+        return {"CCD-TEMP": (-10.5, "sensor temperature [degC]")}
 
     async def grab_data(self, broadcast: bool = True, image_type: ImageType | None = None) -> str:
         filename = "/nightcrew/images/nc-0001.fits"
@@ -231,7 +247,9 @@ async def _shooter(camera: NightcrewCamera) -> IInteropShooter:
 # --- the tests ----------------------------------------------------------------------------------
 
 
-async def test_nightcrew_moves_pyobs_own_dummy_telescope(nightcrew_side: NightcrewCamera) -> None:
+async def test_nightcrew_moves_pyobs_own_dummy_telescope(
+    nightcrew_side: NightcrewCamera, caplog: pytest.LogCaptureFixture
+) -> None:
     camera = nightcrew_side
     telescope = await camera.comm.proxy("pytelescope", IPointingRaDec)  # pyobs' interface of that name
     await telescope.move_radec(10.0, 89.5)
@@ -239,6 +257,10 @@ async def test_nightcrew_moves_pyobs_own_dummy_telescope(nightcrew_side: Nightcr
     await wait_for(lambda: ("pytelescope", 10.0, 89.5) in camera.moves, 20, message="MoveRaDecEvent")
     # Its MotionStatusChangedEvent carries per-interface statuses nightcrew drops knowingly.
     await wait_for(lambda: ("pytelescope", MotionStatus.SLEWING) in camera.motions, 20, message="slewing")
+    # pyobs forwards its log records as LogEvents: they arrive as nightcrew's, without a warning each.
+    await wait_for(lambda: any(s == "pytelescope" for s, _ in camera.logs), 20, message="pyobs' LogEvent")
+    assert "skipped pyobs LogEvent" not in caplog.text
+    assert {e.logger for s, e in camera.logs if s == "pytelescope"} == {"pyobs"}
 
 
 async def test_nightcrew_calls_pyobs_and_hears_its_event(nightcrew_side: NightcrewCamera) -> None:
@@ -267,6 +289,32 @@ async def test_pyobs_gets_typed_results_and_nightcrew_errors(nightcrew_side: Nig
     # A dataclass where nightcrew expects a number: refused with one clear error, as pyobs' own.
     refused = await shooter.add_remote("nccalc", 2.5, 4.0, True)
     assert refused == "InvalidArgumentError: add(): argument 'a': expected float, got dict"
+
+
+async def test_fits_cards_are_pairs_in_nightcrew_and_header_entries_in_pyobs(
+    nightcrew_side: NightcrewCamera,
+) -> None:
+    # pyobs-core 2.19 reads a card as FitsHeaderEntry(value, comment); nightcrew's is a pair.
+    shooter = await _shooter(nightcrew_side)
+    assert await shooter.headers("nccamera") == ["CCD-TEMP=-10.5/sensor temperature [degC]"]
+    telescope = await nightcrew_side.comm.proxy("pytelescope", IFitsHeaderBefore)
+    cards = await telescope.get_fits_header_before()
+    value, comment = cards["TEL-RA"]
+    assert isinstance(value, float) and comment == "Right ascension of telescope [degrees]"
+
+
+async def test_pyobs_reads_a_nightcrew_filter_wheels_live_state(
+    interop_server: Server, nightcrew_side: NightcrewCamera
+) -> None:
+    wheel = SimFilterWheel(comm=_comm("ncwheel", interop_server), filters=["V", "R"], change_time=0.1)
+    await wheel.open()
+    try:
+        await wheel.set_filter("R")
+        shooter = await _shooter(nightcrew_side)
+        # As a pyobs GUI does: subscribe to the IFilters and IMotion states, read the current ones.
+        assert await shooter.states("ncwheel") == ["R", "idle"]
+    finally:
+        await wheel.close()
 
 
 async def test_pyobs_callers_hear_nightcrews_timeout_announcements(nightcrew_side: NightcrewCamera) -> None:
@@ -327,3 +375,38 @@ async def test_a_pyobs_value_nightcrew_cannot_map_gets_one_clear_fault(
     assert fault.findtext("{urn:pyobs:rpc:1}exception") or fault.findtext("exception")
     message = fault.findtext("message") or fault.findtext("{urn:pyobs:rpc:1}message")
     assert message == "add(): argument 1: pyobs value <complex> has no nightcrew equivalent"
+
+
+async def test_one_shot_commands_see_and_call_pyobs_modules(
+    interop_server: Server, nightcrew_side: NightcrewCamera, tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    # docs/pyobs.md "From the command line": the operator's file as written there, then its commands.
+    (tmp_path / "operator.yaml").write_text(
+        "class: nightcrew.comm.xmpp.XmppComm\n"
+        f"jid: operator@{DOMAIN}\n"
+        "password: ${OPERATOR_PASSWORD}\n"
+        f"server: {interop_server.address}\n"
+        f"ca_file: {interop_server.ca_file}\n"
+        "dialect: pyobs\n"
+    )
+
+    async def nightcrew(*args: str) -> tuple[str, str]:
+        process = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "nightcrew", *args, "--comm", "operator.yaml",
+            cwd=tmp_path, env={**os.environ, "OPERATOR_PASSWORD": PASSWORD},
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+        )  # fmt: skip
+        out, err = await asyncio.wait_for(process.communicate(), 60)
+        assert "Traceback" not in err.decode() and "never retrieved" not in err.decode(), err.decode()
+        assert process.returncode == 0, err.decode()
+        return out.decode(), err.decode()
+
+    listed, _ = await nightcrew("modules")
+    rows = {line.split()[0]: line for line in listed.splitlines()}
+    assert set(PYOBS_MODULES) <= set(rows), listed
+    assert "IPointingRaDec" in rows["pytelescope"] and "IModule" in rows["shooter"]
+    assert rows["pytelescope"].split()[1] == "ready"  # from its presence: pyobs has no get_state
+    moved, _ = await nightcrew("call", "pytelescope.move_radec", "10", "89.5")
+    assert moved.strip() == "null"
+    # The command's own session comes and goes: the dialect modules here do not warn about it.
+    assert "pyobs discovery of operator" not in caplog.text

@@ -7,21 +7,25 @@ import logging
 import time
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
+from datetime import UTC, datetime
 from typing import Any
 
 import pytest
 
 from nightcrew.comm.rpc import Fault
 from nightcrew.comm.xmpp import XmppComm
-from nightcrew.comm.xmpp._pyobs_events import translate_event
+from nightcrew.comm.xmpp._pyobs_events import event_body, translate_event
+from nightcrew.comm.xmpp._pyobs_states import pyobs_state, state_namespace
 from nightcrew.comm.xmpp._pyobs_values import (
     build_pyobs_fault,
     build_pyobs_params,
     is_pyobs_call,
     parse_pyobs_fault,
     parse_pyobs_params,
+    state_element,
 )
 from nightcrew.errors import CodecError, ConfigError
+from nightcrew.events import LogEvent
 from nightcrew.focus.series import FocusOutsideSeriesError
 
 RPC = "{jabber:iq:rpc}"
@@ -127,6 +131,38 @@ def test_fields_pyobs_names_otherwise_are_renamed_and_known_extras_dropped() -> 
     assert translate_event(task, "TaskFinishedEvent", "robotic") == {"name": "M31", "id": "7"}
 
 
+def test_pyobs_log_records_become_nightcrew_log_events_quietly(caplog: pytest.LogCaptureFixture) -> None:
+    # The fields pyobs-core 2.19's CommLoggingHandler sends (time is UTC without an offset).
+    record = {
+        "time": "2026-11-27T15:27:13.357000",
+        "level": "INFO",
+        "filename": "module.py",
+        "function": "open",
+        "line": 896,
+        "message": "Set module state to ready.",
+        "sender": "",
+    }
+    with caplog.at_level(logging.INFO, logger="nightcrew.comm.xmpp._pyobs_events"):
+        fields = translate_event(_body("LogEvent", record), "LogEvent", "pytel")
+    assert caplog.text == ""
+    assert fields is not None
+    event = LogEvent.from_dict(fields)
+    assert (event.level, event.logger, event.message) == ("INFO", "pyobs", "Set module state to ready.")
+    assert (event.filename, event.line, event.time.isoformat()) == (
+        "module.py",
+        896,
+        "2026-11-27T15:27:13.357000+00:00",
+    )
+
+
+def test_nightcrew_log_events_carry_every_field_pyobs_requires() -> None:
+    event = LogEvent(time=datetime(2026, 11, 27, tzinfo=UTC), level="WARNING", logger="x", message="m")
+    data = json.loads(event_body("LogEvent", event.to_dict()))["data"]
+    # pyobs builds LogEvent(time, level, filename, function, line, message) from these keys.
+    assert {"time", "level", "filename", "function", "line", "message"} <= set(data)
+    assert (data["filename"], data["function"], data["line"], data["message"]) == ("", "", 0, "m")
+
+
 @pytest.mark.parametrize(
     ("make_body", "logged"),
     [
@@ -154,3 +190,22 @@ def test_the_dialect_is_checked_when_the_comm_is_built() -> None:
     with pytest.raises(ConfigError, match="unknown dialect 'pyobs2' \\(known: nightcrew, pyobs\\)") as caught:
         XmppComm("camera@obs.test", "pw", dialect="pyobs2")
     assert caught.value.key == "dialect"
+
+
+def test_own_events_become_the_pyobs_states_they_tell() -> None:
+    now = datetime(2026, 11, 27, 15, 0, 0, 500000, tzinfo=UTC)
+    motion = pyobs_state("MotionStatusChangedEvent", {"status": "moving", "devices": {"axis": "idle"}}, now)
+    assert motion is not None
+    element = state_element(state_namespace("IMotion"), motion, "state")
+    ns = "{urn:pyobs:state:IMotion:1}"
+    assert element.tag == f"{ns}state"
+    # nightcrew's "moving" is pyobs' "slewing"; times without an offset (astropy's Time reads them).
+    assert element.findtext(f"{ns}status/string") == "slewing"
+    assert element.findtext(f"{ns}time/string") == "2026-11-27T15:00:00.500000"
+    device = element.find(f"{ns}devices/items/item/{{urn:pyobs:rpc:1}}state")
+    assert device is not None and [child.tag.rpartition("}")[2] for child in device] == ["name", "status"]
+    assert pyobs_state("FilterChangedEvent", {"filter_name": "R"}, now) == {
+        "filter": "R",
+        "time": "2026-11-27T15:00:00.500000",
+    }
+    assert pyobs_state("NewImageEvent", {"filename": "/a.fits"}, now) is None

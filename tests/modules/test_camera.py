@@ -8,11 +8,29 @@ import time
 import pytest
 
 from nightcrew.config import build_object
-from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, InvalidArgumentError
-from nightcrew.interfaces import Binning, ExposureStatus, ImageType, Window
+from nightcrew.errors import (
+    AbortedError,
+    ConfigError,
+    DeviceBusyError,
+    InvalidArgumentError,
+    RemoteTimeoutError,
+)
+from nightcrew.interfaces import (
+    Binning,
+    ExposureStatus,
+    IData,
+    IExposureTime,
+    ImageType,
+    ISpectrograph,
+    Window,
+)
+from nightcrew.interfaces.base import Interface
+from nightcrew.modules import Module
+from nightcrew.modules.camera import ExposureSettings, Frame
+from nightcrew.modules.camera.exposing import ExposingModule
 from nightcrew.testing import Observatory
 
-from .devices import GradientCamera, HeaderPeer, ImageListener
+from .devices import GradientCamera, HeaderPeer, ImageListener, LineSpectrograph
 
 
 async def test_negative_exposure_time_is_refused_and_keeps_the_old_one(observatory: Observatory) -> None:
@@ -196,3 +214,38 @@ def test_expected_providers_are_checked_when_built(providers: object, message: s
             }
         )
     assert info.value.key == "expect_headers_from"
+
+
+class _HungCamera(GradientCamera):
+    """A camera whose exposure never ends (a driver stuck in read-out)."""
+
+    async def _hw_expose(self, settings: ExposureSettings) -> Frame:
+        await self.clock.sleep(1e9)
+        raise AssertionError("never")
+
+
+class _HungSpectrograph(LineSpectrograph):
+    async def _hw_expose_spectrum(self, exposure_time: float) -> Frame:
+        await self.clock.sleep(1e9)
+        raise AssertionError("never")
+
+
+@pytest.mark.parametrize(
+    ("cls", "interface", "method"),
+    [(_HungCamera, IData, "grab_data"), (_HungSpectrograph, ISpectrograph, "grab_spectrum")],
+)
+async def test_a_hung_exposure_is_noticed_once_overdue_not_after_an_hour(
+    observatory: Observatory, cls: type[ExposingModule], interface: type[Interface], method: str
+) -> None:
+    device = await observatory.start(cls, "device", header_timeout=5.0)
+    caller = await observatory.start(Module, "caller")
+    await (await caller.comm.proxy("device", IExposureTime)).set_exposure_time(120.0)
+    remote = await caller.comm.proxy("device", interface)
+    started = observatory.clock.time()
+    # exposure 120 s + read-out 60 s (the default) + header round 5 s + margin 60 s
+    # + 10 wall seconds (clock speed 1): 255 s, not the interface's 3600.
+    with pytest.raises(RemoteTimeoutError, match=rf"{method}\(\) did not finish within 255 s"):
+        await getattr(remote, method)()
+    assert 255 <= observatory.clock.time() - started < 270
+    if isinstance(device, _HungCamera):  # a bias exposes for no time
+        assert device.grab_timeout(ImageType.BIAS) == 135.0

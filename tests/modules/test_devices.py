@@ -6,9 +6,10 @@ import asyncio
 
 import pytest
 
-from nightcrew.errors import ConfigError, DeviceBusyError, InvalidArgumentError, MoveError
+from nightcrew.errors import ConfigError, DeviceBusyError, InvalidArgumentError, MoveError, RemoteTimeoutError
 from nightcrew.events import FilterChangedEvent, NewSpectrumEvent
-from nightcrew.interfaces import ITemperatures, MotionStatus, WeatherSensor
+from nightcrew.interfaces import IFocuser, ITemperatures, MotionStatus, WeatherSensor
+from nightcrew.modules import Module
 from nightcrew.modules.sim import ISimFocuserTruth, SimFilterWheel, SimFocuser, SimWeatherStation
 from nightcrew.testing import EventRecorder, Observatory
 
@@ -133,3 +134,22 @@ async def test_spectrograph_writes_a_spectrum_and_announces_it(observatory: Obse
     assert hdu.data.shape == (256,) and hdu.header["GRATING"] == "600/mm" and hdu.header["EXPTIME"] == 10.0
     await observatory.clock.sleep(0.5)
     assert recorder.of(NewSpectrumEvent) == [NewSpectrumEvent(filename=filename)]
+
+
+class _StuckFocuser(SimFocuser):
+    """A focuser whose moves never end."""
+
+    async def _hw_move_focus(self, position: float) -> None:
+        await self.clock.sleep(1e9)
+
+
+async def test_a_stuck_focuser_is_noticed_after_its_travel_at_its_speed(observatory: Observatory) -> None:
+    await observatory.start(_StuckFocuser, "focuser", min_focus=0.0, max_focus=50.0, focus=25.0, speed=0.5)
+    caller = await observatory.start(Module, "caller")
+    remote = await caller.comm.proxy("focuser", IFocuser)
+    started = observatory.clock.time()
+    # 10 mm at 0.5 mm/s: 20 s, announced with 30 s of margin and 10 wall seconds (clock speed 1)
+    # - not the interface's 300 s.
+    with pytest.raises(RemoteTimeoutError, match=r"set_focus\(\) did not finish within 60 s"):
+        await remote.set_focus(35.0)
+    assert 60 <= observatory.clock.time() - started < 70

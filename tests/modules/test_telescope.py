@@ -7,9 +7,17 @@ import asyncio
 import pytest
 
 from nightcrew.astro import angular_separation
-from nightcrew.errors import AbortedError, ConfigError, DeviceBusyError, InvalidArgumentError, MoveError
+from nightcrew.errors import (
+    AbortedError,
+    ConfigError,
+    DeviceBusyError,
+    InvalidArgumentError,
+    MoveError,
+    RemoteTimeoutError,
+)
 from nightcrew.events import MotionStatusChangedEvent, MoveRaDecEvent
 from nightcrew.interfaces import ITelescope, MotionStatus
+from nightcrew.modules import Module
 from nightcrew.modules.sim import ISimTelescopeTruth, SimTelescope
 from nightcrew.testing import EventRecorder, Observatory
 
@@ -206,3 +214,24 @@ async def test_an_offset_moves_the_true_pointing_by_the_offset_and_keeps_the_mis
     await telescope.move_radec(*BETELGEUSE)
     ra2, dec2 = await telescope.get_true_radec()
     assert angular_separation(ra2, dec2, ra0, dec0) * 3600 > 1.0
+
+
+class _StuckTelescope(SimTelescope):
+    """A mount whose Alt/Az slews never arrive (a driver waiting for a position it never reports)."""
+
+    async def _hw_move_altaz(self, alt: float, az: float) -> None:
+        await self.clock.sleep(1e9)
+
+
+async def test_a_stuck_slew_is_noticed_after_its_length_at_the_mounts_rate(observatory: Observatory) -> None:
+    # From the park position (alt 85°, az 0°) to alt 45°, az 180°: 50° over the zenith at 2°/s,
+    # plus 3 s of settling: 28 s, announced with 30 s of margin and 10 wall seconds (clock speed 1)
+    # - not the interface's 300 s.
+    stuck = await observatory.start(_StuckTelescope, "stuck", slew_rate=2.0, settle_time=3.0)
+    await stuck.init()
+    caller = await observatory.start(Module, "caller")
+    remote = await caller.comm.proxy("stuck", ITelescope)
+    started = observatory.clock.time()
+    with pytest.raises(RemoteTimeoutError, match=r"move_altaz\(\) did not finish within 68 s"):
+        await remote.move_altaz(45.0, 180.0)
+    assert 68 <= observatory.clock.time() - started < 80

@@ -12,8 +12,9 @@ import {
   XmppAuthError,
 } from "../generated/errors.js";
 import { EVENT_SCHEMAS } from "../generated/events.js";
-import { DEFAULT_TIMEOUT } from "../generated/index.js";
+import { DEFAULT_TIMEOUT, INTERFACES } from "../generated/index.js";
 import { decodeEvent } from "./decode.js";
+import { combinedInterface } from "./remote.js";
 import { schemaProblem } from "./schema.js";
 import { methodCall, methodResponse, parseResponse } from "./xmlrpc.js";
 
@@ -162,23 +163,35 @@ export class NightcrewClient {
   }
 
   /**
-   * A proxy for `module` with the methods of `Interface` (a generated class).
+   * A proxy for `module`, checked to serve every interface named (generated classes), with the
+   * methods of all of them and of every other interface the module serves that the catalogue
+   * knows (as nightcrew's own proxies: a camera's proxy has `set_exposure_time` of IExposureTime
+   * beside ICamera's). It is an instance of the first interface named.
    * @template {typeof import("./remote.js").RemoteInterface} T
    * @param {string} module
    * @param {T} Interface
+   * @param {...typeof import("./remote.js").RemoteInterface} more further interfaces it must serve
    * @returns {Promise<InstanceType<T>>}
    * @throws {RemoteError} the module is not in the room
-   * @throws {InterfaceError} it does not serve the interface (in the version the catalogue has)
+   * @throws {InterfaceError} it does not serve one of them (in the version the catalogue has)
    */
-  async proxy(module, Interface) {
+  async proxy(module, Interface, ...more) {
+    if (typeof Interface !== "function") throw new TypeError("proxy(module, Interface, ...more): name an interface");
     const served = await this.interfaces(module);
-    const { name, version } = Interface.spec;
-    if (served[name] !== version) {
+    const named = [Interface, ...more];
+    const missing = named.filter(({ spec }) => served[spec.name] !== spec.version);
+    if (missing.length > 0) {
       const offers = Object.keys(served).sort().join(", ");
-      const what = name in served ? `${name} version ${version} (it has ${served[name]})` : name;
-      throw new InterfaceError(`module '${module}' does not offer ${what} (offers: ${offers})`);
+      const what = missing.map(({ spec: { name, version } }) =>
+        name in served ? `${name} version ${version} (it has ${served[name]})` : name,
+      );
+      throw new InterfaceError(`module '${module}' does not offer ${what.join(", ")} (offers: ${offers})`);
     }
-    return new Interface(this, module);
+    const others = Object.entries(served)
+      .map(([name, version]) => INTERFACES[name]?.spec.version === version && INTERFACES[name])
+      .filter((Other) => Other && !named.includes(Other));
+    const Proxy = combinedInterface([...named, ...others]);
+    return new Proxy(this, module);
   }
 
   /**

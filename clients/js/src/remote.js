@@ -48,3 +48,26 @@ export class RemoteInterface {
     return this._client.call(this._module, method, checked, { params: spec.params, schemas });
   }
 }
+
+/**
+ * One proxy class with the methods of all `interfaces` (generated classes): a subclass of the first
+ * that finds every method's declaration in whichever interface declares it.
+ * @param {Array<typeof RemoteInterface>} interfaces
+ * @returns {typeof RemoteInterface}
+ */
+export function combinedInterface(interfaces) {
+  const [first, ...rest] = interfaces;
+  if (rest.length === 0) return first;
+  class Combined extends first {
+    static bases = interfaces;
+  }
+  for (const Other of rest) {
+    // A generated class holds the methods of the interfaces it extends as its own.
+    for (const name of Object.getOwnPropertyNames(Other.prototype)) {
+      if (name !== "constructor" && !(name in Combined.prototype)) {
+        Object.defineProperty(Combined.prototype, name, Object.getOwnPropertyDescriptor(Other.prototype, name));
+      }
+    }
+  }
+  return Combined;
+}

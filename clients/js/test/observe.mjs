@@ -6,7 +6,7 @@
 // (trust a private server's certificate with NODE_EXTRA_CA_CERTS=its.crt).
 import {
   ICamera,
-  IExposureTime,
+  IModule,
   ITelescope,
   NewImageEvent,
   NightcrewClient,
@@ -59,8 +59,11 @@ try {
 
   const telescopeName = await find(ITelescope);
   const cameraName = await find(ICamera);
-  const telescope = await client.proxy(telescopeName, ITelescope);
+  // Every interface named counts; the proxy also has the methods of the others the module serves.
+  const telescope = await client.proxy(telescopeName, ITelescope, IModule);
   const camera = await client.proxy(cameraName, ICamera);
+  report.telescope_state = await telescope.get_state();
+  report.camera_is_icamera = camera instanceof ICamera;
   report.clock = await client.clock(telescopeName);
 
   await telescope.init();
@@ -68,7 +71,7 @@ try {
   report.radec = await telescope.get_radec();
 
   // Longer than a call may take unannounced: grab_data() only succeeds if its announcement counts.
-  await (await client.proxy(cameraName, IExposureTime)).set_exposure_time(options.exposure_time);
+  await camera.set_exposure_time(options.exposure_time); // IExposureTime's, on the ICamera proxy
   const image = nextEvent(NewImageEvent, options.timeout);
   const started = performance.now();
   report.filename = await camera.grab_data();
@@ -83,6 +86,7 @@ try {
     below_horizon: await failure(telescope.move_radec(M39[0], -80)),
     unknown_module: await failure(client.proxy("ghost", ITelescope)),
     wrong_interface: await failure(client.proxy(cameraName, ITelescope)),
+    wrong_second_interface: await failure(client.proxy(cameraName, ICamera, ITelescope)),
   };
   await telescope.park();
 } finally {

@@ -65,12 +65,18 @@ def load_comm(path: str | None) -> Comm:
     return comm
 
 
+#: Clock seconds a command waits for a module it names that is not online (yet): one starting now.
+CLIENT_WAIT = 3.0
+
+
 @asynccontextmanager
 async def operator_module(comm: Comm) -> AsyncIterator[Module]:
-    """An opened module on ``comm`` for the operator; closed on exit."""
+    """An opened module on ``comm`` for the operator, knowing every module online; closed on exit."""
     module = Module(comm=comm)
     await module.open()
     try:
+        # A one-shot command acts at once: it must not miss peers announced just after open().
+        await comm.settle()
         yield module
     finally:
         await module.close()
@@ -94,8 +100,8 @@ async def list_modules(comm: Comm) -> list[ModuleInfo]:
             interfaces = await comm.get_interface_names(name)
         except NightcrewError:
             continue  # went offline meanwhile
-        state, label = "?", name
-        if IModule.__name__ in interfaces:
+        state, label = comm.presence_state(name) or "?", name
+        if state == "?" and IModule.__name__ in interfaces:
             try:
                 module = await comm.proxy(name, IModule)
                 state, label = str(await module.get_state()), await module.get_label()
@@ -122,6 +128,7 @@ async def call_method(comm: Comm, target: str, args: list[Any]) -> Any:
     module, dot, method = target.partition(".")
     if not dot or not module or not method:
         raise InvalidArgumentError(f"'{target}' is not MODULE.METHOD")
+    await comm.wait_for_client(module, CLIENT_WAIT)  # if not online, execute() says so
     return await comm.execute(module, method, [encode(a, f"argument {i + 1}") for i, a in enumerate(args)])
 
 

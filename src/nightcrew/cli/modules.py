@@ -38,8 +38,8 @@ def format_table(infos: list[ModuleInfo]) -> str:
 
 
 async def _list(comm_file: str | None) -> str:
-    # No waiting for presence: a comm's open() returns once it knows who is online (on XMPP,
-    # once the room has sent its complete occupant list).
+    # The operator module knows who is online once open (on XMPP, the room's occupant list and
+    # the pyobs modules' presence and discovery): no waiting for a time.
     async with operator_module(load_comm(comm_file)) as operator:
         return format_table(await list_modules(operator.comm))
 

@@ -107,6 +107,7 @@ class Comm(ABC):
         self._proxies: dict[str, Proxy] = {}
         self._interface_names: dict[str, list[str]] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
+        self._client_waiters: dict[str, list[asyncio.Future[None]]] = {}
         #: Called with every exception a call made through this comm raised (for error limits).
         self.error_hook: ErrorHook | None = None
         #: Called when the transport is lost for good (e.g. another process took over the account);
@@ -184,6 +185,35 @@ class Comm(ABC):
     @property
     def clock(self) -> Clock:
         return self._clock
+
+    async def settle(self) -> None:  # noqa: B027 - optional hook, empty by default
+        """Wait (bounded) until :attr:`clients` holds every module that was online when this comm
+        opened. A transport that learns of some peers only after ``open()`` (pyobs modules announce
+        themselves by presence, then answer discovery) waits for them here."""
+
+    def presence_state(self, client: str) -> str | None:
+        """The module state ``client`` shows by presence alone, for peers that cannot be asked
+        (pyobs modules have no ``get_state``); None for the others: ask them."""
+        return None
+
+    async def wait_for_client(self, name: str, seconds: float) -> bool:
+        """Wait up to ``seconds`` (clock seconds, plus the network grace) for module ``name`` to
+        come online; whether it is online."""
+        if name in self.clients:
+            return True
+        waiter: asyncio.Future[None] = asyncio.get_running_loop().create_future()
+        waiters = self._client_waiters.setdefault(name, [])
+        waiters.append(waiter)
+        try:
+            async with self.timeout(seconds):
+                await waiter
+        except TimeoutError:
+            pass
+        finally:
+            waiters.remove(waiter)
+            if not waiters:
+                del self._client_waiters[name]
+        return name in self.clients
 
     def advertise_state(self, state: str) -> None:  # noqa: B027 - optional hook, empty by default
         """Let the others see this module's lifecycle state; transports with presence override it."""
@@ -434,7 +464,19 @@ class Comm(ABC):
     def _spawn(self, coro: Coroutine[Any, Any, Any], name: str) -> None:
         task = asyncio.get_running_loop().create_task(coro, name=name, context=module_context(self.name))
         self._tasks.add(task)
-        task.add_done_callback(self._tasks.discard)
+        task.add_done_callback(self._task_done)
+
+    def _task_done(self, task: asyncio.Task[Any]) -> None:
+        # Every background task's outcome is retrieved here: a failure is logged once, never left
+        # for asyncio's "exception was never retrieved" at exit (e.g. a discovery cut by close()).
+        self._tasks.discard(task)
+        if task.cancelled():
+            return
+        error = task.exception()
+        if isinstance(error, NightcrewError):
+            log.debug("%s ended: %s", task.get_name(), error)
+        elif error is not None:
+            log.error("%s failed", task.get_name(), exc_info=error)
 
     # --- presence ------------------------------------------------------------------------------
 
@@ -443,6 +485,9 @@ class Comm(ABC):
         from nightcrew.events import ModuleOpenedEvent
 
         self._forget(client)
+        for waiter in self._client_waiters.get(client, []):
+            if not waiter.done():
+                waiter.set_result(None)
         self._deliver_event(ModuleOpenedEvent.event_name(), ModuleOpenedEvent().to_dict(), client)
 
     def _client_offline(self, client: str) -> None:

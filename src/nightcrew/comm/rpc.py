@@ -257,7 +257,7 @@ class RpcServer:
         implementation = getattr(self._obj, method)
         # A timeout on the implementation overrides the interface's default.
         impl_func = getattr(implementation, "__func__", implementation)
-        seconds = method_timeout(impl_func if has_timeout(impl_func) else declaration, arguments)
+        seconds = method_timeout(impl_func if has_timeout(impl_func) else declaration, arguments, self._obj)
         if seconds != DEFAULT_TIMEOUT:
             # Without an announcement callers wait the default: saying so would cost a stanza per call.
             announce(seconds)

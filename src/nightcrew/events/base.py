@@ -23,7 +23,8 @@ _EVENTS: dict[str, type[Event]] = {}
 class Event:
     """Base class of all events. Subclasses are frozen, keyword-only dataclasses."""
 
-    #: Whether the event is worth keeping for late subscribers (not used for routing).
+    #: Whether the event reports a state that holds until the next one of its kind from the same
+    #: sender (the catalogue's ``x-persistent``, docs/protocol.md section 5); routing ignores it.
     persistent: ClassVar[bool] = False
     #: Whether receivers move hardware on it (close, open, park, clear an alarm): trusted only from
     #: the senders the access policy names for it, refused from everyone else.

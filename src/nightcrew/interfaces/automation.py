@@ -21,7 +21,7 @@ class IFlatField(IAbortable):
     async def flat_field(
         self, count: int, binning: Binning | None = None, filter_name: str | None = None
     ) -> tuple[int, float]:
-        """Take ``count`` flats (current binning/filter if None); return (frames taken, total exposure s)."""
+        """Take ``count`` flats (binning, filter_name None: current); return (frames, total exposure s)."""
 
 
 class IAcquisition(IRunning, IAbortable):

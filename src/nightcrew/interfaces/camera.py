@@ -61,14 +61,21 @@ class CoolingStatus:
 
 
 class IData(Interface):
-    """A device that produces data files (images, spectra, video frames)."""
+    """A device that produces data files (images, spectra, video frames).
+
+    ``grab_data(broadcast, image_type)``: with ``broadcast`` false no NewImageEvent is sent, so only
+    the caller learns of the frame (an acquisition or focus frame no image pipeline should take);
+    ``image_type`` None takes the one set with IImageType. Its announced timeout is at most 3600 s;
+    nightcrew's cameras announce the exposure time set plus read-out, header round and margins
+    (docs/protocol.md, section 4).
+    """
 
     # No exposure-time argument to derive a timeout from: a generous fixed one, which
-    # implementations override with @timeout(lambda ...) on their own grab_data.
+    # implementations replace with @timeout(lambda self, ...) computed from their settings.
     @timeout(3600)
     @abstractmethod
     async def grab_data(self, broadcast: bool = True, image_type: ImageType | None = None) -> str:
-        """Take one frame and return its VFS path; None image type means the one set by IImageType."""
+        """Take a frame and return its VFS path (sent in a NewImageEvent if ``broadcast``)."""
 
 
 class IExposure(Interface):

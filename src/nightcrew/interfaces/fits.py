@@ -17,11 +17,16 @@ FitsCard: TypeAlias = tuple[FitsValue, str]
 
 
 class IFitsHeaderBefore(Interface):
-    """Provides header cards at the start of an exposure (e.g. telescope position)."""
+    """Provides header cards at the start of an exposure (e.g. telescope position).
+
+    ``namespaces`` (here and in IFitsHeaderAfter) are the groups of cards a caller wants, pyobs'
+    convention (a camera may ask by name); None for all. nightcrew's cameras ask with None, and
+    nightcrew's providers give all their cards whatever it says.
+    """
 
     @abstractmethod
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
-        """Keyword → (value, comment); ``namespaces`` selects which cards the caller wants."""
+        """Keyword → (value, comment); ``namespaces``: card groups (None: all; see IFitsHeaderBefore)."""
 
 
 class IFitsHeaderAfter(Interface):
@@ -29,4 +34,4 @@ class IFitsHeaderAfter(Interface):
 
     @abstractmethod
     async def get_fits_header_after(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
-        """Keyword → (value, comment); ``namespaces`` selects which cards the caller wants."""
+        """Keyword → (value, comment); ``namespaces``: card groups (None: all; see IFitsHeaderBefore)."""

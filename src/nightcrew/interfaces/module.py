@@ -44,7 +44,7 @@ class IConfig(Interface):
 
     @abstractmethod
     async def get_config_value(self, name: str) -> Any:
-        """Current value of option ``name``."""
+        """Current value of option ``name`` (a name from :meth:`get_config_caps`)."""
 
     @abstractmethod
     async def set_config_value(self, name: str, value: Any) -> None:

@@ -14,8 +14,9 @@ __all__ = ["IMotion"]
 class IMotion(IReady):
     """A device that can be initialised, parked and stopped, and reports its motion status.
 
-    A module may drive several devices (e.g. a mount and its focuser); ``device`` then names one of
-    them, and None means the module as a whole.
+    A module may drive several devices (e.g. a mount and its focuser, or a dome: its ``azimuth``
+    rotation beside the shutter); ``device`` then names one of them, and None (or a name the module
+    does not have) means the module as a whole.
     """
 
     @timeout(300)
@@ -30,8 +31,8 @@ class IMotion(IReady):
 
     @abstractmethod
     async def stop_motion(self, device: str | None = None) -> None:
-        """Stop any motion of ``device`` (or of all devices) now."""
+        """Stop any motion of ``device`` (or of all devices: None, or a name the module lacks) now."""
 
     @abstractmethod
     async def get_motion_status(self, device: str | None = None) -> MotionStatus:
-        """Motion status of ``device``, or of the module as a whole."""
+        """Motion status of ``device``, or of the module as a whole (None, or a name the module lacks)."""

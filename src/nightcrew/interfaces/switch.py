@@ -31,7 +31,10 @@ class SwitchInfo:
 
 
 class ISwitch(Interface):
-    """A device with numbered switches, each with a value between its min and max (on/off = 1/0)."""
+    """A device with numbered switches, each with a value between its min and max (on/off = 1/0).
+
+    ``switch`` in every method is a switch's index: its position in :meth:`get_switches`, from 0.
+    """
 
     @abstractmethod
     async def get_switches(self) -> list[SwitchInfo]:

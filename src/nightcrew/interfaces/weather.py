@@ -31,7 +31,11 @@ class WeatherReport:
 
 
 class IWeather(Interface):
-    """A weather module combining one or more stations into a verdict."""
+    """A weather module combining one or more stations into a verdict.
+
+    A *station* is named as in the weather module's configuration (the keys of its ``stations:``,
+    e.g. ``roof``; its ``checks`` name them as ``station.sensor``), not as a module.
+    """
 
     @abstractmethod
     async def is_weather_good(self) -> bool:
@@ -43,4 +47,4 @@ class IWeather(Interface):
 
     @abstractmethod
     async def get_sensor_value(self, station: str, sensor: WeatherSensor) -> SensorValue:
-        """Latest value of ``sensor`` at weather station ``station``."""
+        """Latest ``sensor`` value at ``station`` (a key of the module's ``stations:``); None: no reading."""

@@ -9,7 +9,9 @@ against pyobs-core 2.19's public API (Module, Interface, events, proxies, ``time
 * ``Shooter`` offers ``IInteropShooter``, an interface nightcrew's test declares under the same name:
   it calls a nightcrew module's ``IData.grab_data`` and waits for that module's ``NewImageEvent``;
   ``add_remote`` calls a nightcrew ``ICalculator.add``, with arguments as given or as a
-  dataclass nightcrew cannot take for a number; ``call_remote`` calls any method without arguments.
+  dataclass nightcrew cannot take for a number; ``call_remote`` calls any method without arguments;
+  ``headers`` reads a module's FITS cards the way pyobs' cameras do (``entry.value``, ``.comment``);
+  ``states`` reads a filter wheel's IFilters and IMotion states as pyobs' GUIs do (subscribe_state).
 """
 
 from __future__ import annotations
@@ -20,7 +22,13 @@ from abc import ABCMeta, abstractmethod
 from typing import Any
 
 from pyobs.events import NewImageEvent  # type: ignore[import-not-found]
-from pyobs.interfaces import IData, Interface  # type: ignore[import-not-found]
+from pyobs.interfaces import (  # type: ignore[import-not-found]
+    IData,
+    IFilters,
+    IFitsHeaderBefore,
+    IMotion,
+    Interface,
+)
 from pyobs.modules import Module, timeout  # type: ignore[import-not-found]
 from pyobs.utils.enums import ImageType  # type: ignore[import-not-found]
 
@@ -34,6 +42,12 @@ class IInteropShooter(Interface, metaclass=ABCMeta):  # type: ignore[misc]
 
     @abstractmethod
     async def call_remote(self, module: str, method: str, **kwargs: Any) -> str: ...
+
+    @abstractmethod
+    async def headers(self, module: str, **kwargs: Any) -> list[str]: ...
+
+    @abstractmethod
+    async def states(self, module: str, **kwargs: Any) -> list[str]: ...
 
 
 class ICalculator(Interface, metaclass=ABCMeta):  # type: ignore[misc]
@@ -116,3 +130,26 @@ class Shooter(Module, IInteropShooter):  # type: ignore[misc]
         except Exception as exc:
             return f"{type(exc).__name__}: {getattr(exc, 'message', exc)}"
         return f"{type(result).__name__} {result!r}"
+
+    async def headers(self, module: str, **kwargs: Any) -> list[str]:
+        async with self.proxy(module, IFitsHeaderBefore) as provider:
+            cards = await provider.get_fits_header_before()
+        return [f"{key}={entry.value!r}/{entry.comment}" for key, entry in cards.items()]
+
+    @timeout(30)  # type: ignore[untyped-decorator]
+    async def states(self, module: str, **kwargs: Any) -> list[str]:
+        got: dict[str, Any] = {}
+        both = asyncio.Event()
+
+        def keep(name: str) -> Any:
+            def callback(state: Any) -> None:
+                got[name] = state
+                if len(got) == 2:
+                    both.set()
+
+            return callback
+
+        await self.comm.subscribe_state(module, IFilters, keep("filter"))
+        await self.comm.subscribe_state(module, IMotion, keep("motion"))
+        await asyncio.wait_for(both.wait(), 20)
+        return [str(got["filter"].filter), str(got["motion"].status)]

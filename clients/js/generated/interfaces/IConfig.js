@@ -16,7 +16,7 @@ export class IConfig extends RemoteInterface {
     return this._invoke("get_config_caps", arguments);
   }
   /**
-   * Current value of option ``name``.
+   * Current value of option ``name`` (a name from :meth:`get_config_caps`).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string} name

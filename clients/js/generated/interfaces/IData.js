@@ -8,10 +8,16 @@ import { RemoteInterface } from "../../src/remote.js";
  */
 /**
  * A device that produces data files (images, spectra, video frames).
+ *
+ * ``grab_data(broadcast, image_type)``: with ``broadcast`` false no NewImageEvent is sent, so only
+ * the caller learns of the frame (an acquisition or focus frame no image pipeline should take);
+ * ``image_type`` None takes the one set with IImageType. Its announced timeout is at most 3600 s;
+ * nightcrew's cameras announce the exposure time set plus read-out, header round and margins
+ * (docs/protocol.md, section 4).
  */
 export class IData extends RemoteInterface {
   /**
-   * Take one frame and return its VFS path; None image type means the one set by IImageType.
+   * Take a frame and return its VFS path (sent in a NewImageEvent if ``broadcast``).
    *
    * Timeout: announced, 3600 clock seconds.
    * @param {boolean} [broadcast] default true

@@ -32,7 +32,7 @@ export class IDome extends RemoteInterface {
     return this._invoke("get_azimuth", arguments);
   }
   /**
-   * Motion status of ``device``, or of the module as a whole.
+   * Motion status of ``device``, or of the module as a whole (None, or a name the module lacks).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string|null} [device] default null
@@ -88,7 +88,7 @@ export class IDome extends RemoteInterface {
     return this._invoke("park", arguments);
   }
   /**
-   * Stop any motion of ``device`` (or of all devices) now.
+   * Stop any motion of ``device`` (or of all devices: None, or a name the module lacks) now.
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string|null} [device] default null

@@ -7,7 +7,7 @@ import { RemoteInterface } from "../../src/remote.js";
  */
 export class IFitsHeaderAfter extends RemoteInterface {
   /**
-   * Keyword → (value, comment); ``namespaces`` selects which cards the caller wants.
+   * Keyword → (value, comment); ``namespaces``: card groups (None: all; see IFitsHeaderBefore).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {Array<string>|null} [namespaces] default null

@@ -4,10 +4,14 @@ import { RemoteInterface } from "../../src/remote.js";
 
 /**
  * Provides header cards at the start of an exposure (e.g. telescope position).
+ *
+ * ``namespaces`` (here and in IFitsHeaderAfter) are the groups of cards a caller wants, pyobs'
+ * convention (a camera may ask by name); None for all. nightcrew's cameras ask with None, and
+ * nightcrew's providers give all their cards whatever it says.
  */
 export class IFitsHeaderBefore extends RemoteInterface {
   /**
-   * Keyword → (value, comment); ``namespaces`` selects which cards the caller wants.
+   * Keyword → (value, comment); ``namespaces``: card groups (None: all; see IFitsHeaderBefore).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {Array<string>|null} [namespaces] default null

@@ -23,7 +23,7 @@ export class IFlatField extends RemoteInterface {
     return this._invoke("abort", arguments);
   }
   /**
-   * Take ``count`` flats (current binning/filter if None); return (frames taken, total exposure s).
+   * Take ``count`` flats (binning, filter_name None: current); return (frames, total exposure s).
    *
    * Timeout: announced, 3600 clock seconds.
    * @param {number} count

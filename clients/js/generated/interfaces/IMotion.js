@@ -10,14 +10,15 @@ import { IReady } from "./IReady.js";
 /**
  * A device that can be initialised, parked and stopped, and reports its motion status.
  *
- * A module may drive several devices (e.g. a mount and its focuser); ``device`` then names one of
- * them, and None means the module as a whole.
+ * A module may drive several devices (e.g. a mount and its focuser, or a dome: its ``azimuth``
+ * rotation beside the shutter); ``device`` then names one of them, and None (or a name the module
+ * does not have) means the module as a whole.
  *
  * Extends IReady (their methods are here too).
  */
 export class IMotion extends RemoteInterface {
   /**
-   * Motion status of ``device``, or of the module as a whole.
+   * Motion status of ``device``, or of the module as a whole (None, or a name the module lacks).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string|null} [device] default null
@@ -54,7 +55,7 @@ export class IMotion extends RemoteInterface {
     return this._invoke("park", arguments);
   }
   /**
-   * Stop any motion of ``device`` (or of all devices) now.
+   * Stop any motion of ``device`` (or of all devices: None, or a name the module lacks) now.
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string|null} [device] default null

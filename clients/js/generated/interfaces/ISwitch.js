@@ -11,6 +11,8 @@ import { RemoteInterface } from "../../src/remote.js";
  */
 /**
  * A device with numbered switches, each with a value between its min and max (on/off = 1/0).
+ *
+ * ``switch`` in every method is a switch's index: its position in :meth:`get_switches`, from 0.
  */
 export class ISwitch extends RemoteInterface {
   /**

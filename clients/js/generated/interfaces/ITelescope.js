@@ -25,7 +25,7 @@ export class ITelescope extends RemoteInterface {
     return this._invoke("get_altaz", arguments);
   }
   /**
-   * Motion status of ``device``, or of the module as a whole.
+   * Motion status of ``device``, or of the module as a whole (None, or a name the module lacks).
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string|null} [device] default null
@@ -93,7 +93,7 @@ export class ITelescope extends RemoteInterface {
     return this._invoke("park", arguments);
   }
   /**
-   * Stop any motion of ``device`` (or of all devices) now.
+   * Stop any motion of ``device`` (or of all devices: None, or a name the module lacks) now.
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string|null} [device] default null

@@ -23,7 +23,7 @@ export class IVideo extends RemoteInterface {
     return this._invoke("get_video", arguments);
   }
   /**
-   * Take one frame and return its VFS path; None image type means the one set by IImageType.
+   * Take a frame and return its VFS path (sent in a NewImageEvent if ``broadcast``).
    *
    * Timeout: announced, 3600 clock seconds.
    * @param {boolean} [broadcast] default true

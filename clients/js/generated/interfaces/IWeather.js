@@ -16,6 +16,9 @@ import { RemoteInterface } from "../../src/remote.js";
  */
 /**
  * A weather module combining one or more stations into a verdict.
+ *
+ * A *station* is named as in the weather module's configuration (the keys of its ``stations:``,
+ * e.g. ``roof``; its ``checks`` name them as ``station.sensor``), not as a module.
  */
 export class IWeather extends RemoteInterface {
   /**
@@ -28,7 +31,7 @@ export class IWeather extends RemoteInterface {
     return this._invoke("get_current_weather", arguments);
   }
   /**
-   * Latest value of ``sensor`` at weather station ``station``.
+   * Latest ``sensor`` value at ``station`` (a key of the module's ``stations:``); None: no reading.
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @param {string} station

@@ -131,6 +131,15 @@ class XmppComm(Comm):
         if self._pyobs is not None:
             self._pyobs.advertise_state(state)
 
+    def presence_state(self, client: str) -> str | None:
+        if self._pyobs is None or self._pyobs_peer(client) is None:
+            return None  # a room occupant answers get_state itself
+        return self._pyobs.state(client)
+
+    async def settle(self) -> None:
+        if self._pyobs is not None:
+            await self._pyobs.settled()
+
     # --- transport hooks -----------------------------------------------------------------------
 
     async def _open_transport(self) -> None:

@@ -24,6 +24,8 @@ from slixmpp.exceptions import IqError, IqTimeout
 
 from nightcrew.comm.xmpp._connection import XmppConnection, split_jid
 from nightcrew.comm.xmpp._pyobs_events import NS_PYOBS_EVENT, PYOBS_EVENTS, event_body, translate_event
+from nightcrew.comm.xmpp._pyobs_states import STATE_INTERFACES, pyobs_state, state_namespace, state_node
+from nightcrew.comm.xmpp._pyobs_values import state_element
 from nightcrew.errors import RemoteError
 
 __all__ = ["PyobsPeer", "PyobsPeers"]
@@ -82,6 +84,9 @@ class PyobsPeers:
         self._service = f"pubsub.{domain}"
         self._features = [*features, *(f"{INTERFACE_PREFIX}{i}:1" for i in interfaces)]
         self._features += [f"{EVENT_PREFIX}{e}:1" for e in sorted(PYOBS_EVENTS)]
+        #: pyobs interfaces whose state this module publishes (docs/pyobs.md, "States").
+        self._states = sorted({i for i in STATE_INTERFACES.values() if i in interfaces})
+        self._features += [state_namespace(i) for i in self._states]
         self._on_online = on_online
         self._on_offline = on_offline
         self._deliver = deliver
@@ -89,6 +94,9 @@ class PyobsPeers:
         self._spawn = spawn
         self._peers: dict[str, PyobsPeer] = {}
         self._probing: set[str] = set()  # full JIDs whose disco is under way
+        self._shows: dict[str, str] = {}  # full JID → its presence <show> ("" when none)
+        self._probed = asyncio.Event()  # set whenever no disco is under way
+        self._probed.set()
         self._subscribed: set[str] = set()
         self._show = ""
         connection.add_handler("pyobs presence", f"{_C}presence", self._on_presence)
@@ -102,6 +110,13 @@ class PyobsPeers:
     def peer(self, name: str) -> PyobsPeer | None:
         return self._peers.get(name)
 
+    def state(self, name: str) -> str | None:
+        """The module state pyobs peer ``name`` shows by presence (as pyobs reads it), or None."""
+        peer = self._peers.get(name)
+        if peer is None:
+            return None
+        return {"dnd": "error", "away": "local"}.get(self._shows.get(peer.jid, ""), "ready")
+
     def is_peer(self, jid: str) -> bool:
         """Whether the full JID ``jid`` is a pyobs module's session."""
         peer = self._peers.get(split_jid(jid)[0].partition("@")[0])
@@ -113,9 +128,10 @@ class PyobsPeers:
         """After every session start: make our event nodes, then announce ourselves by presence."""
         pubsub: Any = self._connection.client.plugin["xep_0060"]
         # Nodes exist before pyobs peers see us, so their first subscription attempt succeeds.
-        for event in sorted(PYOBS_EVENTS):
+        nodes = [self._node(self._name, e) for e in sorted(PYOBS_EVENTS)]
+        for node in [*nodes, *(state_node(self._name, i) for i in self._states)]:
             try:
-                await pubsub.create_node(self._service, self._node(self._name, event), timeout=_IQ_TIMEOUT)
+                await pubsub.create_node(self._service, node, timeout=_IQ_TIMEOUT)
             except IqError:
                 pass  # conflict: made in an earlier session
             except IqTimeout:
@@ -123,11 +139,30 @@ class PyobsPeers:
                 break
         self._send_presence()
 
+    async def settled(self) -> None:
+        """Wait until the pyobs modules online when this session began are discovered (bounded).
+
+        The server answers our initial presence with the presence of every contact online before
+        it answers anything we send later: one ping's round trip, and every such presence is here.
+        Each discovery started for them ends within its own timeout.
+        """
+        ping: Any = self._connection.client.plugin["xep_0199"]
+        try:
+            await ping.ping(timeout=_IQ_TIMEOUT)
+        except (IqError, IqTimeout):
+            log.debug("the server did not answer a ping; pyobs peers may be missing")
+        try:  # each discovery ends within _IQ_TIMEOUT; new presences may start more meanwhile
+            await asyncio.wait_for(self._probed.wait(), 2 * _IQ_TIMEOUT)
+        except TimeoutError:
+            log.debug("pyobs discovery still under way: %s", ", ".join(sorted(self._probing)))
+
     def lost(self) -> None:
         """The session is gone: every pyobs peer is offline for us (presence comes again later)."""
         for name in list(self._peers):
             self._drop(name)
+        self._shows.clear()
         self._probing.clear()
+        self._probed.set()
         self._subscribed.clear()
 
     def advertise_state(self, state: str) -> None:
@@ -153,12 +188,17 @@ class PyobsPeers:
         if not resource or not local or local == self._name or domain.startswith("conference."):
             return False  # the room's (its own handler) or our own
         kind = stanza.get("type", "available")
+        if kind == "available":
+            self._shows[jid] = stanza.findtext(f"{_C}show") or ""
         if kind == "unavailable":
+            self._shows.pop(jid, None)
+            self._probing.discard(jid)  # gone before it answered: its discovery is moot
             peer = self._peers.get(local)
             if peer is not None and peer.jid == jid:
                 self._drop(local)
         elif kind == "available" and local not in self._peers and jid not in self._probing:
             self._probing.add(jid)
+            self._probed.clear()
             self._spawn(self._discover(local, jid), f"discover {local}")
         return False  # slixmpp may keep its roster view
 
@@ -167,10 +207,18 @@ class PyobsPeers:
         try:
             info = await disco.get_info(jid=jid, local=False, timeout=_IQ_TIMEOUT)
         except (IqError, IqTimeout) as exc:
-            log.warning("pyobs discovery of %s failed: %s", jid, type(exc).__name__)
+            if jid in self._probing:  # else it left meanwhile (a one-shot command): nothing to say
+                log.warning("pyobs discovery of %s failed: %s", jid, type(exc).__name__)
             return
+        except RemoteError:
+            return  # the session ended meanwhile (the comm closed, or reconnects and asks again)
         finally:
+            gone = jid not in self._probing
             self._probing.discard(jid)
+            if not self._probing:
+                self._probed.set()
+        if gone:
+            return
         query = info.xml.find(f"{{{NS_DISCO}}}query")
         features = (
             [f.get("var", "") for f in query.iter(f"{{{NS_DISCO}}}feature")] if query is not None else []
@@ -218,15 +266,23 @@ class PyobsPeers:
     # --- events --------------------------------------------------------------------------------
 
     def publish(self, name: str, payload: dict[str, Any]) -> None:
-        """Publish event ``name`` (if pyobs knows it) on our PubSub node; fire and forget."""
-        if name not in PYOBS_EVENTS:
-            return
-        event = ET.Element(f"{{{NS_PYOBS_EVENT}}}event")
-        event.text = event_body(name, payload)
+        """Publish event ``name`` (if pyobs knows it) on our PubSub node, and the state it tells
+        (if any) on the state node of its interface; fire and forget."""
+        if name in PYOBS_EVENTS:
+            event = ET.Element(f"{{{NS_PYOBS_EVENT}}}event")
+            event.text = event_body(name, payload)
+            self._publish_item(self._node(self._name, name), event)
+        interface = STATE_INTERFACES.get(name)
+        state = pyobs_state(name, payload) if interface in self._states else None
+        if interface is not None and state is not None:
+            namespace = state_namespace(interface)
+            self._publish_item(state_node(self._name, interface), state_element(namespace, state, name))
+
+    def _publish_item(self, node: str, payload: ET.Element) -> None:
         pubsub = ET.Element(f"{{{NS_PUBSUB}}}pubsub")
-        publish = ET.SubElement(pubsub, f"{{{NS_PUBSUB}}}publish", node=self._node(self._name, name))
-        ET.SubElement(publish, f"{{{NS_PUBSUB}}}item").append(event)
-        iq_id = f"pyobs-event-{uuid.uuid4().hex[:12]}"
+        publish = ET.SubElement(pubsub, f"{{{NS_PUBSUB}}}publish", node=node)
+        ET.SubElement(publish, f"{{{NS_PUBSUB}}}item").append(payload)
+        iq_id = f"pyobs-publish-{uuid.uuid4().hex[:12]}"
         self._connection.send(self._connection.stanza("iq", self._service, pubsub, id=iq_id, type="set"))
 
     def subscribe(self, name: str) -> None:

@@ -31,6 +31,7 @@ PYOBS_EVENTS = frozenset(
         "FilterChangedEvent",
         "FocusFoundEvent",
         "GoodWeatherEvent",
+        "LogEvent",
         "MotionStatusChangedEvent",
         "MoveAltAzEvent",
         "MoveRaDecEvent",
@@ -58,7 +59,12 @@ IGNORED_FIELDS: dict[str, frozenset[str]] = {
     "TaskStartedEvent": frozenset({"obsnum"}),
     "TaskFinishedEvent": frozenset({"obsnum"}),
     "TaskFailedEvent": frozenset({"obsnum"}),
+    "LogEvent": frozenset({"function", "sender"}),  # the sender is the node's; no function field here
 }
+#: Fields one side requires and the other does not send: event → {field: value when absent}.
+#: pyobs sends no logger name; pyobs' LogEvent requires a file, function and line.
+RECEIVED_DEFAULTS: dict[str, dict[str, Any]] = {"LogEvent": {"logger": "pyobs"}}
+SENT_DEFAULTS: dict[str, dict[str, Any]] = {"LogEvent": {"filename": "", "function": "", "line": 0}}
 #: pyobs drops events older than this (a replay after a reconnect); so do we.
 _MAX_EVENT_AGE = 30.0
 
@@ -67,6 +73,9 @@ def event_body(name: str, payload: dict[str, Any]) -> str:
     """The JSON pyobs reads for nightcrew event ``name`` with wire fields ``payload``."""
     renamed = {ours: theirs for theirs, ours in FIELD_NAMES.get(name, {}).items()}
     data = {renamed.get(key, key): value for key, value in payload.items()}
+    for key, value in SENT_DEFAULTS.get(name, {}).items():
+        if data.get(key) is None:
+            data[key] = value
     body = {"type": name, "timestamp": time.time(), "uuid": str(uuid.uuid4()), "data": data}
     return json.dumps(body, default=_json_value, separators=(",", ":"))
 
@@ -109,4 +118,4 @@ def translate_event(text: str, name: str, sender: str) -> dict[str, Any] | None:
             ", ".join(unknown),
         )
         return None
-    return {key: value for key, value in data.items() if key in known}
+    return {**RECEIVED_DEFAULTS.get(name, {}), **{key: value for key, value in data.items() if key in known}}

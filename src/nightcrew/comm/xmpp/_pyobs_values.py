@@ -14,6 +14,10 @@ dict               ``<dict><entry><key>…</key><val>…</val></entry>…</dict>
 dataclass          read only: ``<state><field_name>…</field_name>…</state>`` → dict
 =================  ==============================================================
 
+One result differs in shape, not only in format: a FITS card is ``[value, comment]`` in
+nightcrew and pyobs' ``FitsHeaderEntry`` dataclass (``<state>`` with ``value`` and ``comment``)
+in pyobs; :func:`result_to_pyobs` and :func:`result_from_pyobs` turn one into the other.
+
 Children arrive in pyobs' namespace or none (servers re-serialise them), so only local names
 count. Anything else — bytes, dates, an element pyobs does not define — is a
 :class:`~nightcrew.errors.CodecError` naming where it sits.
@@ -32,11 +36,15 @@ from nightcrew.errors import CodecError, NightcrewError, error_class
 __all__ = [
     "NS_PYOBS_RPC",
     "PYOBS_ERRORS",
+    "PyobsState",
     "build_pyobs_fault",
     "build_pyobs_params",
     "is_pyobs_call",
     "parse_pyobs_fault",
     "parse_pyobs_params",
+    "result_from_pyobs",
+    "result_to_pyobs",
+    "state_element",
 ]
 
 NS_PYOBS_RPC = "urn:pyobs:rpc:1"
@@ -62,6 +70,41 @@ PYOBS_ERRORS = frozenset(
     }
 )
 _PYOBS_EXCEPTIONS = "pyobs.utils.exceptions."
+#: Methods returning ``{keyword: card}``: pyobs' card is FitsHeaderEntry(value, comment).
+_FITS_HEADER_METHODS = frozenset({"get_fits_header_before", "get_fits_header_after"})
+
+
+class PyobsState:
+    """A value pyobs reads as one of its dataclasses: ``<state>`` with one child per field."""
+
+    __slots__ = ("fields",)
+
+    def __init__(self, fields: dict[str, Any]) -> None:
+        self.fields = fields
+
+
+def result_to_pyobs(method: str, result: Any) -> Any:
+    """A nightcrew result in the shape pyobs' method of that name returns (FITS cards as states)."""
+    if method in _FITS_HEADER_METHODS and isinstance(result, dict):
+        return {
+            key: PyobsState({"value": card[0], "comment": card[1]})
+            if isinstance(card, list | tuple) and len(card) == 2
+            else card
+            for key, card in result.items()
+        }
+    return result
+
+
+def result_from_pyobs(method: str, result: Any) -> Any:
+    """A pyobs result in the shape nightcrew's method of that name returns (FITS cards as pairs)."""
+    if method in _FITS_HEADER_METHODS and isinstance(result, dict):
+        return {
+            key: [card.get("value"), card.get("comment", "")]
+            if isinstance(card, dict) and "value" in card
+            else card
+            for key, card in result.items()
+        }
+    return result
 
 
 def _local(tag: str) -> str:
@@ -95,7 +138,18 @@ def value_element(value: Any, path: str) -> ET.Element:
         return mapping
     if isinstance(value, datetime):
         return _text("string", value.isoformat())  # pyobs reads times as ISO strings
+    if isinstance(value, PyobsState):
+        return state_element(NS_PYOBS_RPC, value.fields, path)
     raise CodecError(f"{path}: a {kind.__name__} cannot travel to pyobs (no such value in urn:pyobs:rpc:1)")
+
+
+def state_element(namespace: str, fields: dict[str, Any], path: str) -> ET.Element:
+    """``<state xmlns=namespace>`` with one child per field holding its pyobs element (a dataclass
+    as pyobs writes it, in calls and in its PubSub states alike)."""
+    state = ET.Element(f"{{{namespace}}}state")
+    for name, item in fields.items():
+        ET.SubElement(state, f"{{{namespace}}}{name}").append(value_element(item, f"{path}.{name}"))
+    return state
 
 
 def _text(tag: str, text: str) -> ET.Element:

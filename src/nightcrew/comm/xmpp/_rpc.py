@@ -30,6 +30,8 @@ from nightcrew.comm.xmpp._pyobs_values import (
     is_pyobs_call,
     parse_pyobs_fault,
     parse_pyobs_params,
+    result_from_pyobs,
+    result_to_pyobs,
 )
 from nightcrew.comm.xmpp._stanza_limits import MAX_PAYLOAD_BYTES, RefusedStanza, too_large
 from nightcrew.comm.xmpp._xmlrpc import (
@@ -214,7 +216,7 @@ class RpcChannel:
                 RemoteError(f"unreadable pyobs reply: {exc.message}", module=outgoing.module)
             )
             return
-        outgoing.call.set_result(values[0] if values else None)
+        outgoing.call.set_result(result_from_pyobs(outgoing.method, values[0] if values else None))
 
     def _on_error_iq(self, stanza: ET.Element) -> bool:
         iq_id = stanza.get("id", "")
@@ -311,6 +313,7 @@ class RpcChannel:
         try:
             result = await self._serve(method, args, announce, caller, None)
             body = ET.Element(f"{_Q}methodResponse")
+            result = result_to_pyobs(method, result)
             body.append(build_pyobs_params([] if result is None else [result], "result"))
         except Exception as exc:
             body = _pyobs_fault(exc)

@@ -138,6 +138,9 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
 
     # --- hooks ---------------------------------------------------------------------------------
 
+    def _hw_readout_allowance(self) -> float:
+        return 2 * self._readout_timeout  # waiting for ImageReady, then downloading ImageArray
+
     def _hw_full_frame(self) -> Window:
         return self._chip
 

@@ -38,6 +38,7 @@ from nightcrew.interfaces import (
     Window,
 )
 from nightcrew.modules.camera.exposing import ExposingModule, Frame
+from nightcrew.timeout import timeout
 
 __all__ = ["BaseCamera", "ExposureSettings"]
 
@@ -115,11 +116,12 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
 
     # --- ICamera -------------------------------------------------------------------------------
 
+    # A hung exposure is noticed once it is overdue, not after IData's generic hour.
+    @timeout(lambda self, image_type=None, **_: self.grab_timeout(image_type))
     async def grab_data(self, broadcast: bool = True, image_type: ImageType | None = None) -> str:
         self._check_not_busy()
         kind = self._image_type if image_type is None else ImageType(image_type)
-        # A bias is a zero-second dark by definition; no driver should have to know that.
-        exposure_time = 0.0 if kind is ImageType.BIAS else self._exposure_time
+        exposure_time = self._frame_exposure_time(kind)
         settings = ExposureSettings(exposure_time, kind, self._binning, self._window)
 
         async def expose() -> Frame:
@@ -134,6 +136,15 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
             lambda frame: self._own_cards(settings, frame),
             announce if broadcast else None,
         )
+
+    def grab_timeout(self, image_type: ImageType | None = None) -> float:
+        """The timeout ``grab_data`` announces (see :meth:`ExposingModule._exposure_timeout`)."""
+        kind = self._image_type if image_type is None else ImageType(image_type)
+        return self._exposure_timeout(self._frame_exposure_time(kind))
+
+    def _frame_exposure_time(self, kind: ImageType) -> float:
+        # A bias is a zero-second dark by definition; no driver should have to know that.
+        return 0.0 if kind is ImageType.BIAS else self._exposure_time
 
     def _own_cards(self, settings: ExposureSettings, frame: Frame) -> dict[str, FitsCard]:
         data = frame.data

@@ -47,9 +47,16 @@ from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME, ExposureTime
 from nightcrew.modules.camera.fitsfile import blocking_fits_bytes
 from nightcrew.modules.camera.headers import HeaderReplies, MissingHeaders, ask_header_providers, clean_cards
 from nightcrew.modules.module import Module
+from nightcrew.timeout import wall_allowance
 from nightcrew.vfs.filenames import check_filename_pattern, format_filename
 
 __all__ = ["ExposingModule", "Frame"]
+
+#: Clock seconds a frame may take beyond its exposure, read-out and header round: the devices a
+#: driver asks before the shutter opens, writing the file.
+EXPOSURE_MARGIN = 60.0
+#: Clock seconds read-out and download may take, for drivers that do not say.
+DEFAULT_READOUT_ALLOWANCE = 60.0
 
 log = logging.getLogger(__name__)
 
@@ -149,6 +156,20 @@ class ExposingModule(Module, IAbortable, IExposure):
             return
         await super().open()
         await self.comm.send_event(ExposureStatusChangedEvent(last=None, current=self._exposure_status))
+
+    # --- the announced timeout -----------------------------------------------------------------
+
+    def _hw_readout_allowance(self) -> float:
+        """Clock seconds reading out and downloading one frame may take (part of the announced
+        timeout of an exposure); drivers that know their read-out say so."""
+        return DEFAULT_READOUT_ALLOWANCE
+
+    def _exposure_timeout(self, exposure_time: float) -> float:
+        """The timeout an exposure of ``exposure_time`` s announces: that, plus the read-out
+        allowance, the header round (``header_timeout``), a margin (:data:`EXPOSURE_MARGIN`) and
+        the wall allowance (:func:`~nightcrew.timeout.wall_allowance`), in clock seconds."""
+        readout = self._hw_readout_allowance() + self._header_timeout
+        return exposure_time + readout + EXPOSURE_MARGIN + wall_allowance(self.clock.speed)
 
     # --- status --------------------------------------------------------------------------------
 

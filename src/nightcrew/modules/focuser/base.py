@@ -10,6 +10,7 @@ from typing import Any
 from nightcrew.errors import ConfigError, InvalidArgumentError
 from nightcrew.interfaces import FitsCard, IFitsHeaderBefore, IFocuser, MotionStatus
 from nightcrew.modules.motion import BaseMotion
+from nightcrew.timeout import timeout
 
 __all__ = ["BaseFocuser"]
 
@@ -50,6 +51,11 @@ class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
     async def _hw_move_focus(self, position: float) -> None:
         """Move to ``position`` mm (base + offset); return when there."""
 
+    def _hw_travel_time(self, position: float) -> float | None:
+        """Clock seconds a move from here to ``position`` mm takes (part of the timeout a move
+        announces); None (the default) when the driver does not know its speed."""
+        return None
+
     async def _move(self, focus: float, offset: float) -> None:
         if not (math.isfinite(focus) and math.isfinite(offset)):
             raise InvalidArgumentError(f"focus and offset must be finite, got {focus} and {offset}")
@@ -86,12 +92,23 @@ class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
         await self._hw_move_focus(focus + offset)
         self._focus, self._offset = focus, offset
 
+    # Announced: the travel at the focuser's speed where the driver knows it (else 300 s).
+    @timeout(
+        lambda self, focus, **_: self._announced_move_timeout(
+            lambda: self._hw_travel_time(focus + self._offset), IFocuser.set_focus
+        )
+    )
     async def set_focus(self, focus: float) -> None:
         await self._move(focus, self._offset)
 
     async def get_focus(self) -> float:
         return self._focus
 
+    @timeout(
+        lambda self, offset, **_: self._announced_move_timeout(
+            lambda: self._hw_travel_time(self._focus + offset), IFocuser.set_focus_offset
+        )
+    )
     async def set_focus_offset(self, offset: float) -> None:
         await self._move(self._focus, offset)
 

@@ -218,6 +218,9 @@ class IndiCamera(IndiModule, BaseCamera):
 
     # --- hooks ---------------------------------------------------------------------------------
 
+    def _hw_readout_allowance(self) -> float:
+        return 2 * self._readout_timeout  # the exposure's end, then the BLOB's arrival
+
     def _hw_full_frame(self) -> Window:
         return self._chip
 

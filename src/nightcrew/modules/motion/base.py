@@ -18,7 +18,7 @@ from __future__ import annotations
 import logging
 import math
 from abc import abstractmethod
-from collections.abc import Awaitable, Coroutine
+from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any, TypeVar
 
 from nightcrew.errors import ConfigError, MotionError, MoveError, NightcrewError
@@ -26,6 +26,7 @@ from nightcrew.events import MotionStatusChangedEvent, WatchdogHeartbeatEvent
 from nightcrew.interfaces import IMotion, ModuleState, MotionStatus
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
+from nightcrew.timeout import method_timeout, wall_allowance
 
 __all__ = ["BaseMotion"]
 
@@ -39,6 +40,8 @@ _NOT_READY = frozenset({MotionStatus.PARKED, MotionStatus.ERROR, MotionStatus.UN
 
 #: Clock seconds a module with ``park_on_close`` may take to park while closing.
 PARK_ON_CLOSE_TIMEOUT = 300.0
+#: Clock seconds a move may take beyond the travel time a driver computes from its rates.
+MOVE_MARGIN = 30.0
 
 
 class BaseMotion(Module, IMotion):
@@ -198,6 +201,21 @@ class BaseMotion(Module, IMotion):
             raise error(f"{failure}: {type(exc).__name__}: {exc}") from exc
 
     # --- hooks ---------------------------------------------------------------------------------
+
+    def _announced_move_timeout(
+        self, travel: Callable[[], float | None], declared: Callable[..., Any]
+    ) -> float:
+        """The timeout a move announces: ``travel()`` (clock seconds the driver expects the move to
+        take, from its rates; None when it does not know) plus :data:`MOVE_MARGIN` and the wall
+        allowance (:func:`~nightcrew.timeout.wall_allowance`), or the ``declared`` interface
+        method's fixed timeout when the travel time is unknown."""
+        try:
+            seconds = travel()
+        except (ValueError, ArithmeticError):
+            seconds = None  # a target the move itself refuses: it fails at once anyway
+        if seconds is None or not math.isfinite(seconds) or seconds < 0:
+            return method_timeout(declared, {})
+        return seconds + MOVE_MARGIN + wall_allowance(self.clock.speed)
 
     @abstractmethod
     async def _hw_stop(self) -> None:

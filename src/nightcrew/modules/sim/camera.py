@@ -149,6 +149,9 @@ class SimCamera(BaseCamera, IStoppableExposure):
 
     # --- BaseCamera hooks ----------------------------------------------------------------------
 
+    def _hw_readout_allowance(self) -> float:
+        return self._readout_time  # the render's remainder runs in clock.work: no clock time
+
     def _hw_full_frame(self) -> Window:
         return Window(0, 0, self._detector.chip_width, self._detector.chip_height)
 

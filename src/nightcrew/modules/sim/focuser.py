@@ -72,9 +72,12 @@ class SimFocuser(BaseFocuser, ISimFocuserTruth, ITemperatures):
     async def get_temperatures(self) -> dict[str, float]:
         return {"ambient": await self._ambient()}
 
+    def _hw_travel_time(self, position: float) -> float:
+        return abs(position - self._position) / self._speed
+
     async def _hw_move_focus(self, position: float) -> None:
         start, started = self._position, self.clock.time()
-        duration = abs(position - start) / self._speed
+        duration = self._hw_travel_time(position)
         try:
             await self.clock.sleep(duration)
         except asyncio.CancelledError:

@@ -101,6 +101,10 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
 
     # --- motions -------------------------------------------------------------------------------
 
+    def _hw_slew_time(self, alt: float, az: float) -> float:
+        start_alt, start_az = self._reported_altaz()
+        return slew_time(angular_separation(start_az, start_alt, az, alt), self._slew_rate, self._settle_time)
+
     async def _travel(self, alt: float, az: float, *, new_target: bool = True) -> None:
         """Take as long as the slew from here to (alt, az); stopped midway, stay in between.
 
@@ -108,9 +112,7 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         (``new_target=False``) keeps both, as a real mount's pointing model and tracking do.
         """
         start_alt, start_az = self._reported_altaz()
-        duration = slew_time(
-            angular_separation(start_az, start_alt, az, alt), self._slew_rate, self._settle_time
-        )
+        duration = self._hw_slew_time(alt, az)
         started = self.clock.time()
         self._fixed_altaz = (start_alt, start_az)  # report where the move starts, not a stale position
         self._tracking = None

@@ -8,6 +8,7 @@ from typing import Any
 from nightcrew.events import NewSpectrumEvent
 from nightcrew.interfaces import FitsCard, IExposureTime, ISpectrograph
 from nightcrew.modules.camera.exposing import ExposingModule, Frame
+from nightcrew.timeout import timeout
 
 __all__ = ["BaseSpectrograph"]
 
@@ -32,6 +33,8 @@ class BaseSpectrograph(ExposingModule, ISpectrograph, IExposureTime):
     async def _hw_expose_spectrum(self, exposure_time: float) -> Frame:
         """Expose and return the spectrum (1-D: flux per pixel, or 2-D raw frame) and driver cards."""
 
+    # As a camera's grab_data: noticed once overdue, not after ISpectrograph's generic hour.
+    @timeout(lambda self, **_: self._exposure_timeout(self._exposure_time))
     async def grab_spectrum(self, broadcast: bool = True) -> str:
         self._check_not_busy()
         exposure_time = self._exposure_time

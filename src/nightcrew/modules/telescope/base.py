@@ -48,6 +48,8 @@ from nightcrew.interfaces import (
     IFitsHeaderBefore,
     IOffsetsAltAz,
     IOffsetsRaDec,
+    IPointingAltAz,
+    IPointingRaDec,
     ITelescope,
     ITemperatures,
     ModuleState,
@@ -57,6 +59,7 @@ from nightcrew.interfaces.quantities import Altitude
 from nightcrew.modules.motion import BaseMotion
 from nightcrew.modules.telescope.headers import pointing_cards
 from nightcrew.site import Site
+from nightcrew.timeout import timeout
 
 __all__ = ["BaseTelescope"]
 
@@ -125,6 +128,11 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     @abstractmethod
     async def _hw_move_altaz(self, alt: float, az: float) -> None:
         """Slew to (alt, az) (offsets included), not tracking; return when there."""
+
+    def _hw_slew_time(self, alt: float, az: float) -> float | None:
+        """Clock seconds a slew from here to (alt, az) takes, settling included (part of the
+        timeout a move announces); None (the default) when the driver does not know its rates."""
+        return None
 
     @abstractmethod
     async def _hw_get_radec(self) -> tuple[float, float]:
@@ -247,6 +255,12 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
 
     # --- pointing ------------------------------------------------------------------------------
 
+    # Announced: the slew's length at the mount's rates where the driver knows them (else 300 s).
+    @timeout(
+        lambda self, ra, dec, **_: self._announced_move_timeout(
+            lambda: self._hw_slew_time(*self._altaz_of(ra, dec)), IPointingRaDec.move_radec
+        )
+    )
     async def move_radec(self, ra: float, dec: float) -> None:
         if not (math.isfinite(ra) and 0.0 <= ra < 360.0 and math.isfinite(dec) and -90.0 <= dec <= 90.0):
             raise InvalidArgumentError(
@@ -260,6 +274,11 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         await self.comm.send_event(MoveRaDecEvent(ra=ra, dec=dec))
         await self._slew("move_radec", lambda: self._hw_move_radec(ra, dec), MotionStatus.TRACKING)
 
+    @timeout(
+        lambda self, alt, az, **_: self._announced_move_timeout(
+            lambda: self._hw_slew_time(alt, az % 360.0), IPointingAltAz.move_altaz
+        )
+    )
     async def move_altaz(self, alt: float, az: float) -> None:
         if not (math.isfinite(alt) and -90.0 <= alt <= 90.0 and math.isfinite(az)):
             raise InvalidArgumentError(f"alt must be within -90..90 degrees and az finite, got ({alt}, {az})")
