@@ -10,13 +10,13 @@ from datetime import UTC, datetime, timedelta
 
 import pytest
 
-from nightcrew.events import GoodWeatherEvent, TaskFailedEvent, TasksChangedEvent
+from nightcrew.events import GoodWeatherEvent, ScheduleChangedEvent, TaskFailedEvent, TasksChangedEvent
 from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.ports import MemoryScheduleStore, night_around
 from nightcrew.robotic.scheduler.synthetic import synthetic_blocks
-from nightcrew.testing import SITE, Observatory
+from nightcrew.testing import SITE, Observatory, wait_for
 
 EPOCH = datetime(2024, 1, 15, 20, 0, tzinfo=UTC)
 BLOCKS = synthetic_blocks(Night(EPOCH, EPOCH + timedelta(hours=10), SITE), 25, seed=11)
@@ -178,6 +178,19 @@ async def test_the_plan_names_every_task_it_leaves_out_with_the_reason(
     await few.store.next_write()
     (logged,) = [r.getMessage() for r in caplog.records if "not planned" in r.getMessage()]
     assert logged.startswith("task long (?) not planned: longer (")
+
+
+async def test_every_plan_is_announced_with_its_tasks_in_slot_order(few: Setup) -> None:
+    heard: list[ScheduleChangedEvent] = []
+
+    async def on_schedule_changed(event: ScheduleChangedEvent, sender: str) -> None:
+        heard.append(event)
+
+    await few.sender.comm.register_event(ScheduleChangedEvent, on_schedule_changed)
+    await few.sender.comm.send_event(TasksChangedEvent(ids=("a",), change="changed"))
+    await few.store.next_write()
+    await wait_for(lambda: bool(heard), 10.0, clock=few.scheduler.clock, message="the plan announced")
+    assert heard[-1].ids == tuple(slot.task_id for slot in few.store.slots)
 
 
 async def test_a_task_added_is_planned_at_once_on_the_event(few: Setup) -> None:

@@ -371,6 +371,22 @@ export class SafetyClearedEvent extends Event {
 }
 
 /**
+ * The scheduler wrote a new schedule: whoever runs it reads it now instead of at the next poll
+ * (a task that ended before its slot leaves no idle gap until then).
+ */
+export class ScheduleChangedEvent extends Event {
+  static eventName = "ScheduleChangedEvent";
+  /**
+   * @param {{ids: Array<string>}} [fields]
+   */
+  constructor(fields = {}) {
+    super();
+    /** @type {Array<string>} */
+    this.ids = fields.ids ?? undefined;
+  }
+}
+
+/**
  * A task ended early.
  */
 export class TaskFailedEvent extends Event {
@@ -478,7 +494,7 @@ export class WatchdogHeartbeatEvent extends Event {
 }
 
 /** Every event class, by the name it travels under. */
-export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent, WatchdogHeartbeatEvent};
+export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, ScheduleChangedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent, WatchdogHeartbeatEvent};
 
 /** JSON Schema of every event and of the types they use (`$defs`, as in the catalogue). */
 export const EVENT_SCHEMAS = {
@@ -944,6 +960,24 @@ export const EVENT_SCHEMAS = {
     "title": "SafetyClearedEvent",
     "type": "object",
     "x-persistent": true
+  },
+  "ScheduleChangedEvent": {
+    "description": "The scheduler wrote a new schedule: whoever runs it reads it now instead of at the next poll\n(a task that ended before its slot leaves no idle gap until then).",
+    "properties": {
+      "ids": {
+        "items": {
+          "type": "string"
+        },
+        "title": "Ids",
+        "type": "array"
+      }
+    },
+    "required": [
+      "ids"
+    ],
+    "title": "ScheduleChangedEvent",
+    "type": "object",
+    "x-persistent": false
   },
   "TaskFailedEvent": {
     "description": "A task ended early.",

@@ -22,10 +22,7 @@ from nightcrew.astro import local_noon
 from nightcrew.config import load_data_file
 from nightcrew.errors import ConfigError
 from nightcrew.robotic.archives import SqliteTaskArchive
-from nightcrew.robotic.scheduler import Scheduler
-from nightcrew.robotic.scheduler.ports import night_around
 from nightcrew.robotic.tasks import SCHEDULABLE_STATES
-from nightcrew.robotic.tasks.why import why_not_planned
 from nightcrew.site import Site
 
 __all__ = ["SITE_FILES", "add_why_parser", "load_site"]
@@ -59,6 +56,12 @@ def add_why_parser(
 
 
 async def _why(args: argparse.Namespace) -> int:
+    # Imported here: the scheduler brings scipy, which every other ``nightcrew tasks`` command
+    # would load for nothing (they are run in loops by scripts and tests).
+    from nightcrew.robotic.scheduler import Scheduler
+    from nightcrew.robotic.scheduler.ports import night_around
+    from nightcrew.robotic.tasks.why import why_not_planned
+
     site = load_site(args.site)
     path = args.database_path(args)
     async with SqliteTaskArchive(path, poll_interval=0) as archive:

@@ -12,7 +12,13 @@ from nightcrew.events.motion import FilterChangedEvent, MotionStatusChangedEvent
 from nightcrew.events.pointing import MoveAltAzEvent, MoveRaDecEvent, OffsetsAltAzEvent, OffsetsRaDecEvent
 from nightcrew.events.roof import RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent
 from nightcrew.events.safety import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
-from nightcrew.events.task import TaskFailedEvent, TaskFinishedEvent, TasksChangedEvent, TaskStartedEvent
+from nightcrew.events.task import (
+    ScheduleChangedEvent,
+    TaskFailedEvent,
+    TaskFinishedEvent,
+    TasksChangedEvent,
+    TaskStartedEvent,
+)
 from nightcrew.events.test import TestEvent
 from nightcrew.events.weather import BadWeatherEvent, GoodWeatherEvent
 
@@ -40,6 +46,7 @@ __all__ = [
     "RoofOpenedEvent",
     "SafetyAlarmEvent",
     "SafetyClearedEvent",
+    "ScheduleChangedEvent",
     "TaskFailedEvent",
     "TaskFinishedEvent",
     "TaskStartedEvent",

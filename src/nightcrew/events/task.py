@@ -7,7 +7,13 @@ from datetime import datetime
 
 from nightcrew.events.base import Event
 
-__all__ = ["TaskFailedEvent", "TaskFinishedEvent", "TaskStartedEvent", "TasksChangedEvent"]
+__all__ = [
+    "ScheduleChangedEvent",
+    "TaskFailedEvent",
+    "TaskFinishedEvent",
+    "TaskStartedEvent",
+    "TasksChangedEvent",
+]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -49,3 +55,11 @@ class TasksChangedEvent(Event):
 
     ids: tuple[str, ...]  # the archive's ids of the tasks concerned
     change: str  # "added", "changed" or "cancelled"
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScheduleChangedEvent(Event):
+    """The scheduler wrote a new schedule: whoever runs it reads it now instead of at the next poll
+    (a task that ended before its slot leaves no idle gap until then)."""
+
+    ids: tuple[str, ...]  # the archive's ids of the planned tasks, in the order of their slots

@@ -134,6 +134,28 @@ async def test_a_silent_station_is_bad_weather(fast_observatory: Observatory) ->
     assert not await weather.is_weather_good()
 
 
+async def test_a_station_module_that_starts_late_is_read_when_it_comes_online(
+    fast_observatory: Observatory,
+) -> None:
+    """The weather module up first (as under ``nightcrew up``): its station is read again as soon as
+    the station module comes online, not a whole ``interval`` later."""
+    obs = fast_observatory
+    recorder = await obs.start(EventRecorder, "recorder", types=[BadWeatherEvent, GoodWeatherEvent])
+    await obs.start(
+        Weather,
+        "weather",
+        stations={"roof": ModuleStation(module="weatherstation")},
+        checks={"roof.rain": Boolean(good_when=False)},
+        interval=600.0,
+        min_good_time=0,
+    )
+    await obs.wait_for(lambda: bool(recorder.of(BadWeatherEvent)), 30.0, interval=1.0)
+    started = obs.clock.time()
+    await obs.start(SimWeatherStation, "weatherstation", interval=5.0)
+    await obs.wait_for(lambda: bool(recorder.of(GoodWeatherEvent)), 600.0, interval=1.0)
+    assert obs.clock.time() - started < 60.0
+
+
 async def test_a_station_that_stops_answering_turns_stale_then_bad(fast_observatory: Observatory) -> None:
     obs = fast_observatory
     recorder = await obs.start(EventRecorder, "recorder", types=[BadWeatherEvent, GoodWeatherEvent])

@@ -1,6 +1,6 @@
 """The mastermind: runs the scheduled task due now whenever it can, and keeps the observatory safe.
 
-Every ``poll_interval`` clock seconds (at once on weather and roof events) it observes the world
+Every ``poll_interval`` clock seconds (at once on weather, roof and schedule events) it observes the world
 (weather verdict, roof, telescope, Sun), reads the schedule around now and lets
 :func:`nightcrew.robotic.mastermind.decide` choose: run the due task, open up for it, close and
 park, or wait. While a task runs it keeps watching and cancels the task when
@@ -64,7 +64,7 @@ from datetime import datetime, timedelta
 from typing import Any, ClassVar
 
 from nightcrew.errors import ConfigError
-from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent
+from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent, ScheduleChangedEvent
 from nightcrew.interfaces import (
     FitsCard,
     IAutoFocus,
@@ -278,6 +278,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         await self.comm.register_event(BadWeatherEvent, self.on_bad_weather)
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
+        await self.comm.register_event(ScheduleChangedEvent, self.on_schedule_changed)
 
     async def close(self) -> None:
         await super().close()
@@ -294,6 +295,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._wake.set()
 
     async def on_roof_closing(self, event: RoofClosingEvent, sender: str) -> None:
+        self._wake.set()
+
+    async def on_schedule_changed(self, event: ScheduleChangedEvent, sender: str) -> None:
         self._wake.set()
 
     # --- IStartStop, IAutonomous, IFitsHeaderBefore --------------------------------------------

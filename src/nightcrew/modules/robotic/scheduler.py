@@ -8,8 +8,9 @@ planned again no earlier than a back-off that doubles with each fault of that ta
 after ``max_device_faults``), when one starts or finishes (its slot is kept, done blocks leave; a
 finished task re-plans at once), and when the weather turns good again (GoodWeatherEvent: from its
 ``eta`` on). Every plan names each task it leaves out with the reason (``Plan.unplanned``, logged
-when it changes). The optimisation itself is :class:`nightcrew.robotic.scheduler.Scheduler`, run in
-a worker thread.
+when it changes) and is announced by a ScheduleChangedEvent, on which the mastermind reads it at
+once. The optimisation itself is :class:`nightcrew.robotic.scheduler.Scheduler`, run in a worker
+thread.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from typing import Any, ClassVar, TypeVar
 from nightcrew.errors import ConfigError
 from nightcrew.events import (
     GoodWeatherEvent,
+    ScheduleChangedEvent,
     TaskFailedEvent,
     TaskFinishedEvent,
     TasksChangedEvent,
@@ -250,6 +252,8 @@ class SchedulerModule(Module, IRoboticScheduler):
         self._plan = plan_of(schedule, blocks, night, now, names, reasons)
         self._log_reasons(reasons, names)
         await self._store.set_schedule(schedule.slots, now)
+        # The mastermind reads the new plan at once: a task that ended early leaves no idle poll.
+        await self.comm.send_event(ScheduleChangedEvent(ids=tuple(slot.task_id for slot in schedule.slots)))
         log.info(
             "planned %d blocks from %s (%s, objective %.2f, %.1f s)",
             len(schedule.slots),

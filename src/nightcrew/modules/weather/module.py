@@ -5,7 +5,9 @@ check and feeds the combined verdict to a :class:`~nightcrew.weather.GoodWeather
 is announced at once with a BadWeatherEvent naming the failed checks; good weather only after the
 verdict stayed good for ``min_good_time`` seconds, with a GoodWeatherEvent. Fail safe: a station
 that fails keeps its last readings, which go stale (bad) after a check's ``max_age``; a station that
-never answered, a sensor without a value or an error while evaluating is bad weather.
+never answered, a sensor without a value or an error while evaluating is bad weather. A station
+module that could not be read is read again at once when it comes online (at start-up, when the
+weather module was up first, the verdict does not wait a whole ``interval``).
 
 Example (see ``examples/weather.yaml``)::
 
@@ -22,12 +24,13 @@ Example (see ``examples/weather.yaml``)::
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 from datetime import UTC, datetime
 from typing import Any
 
 from nightcrew.errors import ConfigError, InvalidArgumentError
-from nightcrew.events import BadWeatherEvent, GoodWeatherEvent
+from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, ModuleOpenedEvent
 from nightcrew.interfaces import (
     FitsCard,
     IFitsHeaderBefore,
@@ -38,7 +41,7 @@ from nightcrew.interfaces import (
 )
 from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
-from nightcrew.modules.weather.stations import CombinedStation, Station, SunStation
+from nightcrew.modules.weather.stations import CombinedStation, ModuleStation, Station, SunStation
 from nightcrew.weather import CheckResult, Evaluator, GoodWeatherGate, Reading, SensorCheck, WeatherChange
 
 __all__ = ["FITS_KEYWORDS", "Weather"]
@@ -101,14 +104,28 @@ class Weather(Module, IWeather, IFitsHeaderBefore):
         self._gate = GoodWeatherGate(min_good_time)
         self._readings: dict[str, dict[str, Reading]] = {name: {} for name in self._stations}
         self._results: dict[str, CheckResult] = {}
+        self._unread: set[str] = set()  # stations whose last read failed
+        self._wake = asyncio.Event()
         self.add_background_task(self._evaluate_loop)
+
+    async def open(self) -> None:
+        await super().open()
+        await self.comm.register_event(ModuleOpenedEvent, self.on_module_opened)
+
+    async def on_module_opened(self, event: ModuleOpenedEvent, sender: str) -> None:
+        unread = (self._stations[name] for name in self._unread)
+        if any(isinstance(station, ModuleStation) and station.module == sender for station in unread):
+            self._wake.set()
 
     # --- the loop ------------------------------------------------------------------------------
 
     async def _evaluate_loop(self) -> None:
         while True:
+            self._wake.clear()
             await self.evaluate_now()
-            await self.clock.sleep(self._interval)
+            with contextlib.suppress(TimeoutError):
+                async with self.clock.timeout(self._interval):
+                    await self._wake.wait()
 
     async def evaluate_now(self) -> None:
         """Read every station, run every check and announce a change (what the loop does)."""
@@ -137,8 +154,11 @@ class Weather(Module, IWeather, IFitsHeaderBefore):
     async def _read_one(self, name: str, station: Station) -> dict[str, Reading] | None:
         try:
             async with self.clock.timeout(self._station_timeout):
-                return await station.read(self._readings)
+                readings = await station.read(self._readings)
+            self._unread.discard(name)
+            return readings
         except Exception as exc:  # keep the last readings: they turn stale, then bad
+            self._unread.add(name)
             log.warning("%s: station %s failed: %s", self.name, name, exc or type(exc).__name__)
             return None
 

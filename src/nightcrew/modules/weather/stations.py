@@ -16,7 +16,7 @@ from typing import Any
 
 from nightcrew.astro import sun_altitude
 from nightcrew.errors import ConfigError, InvalidArgumentError
-from nightcrew.interfaces import IWeather
+from nightcrew.interfaces import IModule, IWeather, ModuleState
 from nightcrew.object import Object
 from nightcrew.weather import (
     DEFAULT_MAX_AGE,
@@ -59,6 +59,10 @@ def _check_fields(fields: Mapping[str, str], key: str) -> dict[str, str]:
     return dict(fields)
 
 
+#: Clock seconds between two looks at a station module that is still starting.
+_STARTING_LOOK = 0.5
+
+
 class ModuleStation(Station):
     """Another module offering IWeather, e.g. a SimWeatherStation or a hardware station driver.
 
@@ -73,6 +77,9 @@ class ModuleStation(Station):
         self.module = module
 
     async def read(self, others: StationReadings) -> dict[str, Reading]:
+        # Just online, it may still be starting: wait for it (bounded by the module's station_timeout).
+        while await (await self.proxy(self.module, IModule)).get_state() is ModuleState.STARTING:
+            await self.clock.sleep(_STARTING_LOOK)
         station = await self.proxy(self.module, IWeather)
         report = await station.get_current_weather()
         when = report.time.timestamp()
