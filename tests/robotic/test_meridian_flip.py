@@ -1,0 +1,78 @@
+"""The meridian flip: when a frame needs one (pure), and a night segment on a simulated GEM where
+the target crosses the meridian: one flip, frames on both sides, PIERSIDE right, no collision."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from datetime import datetime
+
+import pytest
+
+from nightcrew.astro import local_sidereal_time
+from nightcrew.astro.pier import SIDEREAL_RATE, hour_angle
+from nightcrew.errors import ConfigError
+from nightcrew.interfaces import PierSide
+from nightcrew.robotic.scripts import ImagingScript
+from nightcrew.robotic.scripts._flip import FLIP_BEYOND_MERIDIAN, flip_wait
+from nightcrew.testing import SITE, Observatory
+from nightcrew.vfs import MemoryFile
+
+from .runner_sim import ProgressLog, SimSetup, make_task, start_sim
+
+DEC = 24.0
+
+
+def test_a_frame_that_would_end_past_the_meridian_waits_for_it_then_flips() -> None:
+    minute = 60.0 * SIDEREAL_RATE  # degrees of hour angle per minute
+    beyond = FLIP_BEYOND_MERIDIAN / SIDEREAL_RATE  # seconds from the meridian to the flip
+    assert flip_wait(-2 * minute, 60.0, PierSide.WEST, 0.0) is None  # ends before the meridian
+    assert flip_wait(-0.5 * minute, 60.0, PierSide.WEST, 0.0) == pytest.approx(30.0 + beyond)  # wait, flip
+    assert flip_wait(-0.5 * minute, 60.0, PierSide.WEST, 1.0) is None  # allowed 4 min past it
+    assert flip_wait(3 * minute, 60.0, PierSide.WEST, 0.0) == 0.0  # past the meridian: flip now
+    assert flip_wait(3 * minute, 60.0, PierSide.EAST, 0.0) is None  # already flipped
+    assert flip_wait(3 * minute, 60.0, PierSide.UNKNOWN, 0.0) is None  # not a GEM
+
+
+def test_a_flip_allowance_that_makes_no_sense_is_a_config_error() -> None:
+    with pytest.raises(ConfigError, match=r"key 'flip_past_meridian': must be within 0..90 degrees, got 120"):
+        ImagingScript(flip_past_meridian=120.0)
+
+
+@pytest.fixture
+async def gem() -> AsyncIterator[SimSetup]:
+    obs = Observatory()
+    options = {"gem": {"east": -120.0, "west": 120.0, "counterweight_up": 2.0}, "slew_rate": 4.0}
+    try:
+        yield await start_sim(obs, telescope_options=options)
+    finally:
+        await obs.close()
+        MemoryFile.clear_shared()
+
+
+async def test_a_target_crossing_the_meridian_is_flipped_between_two_frames(gem: SimSetup) -> None:
+    clock = gem.obs.clock
+    # A target 5 minutes east of the meridian: three 60 s frames before it, two after the flip.
+    ha = -5 * 60.0 * SIDEREAL_RATE
+    ra = (local_sidereal_time(clock.time(), SITE.longitude) - ha) % 360.0
+    ra = (ra + hour_angle(ra, DEC, SITE.longitude, clock.time()) - ha) % 360.0
+    runner = await gem.runner({"EXPOSE": ImagingScript()})
+    frames = {"exposure_time": 60.0, "exposure_count": 5, "optical_elements": {"filter": "V"}, "binning": 2}
+    task = make_task(
+        {"type": "EXPOSE", "target": {"name": "M45ish", "ra": ra, "dec": DEC}, "instrument_configs": [frames]}
+    )
+    await runner.run_task(task, ProgressLog())
+
+    headers = await gem.headers(5)
+    sides = [header["PIERSIDE"] for header in headers]
+    assert sides[0] == "WEST" and sides[-1] == "EAST"
+    assert sides == sorted(sides, reverse=True)  # one flip: WEST frames, then EAST frames
+    for header in headers:  # each frame on the side where its target had the counterweight down
+        start = datetime.fromisoformat(header["DATE-OBS"]).timestamp()
+        end_ha = hour_angle(ra, DEC, SITE.longitude, start + header["EXPTIME"])
+        assert (end_ha <= 0.0) == (header["PIERSIDE"] == "WEST"), (header["PIERSIDE"], end_ha)
+    last_west = sides.index("EAST") - 1
+    before = datetime.fromisoformat(headers[last_west]["DATE-OBS"]).timestamp() + 60.0
+    after = datetime.fromisoformat(headers[last_west + 1]["DATE-OBS"]).timestamp()
+    assert after - before >= 180.0 / 4.0  # the flip slewed the hour axis half round
+    assert await gem.telescope.get_pier_collisions() == []
+    assert await gem.telescope.get_pier_side() is PierSide.EAST
