@@ -8,16 +8,20 @@ import shlex
 from pathlib import Path
 
 import pytest
+import yaml
 
 from nightcrew.cli.main import main
+from nightcrew.config import build_object
+from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.scripts import ImagingScript
 
 DOC = (Path(__file__).parents[2] / "docs/mounts.md").read_text(encoding="utf-8")
 
 
-def _block(language: str) -> str:
-    match = re.search(rf"^```{language}\n(.*?)^```", DOC, flags=re.M | re.S)
-    assert match is not None, f"no {language} block in docs/mounts.md"
-    return match.group(1)
+def _block(language: str, index: int = 0) -> str:
+    blocks = re.findall(rf"^```{language}\n(.*?)^```", DOC, flags=re.M | re.S)
+    assert len(blocks) > index, f"no {language} block {index} in docs/mounts.md"
+    return str(blocks[index])
 
 
 def test_the_documented_gem_passes_check_and_its_bad_limits_give_the_documented_line(
@@ -36,3 +40,10 @@ def test_the_documented_gem_passes_check_and_its_bad_limits_give_the_documented_
     Path("telescope.yaml").write_text(bad, encoding="utf-8")
     assert main(shlex.split(command.removeprefix("$ nightcrew "))) == 2
     assert capsys.readouterr().err.splitlines() == [expected]
+
+
+def test_the_documented_flip_option_builds_the_runner_it_shows() -> None:
+    runner = build_object(yaml.safe_load(_block("yaml", 1))["runner"])
+    assert isinstance(runner, TaskRunner)
+    for script in runner.scripts.values():
+        assert isinstance(script, ImagingScript) and script.flip_past_meridian == 5.0

@@ -91,6 +91,11 @@ class ImagingScript(Script):
         self._telescope, self._camera, self._filters = telescope, camera, filters
         self._acquisition, self._autoguider = acquisition, autoguider
 
+    @property
+    def flip_past_meridian(self) -> float:
+        """Degrees a frame may end past the meridian with the counterweight up before a flip."""
+        return self._flip_past_meridian
+
     async def can_run(self, task: Task) -> bool:
         config = the_configuration(task)
         if config.type not in _TYPES or config.target is None:
