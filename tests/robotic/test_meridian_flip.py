@@ -3,6 +3,7 @@ the target crosses the meridian: one flip, frames on both sides, PIERSIDE right,
 
 from __future__ import annotations
 
+import logging
 from collections.abc import AsyncIterator
 from datetime import datetime
 
@@ -11,13 +12,17 @@ import pytest
 from nightcrew.astro import local_sidereal_time
 from nightcrew.astro.pier import SIDEREAL_RATE, hour_angle
 from nightcrew.errors import ConfigError
+from nightcrew.images import Pipeline
+from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import PierSide
+from nightcrew.modules.pointing import AutoGuiding
+from nightcrew.modules.sim import SimCamera
 from nightcrew.robotic.scripts import ImagingScript
 from nightcrew.robotic.scripts._flip import FLIP_BEYOND_MERIDIAN, flip_wait
 from nightcrew.testing import SITE, Observatory
 from nightcrew.vfs import MemoryFile
 
-from .runner_sim import ProgressLog, SimSetup, make_task, start_sim
+from .runner_sim import DETECTOR, ProgressLog, SimSetup, make_task, start_sim
 
 DEC = 24.0
 
@@ -38,6 +43,13 @@ def test_a_flip_allowance_that_makes_no_sense_is_a_config_error() -> None:
         ImagingScript(flip_past_meridian=120.0)
 
 
+def _ra_at_hour_angle(gem: SimSetup, ha: float) -> float:
+    """The ICRS right ascension at hour angle ``ha`` (dec :data:`DEC`) on the clock now."""
+    now = gem.obs.clock.time()
+    ra = (local_sidereal_time(now, SITE.longitude) - ha) % 360.0
+    return (ra + hour_angle(ra, DEC, SITE.longitude, now) - ha) % 360.0
+
+
 @pytest.fixture
 async def gem() -> AsyncIterator[SimSetup]:
     obs = Observatory()
@@ -50,11 +62,8 @@ async def gem() -> AsyncIterator[SimSetup]:
 
 
 async def test_a_target_crossing_the_meridian_is_flipped_between_two_frames(gem: SimSetup) -> None:
-    clock = gem.obs.clock
     # A target 5 minutes east of the meridian: three 60 s frames before it, two after the flip.
-    ha = -5 * 60.0 * SIDEREAL_RATE
-    ra = (local_sidereal_time(clock.time(), SITE.longitude) - ha) % 360.0
-    ra = (ra + hour_angle(ra, DEC, SITE.longitude, clock.time()) - ha) % 360.0
+    ra = _ra_at_hour_angle(gem, -5 * 60.0 * SIDEREAL_RATE)
     runner = await gem.runner({"EXPOSE": ImagingScript()})
     frames = {"exposure_time": 60.0, "exposure_count": 5, "optical_elements": {"filter": "V"}, "binning": 2}
     task = make_task(
@@ -76,3 +85,38 @@ async def test_a_target_crossing_the_meridian_is_flipped_between_two_frames(gem:
     assert after - before >= 180.0 / 4.0  # the flip slewed the hour axis half round
     assert await gem.telescope.get_pier_collisions() == []
     assert await gem.telescope.get_pier_side() is PierSide.EAST
+
+
+async def test_guiding_stops_for_the_flip_and_starts_again_after_it(
+    gem: SimSetup, caplog: pytest.LogCaptureFixture
+) -> None:
+    await gem.obs.start(
+        SimCamera, "guider", detector=DETECTOR, catalog_depth=14.0, seed=3, readout_time=0.2, weather=None
+    )
+    guiding = await gem.obs.start(
+        AutoGuiding, "autoguider", camera="guider", pipeline=Pipeline([NStarOffsets()]), exposure_time=5.0
+    )
+    runner = await gem.runner({"EXPOSE": ImagingScript(autoguider="autoguider")})
+    ra = _ra_at_hour_angle(gem, -3.5 * 60.0 * SIDEREAL_RATE)  # the third frame would cross it
+    frames = {"exposure_time": 60.0, "exposure_count": 3, "optical_elements": {"filter": "V"}, "binning": 2}
+    task = make_task(
+        {
+            "type": "EXPOSE",
+            "target": {"name": "M45ish", "ra": ra, "dec": DEC},
+            "guiding_config": {"mode": "ON", "optional": False},
+            "instrument_configs": [frames],
+        }
+    )
+    with caplog.at_level(logging.INFO):
+        await runner.run_task(task, ProgressLog())
+    messages = [record.getMessage() for record in caplog.records]
+    started = [i for i, m in enumerate(messages) if "new reference frame (guiding started)" in m]
+    flip = next(i for i, m in enumerate(messages) if "meridian flip for M45ish" in m)
+    stopped = [i for i, m in enumerate(messages) if m == "autoguider: guiding stopped"]
+    assert len(started) == 2 and started[0] < flip < started[1]  # started again after the flip
+    assert any(flip < i < started[1] for i in stopped)  # and stopped for it
+    headers = [await gem.read(filename) for filename in gem.frames]  # the guider's frames too
+    science = [header["PIERSIDE"] for header in headers if header["IMAGETYP"] == "object"]
+    assert science[0] == "WEST" and science[-1] == "EAST" and science == sorted(science, reverse=True)
+    assert not await guiding.is_running()
+    assert await gem.telescope.get_pier_collisions() == []
