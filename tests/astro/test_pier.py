@@ -60,6 +60,9 @@ def test_a_flip_goes_through_the_pole_and_takes_the_time_of_its_longer_axis() ->
     assert after[0] - before[0] == -180.0  # the hour axis turns half round
     assert before[1] == 140.0 and after[1] == 40.0  # the dec axis crossed 90 (the pole)
     assert axes_slew_time(before, after, rate=4.0, settle_time=3.0) == pytest.approx(180.0 / 4.0 + 3.0)
+    # In the south the dec axis goes through the south pole: 120° for a flip at -30°, not 240°.
+    south = [mechanical_axes(5.0, -30.0, side, south=True) for side in (PierSide.WEST, PierSide.EAST)]
+    assert abs(south[1][1] - south[0][1]) == 120.0
     # A short slew on one side takes only its own distance.
     near = mechanical_axes(8.0, 41.0, PierSide.EAST)
     assert axes_slew_time(after, near, rate=4.0) == pytest.approx(3.0 / 4.0)

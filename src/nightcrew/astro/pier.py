@@ -10,7 +10,8 @@ down).
 
 Mechanical axes (for slew times): the hour axis turns the dec axis; on the east side the hour
 axis stands at ``hour_angle - 90`` and the dec axis at ``dec``; on the west side at
-``hour_angle + 90`` and ``180 - dec`` (the dec axis has gone through the pole). A flip to the same
+``hour_angle + 90`` and ``180 - dec`` (the dec axis has gone through the pole; ``-180 - dec`` for a
+mount in the south, through the south pole). A flip to the same
 target turns the hour axis by 180° and the dec axis through the pole.
 """
 
@@ -123,10 +124,11 @@ def seconds_until_limit(ha: float, side: PierSide, limits: GemLimits) -> float:
     return (limit_edge(side, limits) - ha) / SIDEREAL_RATE
 
 
-def mechanical_axes(ha: float, dec: float, side: PierSide) -> tuple[float, float]:
-    """(hour axis, dec axis) angles in degrees of a mount pointing at (ha, dec) from ``side``."""
+def mechanical_axes(ha: float, dec: float, side: PierSide, *, south: bool = False) -> tuple[float, float]:
+    """(hour axis, dec axis) angles in degrees of a mount pointing at (ha, dec) from ``side``; a
+    mount in the south (``south``) passes the south pole on the through-the-pole side."""
     if side is PierSide.EAST:
         return ha - 90.0, dec
     if side is PierSide.WEST:
-        return ha + 90.0, 180.0 - dec
+        return ha + 90.0, (-180.0 if south else 180.0) - dec
     raise ValueError(f"a mount on side {side} has no axis angles")

@@ -204,8 +204,9 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         if self._gem is None:
             distance = angular_separation(start[1], start[0], end[1], end[0])
             return slew_time(distance, self._slew_rate, self._settle_time)
-        here = mechanical_axes(*self._hour_angle_at(*start), self._current_side())
-        there = mechanical_axes(*self._hour_angle_at(*end), side)
+        south = self.observatory.latitude < 0.0
+        here = mechanical_axes(*self._hour_angle_at(*start), self._current_side(), south=south)
+        there = mechanical_axes(*self._hour_angle_at(*end), side, south=south)
         return axes_slew_time(here, there, self._slew_rate, self._settle_time)
 
     # --- motions -------------------------------------------------------------------------------
