@@ -6,6 +6,7 @@ from __future__ import annotations
 import logging
 from collections.abc import AsyncIterator
 from datetime import datetime
+from typing import cast
 
 import pytest
 
@@ -15,16 +16,18 @@ from nightcrew.errors import ConfigError
 from nightcrew.images import Pipeline
 from nightcrew.images.processors.offsets import NStarOffsets
 from nightcrew.interfaces import PierSide
+from nightcrew.modules.focus.series import AutoFocusSeries
 from nightcrew.modules.pointing import AutoGuiding
-from nightcrew.modules.sim import SimCamera
+from nightcrew.modules.sim import SimCamera, SimFocuser
 from nightcrew.robotic.scripts import ImagingScript
 from nightcrew.robotic.scripts._flip import FLIP_BEYOND_MERIDIAN, flip_wait
 from nightcrew.testing import SITE, Observatory
 from nightcrew.vfs import MemoryFile
 
-from .runner_sim import DETECTOR, ProgressLog, SimSetup, make_task, start_sim
+from .runner_sim import DETECTOR, PLEIADES, ProgressLog, SimSetup, make_task, start_sim
 
 DEC = 24.0
+GEM_OPTIONS = {"gem": {"east": -120.0, "west": 120.0, "counterweight_up": 2.0}, "slew_rate": 4.0}
 
 
 def test_a_frame_that_would_end_past_the_meridian_waits_for_it_then_flips() -> None:
@@ -53,9 +56,8 @@ def _ra_at_hour_angle(gem: SimSetup, ha: float) -> float:
 @pytest.fixture
 async def gem() -> AsyncIterator[SimSetup]:
     obs = Observatory()
-    options = {"gem": {"east": -120.0, "west": 120.0, "counterweight_up": 2.0}, "slew_rate": 4.0}
     try:
-        yield await start_sim(obs, telescope_options=options)
+        yield await start_sim(obs, telescope_options=GEM_OPTIONS)
     finally:
         await obs.close()
         MemoryFile.clear_shared()
@@ -120,3 +122,44 @@ async def test_guiding_stops_for_the_flip_and_starts_again_after_it(
     assert science[0] == "WEST" and science[-1] == "EAST" and science == sorted(science, reverse=True)
     assert not await guiding.is_running()
     assert await gem.telescope.get_pier_collisions() == []
+
+
+async def test_the_focus_is_found_again_after_the_flip_when_asked() -> None:
+    # The Pleiades (rich enough for a focus series) reach the meridian at about 19:30 UTC.
+    obs = Observatory(epoch="2024-01-15T19:20:00+00:00")
+    try:
+        gem = await start_sim(obs, telescope_options=GEM_OPTIONS)
+        await obs.start(AutoFocusSeries, "focus", camera="camera", focuser="focuser")
+        focuser = obs.module("focuser", SimFocuser)
+        await focuser.set_focus(24.9)  # 0.1 mm off the best focus (25.0)
+        refocus = {"focus": "focus", "count": 7, "step": 0.08, "exposure_time": 2.0}
+        runner = await gem.runner({"EXPOSE": ImagingScript(refocus_after_flip=refocus)})
+        ra, dec = cast(float, PLEIADES["ra"]), cast(float, PLEIADES["dec"])
+        # On the west side, 20 s before the meridian: the 60 s frame would cross it.
+        await gem.telescope.move_radec(ra, dec)
+        assert await gem.telescope.get_pier_side() is PierSide.WEST
+        await obs.clock.sleep(-(hour_angle(ra, dec, SITE.longitude, obs.clock.time()) + 0.08) / SIDEREAL_RATE)
+        frames = {"exposure_time": 60.0, "exposure_count": 1, "optical_elements": {"filter": "V"}}
+        await runner.run_task(
+            make_task({"type": "EXPOSE", "target": PLEIADES, "instrument_configs": [frames]}), ProgressLog()
+        )
+        assert await focuser.get_focus() == pytest.approx(25.0, abs=0.03)
+        (header,) = await gem.headers(1)  # the focus frames are not broadcast
+        assert header["PIERSIDE"] == "EAST"
+    finally:
+        await obs.close()
+        MemoryFile.clear_shared()
+
+
+@pytest.mark.parametrize(
+    ("refocus", "message"),
+    [
+        ({"count": 2}, r"key 'refocus_after_flip.count': count must be an integer >= 3, got 2"),
+        ({"steps": 0.1}, r"key 'refocus_after_flip.steps': steps is not an option; known: count, "),
+    ],
+)
+def test_refocus_options_that_make_no_sense_are_config_errors(
+    refocus: dict[str, object], message: str
+) -> None:
+    with pytest.raises(ConfigError, match=message):
+        ImagingScript(refocus_after_flip=refocus)

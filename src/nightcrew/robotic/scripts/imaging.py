@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -11,6 +12,7 @@ from nightcrew.astro.pier import hour_angle
 from nightcrew.errors import ConfigError, NotSupportedError
 from nightcrew.interfaces import (
     IAcquisition,
+    IAutoFocus,
     IAutoGuiding,
     ICamera,
     IFilters,
@@ -19,7 +21,7 @@ from nightcrew.interfaces import (
     ITelescope,
 )
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
-from nightcrew.robotic.scripts._flip import flip_wait
+from nightcrew.robotic.scripts._flip import RefocusAfterFlip, flip_wait
 from nightcrew.robotic.scripts._instrument import CutShortCallback, Instrument, instrument_supported
 from nightcrew.robotic.scripts._repeat import RepeatTiming
 from nightcrew.robotic.scripts._steps import quietly, step
@@ -55,8 +57,8 @@ class ImagingScript(Script):
     On a German-equatorial mount (one that reports its pier side) a frame that would end more than
     ``flip_past_meridian`` degrees past the meridian with the counterweight up is preceded by a
     meridian flip (see :mod:`nightcrew.robotic.scripts._flip`): wait for the meridian if need be,
-    stop guiding, slew to the target again (the mount changes sides), acquire again, restart
-    guiding.
+    stop guiding, slew to the target again (the mount changes sides), acquire again, refocus if
+    ``refocus_after_flip`` is set, restart guiding.
 
     A task carrying progress from an interrupted attempt is resumed: only the missing frames of
     each instrument config are taken, a REPEAT_EXPOSE only repeats for the time it has left.
@@ -69,6 +71,8 @@ class ImagingScript(Script):
         autoguider: Module offering IAutoGuiding; None: never guide.
         flip_past_meridian: Degrees (0..90) a frame may end past the meridian with the
             counterweight up before the script flips first; keep it below the mount's own limit.
+        refocus_after_flip: Run a focus series after each flip: a mapping of ``focus`` (IAutoFocus
+            module), ``count``, ``step`` (mm) and ``exposure_time`` (s); None: no refocus.
     """
 
     def __init__(
@@ -80,6 +84,7 @@ class ImagingScript(Script):
         acquisition: str | IAcquisition | None = None,
         autoguider: str | IAutoGuiding | None = None,
         flip_past_meridian: float = 0.0,
+        refocus_after_flip: Mapping[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -88,6 +93,12 @@ class ImagingScript(Script):
                 f"must be within 0..90 degrees, got {flip_past_meridian}", key="flip_past_meridian"
             )
         self._flip_past_meridian = float(flip_past_meridian)
+        try:
+            self._refocus = (
+                None if refocus_after_flip is None else RefocusAfterFlip.from_options(refocus_after_flip)
+            )
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(str(exc), key=f"refocus_after_flip.{str(exc).split()[0]}") from exc
         self._telescope, self._camera, self._filters = telescope, camera, filters
         self._acquisition, self._autoguider = acquisition, autoguider
 
@@ -166,7 +177,20 @@ class ImagingScript(Script):
         if await pointing.pier.get_pier_side() is side:
             log.warning("the mount stayed on the %s side of the pier after the flip", side)
         await self._acquire(pointing.config)
+        await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+
+    async def _refocus_after_flip(self) -> None:
+        refocus = self._refocus
+        if refocus is None:
+            return
+        focus = await step("connect to the focus module", self.proxy(refocus.focus, IAutoFocus))
+        best, error = await step(
+            "refocus after the flip",
+            focus.auto_focus(refocus.count, refocus.step, refocus.exposure_time),
+            on_cancel=focus.abort,
+        )
+        log.info("refocused after the flip: %.4f +- %.4f mm", best, error)
 
     async def _acquire(self, config: Configuration) -> None:
         if config.acquisition_config.mode is AcquisitionMode.OFF:
