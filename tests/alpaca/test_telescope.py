@@ -13,7 +13,7 @@ from nightcrew.astro import altaz_to_radec, angular_separation
 from nightcrew.clock import RealClock
 from nightcrew.comm.rpc import RpcServer
 from nightcrew.errors import InvalidArgumentError, MoveError
-from nightcrew.interfaces import MotionStatus
+from nightcrew.interfaces import MotionStatus, PierSide
 from nightcrew.modules.alpaca import AlpacaTelescope
 from nightcrew.modules.alpaca.telescope import of_date
 from nightcrew.testing import Observatory
@@ -38,6 +38,24 @@ async def test_radec_slews_track_and_altaz_slews_do_not(telescope: AlpacaTelesco
     assert await telescope.device.get("tracking") is True
     assert await telescope.get_motion_status() is MotionStatus.TRACKING
     assert abs(await telescope.device.get("rightascension") * 15.0 - ra) < 0.01  # hours on the wire
+
+
+async def test_pier_side_and_destination_side_come_from_the_mount(telescope: AlpacaTelescope) -> None:
+    # alpaca-simulators keeps SideOfPier as set (as a mount that flipped would report it) and answers
+    # DestinationSideOfPier by RA alone (WEST above 12 h): enough to check what travels on the wire.
+    try:
+        for raw, side in ((1, PierSide.WEST), (0, PierSide.EAST), (-1, PierSide.UNKNOWN)):
+            await telescope.device.put("sideofpier", SideOfPier=raw)
+            assert await telescope.get_pier_side() is side
+            assert await telescope.get_config_value("pier_side") == str(side)
+            header = await telescope.get_fits_header_before()
+            assert header.get("PIERSIDE", (None,))[0] == (None if side is PierSide.UNKNOWN else side.upper())
+    finally:
+        await telescope.device.put("sideofpier", SideOfPier=0)
+    assert await telescope.get_destination_pier_side(200.0, 20.0) is PierSide.WEST
+    assert await telescope.get_destination_pier_side(100.0, 20.0) is PierSide.EAST
+    with pytest.raises(InvalidArgumentError, match=r"ra must be within 0\.\.360"):
+        await telescope.get_destination_pier_side(400.0, 20.0)
 
 
 async def test_tracking_rates_sync_and_pier_side(telescope: AlpacaTelescope) -> None:

@@ -73,8 +73,16 @@ class SimSetup:
         return [await self.read(filename) for filename in self.frames]
 
 
-async def start_sim(obs: Observatory, *, roof_open: bool = True, **camera: Any) -> SimSetup:
-    telescope = await obs.start(SimTelescope, "telescope", init_time=0.0, settle_time=1.0, seed=1)
+async def start_sim(
+    obs: Observatory,
+    *,
+    roof_open: bool = True,
+    telescope_options: dict[str, Any] | None = None,
+    **camera: Any,
+) -> SimSetup:
+    telescope = await obs.start(
+        SimTelescope, "telescope", init_time=0.0, settle_time=1.0, seed=1, **(telescope_options or {})
+    )
     await obs.start(SimFocuser, "focuser", focus=25.0, best_focus=25.0)
     await obs.start(SimFilterWheel, "filters", filters=["V", "R"], filter_name="V")
     roof = await obs.start(SimRoof, "roof", open_time=1.0)

@@ -30,6 +30,7 @@ from nightcrew.interfaces.enums import (
     LoopState,
     ModuleState,
     MotionStatus,
+    PierSide,
     WeatherSensor,
 )
 from nightcrew.interfaces.filters import IFilters
@@ -40,6 +41,7 @@ from nightcrew.interfaces.motion import IMotion
 from nightcrew.interfaces.pointing import (
     IOffsetsAltAz,
     IOffsetsRaDec,
+    IPierSide,
     IPointingAltAz,
     IPointingRaDec,
     ISyncRaDec,
@@ -97,6 +99,7 @@ __all__ = [
     "IMotion",
     "IOffsetsAltAz",
     "IOffsetsRaDec",
+    "IPierSide",
     "IPointingAltAz",
     "IPointingRaDec",
     "IPointingSeries",
@@ -123,6 +126,7 @@ __all__ = [
     "LoopState",
     "ModuleState",
     "MotionStatus",
+    "PierSide",
     "Plan",
     "PlannedTask",
     "RoboticStatus",

@@ -8,7 +8,15 @@ from __future__ import annotations
 
 from enum import StrEnum
 
-__all__ = ["ExposureStatus", "ImageType", "LoopState", "ModuleState", "MotionStatus", "WeatherSensor"]
+__all__ = [
+    "ExposureStatus",
+    "ImageType",
+    "LoopState",
+    "ModuleState",
+    "MotionStatus",
+    "PierSide",
+    "WeatherSensor",
+]
 
 
 class ModuleState(StrEnum):
@@ -33,6 +41,19 @@ class MotionStatus(StrEnum):
     PARKING = "parking"
     ABORTING = "aborting"
     ERROR = "error"
+    UNKNOWN = "unknown"
+
+
+class PierSide(StrEnum):
+    """Pointing state of a German-equatorial mount, as ASCOM's ``SideOfPier`` defines it.
+
+    EAST is the normal state (the tube on the east side of the pier, looking west of the meridian);
+    WEST the through-the-pole state (tube on the west side, looking east). A mount that tracks
+    across the meridian keeps its side until it flips, so the side is not a function of hour angle.
+    """
+
+    EAST = "east"
+    WEST = "west"
     UNKNOWN = "unknown"
 
 

@@ -5,11 +5,20 @@ from __future__ import annotations
 from abc import abstractmethod
 
 from nightcrew.interfaces.base import Interface
+from nightcrew.interfaces.enums import PierSide
 from nightcrew.interfaces.motion import IMotion
 from nightcrew.interfaces.quantities import Altitude, Azimuth, Declination, Degrees, RightAscension
 from nightcrew.timeout import timeout
 
-__all__ = ["IOffsetsAltAz", "IOffsetsRaDec", "IPointingAltAz", "IPointingRaDec", "ISyncRaDec", "ITelescope"]
+__all__ = [
+    "IOffsetsAltAz",
+    "IOffsetsRaDec",
+    "IPierSide",
+    "IPointingAltAz",
+    "IPointingRaDec",
+    "ISyncRaDec",
+    "ITelescope",
+]
 
 
 class IPointingRaDec(Interface):
@@ -74,3 +83,15 @@ class ISyncRaDec(Interface):
     @abstractmethod
     async def sync_radec(self, ra: RightAscension, dec: Declination) -> None:
         """The mount points at ICRS (``ra``, ``dec``) degrees now; it must be tracking."""
+
+
+class IPierSide(Interface):
+    """The pointing state of a German-equatorial mount (see :class:`PierSide`)."""
+
+    @abstractmethod
+    async def get_pier_side(self) -> PierSide:
+        """The side of the pier the mount is on now (UNKNOWN if it cannot tell)."""
+
+    @abstractmethod
+    async def get_destination_pier_side(self, ra: RightAscension, dec: Declination) -> PierSide:
+        """The side a slew to ICRS (``ra``, ``dec``) degrees would end on now (UNKNOWN if it cannot tell)."""

@@ -13,7 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MountErrorModel", "SlewError", "apply_sky_offset", "slew_time"]
+from nightcrew.interfaces.enums import PierSide
+
+__all__ = ["MountErrorModel", "PierCollision", "SlewError", "apply_sky_offset", "axes_slew_time", "slew_time"]
 
 
 def slew_time(distance: float, rate: float, settle_time: float = 0.0) -> float:
@@ -23,6 +25,31 @@ def slew_time(distance: float, rate: float, settle_time: float = 0.0) -> float:
     if distance <= 0:
         return 0.0
     return distance / rate + settle_time
+
+
+def axes_slew_time(
+    start: tuple[float, float], end: tuple[float, float], rate: float, settle_time: float = 0.0
+) -> float:
+    """Seconds a mount whose two axes turn at once at ``rate`` deg/s takes between axis angles
+    ``start`` and ``end`` (degrees; see :func:`nightcrew.astro.pier.mechanical_axes`)."""
+    return slew_time(max(abs(end[0] - start[0]), abs(end[1] - start[1])), rate, settle_time)
+
+
+@dataclass(frozen=True)
+class PierCollision:
+    """A German-equatorial mount passed one of its limits (on a real one, the tube met the pier).
+
+    Attributes:
+        time: Unix time the limit was passed.
+        hour_angle: Hour angle of the pointing then, degrees.
+        side: Side of the pier the mount was on.
+        reason: Which limit, in words.
+    """
+
+    time: float
+    hour_angle: float
+    side: PierSide
+    reason: str
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,9 @@ aberration, < 30", are left to the mount's pointing model); any other system is 
 
 Beyond ITelescope, run-time config options (IConfig) give the mount's own controls:
 ``tracking`` (on/off), ``tracking_rate`` (sidereal, lunar, solar, king), ``pier_side`` (read only),
-and ISyncRaDec's ``sync_radec`` tells the mount where it points.
+and ISyncRaDec's ``sync_radec`` tells the mount where it points. IPierSide reads ``SideOfPier`` and
+``DestinationSideOfPier`` (the latter with the target on the mount's equator, RA in hours); a mount
+that implements neither reports UNKNOWN.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ import numpy as np
 
 from nightcrew.astro.coords import precession_matrix
 from nightcrew.errors import ConfigError, InvalidArgumentError, MoveError, NotSupportedError
-from nightcrew.interfaces import ISyncRaDec
+from nightcrew.interfaces import ISyncRaDec, PierSide
 from nightcrew.modules.alpaca.device import AlpacaModule
 from nightcrew.modules.telescope import BaseTelescope
 
@@ -38,7 +40,7 @@ TRACKING_RATES = {"sidereal": 0, "lunar": 1, "solar": 2, "king": 3}
 #: Alpaca EquatorialCoordinateType of a mount on the equator of date.
 _TOPOCENTRIC = 1
 #: Alpaca PierSide values.
-PIER_SIDES = {-1: "unknown", 0: "east", 1: "west"}
+PIER_SIDES = {-1: PierSide.UNKNOWN, 0: PierSide.EAST, 1: PierSide.WEST}
 
 
 class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
@@ -142,6 +144,22 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
     async def _hw_get_altaz(self) -> tuple[float, float]:
         return float(await self._get("altitude")), float(await self._get("azimuth")) % 360.0
 
+    async def _hw_get_pier_side(self) -> PierSide:
+        try:
+            return PIER_SIDES.get(int(await self._get("sideofpier")), PierSide.UNKNOWN)
+        except NotSupportedError:
+            return PierSide.UNKNOWN
+
+    async def _hw_get_destination_pier_side(self, ra: float, dec: float) -> PierSide:
+        mount_ra, mount_dec = self._to_mount(ra, dec)
+        try:
+            side = await self._get(
+                "destinationsideofpier", RightAscension=mount_ra / 15.0, Declination=mount_dec
+            )
+        except NotSupportedError:
+            return PierSide.UNKNOWN
+        return PIER_SIDES.get(int(side), PierSide.UNKNOWN)
+
     # --- the mount's own controls --------------------------------------------------------------
 
     async def sync_radec(self, ra: float, dec: float) -> None:
@@ -178,7 +196,7 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
         return [name for name, value in TRACKING_RATES.items() if value in offered]
 
     async def _get_config_pier_side(self) -> str:
-        return PIER_SIDES.get(int(await self._get("sideofpier")), "unknown")
+        return str(await self._hw_get_pier_side())
 
 
 def of_date(ra: float, dec: float, unix_time: float, *, inverse: bool = False) -> tuple[float, float]:

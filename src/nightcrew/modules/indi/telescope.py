@@ -7,7 +7,8 @@ equator and equinox of date ("JNow"); nightcrew speaks ICRS/J2000 degrees. The c
 :meth:`IndiTelescope.sync_radec`; park and unpark ``TELESCOPE_PARK``; stop
 ``TELESCOPE_ABORT_MOTION``; tracking ``TELESCOPE_TRACK_STATE``. A slew ends when the coordinate
 vector leaves Busy. Slews started by another INDI client are reported too (SLEWING, then TRACKING
-or IDLE).
+or IDLE). The pier side (IPierSide) is ``TELESCOPE_PIER_SIDE`` (PIER_EAST, PIER_WEST: ASCOM's sides) where
+the driver has it; INDI has no destination side, so that is UNKNOWN.
 
 Example (``examples/indi/telescope.yaml``)::
 
@@ -25,7 +26,7 @@ from typing import Any
 from nightcrew.astro import angular_separation, j2000_to_of_date, of_date_to_j2000
 from nightcrew.bridges.indi import IndiUpdate, PropertyState, Vector
 from nightcrew.errors import InvalidArgumentError, MoveError
-from nightcrew.interfaces import MotionStatus
+from nightcrew.interfaces import MotionStatus, PierSide
 from nightcrew.modules.indi.link import IndiModule
 from nightcrew.modules.telescope import BaseTelescope
 
@@ -150,6 +151,14 @@ class IndiTelescope(IndiModule, BaseTelescope):
 
     async def _hw_stop(self) -> None:
         await self._indi.abort("TELESCOPE_ABORT_MOTION")
+
+    async def _hw_get_pier_side(self) -> PierSide:
+        if not self._indi.has("TELESCOPE_PIER_SIDE"):
+            return PierSide.UNKNOWN
+        members = self._indi.vector("TELESCOPE_PIER_SIDE").members
+        if members.get("PIER_EAST"):
+            return PierSide.EAST
+        return PierSide.WEST if members.get("PIER_WEST") else PierSide.UNKNOWN
 
     # --- beyond ITelescope ---------------------------------------------------------------------
 

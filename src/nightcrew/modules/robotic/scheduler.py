@@ -22,7 +22,7 @@ from collections.abc import Callable, Sequence
 from datetime import datetime, timedelta
 from typing import Any, ClassVar, TypeVar
 
-from nightcrew.errors import ConfigError
+from nightcrew.errors import ConfigError, InvalidArgumentError
 from nightcrew.events import (
     GoodWeatherEvent,
     ScheduleChangedEvent,
@@ -71,6 +71,8 @@ class SchedulerModule(Module, IRoboticScheduler):
         solver: ``mip`` (optimal) or ``priority`` (astroplan's greedy).
         step_s: Time slice of the scheduler, seconds.
         slew_overhead_s: Worst-case slew and settling added to every block, seconds.
+        meridian_flip_s: Time a meridian flip takes on a German-equatorial mount, seconds, added to
+            every block whose target may cross the meridian in it (docs/mounts.md); 0: no flips.
         time_limit_s: Time the MIP may take, wall seconds.
         poll_interval_s: How often to look for changed blocks, clock seconds.
         max_sun_altitude: The night is while the Sun is below this altitude (degrees).
@@ -90,6 +92,7 @@ class SchedulerModule(Module, IRoboticScheduler):
         solver: SolverName = "mip",
         step_s: float = 300.0,
         slew_overhead_s: float = 100.0,
+        meridian_flip_s: float = 0.0,
         time_limit_s: float = 10.0,
         poll_interval_s: Period = 60.0,
         max_sun_altitude: Altitude = -12.0,
@@ -108,9 +111,16 @@ class SchedulerModule(Module, IRoboticScheduler):
         )
         self._archive: BlockSource = _adapted(as_block_source, self._archive_option.value, "archive")
         self._store: ScheduleWriter = _adapted(as_schedule_writer, self._store_option.value, "store")
-        self._scheduler = Scheduler(
-            solver=solver, step_s=step_s, slew_overhead_s=slew_overhead_s, time_limit_s=time_limit_s
-        )
+        try:
+            self._scheduler = Scheduler(
+                solver=solver,
+                step_s=step_s,
+                slew_overhead_s=slew_overhead_s,
+                meridian_flip_s=meridian_flip_s,
+                time_limit_s=time_limit_s,
+            )
+        except InvalidArgumentError as exc:
+            raise ConfigError(str(exc), key=str(exc).split()[0]) from exc
         # Calibration tasks (no target) are placed at our site, sky flats fitted to our grid.
         fit = GridFit(step_s=step_s, slew_overhead_s=slew_overhead_s)
         self._archive = as_block_source(self._archive, site=self.site, fit=fit)

@@ -5,6 +5,7 @@ from __future__ import annotations
 from abc import abstractmethod
 
 from nightcrew.interfaces.base import Interface
+from nightcrew.sim.mount import PierCollision
 
 __all__ = ["ISimFocuserTruth", "ISimTelescopeTruth", "ISimWeatherTruth"]
 
@@ -15,6 +16,10 @@ class ISimTelescopeTruth(Interface):
     @abstractmethod
     async def get_true_radec(self) -> tuple[float, float]:
         """True ICRS (ra, dec) in degrees; get_radec() gives what the mount reports."""
+
+    @abstractmethod
+    async def get_pier_collisions(self) -> list[PierCollision]:
+        """Every time a German-equatorial mount passed a pier limit (none for other mounts)."""
 
 
 class ISimFocuserTruth(Interface):

@@ -12,6 +12,9 @@ Decisions (documented for drivers and callers):
   before the module is ready (drivers call ``_restore_pointing``): tracking its RA/Dec target,
   at its Alt/Az position (unparked first, as a mount comes back parked), or parked again when the
   module had parked it and the mount came back unparked.
+* Pier side (IPierSide): German-equatorial drivers report the mount's side (ASCOM's SideOfPier)
+  and the side a slew would end on; others report UNKNOWN. Frames get a PIERSIDE card (EAST or
+  WEST) whenever the side is known.
 * On BadWeatherEvent and on SafetyAlarmEvent (the safety watchdog's) the telescope parks by itself
   (aborting any slew), and so it does after ``park_when_offline`` clock seconds (default 300)
   without a connection to the other modules, and, with ``watchdog`` set, after
@@ -48,16 +51,18 @@ from nightcrew.interfaces import (
     IFitsHeaderBefore,
     IOffsetsAltAz,
     IOffsetsRaDec,
+    IPierSide,
     IPointingAltAz,
     IPointingRaDec,
     ITelescope,
     ITemperatures,
     ModuleState,
     MotionStatus,
+    PierSide,
 )
 from nightcrew.interfaces.quantities import Altitude
 from nightcrew.modules.motion import BaseMotion
-from nightcrew.modules.telescope.headers import pointing_cards
+from nightcrew.modules.telescope.headers import pier_side_cards, pointing_cards
 from nightcrew.site import Site
 from nightcrew.timeout import timeout
 
@@ -68,7 +73,9 @@ log = logging.getLogger(__name__)
 _NEEDS_INIT = frozenset({MotionStatus.PARKED, MotionStatus.ERROR, MotionStatus.UNKNOWN})
 
 
-class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITemperatures, IFitsHeaderBefore):
+class BaseTelescope(
+    BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, IPierSide, ITemperatures, IFitsHeaderBefore
+):
     """A telescope mount; a driver implements the ``_hw_*`` hooks.
 
     Args:
@@ -157,6 +164,18 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     async def _hw_get_temperatures(self) -> dict[str, float]:
         """Thermometers of the mount (none by default)."""
         return {}
+
+    async def _hw_get_pier_side(self) -> PierSide:
+        """The mount's pointing state (German-equatorial mounts); UNKNOWN unless overridden."""
+        return PierSide.UNKNOWN
+
+    async def _hw_get_destination_pier_side(self, ra: float, dec: float) -> PierSide:
+        """The side a slew to ICRS (ra, dec) would end on now; UNKNOWN unless overridden."""
+        return PierSide.UNKNOWN
+
+    def _hw_check_radec(self, ra: float, dec: float) -> None:
+        """Raise MoveError if the mount cannot reach ICRS (ra, dec) now (its own limits); called
+        before anything moves. Nothing to check by default."""
 
     async def _hw_at_park(self) -> bool | None:
         """Whether the mount says it is parked; None if it cannot tell (then a mount that came back
@@ -262,13 +281,11 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
         )
     )
     async def move_radec(self, ra: float, dec: float) -> None:
-        if not (math.isfinite(ra) and 0.0 <= ra < 360.0 and math.isfinite(dec) and -90.0 <= dec <= 90.0):
-            raise InvalidArgumentError(
-                f"ra must be within 0..360 and dec within -90..90 degrees, got ({ra}, {dec})"
-            )
+        _check_radec(ra, dec)
         self._check_can_move("move")
         alt, _ = self._altaz_of(ra, dec)
         self._check_altitude(alt, f"target ra={ra:.4f}°, dec={dec:.4f}°")
+        self._hw_check_radec(ra, dec)
         self._target_radec, self._target_altaz = (ra, dec), None
         self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
         await self.comm.send_event(MoveRaDecEvent(ra=ra, dec=dec))
@@ -328,6 +345,15 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
     async def get_offsets_altaz(self) -> tuple[float, float]:
         return self._offsets_altaz
 
+    # --- pier side ------------------------------------------------------------------------------
+
+    async def get_pier_side(self) -> PierSide:
+        return await self._hw_get_pier_side()
+
+    async def get_destination_pier_side(self, ra: float, dec: float) -> PierSide:
+        _check_radec(ra, dec)
+        return await self._hw_get_destination_pier_side(ra, dec)
+
     # --- sensors and headers -------------------------------------------------------------------
 
     async def get_temperatures(self) -> dict[str, float]:
@@ -335,7 +361,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
 
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
         radec = await self._hw_get_radec()
-        return pointing_cards(
+        cards = pointing_cards(
             radec=radec,
             altaz=await self._hw_get_altaz(),
             target=self._target_radec,
@@ -344,6 +370,7 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
             site=self.observatory,
             unix_time=self.clock.time(),
         )
+        return cards | pier_side_cards(await self._hw_get_pier_side())
 
     # --- safety --------------------------------------------------------------------------------
 
@@ -360,3 +387,10 @@ class BaseTelescope(BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, ITempe
             return
         log.warning("%s: safety alarm (%s): parking", self.name, event.reason or f"raised by {sender}")
         await self.park()
+
+
+def _check_radec(ra: float, dec: float) -> None:
+    if not (math.isfinite(ra) and 0.0 <= ra < 360.0 and math.isfinite(dec) and -90.0 <= dec <= 90.0):
+        raise InvalidArgumentError(
+            f"ra must be within 0..360 and dec within -90..90 degrees, got ({ra}, {dec})"
+        )

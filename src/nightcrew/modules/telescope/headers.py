@@ -10,10 +10,10 @@ from nightcrew.astro import (
     moon_radec,
     radec_to_altaz,
 )
-from nightcrew.interfaces import FitsCard
+from nightcrew.interfaces import FitsCard, PierSide
 from nightcrew.site import Site
 
-__all__ = ["pointing_cards"]
+__all__ = ["pier_side_cards", "pointing_cards"]
 
 
 def pointing_cards(
@@ -59,3 +59,10 @@ def pointing_cards(
     cards["MOONSEP"] = (round(angular_separation(ra, dec, moon_ra, moon_dec), 2), "Moon separation [deg]")
     cards["MOONALT"] = (round(moon_alt, 2), "Moon altitude [deg]")
     return cards
+
+
+def pier_side_cards(side: PierSide) -> dict[str, FitsCard]:
+    """The PIERSIDE card (EAST or WEST, ASCOM's SideOfPier); none when the mount cannot tell."""
+    if side is PierSide.UNKNOWN:
+        return {}
+    return {"PIERSIDE": (side.upper(), "Side of pier (ASCOM SideOfPier: EAST looks west)")}

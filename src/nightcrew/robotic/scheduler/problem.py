@@ -9,6 +9,11 @@ Overheads are modelled by padding: a block occupies ``setup_s + slew_overhead_s 
 rounded up to whole slices, where ``slew_overhead_s`` is one worst-case slew (plus settling) for
 every block. That over-estimates short slews between neighbours, but keeps every schedule
 executable without transition variables (which would make the MIP quadratic in blocks).
+
+A German-equatorial mount flips when its target crosses the meridian; with ``meridian_flip_s`` a
+block whose target crosses the meridian while it is visible is padded by that much too. The
+allowance goes with the block, not with its start (which would make lengths depend on the start
+slice): a block that could cross is padded wherever it is placed, keeping the plan executable.
 """
 
 from __future__ import annotations
@@ -19,13 +24,21 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from nightcrew.astro import local_sidereal_time
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.scheduler.blocks import SchedulableBlock
 from nightcrew.robotic.scheduler.constraints import DEFAULT_CONSTRAINTS, Constraint, startable, visibility
 from nightcrew.robotic.scheduler.sky import SkyGrid, TimeGrid
 from nightcrew.site import Site
 
-__all__ = ["Placement", "SchedulingProblem", "build_problem", "check_placement", "density_bound"]
+__all__ = [
+    "Placement",
+    "SchedulingProblem",
+    "build_problem",
+    "check_placement",
+    "density_bound",
+    "meridian_crossings",
+]
 
 IntArray = npt.NDArray[np.int64]
 FloatArray = npt.NDArray[np.float64]
@@ -44,6 +57,7 @@ class SchedulingProblem:
         lengths: Slices each block occupies (overheads and duration, rounded up).
         weights: Value of placing each block: priority x observed hours.
         overhead_s: Seconds of overhead in front of each block's observation.
+        flip_s: Seconds of meridian-flip allowance inside each block (0 where none may be needed).
     """
 
     grid: TimeGrid
@@ -53,6 +67,7 @@ class SchedulingProblem:
     lengths: IntArray
     weights: FloatArray
     overhead_s: FloatArray
+    flip_s: FloatArray
 
     @property
     def can_start(self) -> BoolArray:
@@ -78,11 +93,14 @@ def build_problem(
     *,
     step_s: float,
     slew_overhead_s: float,
+    meridian_flip_s: float = 0.0,
     constraints: Sequence[Constraint] = DEFAULT_CONSTRAINTS,
 ) -> SchedulingProblem:
     """The grid form of ``blocks`` between Unix times ``start`` and ``end``."""
     if not slew_overhead_s >= 0:
         raise InvalidArgumentError(f"slew_overhead_s must be >= 0, got {slew_overhead_s}")
+    if not meridian_flip_s >= 0:
+        raise InvalidArgumentError(f"meridian_flip_s must be >= 0, got {meridian_flip_s}")
     seen: set[str] = set()
     for block in blocks:
         if not isinstance(block, SchedulableBlock):
@@ -93,19 +111,36 @@ def build_problem(
     grid = TimeGrid.covering(start, end, step_s)
     sky = SkyGrid(grid, site, blocks)
     overhead = np.array([b.setup_s + slew_overhead_s for b in blocks], dtype=np.float64)
+    visible = visibility(sky, constraints)
+    flips = meridian_crossings(grid, site, blocks, visible) * meridian_flip_s
     lengths = np.array(
-        [grid.slices_for(o + b.duration_s) for b, o in zip(blocks, overhead, strict=True)], dtype=np.int64
+        [grid.slices_for(o + f + b.duration_s) for b, o, f in zip(blocks, overhead, flips, strict=True)],
+        dtype=np.int64,
     )
     weights = np.array([b.priority * b.duration_s / 3600.0 for b in blocks], dtype=np.float64)
     return SchedulingProblem(
         grid=grid,
         site=site,
         blocks=tuple(blocks),
-        visible=visibility(sky, constraints),
+        visible=visible,
         lengths=lengths,
         weights=weights,
         overhead_s=overhead,
+        flip_s=flips,
     )
+
+
+def meridian_crossings(
+    grid: TimeGrid, site: Site, blocks: Sequence[SchedulableBlock], visible: BoolArray
+) -> FloatArray:
+    """1.0 for each block whose target crosses the meridian (hour angle 0, rising) in a slice where
+    the block is visible, else 0.0 (J2000 coordinates: precession moves transits by a minute or so)."""
+    lst = np.asarray(local_sidereal_time(grid.edges, site.longitude), dtype=np.float64)
+    ras = np.array([[b.target.ra] for b in blocks], dtype=np.float64).reshape(len(blocks), 1)
+    ha = (lst[np.newaxis, :] - ras + 180.0) % 360.0 - 180.0
+    crossing = (ha[:, :-1] <= 0.0) & (ha[:, 1:] > 0.0)
+    result: FloatArray = np.any(crossing & visible, axis=1).astype(np.float64)
+    return result
 
 
 def check_placement(problem: SchedulingProblem, starts: IntArray) -> None:

@@ -37,6 +37,8 @@ class Scheduler:
         solver: ``"mip"`` (optimal time-indexed MIP, HiGHS) or ``"priority"`` (astroplan's greedy).
         step_s: Length of a time slice in seconds; blocks start on slice edges.
         slew_overhead_s: Worst-case slew plus settling added in front of every block.
+        meridian_flip_s: Time a meridian flip takes (slew through the pole, re-centring, guiding
+            again), added to every block whose target may cross the meridian in it; 0: no flips.
         time_limit_s: Seconds the MIP may search before returning its best schedule.
         mip_rel_gap: The MIP stops once within this fraction of its proven bound.
         constraints: Constraint callables; by default those the blocks' Constraints and windows ask for.
@@ -48,6 +50,7 @@ class Scheduler:
         solver: SolverName = "mip",
         step_s: float = 300.0,
         slew_overhead_s: float = 100.0,
+        meridian_flip_s: float = 0.0,
         time_limit_s: float = 10.0,
         mip_rel_gap: float = 5e-3,
         constraints: Sequence[Constraint] = DEFAULT_CONSTRAINTS,
@@ -58,6 +61,8 @@ class Scheduler:
             raise InvalidArgumentError(f"step_s must be > 0, got {step_s}")
         if not slew_overhead_s >= 0:
             raise InvalidArgumentError(f"slew_overhead_s must be >= 0, got {slew_overhead_s}")
+        if not meridian_flip_s >= 0:
+            raise InvalidArgumentError(f"meridian_flip_s must be >= 0, got {meridian_flip_s}")
         if not time_limit_s > 0:
             raise InvalidArgumentError(f"time_limit_s must be > 0, got {time_limit_s}")
         if not 0 <= mip_rel_gap < 1:
@@ -65,6 +70,7 @@ class Scheduler:
         self.solver: SolverName = solver
         self.step_s = step_s
         self.slew_overhead_s = slew_overhead_s
+        self.meridian_flip_s = meridian_flip_s
         self.time_limit_s = time_limit_s
         self.mip_rel_gap = mip_rel_gap
         self.constraints = tuple(constraints)
@@ -85,6 +91,7 @@ class Scheduler:
             night.end.timestamp(),
             step_s=self.step_s,
             slew_overhead_s=self.slew_overhead_s,
+            meridian_flip_s=self.meridian_flip_s,
             constraints=self.constraints,
         )
 
@@ -190,7 +197,7 @@ def _slots(problem: SchedulingProblem, placement: Placement) -> tuple[PlannedSlo
     for row in np.flatnonzero(placement.starts >= 0):
         block = problem.blocks[row]
         begin = problem.grid.start + problem.grid.step * float(placement.starts[row])
-        end = begin + float(problem.overhead_s[row]) + block.duration_s
+        end = begin + float(problem.overhead_s[row]) + float(problem.flip_s[row]) + block.duration_s
         slots.append(PlannedSlot(block.id, _utc(begin), _utc(end)))
     return tuple(sorted(slots, key=lambda slot: slot.start))
 

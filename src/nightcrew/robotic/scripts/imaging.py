@@ -4,11 +4,24 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
-from nightcrew.errors import NotSupportedError
-from nightcrew.interfaces import IAcquisition, IAutoGuiding, ICamera, IFilters, ImageType, ITelescope
+from nightcrew.astro.pier import hour_angle
+from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.interfaces import (
+    IAcquisition,
+    IAutoFocus,
+    IAutoGuiding,
+    ICamera,
+    IFilters,
+    ImageType,
+    IPierSide,
+    ITelescope,
+)
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.scripts._flip import RefocusAfterFlip, flip_wait
 from nightcrew.robotic.scripts._instrument import CutShortCallback, Instrument, instrument_supported
 from nightcrew.robotic.scripts._repeat import RepeatTiming
 from nightcrew.robotic.scripts._steps import quietly, step
@@ -19,6 +32,7 @@ from nightcrew.robotic.tasks import (
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
+    Target,
     Task,
 )
 
@@ -40,6 +54,12 @@ class ImagingScript(Script):
     otherwise). Optional guiding that fails to start only gives a warning; required guiding fails
     the configuration. Aborted or failed, the script aborts the exposure and stops guiding.
 
+    On a German-equatorial mount (one that reports its pier side) a frame that would end more than
+    ``flip_past_meridian`` degrees past the meridian with the counterweight up is preceded by a
+    meridian flip (see :mod:`nightcrew.robotic.scripts._flip`): wait for the meridian if need be,
+    stop guiding, slew to the target again (the mount changes sides), acquire again, refocus if
+    ``refocus_after_flip`` is set, restart guiding.
+
     A task carrying progress from an interrupted attempt is resumed: only the missing frames of
     each instrument config are taken, a REPEAT_EXPOSE only repeats for the time it has left.
 
@@ -49,6 +69,10 @@ class ImagingScript(Script):
         filters: Module offering IFilters; None: no filter wheel.
         acquisition: Module offering IAcquisition; None: never acquire.
         autoguider: Module offering IAutoGuiding; None: never guide.
+        flip_past_meridian: Degrees (0..90) a frame may end past the meridian with the
+            counterweight up before the script flips first; keep it below the mount's own limit.
+        refocus_after_flip: Run a focus series after each flip: a mapping of ``focus`` (IAutoFocus
+            module), ``count``, ``step`` (mm) and ``exposure_time`` (s); None: no refocus.
     """
 
     def __init__(
@@ -59,11 +83,29 @@ class ImagingScript(Script):
         filters: str | IFilters | None = "filters",
         acquisition: str | IAcquisition | None = None,
         autoguider: str | IAutoGuiding | None = None,
+        flip_past_meridian: float = 0.0,
+        refocus_after_flip: Mapping[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
+        if not 0.0 <= flip_past_meridian < 90.0:
+            raise ConfigError(
+                f"must be within 0..90 degrees, got {flip_past_meridian}", key="flip_past_meridian"
+            )
+        self._flip_past_meridian = float(flip_past_meridian)
+        try:
+            self._refocus = (
+                None if refocus_after_flip is None else RefocusAfterFlip.from_options(refocus_after_flip)
+            )
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(str(exc), key=f"refocus_after_flip.{str(exc).split()[0]}") from exc
         self._telescope, self._camera, self._filters = telescope, camera, filters
         self._acquisition, self._autoguider = acquisition, autoguider
+
+    @property
+    def flip_past_meridian(self) -> float:
+        """Degrees a frame may end past the meridian with the counterweight up before a flip."""
+        return self._flip_past_meridian
 
     async def can_run(self, task: Task) -> bool:
         config = the_configuration(task)
@@ -94,16 +136,61 @@ class ImagingScript(Script):
             on_cancel=telescope.stop_motion,
         )
         await self._acquire(config)
-        guider = await self._start_guiding(config.guiding_config)
+        pier = await self.optional_proxy(self._telescope, IPierSide)
+        pointing = _Pointing(
+            telescope, pier, target, config, await self._start_guiding(config.guiding_config)
+        )
         try:
             reporter = ProgressReporter(task, progress)
             if config.type is ConfigurationType.REPEAT_EXPOSE:
-                await self._expose_repeatedly(config, instrument, reporter)
+                await self._expose_repeatedly(config, instrument, reporter, pointing)
             else:
-                await self._expose(config, instrument, reporter)
+                await self._expose(config, instrument, reporter, pointing)
         finally:
-            if guider is not None:
-                await quietly("stop guiding", guider.stop)
+            if pointing.guider is not None:
+                await quietly("stop guiding", pointing.guider.stop)
+
+    async def _flip_if_needed(self, pointing: _Pointing, seconds: float) -> None:
+        """Flip before a frame of ``seconds`` that would carry the mount too far past the meridian."""
+        site = self.site
+        if pointing.pier is None or site is None:
+            return
+        side = await pointing.pier.get_pier_side()
+        target = pointing.target
+        ha = hour_angle(target.ra, target.dec, site.longitude, self.clock.time())
+        wait = flip_wait(ha, seconds, side, self._flip_past_meridian)
+        if wait is None:
+            return
+        if wait > 0:
+            log.info("%s reaches the meridian in %.0f s: waiting for it to flip", target.name, wait)
+            await self.clock.sleep(wait)
+        log.info("meridian flip for %s from the %s side of the pier", target.name, side)
+        if pointing.guider is not None:
+            await quietly("stop guiding", pointing.guider.stop)
+            pointing.guider = None
+        telescope = pointing.telescope
+        await step(
+            f"meridian flip to {target.name}",
+            telescope.move_radec(target.ra, target.dec),
+            on_cancel=telescope.stop_motion,
+        )
+        if await pointing.pier.get_pier_side() is side:
+            log.warning("the mount stayed on the %s side of the pier after the flip", side)
+        await self._acquire(pointing.config)
+        await self._refocus_after_flip()
+        pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+
+    async def _refocus_after_flip(self) -> None:
+        refocus = self._refocus
+        if refocus is None:
+            return
+        focus = await step("connect to the focus module", self.proxy(refocus.focus, IAutoFocus))
+        best, error = await step(
+            "refocus after the flip",
+            focus.auto_focus(refocus.count, refocus.step, refocus.exposure_time),
+            on_cancel=focus.abort,
+        )
+        log.info("refocused after the flip: %.4f +- %.4f mm", best, error)
 
     async def _acquire(self, config: Configuration) -> None:
         if config.acquisition_config.mode is AcquisitionMode.OFF:
@@ -144,7 +231,7 @@ class ImagingScript(Script):
         return guider
 
     async def _expose(
-        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: _Pointing
     ) -> None:
         for index, instrument_config in enumerate(config.instrument_configs):
             missing = reporter.remaining(index)
@@ -152,13 +239,14 @@ class ImagingScript(Script):
                 continue  # taken in an earlier attempt
             await instrument.set_up(instrument_config)
             for _ in range(missing):
+                await self._flip_if_needed(pointing, instrument_config.exposure_time)
                 await instrument.expose(
                     ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
                 )
                 await reporter.add(index)
 
     async def _expose_repeatedly(
-        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: _Pointing
     ) -> None:
         assert config.repeat_duration is not None  # the task model requires it for REPEAT_EXPOSE
         # Resumed after an interruption: only the time left, and a first cycle already taken is
@@ -176,12 +264,24 @@ class ImagingScript(Script):
                         return
                     if number == 0:
                         await instrument.set_up(instrument_config)
+                    await self._flip_if_needed(pointing, exposure_time)
                     await instrument.expose(
                         ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
                     )
                     timing.record(started, self.clock.time(), exposure_time)
                     await reporter.add(index)
             cycles += 1
+
+
+@dataclass
+class _Pointing:
+    """What a flip changes and needs: the mount, its pier side, the target, the guider running."""
+
+    telescope: ITelescope
+    pier: IPierSide | None
+    target: Target
+    config: Configuration
+    guider: IAutoGuiding | None
 
 
 def _recorder(

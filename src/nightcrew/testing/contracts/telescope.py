@@ -9,7 +9,14 @@ import pytest
 from nightcrew.astro import altaz_to_radec, angular_separation
 from nightcrew.errors import DeviceBusyError, InvalidArgumentError, MoveError
 from nightcrew.events import MoveAltAzEvent, MoveRaDecEvent, OffsetsRaDecEvent
-from nightcrew.interfaces import IFitsHeaderBefore, IOffsetsRaDec, ITelescope, MotionStatus
+from nightcrew.interfaces import (
+    IFitsHeaderBefore,
+    IOffsetsRaDec,
+    IPierSide,
+    ITelescope,
+    MotionStatus,
+    PierSide,
+)
 from nightcrew.testing.contracts._base import ContractSetup, DeviceContract, timed_call
 
 __all__ = ["TelescopeContract"]
@@ -220,7 +227,9 @@ class TelescopeContract(DeviceContract):
         await telescope.move_radec(ra, dec)  # a new target resets the offsets
         assert await offsets.get_offsets_radec() == (0.0, 0.0)
 
-    async def test_fits_header_tells_where_it_points(self, contract: ContractSetup[Any]) -> None:
+    async def test_fits_header_tells_where_it_points_and_on_which_side(
+        self, contract: ContractSetup[Any]
+    ) -> None:
         assert isinstance(contract.module, IFitsHeaderBefore), f"{contract.name} gives no FITS header"
         telescope = await contract.proxy(ITelescope)
         await self._work_position(contract)
@@ -231,6 +240,12 @@ class TelescopeContract(DeviceContract):
         self._assert_near(
             (float(cards["RA"][0] or 0), float(cards["DEC"][0] or 0)), (ra, dec), "RA/DEC cards"
         )
+        # The pier side, where the mount knows it, is in the header too (ASCOM's EAST or WEST).
+        pier = await contract.proxy(IPierSide)
+        side = await pier.get_pier_side()
+        assert isinstance(side, PierSide), f"get_pier_side() gave {side!r}"
+        assert cards.get("PIERSIDE", (None,))[0] == (None if side is PierSide.UNKNOWN else side.upper())
+        assert isinstance(await pier.get_destination_pier_side(ra, dec), PierSide)
 
     async def test_bad_weather_parks_the_telescope(self, contract: ContractSetup[Any]) -> None:
         telescope = await contract.proxy(ITelescope)
