@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings
@@ -55,12 +55,16 @@ class XmppComm(Comm):
             module reconnects (a silent link is noticed within interval + timeout).
         rpc_grace: Wall seconds added to every announced timeout for network latency.
         policy: The access policy file; callers are identified by their authenticated account
-            (the JID's local part on this domain, the bare JID otherwise).
+            (the JID's local part on this domain, the bare JID otherwise). Without one the module
+            refuses every state-changing call; ``open`` lets every account call everything (warned
+            at every start).
         audit: The audit trail file.
         dialect: ``pyobs`` makes pyobs-core 2.x modules peers too (docs/pyobs.md): the module
             also announces itself by presence, offers its interfaces and events the pyobs way and
             calls pyobs modules in their value format; its resource defaults to ``pyobs``.
     """
+
+    network = True
 
     def __init__(
         self,
@@ -76,7 +80,7 @@ class XmppComm(Comm):
         ping_interval: float | None = 10.0,
         ping_timeout: float = 10.0,
         rpc_grace: float = 1.0,
-        policy: InputPath | Policy | None = None,
+        policy: InputPath | Literal["open"] | Policy | None = None,
         audit: DataPath | None = None,
         dialect: str = "nightcrew",
     ) -> None:
