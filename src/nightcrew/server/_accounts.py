@@ -15,11 +15,13 @@ __all__ = ["Account", "accounts_from_configs"]
 
 @dataclass(frozen=True)
 class Account:
-    """One module's login: ``user@domain`` with its password."""
+    """One login: ``user@domain`` with its password; ``person``: a person's (an operator command's
+    comm file), not a module's. Modules own the room, people are its members."""
 
     user: str
     domain: str
     password: str
+    person: bool = False
 
     @property
     def jid(self) -> str:
@@ -31,7 +33,7 @@ def accounts_from_configs(
 ) -> list[Account]:
     """The accounts of every module config whose ``comm:`` has a ``jid``, and of every comm
     description alone in a file (``jid`` at the top level, as ``--comm`` files for the operator
-    commands are); ``${VAR}`` resolved.
+    commands are: a person's); ``${VAR}`` resolved.
 
     Raises:
         ConfigError: A file cannot be read, a JID is malformed or has no password, or one JID
@@ -47,7 +49,7 @@ def accounts_from_configs(
         password = comm.get("password")
         if not password:
             raise ConfigError(f"{os.fspath(path)}: key '{prefix}password': missing")
-        account = Account(user, domain, str(password))
+        account = Account(user, domain, str(password), person=not prefix)
         previous = found.get(account.jid)
         if previous is not None and previous.password != account.password:
             raise ConfigError(f"{os.fspath(path)}: {account.jid} appears twice with different passwords")

@@ -164,6 +164,7 @@ class XmppComm(Comm):
             on_offline=self._on_client_offline,
             on_event=self._deliver_event,
             domain=self._settings.domain,
+            members=self._observatory_accounts(),
         )
         if self._dialect == "pyobs":
             from nightcrew.comm.xmpp._pyobs import PyobsPeers
@@ -188,6 +189,8 @@ class XmppComm(Comm):
             raise
 
     async def _close_transport(self) -> None:
+        if self._room is not None:
+            await self._room.close()
         if self._connection is not None:
             await self._connection.close()
         if self._rpc is not None:
@@ -228,6 +231,18 @@ class XmppComm(Comm):
         # Every event reaches every room occupant; Comm._deliver_event keeps the registered ones.
         if self._pyobs is not None:
             self._pyobs.subscribe(name)
+
+    def _observatory_accounts(self) -> list[str]:
+        """Bare JIDs of the policy's other accounts (acting identities left out): room members."""
+        if self.policy is None:
+            return []
+        own = self._settings.bare_jid.lower()
+        jids = {
+            account if "@" in account else f"{account}@{self._settings.domain}"
+            for account in self.policy.accounts
+            if ":" not in account
+        }
+        return sorted(jid for jid in jids if jid.lower() != own)
 
     # --- glue ----------------------------------------------------------------------------------
 
