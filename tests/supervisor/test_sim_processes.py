@@ -16,6 +16,7 @@ from nightcrew.comm.xmpp import XmppComm
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+from tests.modules.sim_processes import starting_policy_file
 
 from .conftest import REPOSITORY, START_TIMEOUT, Prosody
 
@@ -62,6 +63,7 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": "simproc",
         "SIM_XMPP_CA_FILE": str(prosody.ca_file),
+        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN),
         "SIM_IMAGES": str(tmp_path / "images"),
         "OBSERVATORY_DATA": str(tmp_path / "data"),
         "NIGHTCREW_SUPERVISOR_SOCKET": str(socket),

@@ -19,11 +19,11 @@ from pathlib import Path
 from typing import Any
 
 from nightcrew.night.init import module_text
-from nightcrew.security import starting_policy
 from nightcrew.server import (
     ServerSettings,
     accounts_from_configs,
     init_server,
+    policy_for_accounts,
     server_status,
     start_server,
     stop_server,
@@ -113,9 +113,7 @@ def _init(args: argparse.Namespace) -> int:
     if policy.exists():
         print(f"kept the access policy {policy}")
     elif accounts:
-        operators = set(options.operator or ["operator"])
-        people = {a.user: "operator" if a.user in operators else "observer" for a in accounts if a.person}
-        body = starting_policy([a.user for a in modules], people)
+        body = policy_for_accounts(accounts, options.operator or ["operator"])
         policy.write_text(module_text(_POLICY_HEADER, body))
         print(f"wrote the access policy {policy}")
     return 0

@@ -5,12 +5,14 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from nightcrew.comm.xmpp import parse_jid
 from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
+from nightcrew.security import starting_policy
 
-__all__ = ["Account", "accounts_from_configs"]
+__all__ = ["Account", "accounts_from_configs", "policy_for_accounts"]
 
 
 @dataclass(frozen=True)
@@ -55,3 +57,14 @@ def accounts_from_configs(
             raise ConfigError(f"{os.fspath(path)}: {account.jid} appears twice with different passwords")
         found[account.jid] = account
     return list(found.values())
+
+
+def policy_for_accounts(
+    accounts: Iterable[Account], operators: Iterable[str] = ("operator",)
+) -> dict[str, Any]:
+    """The starting access policy (plain data) for these accounts: modules call each other, the
+    people named in ``operators`` everything, other people only what reads."""
+    given = list(accounts)
+    chosen = set(operators)
+    people = {a.user: "operator" if a.user in chosen else "observer" for a in given if a.person}
+    return starting_policy([a.user for a in given if not a.person], people)
