@@ -4,6 +4,7 @@ explicit and warned at every start; the in-process comm needs no policy.
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 import pytest
@@ -22,6 +23,7 @@ async def test_xmpp_without_policy_refuses_state_changes(
 ) -> None:
     server = prosody_network.server
     assert server is not None
+    caplog.set_level(logging.INFO, logger="nightcrew.comm.base")
     camera = SimCamera(comm=server.comm("camera", room=prosody_network.room))
     prosody_network._modules.append(camera)
     await camera.open()

@@ -261,7 +261,7 @@ class Comm(ABC):
         await asyncio.gather(*self._tasks, return_exceptions=True)
 
     def _warn_if_unguarded(self) -> None:
-        """At every start, say so when a module on the network is open to everyone or closed."""
+        """At every start, warn when a module on the network is open to everyone; say when it is closed."""
         if not self.network or self._server is None:
             return  # in process, or a client serving nothing (an operator's command)
         if self._open_policy:
@@ -270,8 +270,8 @@ class Comm(ABC):
                 "(docs/security.md)",
                 self.name,
             )
-        elif self._closed_by_default:
-            log.warning(
+        elif self._closed_by_default:  # safe, so said quietly (people's commands run so, too)
+            log.info(
                 "%s has no access policy: it refuses every state-changing call (give its comm "
                 "'policy: FILE', or 'policy: open'; docs/security.md)",
                 self.name,
