@@ -246,8 +246,8 @@ class Comm(ABC):
         """Connect; afterwards others can call this module and see it online."""
         if self._is_open:
             return
-        self._warn_if_unguarded()
         await self._open_transport()
+        self._warn_if_unguarded()  # once connected: a failed login stays one line
         self._is_open = True
 
     async def close(self) -> None:
