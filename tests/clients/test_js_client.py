@@ -47,7 +47,7 @@ def observatory(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[dict
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": network.room,
         "SIM_XMPP_CA_FILE": server.ca_file,
-        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN),
+        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN, operators=("jsclient",)),
         "SIM_CLOCK_START": CLOCK_START,
         "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
         "SIM_IMAGES": str(tmp_path / "images"),
