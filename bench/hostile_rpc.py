@@ -264,8 +264,8 @@ async def attack(
     report = Report()
     HostileTarget.private_reached = 0
     room = f"{ROOM}@conference.{domain}"
-    target = HostileTarget(
-        comm=XmppComm(f"target@{domain}", password, server=address, room=ROOM, ca_file=ca_file)
+    target = HostileTarget(  # `policy: open`, the worst case: every call reaches argument decoding
+        comm=XmppComm(f"target@{domain}", password, server=address, room=ROOM, ca_file=ca_file, policy="open")
     )
     settings = XmppSettings.from_options(
         f"attacker@{domain}", password, server=address, room=ROOM, ca_file=ca_file, resource="attack"

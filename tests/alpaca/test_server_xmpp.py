@@ -31,10 +31,17 @@ pytestmark = pytest.mark.xmpp
 async def xmpp_modules(prosody_server: XmppServer) -> AsyncIterator[AlpacaServer]:  # noqa: F811
     room = f"alpaca-{uuid.uuid4().hex[:10]}"
     clock = RealClock()
+    # The served modules trust the Alpaca server's account: this test is about Alpaca, not access.
+    open_policy = {"policy": "open"}
     modules: list[Module] = [
-        SimFocuser(comm=prosody_server.comm("focuser", room=room), clock=clock, speed=20.0, focus=20.0),
+        SimFocuser(
+            comm=prosody_server.comm("focuser", room=room, **open_policy), clock=clock, speed=20.0, focus=20.0
+        ),
         SimFilterWheel(
-            comm=prosody_server.comm("filters", room=room), clock=clock, filters=["B", "V"], change_time=0.2
+            comm=prosody_server.comm("filters", room=room, **open_policy),
+            clock=clock,
+            filters=["B", "V"],
+            change_time=0.2,
         ),
         AlpacaServer(
             comm=prosody_server.comm("alpaca", room=room),

@@ -21,7 +21,7 @@ from nightcrew.timeout import DEFAULT_TIMEOUT
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
-from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes
+from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes, starting_policy_file
 
 from .node import CLIENT, node_ready
 
@@ -47,6 +47,7 @@ def observatory(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[dict
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": network.room,
         "SIM_XMPP_CA_FILE": server.ca_file,
+        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN, operators=("jsclient",)),
         "SIM_CLOCK_START": CLOCK_START,
         "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
         "SIM_IMAGES": str(tmp_path / "images"),

@@ -36,7 +36,8 @@ class Network:
 
     def comm(self, name: str) -> Comm:
         if self.server is not None:
-            return self.server.comm(name, room=self.room)
+            # The contract is about the transport, not access: open, as a user would say it.
+            return self.server.comm(name, room=self.room, policy="open")
         return LocalComm(name, network=self._local)
 
     async def start(self, cls: type[M], name: str, **kwargs: Any) -> M:

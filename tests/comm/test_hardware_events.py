@@ -148,7 +148,10 @@ async def test_without_a_policy_on_xmpp_and_unnamed_in_a_policy_nobody_is_truste
     network = prosody_network
     policy = tmp_path / "policy.yaml"
     policy.write_text(POLICY)  # names no event: the safety role is not enough
-    bare = await network.start(Calculator, "listener")
+    assert network.server is not None
+    bare = Calculator(comm=network.server.comm("listener", room=network.room))  # no policy: closed
+    network._modules.append(bare)
+    await bare.open()
     guarded = await _start_with_policy(network, "calc", policy, Calculator)
     heard: list[str] = []
 

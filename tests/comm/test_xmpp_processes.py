@@ -35,6 +35,7 @@ def write_config(path: Path, cls: str, name: str, server: XmppServer, room: str,
         f"  server: {server.address}",
         f"  room: {room}",
         f"  ca_file: {server.ca_file}",
+        "  policy: open",  # about processes on XMPP, not access (test_closed_default.py)
     ]
     path.write_text("\n".join(lines) + "\n")
     return path

@@ -25,7 +25,9 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from nightcrew.server import Account, init_server, stop_server
+import yaml
+
+from nightcrew.server import Account, init_server, policy_for_accounts, stop_server
 from nightcrew.supervisor import send_request
 from nightcrew.testing.hosts import OUTSIDE, Hosts
 from nightcrew.testing.samba import SambaServer
@@ -148,8 +150,11 @@ def start(directory: Path) -> Observatory:
         SambaServer(directory / "samba", host=dome.address("office"), port=SMB_PORT, wrap=dome.command),
     )
     try:
-        accounts = [Account(name, DOMAIN, PASSWORD) for name in [*MODULES, "operator"]]
+        accounts = [Account(name, DOMAIN, PASSWORD) for name in MODULES]
+        accounts.append(Account("operator", DOMAIN, PASSWORD, person=True))
         init_server(observatory.xmpp_directory, accounts, host="0.0.0.0", port=XMPP_PORT, domains=[DOMAIN])
+        # The starting policy, as `nightcrew server init` writes it for these accounts.
+        (directory / "access.policy").write_text(yaml.safe_dump(policy_for_accounts(accounts)))
         server = dome.run(
             [sys.executable, "-m", "nightcrew", "server", "start", str(observatory.xmpp_directory)],
             log=directory / "prosody-start.log",
@@ -186,6 +191,7 @@ def _environments(observatory: Observatory) -> dict[str, dict[str, str]]:
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": ROOM,
         "SIM_XMPP_CA_FILE": observatory.ca_file,
+        "SIM_XMPP_POLICY": str(directory / "access.policy"),
         "SIM_CLOCK_START": CLOCK_START,
         "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
         "SIM_WALL_START": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S"),

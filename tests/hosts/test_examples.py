@@ -15,6 +15,7 @@ EXAMPLES = REPOSITORY / "examples" / "multi-host"
 ENVIRONMENT = {
     "SIM_XMPP_PASSWORD": "pw",
     "SIM_XMPP_CA_FILE": str(REPOSITORY / "pyproject.toml"),  # any file: building checks it exists
+    "SIM_XMPP_POLICY": str(REPOSITORY / "examples" / "notify" / "policy.yaml"),  # any policy
     "NC_FILECACHE_TOKEN": "cache-token",
     "NC_FILECACHE_URL": "http://10.0.0.2:37081",
     "NC_SSH_HOST": "dome.example",

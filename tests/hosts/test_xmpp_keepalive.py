@@ -57,6 +57,7 @@ def comm(name: str, address: str, ca_file: str, ping_interval: float | None) -> 
     return XmppComm(
         f"{name}@{DOMAIN}", PASSWORD, server=address, ca_file=ca_file, connect_timeout=5,
         ping_interval=ping_interval, ping_timeout=PING_TIMEOUT,
+        policy="open",  # about keepalives, not access
     )  # fmt: skip
 
 

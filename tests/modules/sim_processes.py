@@ -8,11 +8,27 @@ import subprocess
 import sys
 from pathlib import Path
 
+import yaml
+
+from nightcrew.server import Account, accounts_from_configs, policy_for_accounts
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 OVERLAYS = REPOSITORY / "examples" / "sim-processes"
 #: Dusk of the default night of ``nightcrew sim``; every process starts its clock here.
 CLOCK_START = "2026-11-10T17:50:00"
 CLOCK_SPEED = 20.0
+
+
+def starting_policy_file(directory: Path, domain: str, operators: tuple[str, ...] = ()) -> str:
+    """The access policy ``nightcrew server init xmpp examples/sim-processes/*.yaml`` writes (the
+    tutorial's step), for tests whose server was made without it: its path, for SIM_XMPP_POLICY.
+    ``operators``: more people's accounts, given to init with ``--operator NAME`` each."""
+    environ = {"SIM_XMPP_PASSWORD": "-", "SIM_XMPP_DOMAIN": domain}
+    accounts = accounts_from_configs(sorted(OVERLAYS.glob("*.yaml")), environ=environ)
+    accounts += [Account(name, domain, "-", person=True) for name in operators]
+    path = directory / "access.policy"
+    path.write_text(yaml.safe_dump(policy_for_accounts(accounts, ("operator", *operators))))
+    return str(path)
 
 
 class Processes:

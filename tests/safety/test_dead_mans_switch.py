@@ -75,6 +75,11 @@ def test_check_validates_the_switch_keys(
 ) -> None:
     """As docs/operations.md tells a user to add them to roof.yaml."""
     monkeypatch.chdir(tmp_path)
+    # The bundled roof.yaml names its XMPP comm (for `nightcrew up`): what `server init` would write.
+    Path("server.crt").write_text("a certificate\n")
+    Path("access.policy").write_text("roles: {modules: ['*']}\naccounts: {roof: [modules]}\n")
+    for key, value in {"PASSWORD": "change-me", "CA_FILE": "server.crt", "POLICY": "access.policy"}.items():
+        monkeypatch.setenv(f"SIM_XMPP_{key}", str(tmp_path / value) if "." in value else value)
     switch = "watchdog: watchdog\npark_when_watchdog_silent: {}\n"
     Path("roof.yaml").write_text(f"<<: !include {ROOF}\n" + switch.format(120))
     assert main(["check", "roof.yaml"]) == 0

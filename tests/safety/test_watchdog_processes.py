@@ -32,6 +32,7 @@ from nightcrew.interfaces import IMotion, IRoof, ITelescope, MotionStatus
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+from tests.modules.sim_processes import starting_policy_file
 from tests.supervisor.conftest import REPOSITORY, START_TIMEOUT, SupervisedDirectory
 
 pytestmark = pytest.mark.xmpp
@@ -102,6 +103,7 @@ def sim_env(
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": supervised.room,
         "SIM_XMPP_CA_FILE": str(prosody.ca_file),
+        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN),
         "SIM_CLOCK_START": CLOCK_START,
         "SIM_CLOCK_SPEED": str(SPEED),
         "SIM_WALL_START": wall_start,

@@ -52,7 +52,7 @@ def test_accounts_come_from_comm_descriptions_too(tmp_path: Path) -> None:
         "class: nightcrew.comm.xmpp.XmppComm\njid: operator@obs.local\npassword: ${OP_PASSWORD}\n"
     )
     assert accounts_from_configs([operator], environ={"OP_PASSWORD": "pw"}) == [
-        Account("operator", "obs.local", "pw")
+        Account("operator", "obs.local", "pw", person=True)
     ]
     bad = tmp_path / "bad.yaml"
     bad.write_text("class: nightcrew.comm.xmpp.XmppComm\njid: operator@obs.local\n")

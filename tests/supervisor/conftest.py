@@ -87,6 +87,7 @@ class SupervisedDirectory:
         (directory / "xmpp.yaml").write_text(
             "class: nightcrew.comm.xmpp.XmppComm\n"
             f"password: {PASSWORD}\nserver: {prosody.address}\nroom: {room}\nca_file: {prosody.ca_file}\n"
+            "policy: open\n"  # these tests are about supervision, not access (tests/security)
         )
 
     def operator_comm(self, **options: Any) -> XmppComm:

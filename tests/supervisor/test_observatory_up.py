@@ -82,6 +82,7 @@ def environment(tmp_path: Path) -> Iterator[dict[str, str]]:
         "SIM_XMPP_PASSWORD": "change-me",
         "SIM_XMPP_SERVER": f"127.0.0.1:{port}",
         "SIM_XMPP_CA_FILE": str(tmp_path / "xmpp" / "certs" / "observatory.local.crt"),
+        "SIM_XMPP_POLICY": str(tmp_path / "xmpp" / "access.policy"),  # also by `server init`
         "SIM_CLOCK_SPEED": SPEED,
         "SIM_WALL_START": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S"),
         "OBSERVATORY_DATA": str(tmp_path / "data"),

@@ -23,6 +23,7 @@ from nightcrew.events import BadWeatherEvent, Event
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+from tests.modules.sim_processes import starting_policy_file
 
 from .conftest import REPOSITORY, START_TIMEOUT, Prosody
 
@@ -48,10 +49,15 @@ def rainy_copy(tmp_path: Path) -> Path:
 
 
 @pytest.fixture
-async def operator(prosody: Prosody) -> AsyncIterator[Module]:
+async def operator(prosody: Prosody, tmp_path: Path) -> AsyncIterator[Module]:
     prosody.account("operator")
-    comm = XmppComm(
-        f"operator@{DOMAIN}", PASSWORD, server=prosody.address, room="simproc", ca_file=str(prosody.ca_file)
+    comm = XmppComm(  # as operator.yaml: naming the observatory's policy, which trusts the verdict
+        f"operator@{DOMAIN}",
+        PASSWORD,
+        server=prosody.address,
+        room="simproc",
+        ca_file=str(prosody.ca_file),
+        policy=starting_policy_file(tmp_path, DOMAIN),
     )
     module = Module(comm=comm)
     await module.open()
@@ -88,6 +94,7 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": "simproc",
         "SIM_XMPP_CA_FILE": str(prosody.ca_file),
+        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN),
         "SIM_IMAGES": str(tmp_path / "images"),
         "OBSERVATORY_DATA": str(tmp_path / "data"),
         "NIGHTCREW_SUPERVISOR_SOCKET": str(socket),

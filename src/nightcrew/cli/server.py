@@ -3,9 +3,13 @@
 ``init DIR [--host 127.0.0.1] [--port 5222] [--domain D] CONFIG...`` writes a Prosody
 configuration, a self-signed certificate (``DIR/certs/<domain>.crt``, for the modules'
 ``ca_file``) and one account per module configuration with a ``comm: {jid, password}``
-(``${VAR}`` resolved from the environment). ``start`` runs Prosody in the background with
-its data, log and pidfile in DIR; ``stop`` ends it; ``status`` says whether it runs (exit 0) or
-not (exit 3). Using an existing Prosody or ejabberd instead: see docs/xmpp-servers.md.
+(``${VAR}`` resolved from the environment) and per person (a comm file alone, as operator.yaml).
+Module accounts own the room; people are members. Unless it exists, it writes the starting
+access policy ``DIR/access.policy`` (docs/security.md) the modules' comms name: the modules may
+call each other, the ``--operator`` people everything, other people only what reads.
+``start`` runs Prosody in the background with its data, log and pidfile in DIR; ``stop`` ends
+it; ``status`` says whether it runs (exit 0) or not (exit 3). Using an existing Prosody or
+ejabberd instead: see docs/xmpp-servers.md.
 """
 
 from __future__ import annotations
@@ -14,13 +18,23 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from nightcrew.night.init import module_text
 from nightcrew.server import (
     ServerSettings,
     accounts_from_configs,
     init_server,
+    policy_for_accounts,
     server_status,
     start_server,
     stop_server,
+)
+
+#: The starting policy ``init`` writes beside the server's files (not *.yaml: no module file).
+POLICY_FILE = "access.policy"
+_POLICY_HEADER = (
+    "The observatory's access policy, written once by `nightcrew server init` (docs/security.md); "
+    "every module's comm names it. Modules may call each other, operators everything, observers "
+    "only what reads; weather verdicts and safety alarms are trusted only from the safety modules."
 )
 
 __all__ = ["add_parser"]
@@ -65,27 +79,43 @@ def _init_options() -> argparse.ArgumentParser:
         help="let any account of the server enter the room (not members-only)",
     )
     parser.add_argument("--require-tls", action="store_true", help="require TLS on loopback too")
+    parser.add_argument(
+        "--operator",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="a person who may call everything (default: operator); other people only read",
+    )
     return parser
 
 
 def _init(args: argparse.Namespace) -> int:
     options = _init_options().parse_intermixed_args(args.rest)
     accounts = accounts_from_configs(options.configs)
-    # The accounts of the given files own the room; with any, it is members-only (docs/security.md).
+    modules = [a for a in accounts if not a.person]
+    # Module accounts own the room; with any, it is members-only (docs/security.md). People are
+    # members, admitted by the modules from the policy.
     settings = init_server(
         args.directory,
         accounts,
         host=options.host,
         port=options.port,
         domains=options.domain,
-        room_owners=[a.jid for a in accounts],
-        members_only=bool(accounts) and not options.open_room,
+        room_owners=[a.jid for a in modules],
+        members_only=bool(modules) and not options.open_room,
         require_tls=True if options.require_tls else None,
     )
     names = ", ".join(a.jid for a in accounts) or "no accounts"
     print(
         f"server in {args.directory}: {settings.host}:{settings.port}, {' '.join(settings.domains)}; {names}"
     )
+    policy = Path(args.directory) / POLICY_FILE
+    if policy.exists():
+        print(f"kept the access policy {policy}")
+    elif accounts:
+        body = policy_for_accounts(accounts, options.operator or ["operator"])
+        policy.write_text(module_text(_POLICY_HEADER, body))
+        print(f"wrote the access policy {policy}")
     return 0
 
 

@@ -30,7 +30,7 @@ from nightcrew.errors import InterfaceError, ModuleError, NightcrewError, Remote
 from nightcrew.events.base import Event, event_by_name
 from nightcrew.interfaces.base import Interface, interface_by_name
 from nightcrew.log import current_module, module_context
-from nightcrew.security import AuditLog, Policy, load_policy
+from nightcrew.security import OPEN_POLICY, AuditLog, Policy, closed_policy, load_policy
 from nightcrew.timeout import DEFAULT_TIMEOUT
 
 __all__ = ["Comm", "EventHandler", "PendingCall"]
@@ -86,20 +86,28 @@ class Comm(ABC):
     Args:
         rpc_grace: Wall seconds added to every announced timeout for network latency.
         policy: The observatory's access policy (a YAML file, see :mod:`nightcrew.security`); every
-            incoming call is checked against it. Without one, every caller may call everything.
+            incoming call is checked against it. ``open``: every caller may call everything. Without
+            one, an in-process comm lets every caller call everything, and a network comm
+            (:attr:`network`) is closed: nobody may call a state-changing method (see
+            :func:`~nightcrew.security.closed_policy`).
         audit: A JSON-lines file where every state-changing call to this module is recorded.
     """
 
-    #: Whether other processes reach this comm (XMPP): then, without a policy, events that move
-    #: hardware are refused (any member of the room could send them).
-    networked: ClassVar[bool] = False
+    #: Whether the transport reaches other processes' accounts (XMPP): then closed unless a policy
+    #: opens it, and events that move hardware trusted only from the senders a policy names.
+    network: ClassVar[bool] = False
 
     def __init__(
         self, *, rpc_grace: float = 0.0, policy: str | Policy | None = None, audit: str | None = None
     ) -> None:
         self._rpc_grace = rpc_grace
+        self._open_policy = policy == OPEN_POLICY
+        self._closed_by_default = policy is None and self.network
         # Read when built, so that `nightcrew check` reports a broken policy file with its key.
-        self._policy = load_policy(policy) if isinstance(policy, str) else policy
+        if isinstance(policy, str):
+            self._policy: Policy | None = None if self._open_policy else load_policy(policy)
+        else:
+            self._policy = closed_policy() if self._closed_by_default else policy
         self._audit = AuditLog(audit) if audit else None
         self._clock: Clock = RealClock()
         self._server: RpcServer | None = None
@@ -270,6 +278,7 @@ class Comm(ABC):
         if self._is_open:
             return
         await self._open_transport()
+        self._warn_if_unguarded()  # once connected: a failed login stays one line
         self._is_open = True
 
     async def close(self) -> None:
@@ -281,6 +290,23 @@ class Comm(ABC):
         for task in list(self._tasks):
             task.cancel()
         await asyncio.gather(*self._tasks, return_exceptions=True)
+
+    def _warn_if_unguarded(self) -> None:
+        """At every start, warn when a module on the network is open to everyone; say when it is closed."""
+        if not self.network or self._server is None:
+            return  # in process, or a client serving nothing (an operator's command)
+        if self._open_policy:
+            log.warning(
+                "%s runs with 'policy: open': every account on the server may call all its methods "
+                "(docs/security.md)",
+                self.name,
+            )
+        elif self._closed_by_default:  # safe, so said quietly (people's commands run so, too)
+            log.info(
+                "%s has no access policy: it refuses every state-changing call (give its comm "
+                "'policy: FILE', or 'policy: open'; docs/security.md)",
+                self.name,
+            )
 
     # --- discovery and proxies -----------------------------------------------------------------
 
@@ -421,20 +447,20 @@ class Comm(ABC):
 
         A forged verdict or alarm (a SafetyClearedEvent from an observer) must not move hardware:
         such events are trusted only from the senders the policy names, and without a policy on a
-        network transport from nobody (every room member could send them).
+        network transport from nobody (every room member could send them); under an explicit
+        `policy: open` from anyone, as the operator chose.
         """
         name, account = event_type.event_name(), self._sender_account(sender)
-        if self._policy is not None:
-            trusted = self._policy.accepts_event(account, name, moves_hardware=event_type.moves_hardware)
-        else:
-            trusted = not (event_type.moves_hardware and self.networked)
+        if self._policy is None:  # in-process, or `policy: open` (warned at every start)
+            return True
+        trusted = self._policy.accepts_event(account, name, moves_hardware=event_type.moves_hardware)
         if not trusted:
             log.warning(
                 "refused %s from %s: %s",
                 name,
                 account if account == sender else f"{sender} ({account})",
                 "the policy does not name it as a sender of this event"
-                if self._policy is not None
+                if not self._closed_by_default
                 else "without an access policy, events that move hardware are trusted from nobody on "
                 "a network (docs/security.md)",
             )

@@ -8,7 +8,7 @@ queue, no thread), which makes an in-process call cost microseconds.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.rpc import fault_from_exception
@@ -99,7 +99,7 @@ class LocalComm(Comm):
         name: str,
         *,
         network: LocalNetwork | None = None,
-        policy: InputPath | Policy | None = None,
+        policy: InputPath | Literal["open"] | Policy | None = None,
         audit: DataPath | None = None,
     ) -> None:
         self._network = network or LocalNetwork.default()

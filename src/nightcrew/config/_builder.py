@@ -79,7 +79,12 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
         elif key != "class":
             parameter = parameters.get(key)
             location = location_in(node, key, owner)
-            if parameter is not None and parameter.path_role is not None and isinstance(value, str):
+            if (
+                parameter is not None
+                and parameter.path_role is not None
+                and isinstance(value, str)
+                and not _is_literal_word(value, parameter.hint)
+            ):
                 kwargs[key] = _file_path(value, parameter.path_role, join_key(prefix, key), location)
                 continue
             hint = parameter.hint if parameter else Any
@@ -106,6 +111,12 @@ def _build_object(node: Mapping[str, Any], prefix: str, owner: Location | None) 
             line=location.line if location else None,
             key=prefix or None,
         ) from exc
+
+
+def _is_literal_word(value: str, hint: Any) -> bool:
+    """Whether ``value`` is a word the hint allows besides a path (``policy: open``)."""
+    members = union_members(unwrap(hint)) or (hint,)
+    return any(typing.get_origin(m) is Literal and value in typing.get_args(m) for m in members)
 
 
 def _file_path(value: str, role: PathRole, key: str, location: Location | None) -> str:

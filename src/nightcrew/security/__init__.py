@@ -14,20 +14,31 @@ from nightcrew.security._passwords import (
     hash_password,
     verify_password,
 )
-from nightcrew.security._policy import DEFAULT_SAFETY_METHODS, Policy, load_policy, parse_policy
+from nightcrew.security._policy import (
+    DEFAULT_SAFETY_METHODS,
+    OPEN_POLICY,
+    Policy,
+    closed_policy,
+    load_policy,
+    parse_policy,
+    starting_policy,
+)
 
 __all__ = [
     "DEFAULT_SAFETY_METHODS",
+    "OPEN_POLICY",
     "AuditLog",
     "AuditRecord",
     "LoginLimiter",
     "Policy",
     "check_password_hash",
+    "closed_policy",
     "dummy_password_hash",
     "hash_password",
     "is_state_changing",
     "load_policy",
     "parse_policy",
     "read_audit",
+    "starting_policy",
     "verify_password",
 ]

@@ -17,15 +17,16 @@ from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import Any
 
-__all__ = ["AuditLog", "AuditRecord", "is_state_changing", "read_audit"]
+__all__ = ["GETTER_PREFIXES", "AuditLog", "AuditRecord", "is_state_changing", "read_audit"]
 
-_GETTER_PREFIXES = ("get_", "is_", "list_", "has_")
+#: Methods named so only read: not audited, and open to everyone under the closed default policy.
+GETTER_PREFIXES = ("get_", "is_", "list_", "has_")
 _ARGUMENT_CHARS = 200
 
 
 def is_state_changing(method: str) -> bool:
     """Whether a call of ``method`` belongs in the audit trail (not a getter)."""
-    return not method.startswith(_GETTER_PREFIXES)
+    return not method.startswith(GETTER_PREFIXES)
 
 
 @dataclass(frozen=True)

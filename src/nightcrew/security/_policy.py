@@ -38,8 +38,18 @@ from typing import Any
 
 from nightcrew.config import load_data_file
 from nightcrew.errors import ConfigError
+from nightcrew.events import hardware_event_names
+from nightcrew.security._audit import GETTER_PREFIXES
 
-__all__ = ["DEFAULT_SAFETY_METHODS", "Policy", "load_policy", "parse_policy"]
+__all__ = [
+    "DEFAULT_SAFETY_METHODS",
+    "OPEN_POLICY",
+    "Policy",
+    "closed_policy",
+    "load_policy",
+    "parse_policy",
+    "starting_policy",
+]
 
 #: Methods the safety roles may always call (close and park: failing safe must never be refused).
 DEFAULT_SAFETY_METHODS = ("roof.close_roof", "telescope.park", "*.stop_motion", "*.close_roof", "*.park")
@@ -57,10 +67,12 @@ class Policy:
     events: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     header_providers: tuple[str, ...] | None = None
     source: str = field(default="", compare=False)
+    #: Roles every caller holds besides its own (the closed default lets everyone read).
+    everyone: tuple[str, ...] = ()
 
     def allows(self, caller: str, module: str, method: str, interface: str | None) -> bool:
         """Whether account ``caller`` may call ``method`` (of ``interface``) on ``module``."""
-        roles = self.accounts.get(caller, ())
+        roles = self.roles_of(caller)
         target = f"{module}.{method}"
         if any(role in self.safety_roles for role in roles) and any(
             fnmatchcase(target, pattern) for pattern in self.safety_methods
@@ -91,7 +103,49 @@ class Policy:
         return roles is None or any(role in roles for role in self.accounts.get(provider, ()))
 
     def roles_of(self, caller: str) -> tuple[str, ...]:
-        return self.accounts.get(caller, ())
+        return self.accounts.get(caller, ()) + self.everyone
+
+
+# --- the call side's defaults: closed unless a policy opens it ---------------------------------------
+
+#: ``policy: open`` in a comm: every caller may call everything (a network comm warns at every start).
+OPEN_POLICY = "open"
+
+
+def closed_policy() -> Policy:
+    """What a module on a network transport enforces without a policy: every account may call the
+    getters (``get_*``, ``is_*``, ``list_*``, ``has_*``), nobody anything that changes state."""
+    reads = tuple(f"*.{prefix}*" for prefix in GETTER_PREFIXES)
+    return Policy(roles={"reader": reads}, accounts={}, everyone=("reader",), source="(no policy: closed)")
+
+
+def starting_policy(modules: list[str], people: Mapping[str, str]) -> dict[str, Any]:
+    """The policy (plain data, for a YAML file) that ``nightcrew init`` and ``nightcrew server init``
+    write: the observatory's ``modules`` may call each other, a person (name → ``operator`` or
+    ``observer``) everything or only what reads. Safety events come only from the safety modules
+    (weather, watchdog and safety, where present); FITS header cards only from modules."""
+    safety = [name for name in ("weather", "safety", "watchdog") if name in modules]
+    accounts: dict[str, list[str]] = {
+        name: ["modules", "safety"] if name in safety else ["modules"] for name in modules
+    }
+    accounts.update({person: [role] for person, role in people.items()})
+    if "console" in modules:
+        accounts.update(
+            {"console": ["observer"], "console:viewer": ["observer"], "console:operator": ["operator"]}
+        )
+    return {
+        "roles": {
+            "operator": ["*"],
+            "observer": [*(f"*.{prefix}*" for prefix in GETTER_PREFIXES), "IModule"],
+            "modules": ["*"],
+            "safety": [],
+        },
+        "accounts": accounts,
+        "safety_roles": ["safety"],
+        # Every event class marked as moving hardware, so that a new one is not forgotten.
+        "events": {name: ["safety"] for name in hardware_event_names()},
+        "header_providers": ["modules"],
+    }
 
 
 def load_policy(path: str | os.PathLike[str]) -> Policy:

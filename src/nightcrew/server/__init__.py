@@ -5,7 +5,7 @@ self-signed certificate and one account per module configuration; :func:`start_s
 Prosody in the background with its own data directory and pidfile, no root or systemd needed.
 """
 
-from nightcrew.server._accounts import Account, accounts_from_configs
+from nightcrew.server._accounts import Account, accounts_from_configs, policy_for_accounts
 from nightcrew.server._prosody import (
     ServerSettings,
     init_server,
@@ -20,6 +20,7 @@ __all__ = [
     "ServerSettings",
     "accounts_from_configs",
     "init_server",
+    "policy_for_accounts",
     "register_account",
     "server_status",
     "start_server",

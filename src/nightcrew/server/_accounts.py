@@ -5,21 +5,25 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from nightcrew.comm.xmpp import parse_jid
 from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
+from nightcrew.security import starting_policy
 
-__all__ = ["Account", "accounts_from_configs"]
+__all__ = ["Account", "accounts_from_configs", "policy_for_accounts"]
 
 
 @dataclass(frozen=True)
 class Account:
-    """One module's login: ``user@domain`` with its password."""
+    """One login: ``user@domain`` with its password; ``person``: a person's (an operator command's
+    comm file), not a module's. Modules own the room, people are its members."""
 
     user: str
     domain: str
     password: str
+    person: bool = False
 
     @property
     def jid(self) -> str:
@@ -31,7 +35,7 @@ def accounts_from_configs(
 ) -> list[Account]:
     """The accounts of every module config whose ``comm:`` has a ``jid``, and of every comm
     description alone in a file (``jid`` at the top level, as ``--comm`` files for the operator
-    commands are); ``${VAR}`` resolved.
+    commands are: a person's); ``${VAR}`` resolved.
 
     Raises:
         ConfigError: A file cannot be read, a JID is malformed or has no password, or one JID
@@ -47,9 +51,20 @@ def accounts_from_configs(
         password = comm.get("password")
         if not password:
             raise ConfigError(f"{os.fspath(path)}: key '{prefix}password': missing")
-        account = Account(user, domain, str(password))
+        account = Account(user, domain, str(password), person=not prefix)
         previous = found.get(account.jid)
         if previous is not None and previous.password != account.password:
             raise ConfigError(f"{os.fspath(path)}: {account.jid} appears twice with different passwords")
         found[account.jid] = account
     return list(found.values())
+
+
+def policy_for_accounts(
+    accounts: Iterable[Account], operators: Iterable[str] = ("operator",)
+) -> dict[str, Any]:
+    """The starting access policy (plain data) for these accounts: modules call each other, the
+    people named in ``operators`` everything, other people only what reads."""
+    given = list(accounts)
+    chosen = set(operators)
+    people = {a.user: "operator" if a.user in chosen else "observer" for a in given if a.person}
+    return starting_policy([a.user for a in given if not a.person], people)

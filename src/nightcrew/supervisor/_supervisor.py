@@ -81,12 +81,15 @@ class Supervisor:
         loop = asyncio.get_running_loop()
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.add_signal_handler(sig, stop.set)
+        joining: asyncio.Task[None] | None = None
         try:
             log.info("supervising %s; control socket %s", ", ".join(self._modules), self._socket_path)
             for module in self._modules.values():
                 module.start()
             if presence is not None:
-                await presence.open()
+                # Beside the modules, not before them: its name may be held, which is waited out.
+                joining = asyncio.create_task(presence.open())
+                joining.add_done_callback(lambda task: _stop_if_failed(task, stop))
             await stop.wait()
             log.info("stopping all modules")
         finally:
@@ -95,8 +98,13 @@ class Supervisor:
             await control.close()
             for module in reversed(self._modules.values()):
                 await module.stop()
+            if joining is not None and not joining.done():
+                joining.cancel()
+                await asyncio.gather(joining, return_exceptions=True)
             if presence is not None:
                 await presence.close()
+        if joining is not None and _failed(joining):
+            raise joining.exception() or RuntimeError  # a login refused: `up` ends with it
 
     def _statuses(self) -> list[ModuleStatus]:
         return [module.status() for module in self._modules.values()]
@@ -165,3 +173,12 @@ def _tail(path: Path, lines: int) -> list[str]:
     except FileNotFoundError:
         return []
     return text.splitlines()[-lines:]
+
+
+def _stop_if_failed(task: asyncio.Task[None], stop: asyncio.Event) -> None:
+    if _failed(task):
+        stop.set()
+
+
+def _failed(task: asyncio.Task[None]) -> bool:
+    return task.done() and not task.cancelled() and task.exception() is not None

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from nightcrew.comm.base import Comm, PendingCall
 from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings
@@ -55,14 +55,16 @@ class XmppComm(Comm):
             module reconnects (a silent link is noticed within interval + timeout).
         rpc_grace: Wall seconds added to every announced timeout for network latency.
         policy: The access policy file; callers are identified by their authenticated account
-            (the JID's local part on this domain, the bare JID otherwise).
+            (the JID's local part on this domain, the bare JID otherwise). Without one the module
+            refuses every state-changing call; ``open`` lets every account call everything (warned
+            at every start).
         audit: The audit trail file.
         dialect: ``pyobs`` makes pyobs-core 2.x modules peers too (docs/pyobs.md): the module
             also announces itself by presence, offers its interfaces and events the pyobs way and
             calls pyobs modules in their value format; its resource defaults to ``pyobs``.
     """
 
-    networked = True
+    network = True
 
     def __init__(
         self,
@@ -78,7 +80,7 @@ class XmppComm(Comm):
         ping_interval: float | None = 10.0,
         ping_timeout: float = 10.0,
         rpc_grace: float = 1.0,
-        policy: InputPath | Policy | None = None,
+        policy: InputPath | Literal["open"] | Policy | None = None,
         audit: DataPath | None = None,
         dialect: str = "nightcrew",
     ) -> None:
@@ -171,6 +173,7 @@ class XmppComm(Comm):
             on_offline=self._on_client_offline,
             on_event=self._deliver_event,
             domain=self._settings.domain,
+            members=self._observatory_accounts(),
         )
         if self._dialect == "pyobs":
             from nightcrew.comm.xmpp._pyobs import PyobsPeers
@@ -195,6 +198,8 @@ class XmppComm(Comm):
             raise
 
     async def _close_transport(self) -> None:
+        if self._room is not None:
+            await self._room.close()
         if self._connection is not None:
             await self._connection.close()
         if self._rpc is not None:
@@ -235,6 +240,18 @@ class XmppComm(Comm):
         # Every event reaches every room occupant; Comm._deliver_event keeps the registered ones.
         if self._pyobs is not None:
             self._pyobs.subscribe(name)
+
+    def _observatory_accounts(self) -> list[str]:
+        """Bare JIDs of the policy's other accounts (acting identities left out): room members."""
+        if self.policy is None:
+            return []
+        own = self._settings.bare_jid.lower()
+        jids = {
+            account if "@" in account else f"{account}@{self._settings.domain}"
+            for account in self.policy.accounts
+            if ":" not in account
+        }
+        return sorted(jid for jid in jids if jid.lower() != own)
 
     # --- glue ----------------------------------------------------------------------------------
 

@@ -24,7 +24,7 @@ from nightcrew.comm.rpc import shorten
 from nightcrew.comm.xmpp._connection import XmppConnection, error_condition, split_jid
 from nightcrew.comm.xmpp._rpc import NS_HINTS
 from nightcrew.comm.xmpp._stanza_limits import MAX_EVENT_CHARS, load_json_bounded
-from nightcrew.errors import CodecError, ConfigError, NightcrewError, RemoteError
+from nightcrew.errors import CodecError, NightcrewError, RemoteError
 
 __all__ = ["NS_EVENT", "NS_MODULE", "Room"]
 
@@ -38,12 +38,18 @@ NS_EVENT = "urn:nightcrew:event"
 NS_MODULE = "urn:nightcrew:module"
 _C = "{jabber:client}"
 _JOIN_TIMEOUT = 10.0
+#: Wall seconds between attempts to enter under a name someone else holds (the last one repeats).
+_NAME_RETRY_DELAYS = (1.0, 2.0, 5.0, 10.0, 30.0)
 #: Marks the nickname a module uses for a moment while it takes its own name back; never a module name.
 _RECLAIM_MARK = "~"
 
 
 class _NameTaken(Exception):  # an internal signal: never leaves this module
     """The room refused our nickname: an occupant holds it (or it is reserved)."""
+
+
+class _NameHeld(Exception):  # an internal signal: join() retries
+    """Another account holds this module's name and cannot be removed (now)."""
 
 
 class Room:
@@ -59,8 +65,11 @@ class Room:
         on_offline: Callable[[str], None],
         on_event: Callable[[str, dict[str, Any], str], None],
         domain: str | None = None,
+        members: list[str] | None = None,
     ) -> None:
         self._connection = connection
+        # The observatory's other accounts (bare JIDs): made members of the room, never owners.
+        self._members = [jid.lower() for jid in members or []]
         # Occupants whose nickname is not their account here are squatters (see _is_squatter).
         self._domain = domain
         self._room_jid = room_jid
@@ -73,6 +82,9 @@ class Room:
         self._vacated: asyncio.Future[None] | None = None  # while waiting for a squatter to go
         self._previous: dict[str, str] | None = None  # occupants before a reconnect
         self._joined: asyncio.Future[None] | None = None
+        self._rejoin_task: asyncio.Task[None] | None = None
+        self._closing = False
+        self._joining = False  # our own leaving under a passing name is no removal
         self._state = "starting"
         connection.add_handler("nightcrew room presence", f"{_C}presence", self._on_presence)
         connection.add_handler("nightcrew event", f"{_C}message/{{{NS_EVENT}}}event", self._on_message)
@@ -94,19 +106,83 @@ class Room:
     async def join(self) -> None:
         """Enter the room (again after a reconnect) and wait for the occupant list.
 
-        When another account holds this module's name, take it back (see :meth:`_take_back`).
+        When another account holds this module's name, take it back (see :meth:`_take_back`); when
+        that cannot be done, say so and try again (the holder may leave, or be removed by hand):
+        a held name is a condition to wait out, not a broken configuration.
         """
+        delays = iter(_NAME_RETRY_DELAYS)
+        self._joining = True
+        try:
+            while True:
+                try:
+                    await self._claim_name()
+                    break
+                except _NameHeld as exc:
+                    delay = next(delays, _NAME_RETRY_DELAYS[-1])
+                    log.warning("%s; trying again in %g s", exc, delay)
+                    await asyncio.sleep(delay)
+        finally:
+            self._joining = False
+        if self._domain is not None:
+            await self._reserve_name()
+            await self._admit_members()
+
+    async def _claim_name(self) -> None:
+        self._squatters.clear()  # seen on an earlier attempt: whoever holds the name now says so anew
         try:
             await self._enter()
         except _NameTaken as exc:
             if self._domain is None:
-                raise ConfigError(str(exc)) from None
+                raise _NameHeld(str(exc)) from None
             try:
                 await self._take_back()
             except _NameTaken as again:  # even the passing name was refused
-                raise ConfigError(str(again)) from None
-        if self._domain is not None:
-            await self._reserve_name()
+                raise _NameHeld(str(again)) from None
+
+    async def _admit_members(self) -> None:
+        """Make the observatory's other accounts members of the room (XEP-0045 §9.3), where the
+        room does not list them yet: in a members-only room people enter as members, never owners.
+
+        Only an owner or admin may; a refusal (this module is no owner; the account is a server
+        admin, hence an owner already) changes nothing and is fine.
+        """
+        from slixmpp.exceptions import IqError, IqTimeout
+
+        if not self._members:
+            return
+        listed = await self._affiliated("member")
+        missing = [jid for jid in self._members if jid not in listed]
+
+        async def admit(jid: str) -> None:
+            try:
+                await self._admin_iq(jid, "member", None)
+            except (IqError, IqTimeout) as exc:
+                log.debug("room %s did not make %s a member: %s", self._room_jid, jid, exc)
+
+        await asyncio.gather(*(admit(jid) for jid in missing))
+
+    async def _affiliated(self, affiliation: str) -> set[str]:
+        from slixmpp.exceptions import IqError, IqTimeout
+
+        query = ET.Element(f"{{{NS_MUC_ADMIN}}}query")
+        ET.SubElement(query, f"{{{NS_MUC_ADMIN}}}item", affiliation=affiliation)
+        iq: Any = self._connection.client.make_iq_get(ito=self._room_jid)
+        iq.append(query)
+        try:
+            answer = await iq.send(timeout=_JOIN_TIMEOUT)
+        except (IqError, IqTimeout):
+            return set()
+        return {str(item.get("jid", "")).lower() for item in answer.xml.iter(f"{{{NS_MUC_ADMIN}}}item")}
+
+    async def _admin_iq(self, jid: str, affiliation: str, reason: str | None) -> None:
+        """Set the affiliation of bare JID ``jid`` (XEP-0045 §9); raises slixmpp's IqError/IqTimeout."""
+        query = ET.Element(f"{{{NS_MUC_ADMIN}}}query")
+        item = ET.SubElement(query, f"{{{NS_MUC_ADMIN}}}item", affiliation=affiliation, jid=jid)
+        if reason is not None:
+            ET.SubElement(item, f"{{{NS_MUC_ADMIN}}}reason").text = reason
+        iq: Any = self._connection.client.make_iq_set(ito=self._room_jid)
+        iq.append(query)
+        await iq.send(timeout=_JOIN_TIMEOUT)
 
     async def _reserve_name(self) -> None:
         """Register this module's name with the room (XEP-0045 §7.10), so that no other account may
@@ -166,7 +242,7 @@ class Room:
             try:
                 await self._enter(join=False)  # a nickname change (XEP-0045 §7.6)
             except _NameTaken:
-                raise ConfigError(
+                raise _NameHeld(
                     f"the name '{name}' is reserved in room {self._room_jid} for another account"
                 ) from None
         except BaseException:
@@ -180,20 +256,15 @@ class Room:
         from slixmpp.exceptions import IqError, IqTimeout
 
         bare = jid.partition("/")[0]
-        query = ET.Element(f"{{{NS_MUC_ADMIN}}}query")
-        item = ET.SubElement(query, f"{{{NS_MUC_ADMIN}}}item", affiliation="outcast", jid=bare)
-        ET.SubElement(item, f"{{{NS_MUC_ADMIN}}}reason").text = f"took the name of module '{name}'"
-        iq: Any = self._connection.client.make_iq_set(ito=self._room_jid)
-        iq.append(query)
         self._vacated = asyncio.get_running_loop().create_future()
         try:
-            await iq.send(timeout=_JOIN_TIMEOUT)
+            await self._admin_iq(bare, "outcast", f"took the name of module '{name}'")
             await asyncio.wait_for(self._vacated, _JOIN_TIMEOUT)
         except IqError as exc:
             condition = exc.iq["error"]["condition"]
-            raise ConfigError(
+            raise _NameHeld(
                 f"{bare} holds the name of module '{name}' in room {self._room_jid} and cannot be "
-                f"removed ({condition}: this account is not an owner of the room)"
+                f"removed ({condition}: this account is not an owner of the room, or {bare} is one)"
             ) from None
         except (IqTimeout, TimeoutError):
             raise RemoteError(
@@ -204,6 +275,46 @@ class Room:
         log.warning(
             "took back the name '%s' in room %s from %s: banned from the room", name, self._room_jid, bare
         )
+
+    def _removed(self, user: ET.Element | None, codes: set[str | None]) -> None:
+        """The room put us out (destroyed, kicked, banned): tell who is gone, then enter again."""
+        destroyed = user is not None and user.find(f"{{{NS_MUC_USER}}}destroy") is not None
+        why = (
+            "was destroyed"
+            if destroyed
+            else f"removed this module (status {' '.join(sorted(c for c in codes if c))})"
+        )
+        log.warning("room %s %s; entering it again (which recreates it)", self._room_jid, why)
+        self._previous = {}  # after entering again, everyone found is reported online
+        for nick in list(self._occupants):
+            if self._occupants.pop(nick, None) is not None and nick != self._nick:
+                self._on_offline(nick)
+        self._rejoin_task = asyncio.get_running_loop().create_task(self._rejoin_loop())
+
+    async def _rejoin_loop(self) -> None:
+        delays = iter(_NAME_RETRY_DELAYS)
+        try:
+            while True:
+                try:
+                    await self.join()
+                    log.warning("entered room %s again", self._room_jid)
+                    return
+                except NightcrewError as exc:
+                    delay = next(delays, _NAME_RETRY_DELAYS[-1])
+                    log.warning(
+                        "cannot enter room %s again (%s); trying again in %g s", self._room_jid, exc, delay
+                    )
+                    await asyncio.sleep(delay)
+        finally:
+            self._rejoin_task = None
+
+    async def close(self) -> None:
+        """Stop entering again (the connection closes separately)."""
+        self._closing = True
+        task, self._rejoin_task = self._rejoin_task, None
+        if task is not None:
+            task.cancel()
+            await asyncio.gather(task, return_exceptions=True)
 
     def lost(self) -> None:
         """The connection is gone; remember who was there to tell differences after rejoining."""
@@ -249,6 +360,8 @@ class Room:
         if "110" in codes:  # our own presence: the occupant list is complete
             if kind != "unavailable":
                 self._complete_join()
+            elif "303" not in codes and not (self._joining or self._closing or self._rejoin_task):
+                self._removed(user, codes)  # not a nickname change, not our own leaving
             return
         if kind == "unavailable":
             if self._squatters.pop(nick, None) is not None and self._vacated and not self._vacated.done():

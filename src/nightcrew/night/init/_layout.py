@@ -13,11 +13,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from nightcrew.events import hardware_event_names
 from nightcrew.night.init._found import FoundDevice
 from nightcrew.night.init._options import InitOptions
 from nightcrew.night.init._robotic import images_vfs, robotic_modules
 from nightcrew.night.init._yaml import MERGE, Include, module_text
+from nightcrew.security import starting_policy
 
 __all__ = ["Layout", "observatory_files"]
 
@@ -68,7 +68,7 @@ def observatory_files(
         layout.modules.append(name)
     if _xmpp(options):
         layout.files["comm.yaml"] = _comm(options)
-        layout.files[POLICY] = _policy(options, list(modules))
+        layout.files[POLICY] = _policy(list(modules))
         for person in PEOPLE:
             layout.files[f"{person}.yaml"] = module_text(
                 f"The comm of the person '{person}' for `nightcrew modules|call|events|shell --comm "
@@ -129,30 +129,8 @@ def _comm(options: InitOptions) -> str:
     )
 
 
-def _policy(options: InitOptions, modules: list[str]) -> str:
-    safety = [name for name in ("weather", "watchdog") if name in modules]
-    accounts: dict[str, list[str]] = {}
-    for name in modules:
-        accounts[name] = ["modules", "safety"] if name in safety else ["modules"]
-    accounts.update({"operator": ["operator"], "observer": ["observer"]})
-    if "console" in modules:
-        accounts.update(
-            {"console": ["observer"], "console:viewer": ["observer"], "console:operator": ["operator"]}
-        )
-    body = {
-        "roles": {
-            "operator": ["*"],
-            "observer": ["*.get_*", "*.is_*", "*.list_*", "IModule"],
-            "modules": ["*"],
-            "safety": [],
-        },
-        "accounts": accounts,
-        "safety_roles": ["safety"],
-        # Events that open, close, park or clear an alarm: only from the safety modules
-        # (docs/security.md); every event class marked so, that a new one is not forgotten.
-        "events": {name: ["safety"] for name in hardware_event_names()},
-        "header_providers": ["modules"],
-    }
+def _policy(modules: list[str]) -> str:
+    body = starting_policy(modules, {"operator": "operator", "observer": "observer"})
     return module_text(
         "The access policy every module's comm names (docs/security.md): the observatory's modules may "
         "call each other, the operator everything, the observer only what reads. Weather verdicts and "
