@@ -216,6 +216,12 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
         except NightcrewError:
             return 0.0
 
+    async def _hw_ccd_temperature(self) -> float | None:
+        try:
+            return float(await self._get("ccdtemperature"))
+        except NightcrewError:  # not implemented by the camera: it does not say
+            return None
+
     # --- IGain ---------------------------------------------------------------------------------
 
     async def set_gain(self, gain: float) -> None:
