@@ -5,14 +5,18 @@ from __future__ import annotations
 
 import itertools
 import logging
+import shutil
 from datetime import UTC, datetime
+from pathlib import Path
 
 import pytest
 
 from nightcrew.astro import sun_crossing
+from nightcrew.cli.main import main
 from nightcrew.errors import ConfigError
 from nightcrew.modules.camera.cooling import CoolingSchedule
 from nightcrew.modules.sim import SimCamera
+from nightcrew.night.build import bundled_observatory
 from nightcrew.testing import Observatory
 from nightcrew.testing.observatory import SITE
 
@@ -31,7 +35,7 @@ async def cooled_camera(obs: Observatory, **cooler: float) -> tuple[SimCamera, C
         **NO_DEVICES,
     )
     schedule = await obs.start(
-        CoolingSchedule, "cooling", camera="camera", setpoint=-10.0, ramp_rate=2.0, interval=60.0
+        CoolingSchedule, "cooling", camera="camera", setpoint=-10.0, ramp_rate=2.0, interval=120.0
     )
     return camera, schedule
 
@@ -104,3 +108,23 @@ async def test_a_schedule_without_a_site_or_with_a_bad_rate_is_refused() -> None
             await obs.start(CoolingSchedule, "cooling")
     with pytest.raises(ConfigError, match="ramp_rate must be > 0"):
         CoolingSchedule(name="cooling", ramp_rate=-1.0)
+
+
+def test_check_refuses_a_set_point_below_the_cameras_reach(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    observatory = tmp_path / "observatory"
+    ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
+    shutil.copytree(bundled_observatory(), observatory, ignore=ignore)
+    certificate = tmp_path / "observatory.local.crt"
+    certificate.write_text("a certificate\n", encoding="utf-8")
+    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
+    monkeypatch.setenv("SIM_XMPP_CA_FILE", str(certificate))
+    cooling = observatory / "robotic" / "cooling.yaml"
+    assert main(["check", str(cooling), str(observatory / "camera.yaml")]) == 0, capsys.readouterr().err
+    text = cooling.read_text(encoding="utf-8")
+    cooling.write_text(text.replace("setpoint: -10 ", "setpoint: -40 "), encoding="utf-8")
+    capsys.readouterr()
+    assert main(["check", str(observatory)]) == 2  # as docs/observatory.md, "Cooling", runs it
+    error = capsys.readouterr().err
+    assert "cooling.yaml: key 'setpoint': -40 °C is below the -27 °C the camera of" in error

@@ -19,7 +19,17 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
-__all__ = ["CoolerCommand", "CoolingPhase", "CoolingPlan", "cooling_command", "ramp_duration", "ramp_step"]
+from nightcrew.interfaces import CoolingStatus
+
+__all__ = [
+    "CoolerCommand",
+    "CoolingPhase",
+    "CoolingPlan",
+    "cooler_settled",
+    "cooling_command",
+    "ramp_duration",
+    "ramp_step",
+]
 
 
 class CoolingPhase(StrEnum):
@@ -122,3 +132,11 @@ def cooling_command(
     if timed_out or (setpoint >= warm_temperature and temperature >= warm_temperature - 1.0):
         return CoolerCommand(CoolingPhase.OFF, False, plan.setpoint)
     return CoolerCommand(CoolingPhase.WARMING, True, setpoint)
+
+
+def cooler_settled(status: CoolingStatus, margin: float) -> bool:
+    """Whether a frame taken now would be at the set point (within ``margin`` °C); a camera that
+    does not cool, or does not tell its temperature, is as settled as it gets."""
+    if not status.enabled or status.temperature is None:
+        return True
+    return abs(status.temperature - status.setpoint) <= margin
