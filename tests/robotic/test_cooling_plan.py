@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import pytest
 
+from nightcrew.interfaces import CoolingStatus
 from nightcrew.robotic.cooling import (
     CoolerCommand,
     CoolingPhase,
     CoolingPlan,
+    cooler_settled,
     cooling_command,
     ramp_duration,
     ramp_step,
@@ -105,3 +107,10 @@ def test_a_warm_up_that_does_not_end_is_cut_off_by_its_time_limit() -> None:
 def test_a_bad_plan_is_refused_naming_the_value(options: dict[str, float], message: str) -> None:
     with pytest.raises(ValueError, match=message):
         CoolingPlan(**options)
+
+
+def test_a_frame_waits_only_for_a_cooler_that_is_on_and_off_its_set_point() -> None:
+    assert not cooler_settled(CoolingStatus(True, -10.0, 60.0, temperature=-9.2), 0.5)
+    assert cooler_settled(CoolingStatus(True, -10.0, 60.0, temperature=-9.6), 0.5)
+    assert cooler_settled(CoolingStatus(False, -10.0, 0.0, temperature=15.0), 0.5)  # not cooling
+    assert cooler_settled(CoolingStatus(True, -10.0, 60.0), 0.5)  # says no temperature
