@@ -14,11 +14,14 @@ import pytest
 from nightcrew.astro import sun_crossing
 from nightcrew.cli.main import main
 from nightcrew.errors import ConfigError
+from nightcrew.modules.camera import BaseCamera
 from nightcrew.modules.camera.cooling import CoolingSchedule
 from nightcrew.modules.sim import SimCamera
 from nightcrew.night.build import bundled_observatory
 from nightcrew.testing import Observatory
 from nightcrew.testing.observatory import SITE
+
+from .devices import GradientCamera
 
 #: An afternoon in January: the schedule has to start cooling by itself.
 AFTERNOON = "2024-01-15T14:00:00+00:00"
@@ -61,8 +64,12 @@ async def test_cooled_down_before_dusk_held_flagged_and_warmed_up_at_dawn(
             await obs.clock.sleep(60.0)
         on = [s for s in samples if s[1]]
         assert on and not samples[0][1], "cooling began by itself in the afternoon"
-        rates = [abs(b[2] - a[2]) / (b[0] - a[0]) * 60.0 for a, b in itertools.pairwise(on)]
-        assert max(rates) <= 2.0 + 1e-9  # the ramp-rate limit
+        # The ramp-rate limit: a set point moves at most 2 °C per minute since the schedule's last
+        # look (every 120 s; the samples here are not aligned with those looks).
+        for (t0, _, set0, _), (t1, _, set1, _) in itertools.pairwise(on):
+            assert abs(set1 - set0) <= 2.0 / 60.0 * (t1 - t0 + 120.0) + 1e-9
+        ramp_end = next(s[0] for s in on if s[2] == -10.0)
+        assert ramp_end - on[0][0] >= (8.0 + 10.0) / 2.0 * 60.0 - 120.0  # 18 °C took 9 minutes
         at_set_point = next(s[0] for s in on if abs(s[3] + 10.0) <= 0.5)
         # Cold well before dusk: the lead time (600 s) covers the chip's lag behind the set point.
         assert at_set_point <= dusk - 300.0
@@ -128,3 +135,18 @@ def test_check_refuses_a_set_point_below_the_cameras_reach(
     assert main(["check", str(observatory)]) == 2  # as docs/observatory.md, "Cooling", runs it
     error = capsys.readouterr().err
     assert "cooling.yaml: key 'setpoint': -40 °C is below the -27 °C the camera of" in error
+
+
+class UncooledCamera(GradientCamera):
+    """The gradient camera without its cooler (the base camera's refusal)."""
+
+    _hw_set_cooling = BaseCamera._hw_set_cooling
+
+
+async def test_a_camera_without_a_cooler_is_told_once(
+    observatory: Observatory, caplog: pytest.LogCaptureFixture
+) -> None:
+    await observatory.start(UncooledCamera, "camera")
+    await observatory.start(CoolingSchedule, "cooling")
+    await observatory.clock.sleep(600.0)
+    assert caplog.text.count("the camera cannot cool") == 1

@@ -20,7 +20,7 @@ from typing import Any
 from nightcrew.astro import sun_crossing
 from nightcrew.config import load_config, to_plain
 from nightcrew.config._classes import import_class
-from nightcrew.errors import ConfigError
+from nightcrew.errors import ConfigError, NotSupportedError
 from nightcrew.interfaces import CoolingStatus, ICooling
 from nightcrew.modules.camera.base import BaseCamera
 from nightcrew.modules.module import Module
@@ -94,7 +94,11 @@ class CoolingSchedule(Module):
     async def _cooling_loop(self) -> None:
         camera = await self.proxy(self._camera, ICooling)
         while True:
-            await self.step(await camera.get_cooling(), camera)
+            try:
+                await self.step(await camera.get_cooling(), camera)
+            except NotSupportedError as exc:  # nothing to schedule: say so once, not every interval
+                log.warning("%s: the camera cannot cool (%s): no cooling schedule", self.name, exc)
+                return
             await self.clock.sleep(self._interval)
 
     async def step(self, status: CoolingStatus, camera: ICooling) -> CoolerCommand:
