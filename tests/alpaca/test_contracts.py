@@ -36,6 +36,7 @@ class TestAlpacaTelescope(TelescopeContract):
 
 
 class TestAlpacaCamera(CameraContract):
+    cooled = True
     timeout = 60.0
     long_exposure_time = 10.0
 

@@ -86,6 +86,17 @@ def test_calibration_frames_come_first_with_the_roof_closed(night: tuple[int, Pa
     assert {kind for kind, _ in kinds[4:]} == {"focus", "object"}
 
 
+def test_the_camera_is_cooled_before_the_first_frame_and_every_frame_says_so(night: tuple[int, Path]) -> None:
+    # The night starts after dusk with a warm camera (robotic/cooling.yaml: -10 °C, 3 °C/min): the
+    # biases wait for the cooler, so no frame is off its set point (docs/observatory.md, Cooling).
+    _, out = night
+    headers = [fits.getheader(path) for path in sorted((out / "frames").glob("*.fits"))]
+    assert headers
+    for header in headers:
+        assert header["SET-TEMP"] == -10.0 and 0.0 < header["COOLPOW"] < 100.0
+        assert abs(header["CCD-TEMP"] + 10.0) <= 0.5 and header["TEMP-OK"] is True
+
+
 def test_the_night_can_be_reduced(
     night: tuple[int, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -66,6 +66,7 @@ class TestIndiTelescopeContract(TelescopeContract):
 
 
 class TestIndiCameraContract(CameraContract):
+    cooled = True
     long_exposure_time = 30.0
 
     @pytest.fixture

@@ -75,6 +75,8 @@ class TestSimTelescopeInRealTime(TelescopeContract):
 
 
 class TestSimCamera(CameraContract):
+    cooled = True
+
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
         async with Observatory() as obs:
@@ -90,6 +92,8 @@ class TestSimCamera(CameraContract):
 
 
 class TestGradientCamera(CameraContract):
+    cooled = True
+
     @pytest.fixture
     async def contract(self) -> AsyncIterator[ContractSetup[Any]]:
         async with Observatory() as obs:

@@ -14,8 +14,9 @@ directory stands for every ``*.yaml``/``*.yml`` below it (recursively), each che
 Prints ``OK FILE`` for every valid file and one ``FILE:LINE: key 'x': message`` line (on stderr)
 for every invalid one (a problem in a fragment once, naming the files that include it); a file of
 none of these kinds is listed as ``SKIP FILE`` with the reason. The variables the files need and
-the environment lacks are named on one line, with the files that read them. Exits 0 when all are
-valid, else 2.
+the environment lacks are named on one line, with the files that read them. Across the files: a
+camera's field the index files cannot solve, and a cooling schedule's set point below what its
+camera declares it can reach. Exits 0 when all are valid, else 2.
 """
 
 from __future__ import annotations
@@ -129,6 +130,11 @@ def run_check(args: argparse.Namespace) -> int:
 
     for coverage in observatory_coverage_problems(files):  # a camera field the index files cannot solve
         print(f"nightcrew: error: {coverage}", file=sys.stderr)
+        all_valid = False
+    from nightcrew.modules.camera.cooling import cooling_reach_problems
+
+    for reach in cooling_reach_problems(files):  # a set point colder than the camera can hold
+        print(f"nightcrew: error: {reach}", file=sys.stderr)
         all_valid = False
     return 0 if all_valid else 2
 

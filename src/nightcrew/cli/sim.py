@@ -2,10 +2,10 @@
 
 All modules of the bundled observatory (``examples/observatory``: weather station, roof, telescope,
 focuser, filter wheel, camera, and in ``robotic/`` the weather verdict, scheduler, mastermind,
-focus series, flat fields, acquisition, guiding, seeing and a recorder) run in this process on one
-virtual clock (it jumps ahead whenever everything waits, so the same options and ``--seed``
-give the same night on any machine under any load; ``--speed`` runs an accelerated clock instead),
-from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
+focus series, flat fields, acquisition, guiding, seeing, the camera's cooling and a recorder) run
+in this process on one virtual clock (it jumps ahead whenever everything waits, so the same
+options and ``--seed`` give the same night on any machine under any load; ``--speed`` runs an
+accelerated clock instead), from dusk to dawn of ``--date``: the scheduler plans the bundled sample tasks,
 the mastermind runs them (sky flats, bias and darks, focus, science), the weather (``--weather``)
 may interrupt them, and at the end the telescope parks and the roof closes (also after an error or
 Ctrl-C). Frames, the event record (events.jsonl), the task archive and the night report

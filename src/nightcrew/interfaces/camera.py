@@ -58,6 +58,7 @@ class CoolingStatus:
     enabled: bool
     setpoint: float  # °C
     power: float  # percent of the cooler's maximum
+    temperature: float | None = None  # °C of the detector; None where the camera does not say
 
 
 class IData(Interface):
@@ -175,7 +176,7 @@ class ICooling(Interface):
 
     @abstractmethod
     async def get_cooling(self) -> CoolingStatus:
-        """Cooling state, setpoint and power."""
+        """Cooling state, setpoint, power and the detector's temperature."""
 
 
 class IGain(Interface):

@@ -2,8 +2,8 @@
 
 The devices (the top-level files of the bundled observatory) and the robotic modules (its
 ``robotic/`` directory: weather verdict, scheduler, mastermind with runner and scripts, focus
-series, flat fields, acquisition, guiding, seeing, recorder) are built on one in-process network
-and one clock (virtual in ``nightcrew sim``). The task archive is a fresh SQLite file in
+series, flat fields, acquisition, guiding, seeing, cooling, recorder) are built on one in-process
+network and one clock (virtual in ``nightcrew sim``). The task archive is a fresh SQLite file in
 ``out_dir`` loaded with the bundled sample tasks and a low-priority survey that fills the night;
 the scheduler plans from it and the mastermind runs what it planned. Nobody drives the night:
 this function only watches (progress, the scheduler's plans into the recorder) until the clock

@@ -4,14 +4,14 @@ import { RemoteInterface } from "../../src/remote.js";
 
 /**
  * State of a detector's cooling.
- * @typedef {{enabled: boolean, power: number, setpoint: number}} CoolingStatus
+ * @typedef {{enabled: boolean, power: number, setpoint: number, temperature?: number|null}} CoolingStatus
  */
 /**
  * Detector cooling.
  */
 export class ICooling extends RemoteInterface {
   /**
-   * Cooling state, setpoint and power.
+   * Cooling state, setpoint, power and the detector's temperature.
    *
    * Timeout: 10 clock seconds (the default, not announced).
    * @returns {Promise<CoolingStatus>}
@@ -88,6 +88,18 @@ ICooling.spec = {
         "setpoint": {
           "title": "Setpoint",
           "type": "number"
+        },
+        "temperature": {
+          "anyOf": [
+            {
+              "type": "number"
+            },
+            {
+              "type": "null"
+            }
+          ],
+          "default": null,
+          "title": "Temperature"
         }
       },
       "required": [

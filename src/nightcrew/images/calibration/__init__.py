@@ -10,11 +10,13 @@ keeps them in a :class:`CalibrationCache`.
 from nightcrew.images.calibration._combine import combine_frames
 from nightcrew.images.calibration._images import build_master, calibrate_image, master_kind
 from nightcrew.images.calibration._library import (
+    TEMPERATURE_MARGIN,
     CalibrationCache,
     FrameKey,
     MasterInfo,
     MasterKind,
     frame_key,
+    off_set_point,
     select_master,
 )
 from nightcrew.images.calibration._masters import (
@@ -27,6 +29,7 @@ from nightcrew.images.calibration._masters import (
 from nightcrew.images.calibration._processor import Calibration, CalibrationError
 
 __all__ = [
+    "TEMPERATURE_MARGIN",
     "Calibration",
     "CalibrationCache",
     "CalibrationError",
@@ -43,5 +46,6 @@ __all__ = [
     "master_dark",
     "master_flat",
     "master_kind",
+    "off_set_point",
     "select_master",
 ]

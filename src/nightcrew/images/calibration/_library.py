@@ -11,16 +11,28 @@ from __future__ import annotations
 import datetime as dt
 import math
 from collections import OrderedDict
-from collections.abc import Hashable, Iterable
+from collections.abc import Hashable, Iterable, Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, Generic, TypeVar
 
 from astropy.io import fits  # type: ignore[import-untyped]
 
-__all__ = ["CalibrationCache", "FrameKey", "MasterInfo", "MasterKind", "frame_key", "select_master"]
+__all__ = [
+    "TEMPERATURE_MARGIN",
+    "CalibrationCache",
+    "FrameKey",
+    "MasterInfo",
+    "MasterKind",
+    "frame_key",
+    "off_set_point",
+    "select_master",
+]
 
 V = TypeVar("V")
+
+#: °C a frame's CCD-TEMP may differ from its SET-TEMP and still calibrate or be calibrated.
+TEMPERATURE_MARGIN = 0.5
 
 
 class MasterKind(StrEnum):
@@ -72,6 +84,20 @@ def frame_key(header: fits.Header) -> FrameKey:
         exposure_s=exposure_s,
         night=_night(header.get("DATE-OBS")),
     )
+
+
+def off_set_point(header: Mapping[str, Any], margin: float = TEMPERATURE_MARGIN) -> bool:
+    """Whether a frame was taken more than ``margin`` °C off its cooling set point.
+
+    ``TEMP-OK = F`` (the camera's verdict) or CCD-TEMP and SET-TEMP further apart than ``margin``;
+    a frame without a set point (an uncooled camera) is never off it.
+    """
+    if header.get("TEMP-OK") is False:
+        return True
+    temperature, setpoint = header.get("CCD-TEMP"), header.get("SET-TEMP")
+    if not (isinstance(temperature, int | float) and isinstance(setpoint, int | float)):
+        return False
+    return not abs(float(temperature) - float(setpoint)) <= margin
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 from astropy.io import fits  # type: ignore[import-untyped]
 from astropy.utils.exceptions import AstropyUserWarning  # type: ignore[import-untyped]
 
-from nightcrew.images.calibration import FrameKey, MasterKind, frame_key
+from nightcrew.images.calibration import FrameKey, MasterKind, frame_key, off_set_point
 
 __all__ = ["FrameEntry", "GroupKey", "frame_role", "group_frames", "read_entry"]
 
@@ -33,13 +33,15 @@ _ROLES = {
 
 @dataclass(frozen=True)
 class FrameEntry:
-    """One raw file: its name, content checksum, role and key; ``error`` set when unreadable."""
+    """One raw file: its name, content checksum, role and key; ``error`` set when unreadable;
+    ``off_set_point`` when it was taken off its cooling set point (no master takes it)."""
 
     path: Path
     sha256: str
     role: str | None
     key: FrameKey | None
     error: str | None = None
+    off_set_point: bool = False
 
 
 @dataclass(frozen=True, order=True)
@@ -85,15 +87,18 @@ def read_entry(path: Path) -> FrameEntry:
         return FrameEntry(path, digest, None, None, error=f"not a readable FITS file: {exc}")
     if header is None:
         return FrameEntry(path, digest, None, None, error="no image data in the FITS file")
-    return FrameEntry(path, digest, frame_role(header), frame_key(header))
+    return FrameEntry(
+        path, digest, frame_role(header), frame_key(header), off_set_point=off_set_point(header)
+    )
 
 
 def group_frames(entries: Iterable[FrameEntry]) -> dict[GroupKey, list[FrameEntry]]:
     """Calibration frames grouped for masters: biases by binning, darks by binning and exposure
-    time, flats by binning and filter. Science frames and unreadable files are left out."""
+    time, flats by binning and filter. Science frames, unreadable files and frames taken off their
+    cooling set point are left out."""
     groups: dict[GroupKey, list[FrameEntry]] = defaultdict(list)
     for entry in entries:
-        if entry.key is None or entry.role not in ("bias", "dark", "flat"):
+        if entry.key is None or entry.role not in ("bias", "dark", "flat") or entry.off_set_point:
             continue
         key = GroupKey(
             role=entry.role,

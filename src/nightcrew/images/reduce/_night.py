@@ -112,6 +112,10 @@ async def reduce_night(
             )
         elif entry.role is None:
             rows[entry.path.name] = SummaryRow(entry.path.name, entry.sha256, "", "ignored")
+        elif entry.off_set_point and entry.role != "object":
+            message = "taken off its cooling set point (CCD-TEMP vs SET-TEMP): in no master"
+            log.warning("%s: %s", entry.path.name, message)
+            rows[entry.path.name] = SummaryRow(entry.path.name, entry.sha256, "", "ignored", message=message)
 
     masters: dict[str, Image] = {}
     for key, members in groups.items():

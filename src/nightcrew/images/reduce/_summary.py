@@ -21,7 +21,8 @@ class SummaryRow:
 
     ``status`` is ``reduced`` (science frame written to ``output``), ``calibration`` (went into the
     master named in ``output``), ``failed`` (a science frame that could not be reduced: see
-    ``message``), ``broken`` (not a readable FITS file) or ``ignored`` (an image type not reduced).
+    ``message``), ``broken`` (not a readable FITS file) or ``ignored`` (an image type not reduced,
+    or a calibration frame taken off its cooling set point).
     """
 
     file: str

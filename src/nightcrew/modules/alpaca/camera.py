@@ -23,7 +23,6 @@ camera busy. After a server restart the cooler and its set point are set again a
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 from typing import Any, cast
 
@@ -38,7 +37,7 @@ from nightcrew.errors import (
     NightcrewError,
     NotSupportedError,
 )
-from nightcrew.interfaces import Binning, ExposureStatus, FitsCard, IGain, IStoppableExposure, Window
+from nightcrew.interfaces import Binning, ExposureStatus, IGain, IStoppableExposure, Window
 from nightcrew.modules.alpaca.device import LOST_DEVICE_ERRORS, AlpacaModule
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
 
@@ -178,10 +177,8 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
         except LOST_DEVICE_ERRORS as exc:
             self._connection_lost(str(exc))
             raise
-        cards: dict[str, FitsCard] = {}
-        with contextlib.suppress(NotSupportedError):  # Alpaca makes the sensor optional
-            cards["CCD-TEMP"] = (await self._get("ccdtemperature"), "CCD temperature [degC]")
-        return Frame(_as_uint16(data, settings.shape, self.device.name), cards)
+        # CCD-TEMP: the camera base reads it (``_hw_ccd_temperature``) when the exposure starts.
+        return Frame(_as_uint16(data, settings.shape, self.device.name), {})
 
     async def stop_exposure(self) -> None:
         if not self._can_stop:
@@ -227,6 +224,12 @@ class AlpacaCamera(AlpacaModule, BaseCamera, IGain, IStoppableExposure):
             return float(await self._get("coolerpower"))
         except NightcrewError:
             return 0.0
+
+    async def _hw_ccd_temperature(self) -> float | None:
+        try:
+            return float(await self._get("ccdtemperature"))
+        except NightcrewError:  # not implemented by the camera: it does not say
+            return None
 
     # --- IGain ---------------------------------------------------------------------------------
 

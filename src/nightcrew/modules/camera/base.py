@@ -8,10 +8,14 @@ unchanged when refused; an exposure uses a snapshot of them, so changing a setti
 affects only the next frame.
 
 FITS keywords written by every camera: DATE-OBS, MJD-OBS, EXPTIME, IMAGETYP, XBINNING, YBINNING,
-XORGSUBF, YORGSUBF (window origin in unbinned pixels), SET-TEMP (when cooling), SITELAT,
+XORGSUBF, YORGSUBF (window origin in unbinned pixels), SITELAT,
 SITELONG, SITEELEV (when the site is known), ORIGIN, plus the ``fits_headers`` of the configuration
 (INSTRUME, TELESCOP, OBSERVER, ...) and whatever header providers add (telescope: RA, DEC,
 OBJCTRA, OBJCTDEC, AIRMASS, ...; filter wheel: FILTER; focuser: FOCUS).
+
+Cooling cards, read when the exposure starts: CCD-TEMP (when the driver knows the detector's
+temperature) and, while the cooler is on, SET-TEMP, COOLPOW (percent) and TEMP-OK (false when
+CCD-TEMP is more than ``temperature_margin`` °C off SET-TEMP: such a frame goes into no master).
 """
 
 from __future__ import annotations
@@ -19,11 +23,13 @@ from __future__ import annotations
 import logging
 import math
 from abc import abstractmethod
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from nightcrew.errors import GrabImageError, InvalidArgumentError, NotSupportedError
+from nightcrew.errors import ConfigError, GrabImageError, InvalidArgumentError, NotSupportedError
 from nightcrew.events import NewImageEvent
+from nightcrew.images.calibration import TEMPERATURE_MARGIN, off_set_point
 from nightcrew.interfaces import (
     Binning,
     CoolingStatus,
@@ -74,18 +80,31 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         header_timeout: Clock seconds each header provider may take.
         expect_headers_from: Modules whose cards every frame should carry; a frame without them
             names them in ``HDRMISS`` (also the first after a restart of the camera).
+        temperature_margin: °C the detector may be off its cooling set point in a good frame
+            (TEMP-OK); a frame further off is written, flagged and logged.
         **kwargs: Module options.
     """
 
     default_pattern = "/cache/{DATE-OBS}-{IMAGETYP}-{FILTER}.fits"
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, *, temperature_margin: float = TEMPERATURE_MARGIN, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        if not (math.isfinite(temperature_margin) and temperature_margin > 0):
+            raise ConfigError(f"must be > 0 °C, got {temperature_margin}", key="temperature_margin")
+        self._temperature_margin = float(temperature_margin)
         self._exposure_time = 1.0
         self._image_type = ImageType.OBJECT
         self._binning = Binning(1, 1)
         self._window = self._hw_full_frame()
         self._cooling = CoolingStatus(enabled=False, setpoint=-10.0, power=0.0)
+
+    @classmethod
+    def coldest_setpoint(cls, options: Mapping[str, Any]) -> float | None:
+        """The lowest set point a camera built from ``options`` can reach, °C; None: unknown.
+
+        ``nightcrew check`` refuses a cooling schedule that asks for less.
+        """
+        return None
 
     # --- hooks for drivers ---------------------------------------------------------------------
 
@@ -114,6 +133,10 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         """Cooler power in percent."""
         return 0.0
 
+    async def _hw_ccd_temperature(self) -> float | None:
+        """The detector's temperature in °C; None: the camera does not say."""
+        return None
+
     # --- ICamera -------------------------------------------------------------------------------
 
     # A hung exposure is noticed once it is overdue, not after IData's generic hour.
@@ -123,6 +146,7 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         kind = self._image_type if image_type is None else ImageType(image_type)
         exposure_time = self._frame_exposure_time(kind)
         settings = ExposureSettings(exposure_time, kind, self._binning, self._window)
+        cooling = await self.get_cooling()
 
         async def expose() -> Frame:
             return await self._hw_expose(settings)
@@ -133,7 +157,7 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
         return await self._take_exposure(
             expose,
             exposure_time,
-            lambda frame: self._own_cards(settings, frame),
+            lambda frame: self._own_cards(settings, frame) | self._cooling_cards(cooling),
             announce if broadcast else None,
         )
 
@@ -160,12 +184,32 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
             "XORGSUBF": (settings.window.left, "Window origin x [unbinned px]"),
             "YORGSUBF": (settings.window.top, "Window origin y [unbinned px]"),
         }
-        if self._cooling.enabled:
-            cards["SET-TEMP"] = (self._cooling.setpoint, "Cooling setpoint [degC]")
         if self.site is not None:
             cards["SITELAT"] = (self.site.latitude, "Site latitude [deg]")
             cards["SITELONG"] = (self.site.longitude, "Site longitude, east positive [deg]")
             cards["SITEELEV"] = (self.site.elevation, "Site elevation [m]")
+        return cards
+
+    def _cooling_cards(self, cooling: CoolingStatus) -> dict[str, FitsCard]:
+        cards: dict[str, FitsCard] = {}
+        if cooling.temperature is not None:
+            cards["CCD-TEMP"] = (round(cooling.temperature, 2), "Detector temperature [degC]")
+        if cooling.enabled:
+            cards["SET-TEMP"] = (cooling.setpoint, "Cooling setpoint [degC]")
+            cards["COOLPOW"] = (round(cooling.power, 1), "Cooler power [%]")
+        if cooling.enabled and cooling.temperature is not None:
+            good = not off_set_point(
+                {"CCD-TEMP": cooling.temperature, "SET-TEMP": cooling.setpoint}, self._temperature_margin
+            )
+            cards["TEMP-OK"] = (good, f"CCD-TEMP within {self._temperature_margin:g} degC of SET-TEMP")
+            if not good:
+                log.warning(
+                    "%s: exposing at %.1f °C, off the set point %g °C by more than %g °C (TEMP-OK = F)",
+                    self.name,
+                    cooling.temperature,
+                    cooling.setpoint,
+                    self._temperature_margin,
+                )
         return cards
 
     # --- settings ------------------------------------------------------------------------------
@@ -236,4 +280,9 @@ class BaseCamera(ExposingModule, ICamera, IExposureTime, IImageType, IBinning, I
 
     async def get_cooling(self) -> CoolingStatus:
         power = await self._hw_cooling_power() if self._cooling.enabled else 0.0
-        return CoolingStatus(enabled=self._cooling.enabled, setpoint=self._cooling.setpoint, power=power)
+        return CoolingStatus(
+            enabled=self._cooling.enabled,
+            setpoint=self._cooling.setpoint,
+            power=power,
+            temperature=await self._hw_ccd_temperature(),
+        )

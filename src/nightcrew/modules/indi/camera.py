@@ -289,6 +289,11 @@ class IndiCamera(IndiModule, BaseCamera):
             return next(iter(v for v in vector.members.values() if isinstance(v, float)), 0.0)
         return 0.0
 
+    async def _hw_ccd_temperature(self) -> float | None:
+        if self._indi.readable and self._indi.has("CCD_TEMPERATURE"):
+            return self._indi.vector("CCD_TEMPERATURE").number("CCD_TEMPERATURE_VALUE")
+        return None
+
     # --- run-time configuration ----------------------------------------------------------------
 
     def _get_config_gain(self) -> float:

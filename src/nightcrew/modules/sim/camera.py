@@ -16,6 +16,10 @@ and a few ``SIM-*`` cards with the simulator's truth (true pointing, FWHM, cloud
 and tutorials, and the sky it shows (``SIM-SKY``: seed, depth and star sources, whose index files
 :mod:`nightcrew.sim.sky_index` builds; ``SIM-STAR``: the real star sources and their versions).
 It has no WCS: finding one is the plate solver's job.
+
+Its cooler follows :mod:`nightcrew.sim.thermal` (``cooler``: ambient, reach below ambient, time
+constant), on the clock: a set point below its reach is accepted, as a real camera's is, with a
+warning - the chip stays warmer, the power at 100 %, and its frames are flagged (TEMP-OK = F).
 """
 
 from __future__ import annotations
@@ -50,6 +54,7 @@ from nightcrew.modules.sim.scene import Atmosphere, Scene, StarFieldCache, condi
 from nightcrew.sim import projection, render, sky_index
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.real_stars import star_sources
+from nightcrew.sim.thermal import ChipTemperature, CoolerModel, advance_chip
 
 __all__ = ["SimCamera"]
 
@@ -80,6 +85,8 @@ class SimCamera(BaseCamera, IStoppableExposure):
         filter_throughputs: Throughput (0..1) per filter name; unlisted filters pass everything.
         catalog_depth: Faintest magnitude drawn (real stars to G=10, synthetic ones beyond).
         readout_time: Seconds to read the chip out.
+        cooler: Fields of :class:`~nightcrew.sim.thermal.CoolerModel` (ambient, max_delta,
+            time_constant).
         seed: Seed of noise and synthetic stars: the same seed gives the same night.
         **kwargs: Camera options (``filename_pattern``, ``fits_headers``, ...) and module options.
     """
@@ -100,12 +107,18 @@ class SimCamera(BaseCamera, IStoppableExposure):
         filter_throughputs: dict[str, float] | None = None,
         catalog_depth: float = 16.0,
         readout_time: float = 2.0,
+        cooler: dict[str, float] | None = None,
         seed: int = 0,
         **kwargs: Any,
     ) -> None:
         # BaseCamera asks for the chip size while it is built, so the detector comes first.
         self._detector = _model_from_config(render.CameraModel, detector, "detector")
         self._optics = _model_from_config(render.Optics, optics, "optics")
+        try:
+            self._cooler = _model_from_config(CoolerModel, cooler, "cooler")
+        except ValueError as exc:
+            raise ConfigError(str(exc), key="cooler") from exc
+        self._chip: ChipTemperature | None = None  # at ambient until the clock first asks
         super().__init__(**kwargs)
         self._telescope, self._focuser, self._filters = telescope, focuser, filters
         self._roof, self._weather = roof, weather
@@ -157,6 +170,40 @@ class SimCamera(BaseCamera, IStoppableExposure):
 
     def _hw_binnings(self) -> list[Binning]:
         return [Binning(b, b) for b in _BINNINGS]
+
+    @classmethod
+    def coldest_setpoint(cls, options: Mapping[str, Any]) -> float | None:
+        cooler = options.get("cooler") or {}
+        try:
+            return CoolerModel(**{k: float(v) for k, v in cooler.items()}).coldest
+        except (TypeError, ValueError):  # the file's own check names what is wrong
+            return None
+
+    def _chip_now(self) -> ChipTemperature:
+        """The chip's temperature now, the cooler as it was since the last look."""
+        now = self.clock.time()
+        state = self._chip or ChipTemperature(now, self._cooler.ambient)
+        enabled, setpoint = self._cooling.enabled, self._cooling.setpoint
+        self._chip = advance_chip(self._cooler, state, now, enabled=enabled, setpoint=setpoint)
+        return self._chip
+
+    async def _hw_set_cooling(self, enabled: bool, setpoint: float) -> None:
+        self._chip_now()  # the chip so far followed the old set point
+        if enabled and setpoint < self._cooler.coldest:
+            log.warning(
+                "%s: set point %g °C is below what the cooler can reach (%g °C: ambient %g °C - %g °C)",
+                self.name,
+                setpoint,
+                self._cooler.coldest,
+                self._cooler.ambient,
+                self._cooler.max_delta,
+            )
+
+    async def _hw_cooling_power(self) -> float:
+        return self._cooler.power(self._cooling.enabled, self._cooling.setpoint)
+
+    async def _hw_ccd_temperature(self) -> float | None:
+        return self._chip_now().temperature
 
     async def _hw_expose(self, settings: ExposureSettings) -> Frame:
         scene = await self._look_around() if settings.shutter_open else Scene(None, roof_open=False)

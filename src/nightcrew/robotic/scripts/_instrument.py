@@ -6,6 +6,10 @@ bad weather, a closing roof or dawn) is stopped rather than aborted when the cam
 short, and the script hears how much of its exposure time it got (the camera's own progress just
 before the stop), for the task's progress. Other frames, and cameras that can only abort (INDI),
 are aborted and nothing is kept.
+
+A cooled camera still on its way to the set point (the cooling schedule started after dusk, or
+a warm camera restarted) is waited for before the first frame of a configuration - at most
+``COOLER_SETTLE_TIMEOUT`` clock seconds, then the frames are taken (and flagged off the set point).
 """
 
 from __future__ import annotations
@@ -15,16 +19,20 @@ import logging
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 
+from nightcrew.clock import Clock
 from nightcrew.errors import NotSupportedError
+from nightcrew.images.calibration import TEMPERATURE_MARGIN
 from nightcrew.interfaces import (
     ExposureStatus,
     IBinning,
     ICamera,
+    ICooling,
     IExposureTime,
     IFilters,
     ImageType,
     IStoppableExposure,
 )
+from nightcrew.robotic.cooling import cooler_settled
 from nightcrew.robotic.runner import Script
 from nightcrew.robotic.scripts._steps import quietly, step
 from nightcrew.robotic.tasks import Configuration, InstrumentConfig
@@ -38,6 +46,9 @@ FILTER_ELEMENT = "filter"
 
 #: Called with the fraction (0-1) of its exposure time a frame got before it was stopped and kept.
 CutShortCallback = Callable[[float], Awaitable[None]]
+
+#: Clock seconds a configuration waits for the cooler to reach its set point; clock seconds between looks.
+COOLER_SETTLE_TIMEOUT, COOLER_SETTLE_POLL = 900.0, 10.0
 
 
 async def instrument_supported(
@@ -83,6 +94,8 @@ class Instrument:
     binning: IBinning | None
     filters: IFilters | None
     stoppable: IStoppableExposure | None = None
+    cooling: ICooling | None = None
+    clock: Clock | None = None
 
     @classmethod
     async def connect(
@@ -95,6 +108,8 @@ class Instrument:
             binning=await script.optional_proxy(camera, IBinning),
             filters=await script.optional_proxy(filters, IFilters),
             stoppable=await script.optional_proxy(camera, IStoppableExposure),
+            cooling=await script.optional_proxy(camera, ICooling),
+            clock=script.clock,
         )
 
     async def set_up(self, config: InstrumentConfig, *, timed: bool = True, use_filter: bool = True) -> None:
@@ -122,6 +137,25 @@ class Instrument:
                 f"set exposure time {config.exposure_time:g} s",
                 self.exposure_time.set_exposure_time(config.exposure_time),
             )
+        await self._wait_for_cooler()
+
+    async def _wait_for_cooler(self) -> None:
+        """Until the cooler is at its set point, or :data:`COOLER_SETTLE_TIMEOUT` has passed."""
+        if self.cooling is None or self.clock is None:
+            return
+        deadline = self.clock.time() + COOLER_SETTLE_TIMEOUT
+        while not cooler_settled(
+            status := await step("read the cooling", self.cooling.get_cooling()), TEMPERATURE_MARGIN
+        ):
+            if self.clock.time() >= deadline:
+                log.warning(
+                    "the detector is at %.1f °C after %g s, not at its set point %g °C: exposing anyway",
+                    status.temperature,
+                    COOLER_SETTLE_TIMEOUT,
+                    status.setpoint,
+                )
+                return
+            await self.clock.sleep(COOLER_SETTLE_POLL)
 
     async def expose(self, image_type: ImageType, *, cut_short: CutShortCallback | None = None) -> str:
         """Take one frame of ``image_type`` and return its VFS path; when cancelled, a science frame

@@ -6,7 +6,7 @@ from typing import Any, ClassVar
 
 import pytest
 
-from nightcrew.errors import DeviceBusyError, InvalidArgumentError
+from nightcrew.errors import DeviceBusyError, InvalidArgumentError, NotSupportedError
 from nightcrew.events import ExposureStatusChangedEvent, NewImageEvent
 from nightcrew.interfaces import (
     Binning,
@@ -60,6 +60,10 @@ class CameraContract(DeviceContract):
     long_exposure_time: ClassVar[float] = 60.0
     #: The window's width and height are the chip's divided by this.
     window_divisor: ClassVar[int] = 4
+    #: Whether the camera has a cooler (ICooling works); one without must refuse with NotSupportedError.
+    cooled: ClassVar[bool] = False
+    #: °C the cooling case asks for (within any cooler's reach).
+    cooling_setpoint: ClassVar[float] = 5.0
 
     # --- steps ---------------------------------------------------------------------------------
 
@@ -132,6 +136,36 @@ class CameraContract(DeviceContract):
         if isinstance(contract.module, ICooling):
             with pytest.raises(InvalidArgumentError):
                 await (await contract.proxy(ICooling)).set_cooling(True, -300.0)
+
+    async def test_cooling_switches_and_its_cards_reach_the_frames(
+        self, contract: ContractSetup[Any]
+    ) -> None:
+        cooling = await contract.proxy(ICooling)
+        if not self.cooled:
+            with pytest.raises(NotSupportedError):
+                await cooling.set_cooling(True, self.cooling_setpoint)
+            return
+        await cooling.set_cooling(True, self.cooling_setpoint)
+        try:
+            status = await cooling.get_cooling()
+            assert status.enabled and status.setpoint == pytest.approx(self.cooling_setpoint)
+            assert 0.0 <= status.power <= 100.0
+            assert status.temperature is None or -100.0 <= status.temperature <= 60.0
+            await (await contract.proxy(IExposureTime)).set_exposure_time(self.exposure_time)
+            await self._small_frame(contract)
+            header = (await contract.module.vfs.read_fits(await self._dark(contract)))[0].header
+            assert header["SET-TEMP"] == pytest.approx(self.cooling_setpoint)
+            assert 0.0 <= header["COOLPOW"] <= 100.0
+            if status.temperature is not None:
+                assert isinstance(header["CCD-TEMP"], float) and isinstance(header["TEMP-OK"], bool)
+        finally:
+            await cooling.set_cooling(False, self.cooling_setpoint)
+        status = await cooling.get_cooling()
+        assert not status.enabled and status.power == 0.0
+        assert "SET-TEMP" not in (await contract.module.vfs.read_fits(await self._dark(contract)))[0].header
+
+    async def _dark(self, contract: ContractSetup[Any]) -> str:
+        return await (await contract.proxy(ICamera)).grab_data(False, ImageType.DARK)
 
     async def test_an_exposure_writes_a_fits_file_and_announces_it(
         self, contract: ContractSetup[Any]
