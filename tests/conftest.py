@@ -7,9 +7,13 @@ import os
 import sys
 import threading
 from collections.abc import AsyncIterator, Generator, Iterator
+from pathlib import Path
 
 import pytest
+import yaml
 
+from nightcrew.night.build import bundled_observatory
+from nightcrew.security import starting_policy
 from nightcrew.testing import Observatory
 from nightcrew.testing.solver import running_solver
 from nightcrew.vfs import MemoryFile
@@ -68,3 +72,17 @@ def solver_url() -> Iterator[str]:
     """The plate-solving service (``nightcrew solver``), one for the session: it starts in ~1 s."""
     with running_solver() as url:
         yield url
+
+
+@pytest.fixture
+def bundled_xmpp_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """What `nightcrew server init xmpp` would give the bundled observatory's comm (password,
+    certificate, starting policy), so that `nightcrew check` reads its module files as `up` would."""
+    certificate = tmp_path / "observatory.local.crt"
+    certificate.write_text("a certificate\n", encoding="utf-8")
+    policy = tmp_path / "access.policy"
+    modules = sorted(path.stem for path in bundled_observatory().rglob("*.yaml"))
+    policy.write_text(yaml.safe_dump(starting_policy(modules, {"operator": "operator"})), encoding="utf-8")
+    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
+    monkeypatch.setenv("SIM_XMPP_CA_FILE", str(certificate))
+    monkeypatch.setenv("SIM_XMPP_POLICY", str(policy))

@@ -117,16 +117,13 @@ async def test_a_schedule_without_a_site_or_with_a_bad_rate_is_refused() -> None
         CoolingSchedule(name="cooling", ramp_rate=-1.0)
 
 
+@pytest.mark.usefixtures("bundled_xmpp_files")
 def test_check_refuses_a_set_point_below_the_cameras_reach(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     observatory = tmp_path / "observatory"
     ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
     shutil.copytree(bundled_observatory(), observatory, ignore=ignore)
-    certificate = tmp_path / "observatory.local.crt"
-    certificate.write_text("a certificate\n", encoding="utf-8")
-    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
-    monkeypatch.setenv("SIM_XMPP_CA_FILE", str(certificate))
     cooling = observatory / "robotic" / "cooling.yaml"
     assert main(["check", str(cooling), str(observatory / "camera.yaml")]) == 0, capsys.readouterr().err
     text = cooling.read_text(encoding="utf-8")

@@ -13,14 +13,12 @@ import shutil
 from pathlib import Path
 
 import pytest
-import yaml
 
 from nightcrew.cli.main import main
 from nightcrew.config import build_object, config_files, load_config, validate_config
 from nightcrew.modules import Module
 from nightcrew.night.build import bundled_observatory, files_environ
 from nightcrew.night.init import ALPACA_ROLES, FoundDevice, InitOptions, name_by_role, observatory_files
-from nightcrew.security import starting_policy
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 #: The module files (shared/ holds fragments and the operator's comm).
@@ -78,6 +76,7 @@ def _alpaca(role: str, device_type: str, *filters: str) -> FoundDevice:
     return FoundDevice(role, config, f"Alpaca {device_type} 0", filter_names=filters)
 
 
+@pytest.mark.usefixtures("bundled_xmpp_files")  # its comm, as `server init xmpp` would give it
 def test_init_s_device_files_replace_the_simulated_ones_without_renames(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -99,13 +98,6 @@ def test_init_s_device_files_replace_the_simulated_ones_without_renames(
     shutil.copytree(bundled_observatory(), observatory, ignore=ignore)
     bundled_devices = {path.stem for path in observatory.glob("*.yaml")}
     assert set(devices) == bundled_devices  # every simulated device has its real one, same name
-    certificate = tmp_path / "observatory.local.crt"
-    certificate.write_text("a certificate\n", encoding="utf-8")
-    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
-    monkeypatch.setenv("SIM_XMPP_CA_FILE", str(certificate))
-    policy = tmp_path / "access.policy"  # what `server init xmpp` writes beside the certificate
-    policy.write_text(yaml.safe_dump(starting_policy(sorted(bundled_devices), {"operator": "operator"})))
-    monkeypatch.setenv("SIM_XMPP_POLICY", str(policy))
     for name in devices:  # init's file, then the replaced file's lines from PROCESS on (comm, clock)
         path = observatory / f"{name}.yaml"
         process = PROCESS + path.read_text(encoding="utf-8").split(PROCESS, 1)[1]

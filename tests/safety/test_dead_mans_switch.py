@@ -70,16 +70,12 @@ def test_park_when_watchdog_silent_must_be_positive(cls: type[Module], limit: fl
     assert f"key 'park_when_watchdog_silent': must be > 0 seconds (finite), got {limit}" in str(caught.value)
 
 
+@pytest.mark.usefixtures("bundled_xmpp_files")  # the bundled roof.yaml names its XMPP comm
 def test_check_validates_the_switch_keys(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """As docs/operations.md tells a user to add them to roof.yaml."""
     monkeypatch.chdir(tmp_path)
-    # The bundled roof.yaml names its XMPP comm (for `nightcrew up`): what `server init` would write.
-    Path("server.crt").write_text("a certificate\n")
-    Path("access.policy").write_text("roles: {modules: ['*']}\naccounts: {roof: [modules]}\n")
-    for key, value in {"PASSWORD": "change-me", "CA_FILE": "server.crt", "POLICY": "access.policy"}.items():
-        monkeypatch.setenv(f"SIM_XMPP_{key}", str(tmp_path / value) if "." in value else value)
     switch = "watchdog: watchdog\npark_when_watchdog_silent: {}\n"
     Path("roof.yaml").write_text(f"<<: !include {ROOF}\n" + switch.format(120))
     assert main(["check", "roof.yaml"]) == 0

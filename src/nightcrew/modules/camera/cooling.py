@@ -131,9 +131,18 @@ class CoolingSchedule(Module):
         )
         self._report(command, temperature, now)
         if command != self._last or command.enabled != status.enabled:
-            await camera.set_cooling(command.enabled, command.setpoint)
+            await camera.set_cooling(command.enabled, self._commanded_setpoint(command))
         self._last, self._last_time = command, now
         return command
+
+    def _commanded_setpoint(self, command: CoolerCommand) -> float:
+        """The set point sent: on a cool-down, where the ramp will be at the next look. The chip
+        then lags its set point all through the ramp (the same steps, one look earlier), so a script
+        waiting for the set point waits from the ramp's first look on, not only once it has begun."""
+        if command.phase is not CoolingPhase.COOLING:
+            return command.setpoint
+        ahead = command.setpoint - self._plan.ramp_rate * self._interval / 60.0
+        return max(self._plan.setpoint, ahead)
 
     def _report(self, command: CoolerCommand, temperature: float, now: float) -> None:
         """Log each change of phase; keep when the warm-up began."""
