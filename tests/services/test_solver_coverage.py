@@ -79,13 +79,8 @@ def test_check_refuses_a_camera_field_the_index_files_cannot_solve(
         assert errors == []
 
 
-def test_the_bundled_observatory_passes_check(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
+@pytest.mark.usefixtures("bundled_xmpp_files")  # what the files' comm needs (shared/comm.yaml)
+def test_the_bundled_observatory_passes_check(capsys: pytest.CaptureFixture[str]) -> None:
     if shutil.which("solve-field") is None:
         pytest.skip("astrometry.net is not installed")
-    # What the files' comm needs (shared/comm.yaml): the password and the server's certificate.
-    (tmp_path / "ca.crt").write_text("a certificate\n")
-    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
-    monkeypatch.setenv("SIM_XMPP_CA_FILE", str(tmp_path / "ca.crt"))
     assert main(["check", "examples/sim"]) == 0, capsys.readouterr().err

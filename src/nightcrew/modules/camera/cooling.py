@@ -19,7 +19,7 @@ from typing import Any
 
 from nightcrew.astro import sun_crossing
 from nightcrew.config import load_config, to_plain
-from nightcrew.config._classes import import_class
+from nightcrew.config._classes import ClassResolutionError, import_class
 from nightcrew.errors import ConfigError, NotSupportedError
 from nightcrew.interfaces import CoolingStatus, ICooling
 from nightcrew.modules.camera.base import BaseCamera
@@ -199,11 +199,14 @@ def cooling_reach_problems(files: Iterable[Path]) -> list[str]:
                 continue
             camera_path, camera = modules[str(config.get("camera", "camera"))]
             camera_class = import_class(str(camera["class"]))
-        except (ConfigError, KeyError):
+        except (ConfigError, KeyError, ClassResolutionError):
             continue  # no such camera here, or a class the file's own check names
         if not issubclass(camera_class, BaseCamera):
             continue
-        coldest = camera_class.coldest_setpoint(camera)
+        try:
+            coldest = camera_class.coldest_setpoint(camera)
+        except (TypeError, ValueError, ArithmeticError):
+            continue  # a malformed cooler the camera file's own check names
         setpoint = config.get("setpoint", -10.0)
         if coldest is not None and isinstance(setpoint, int | float) and setpoint < coldest:
             problems.append(
