@@ -4,8 +4,8 @@ The stars are SEP's (:func:`~nightcrew.images.processors.detection.detect_source
 unflagged ones (not saturated, blended or cut by the edge) whose peak stands ``min_peak_snr``
 times above the background noise. FWHM and ellipticity (``1 - b/a``) are their medians, from SEP's
 own moments - no profile fits, so a 2k frame takes a fraction of a second. The sky is the median of
-the background model, per second of exposure when the header gives ``EXPTIME`` (frames of
-different lengths compare).
+the background model, in data units (bias included in a raw frame: grading compares frames of one
+setup, so of one exposure time).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ class FrameQuality:
         fwhm: Median star FWHM, arcsec when the frame has a pixel scale, else pixels.
         ellipticity: Median ``1 - b/a`` of the stars (0: round).
         stars: Number of good stars.
-        sky: Median sky level, data units per second (per frame without ``EXPTIME``).
+        sky: Median sky level, data units.
     """
 
     fwhm: float
@@ -58,12 +58,10 @@ def measure_frame_quality(
     good = (np.asarray(catalog["flags"]) == 0) & (peak >= min_peak_snr * background.global_rms)
     good &= np.isfinite(fwhm) & np.isfinite(ellipticity)
     scale = image.pixel_scale or 1.0
-    exposure = image.header.get("EXPTIME")
-    per = float(exposure) if isinstance(exposure, int | float) and exposure > 0 else 1.0
     count = int(good.sum())
     return FrameQuality(
         fwhm=float(np.median(fwhm[good])) * scale if count else math.nan,
         ellipticity=float(np.median(ellipticity[good])) if count else math.nan,
         stars=count,
-        sky=float(np.median(background.level)) / per,
+        sky=float(np.median(background.level)),
     )

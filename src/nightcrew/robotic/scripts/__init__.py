@@ -17,6 +17,7 @@ interruption does not repeat frames already taken), names the failing step in it
 slew, series) and stops guiding before re-raising.
 """
 
+from nightcrew.robotic.scripts._dither import dither_field_problems
 from nightcrew.robotic.scripts.autofocus import AutoFocusScript, focus_step
 from nightcrew.robotic.scripts.calibration import CalibrationScript
 from nightcrew.robotic.scripts.imaging import ImagingScript
@@ -29,5 +30,6 @@ __all__ = [
     "ImagingScript",
     "PointingSeriesScript",
     "SkyFlatScript",
+    "dither_field_problems",
     "focus_step",
 ]

@@ -119,7 +119,7 @@ class Grading:
         if quality.stars:
             self.recent.append(quality.fwhm)
         log.info(
-            "graded %s: %s (FWHM %.2f, ellipticity %.2f, %d stars, sky %.3g/s)%s",
+            "graded %s: %s (FWHM %.2f, ellipticity %.2f, %d stars, sky %.4g)%s",
             path,
             grade.label,
             quality.fwhm,
@@ -164,8 +164,8 @@ class Refocusing:
         triggers = RefocusTriggers(**{k: v for k, v in options.items() if k in trigger_keys})
         return cls(triggers, series, focuser, {str(k): float(v) for k, v in offsets.items()})
 
-    async def refocus_if_due(self, script: Script, filter_name: str | None, grading: Grading | None) -> None:
-        """Run the focus series if a trigger fires before a frame in ``filter_name``."""
+    async def refocus_if_due(self, script: Script, filter_name: str | None, grading: Grading | None) -> bool:
+        """Run the focus series if a trigger fires before a frame in ``filter_name``; whether it ran."""
         now = script.clock.time()
         if self.last is None:  # the task starts in focus (the mastermind focused before it)
             self.last = FocusState(time=now, filter_name=filter_name)
@@ -174,12 +174,13 @@ class Refocusing:
             self.last = FocusState(self.last.time, None, self.last.filter_name, recent)
         cause = refocus_cause(self.triggers, self.last, time=now, filter_name=filter_name, fwhm=recent)
         if cause is None:
-            return
+            return False
         log.info("refocusing: %s", cause)
         await focus_series(script, self.series, "refocus")
         self.last = FocusState(time=script.clock.time(), filter_name=filter_name)
         if grading is not None:
             grading.recent.clear()  # the FWHM after this focus is measured anew
+        return True
 
     async def apply_filter_offset(self, script: Script, filter_name: str | None) -> None:
         """Move the focuser's offset to ``filter_name``'s (0 for a filter not listed)."""

@@ -6,7 +6,8 @@ target, east and north in arcsec on the sky (``d_east`` is along the RA axis tim
 
 * ``spiral``: the target, then the eight points of a square around it ``amplitude`` apart, in a
   spiral (east, north, west, west, south, south, east, east), then from the start again. Each step
-  moves by ``amplitude`` along one axis; no position is more than ``amplitude * sqrt(2)`` away.
+  moves by ``amplitude`` along one axis (only the return to the target is diagonal); no position
+  is more than ``amplitude * sqrt(2)`` away.
 * ``random``: a uniform position within ``amplitude`` of the target along each axis, drawn from
   a generator seeded with the task (the same task dithers the same way when it is resumed).
 """
@@ -15,10 +16,18 @@ from __future__ import annotations
 
 import math
 import random
+from collections.abc import Iterable
 
-from nightcrew.robotic.tasks import DitherConfig, DitherPattern
+from nightcrew.robotic.tasks import DitherConfig, DitherPattern, RequestGroup
 
-__all__ = ["SPIRAL_STEPS", "dither_offset", "dither_radius", "dither_to_radec", "dithers_before"]
+__all__ = [
+    "SPIRAL_STEPS",
+    "dither_field_problems",
+    "dither_offset",
+    "dither_radius",
+    "dither_to_radec",
+    "dithers_before",
+]
 
 #: The square spiral in units of the amplitude: the centre, then the ring of eight around it.
 SPIRAL_STEPS: tuple[tuple[int, int], ...] = (
@@ -66,3 +75,24 @@ def dither_to_radec(offset: tuple[float, float], dec: float) -> tuple[float, flo
     east, north = offset
     cos_dec = max(math.cos(math.radians(dec)), 1e-6)  # at the pole a step in RA is no step at all
     return east / 3600.0 / cos_dec, north / 3600.0
+
+
+def dither_field_problems(
+    groups: Iterable[tuple[str, RequestGroup]], field_arcmin: float | None
+) -> list[str]:
+    """A line per configuration whose dither amplitude is larger than the camera's field (the
+    target would leave the frame): ``groups`` as (where, group), ``field_arcmin`` the smallest
+    field of the observatory's cameras (None: not known, nothing to say)."""
+    if field_arcmin is None:
+        return []
+    problems = []
+    for where, group in groups:
+        for r, request in enumerate(group.requests):
+            for c, configuration in enumerate(request.configurations):
+                amplitude = configuration.dither_config.amplitude
+                if amplitude > field_arcmin * 60.0:
+                    problems.append(
+                        f"{where}requests[{r}].configurations[{c}].dither_config.amplitude: "
+                        f'{amplitude:g}" is larger than the camera\'s {field_arcmin * 60.0:.0f}" field'
+                    )
+    return problems

@@ -191,17 +191,18 @@ class ImagingScript(Script):
             if pointing.guider is not None:
                 await quietly("stop guiding", pointing.guider.stop)
 
-    async def _flip_if_needed(self, pointing: _Pointing, seconds: float) -> None:
-        """Flip before a frame of ``seconds`` that would carry the mount too far past the meridian."""
+    async def _flip_if_needed(self, pointing: _Pointing, seconds: float) -> bool:
+        """Flip before a frame of ``seconds`` that would carry the mount too far past the meridian;
+        whether it did."""
         site = self.site
         if pointing.pier is None or site is None:
-            return
+            return False
         side = await pointing.pier.get_pier_side()
         target = pointing.target
         ha = hour_angle(target.ra, target.dec, site.longitude, self.clock.time())
         wait = flip_wait(ha, seconds, side, self._flip_past_meridian)
         if wait is None:
-            return
+            return False
         if wait > 0:
             log.info("%s reaches the meridian in %.0f s: waiting for it to flip", target.name, wait)
             await self.clock.sleep(wait)
@@ -221,6 +222,7 @@ class ImagingScript(Script):
         await self._acquire(pointing.config)
         await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+        return True
 
     async def _refocus_after_flip(self) -> None:
         if self._refocus is not None:
@@ -319,11 +321,13 @@ class ImagingScript(Script):
         ``max_retakes`` times); returns how often it was taken again."""
         retakes = 0
         while True:
-            await self._flip_if_needed(pointing, instrument_config.exposure_time)
+            flipped = await self._flip_if_needed(pointing, instrument_config.exposure_time)
             await pointing.dithering.dither_if_due(pointing.telescope, pointing.offsets, pointing.guider)
-            if self._refocusing is not None:
-                filter_name = instrument_config.optical_elements.get(FILTER_ELEMENT)
-                await self._refocusing.refocus_if_due(self, filter_name, self._grading)
+            refocused = self._refocusing is not None and await self._refocusing.refocus_if_due(
+                self, instrument_config.optical_elements.get(FILTER_ELEMENT), self._grading
+            )
+            if (flipped and self._refocus is not None) or refocused:
+                await self._set_up(instrument, instrument_config)  # the focus frames set their own
             path = await instrument.expose(
                 ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
             )
