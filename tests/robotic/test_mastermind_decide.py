@@ -451,3 +451,10 @@ def test_the_roof_state_follows_the_motion_status() -> None:
     assert RoofState.of_motion(MotionStatus.PARKING) is RoofState.CLOSING
     assert RoofState.of_motion(MotionStatus.MOVING) is RoofState.OPENING
     assert RoofState.of_motion(MotionStatus.ERROR) is RoofState.UNKNOWN
+
+
+def test_focus_is_due_again_after_the_refocus_interval_when_one_is_set() -> None:
+    steady = {"focused": True, "last_temperature": 5.0, "temperature": 5.0, "threshold": 2.0}
+    assert focus_due(**steady, since_focus=7200.0) is None  # type: ignore[arg-type]
+    assert focus_due(**steady, since_focus=3500.0, interval=3600.0) is None  # type: ignore[arg-type]
+    assert focus_due(**steady, since_focus=3700.0, interval=3600.0) == "3700 s since the last focus"  # type: ignore[arg-type]

@@ -2,8 +2,10 @@
 
 The stars are SEP's (:func:`~nightcrew.images.processors.detection.detect_sources_sep`): the
 unflagged ones (not saturated, blended or cut by the edge) whose peak stands ``min_peak_snr``
-times above the background noise. FWHM and ellipticity (``1 - b/a``) are their medians, from SEP's
-own moments - no profile fits, so a 2k frame takes a fraction of a second. The sky is the median of
+times above the background noise. The FWHM is the median of Moffat fits to the brightest
+``max_stars`` of them (:func:`~nightcrew.images.processors.misc.measure_fwhm`, as the seeing
+monitor measures it; SEP's isophotal moments miss the wings), the ellipticity (``1 - b/a``) the
+median of SEP's moments. The sky is the median of
 the background model, in data units (bias included in a raw frame: grading compares frames of one
 setup, so of one exposure time).
 """
@@ -18,6 +20,7 @@ import numpy as np
 from nightcrew.images.image import Image
 from nightcrew.images.processors._shared import estimate_background, float_data, saturation_level
 from nightcrew.images.processors.detection import detect_sources_sep
+from nightcrew.images.processors.misc import measure_fwhm
 
 __all__ = ["FrameQuality", "measure_frame_quality"]
 
@@ -40,7 +43,12 @@ class FrameQuality:
 
 
 def measure_frame_quality(
-    image: Image, *, threshold: float = 5.0, min_peak_snr: float = 10.0
+    image: Image,
+    *,
+    threshold: float = 5.0,
+    min_peak_snr: float = 10.0,
+    max_stars: int = 30,
+    half_size: int = 8,
 ) -> FrameQuality:
     """The quality of ``image`` (blocking: a fraction of a second for a 2k frame; call it in a thread).
 
@@ -50,17 +58,23 @@ def measure_frame_quality(
     data, mask = float_data(image), image.mask
     background = estimate_background(data, mask)
     catalog = detect_sources_sep(
-        data, mask, threshold=threshold, saturation=saturation_level(image, None), windowed_centroids=False
+        data.copy(),
+        mask,
+        threshold=threshold,
+        saturation=saturation_level(image, None),
+        windowed_centroids=False,
     )
     peak = np.asarray(catalog["peak"], np.float64)
-    fwhm = np.asarray(catalog["fwhm"], np.float64)
     ellipticity = np.asarray(catalog["ellipticity"], np.float64)
     good = (np.asarray(catalog["flags"]) == 0) & (peak >= min_peak_snr * background.global_rms)
-    good &= np.isfinite(fwhm) & np.isfinite(ellipticity)
-    scale = image.pixel_scale or 1.0
+    good &= np.isfinite(ellipticity)
     count = int(good.sum())
+    brightest = np.flatnonzero(good)[np.argsort(-peak[good], kind="stable")][:max_stars]
+    x, y = np.asarray(catalog["x"], np.float64), np.asarray(catalog["y"], np.float64)
+    fitted = measure_fwhm(data - background.level, x[brightest], y[brightest], half_size=half_size)
+    fitted = fitted[np.isfinite(fitted)]
     return FrameQuality(
-        fwhm=float(np.median(fwhm[good])) * scale if count else math.nan,
+        fwhm=float(np.median(fitted)) * (image.pixel_scale or 1.0) if len(fitted) else math.nan,
         ellipticity=float(np.median(ellipticity[good])) if count else math.nan,
         stars=count,
         sky=float(np.median(background.level)),
