@@ -22,7 +22,7 @@ import logging
 import statistics
 from collections import deque
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 from nightcrew.errors import NightcrewError
@@ -160,6 +160,10 @@ class Refocusing:
     ) -> Refocusing:
         """From the script's ``refocus_triggers`` (trigger and series keys in one mapping)."""
         trigger_keys = {"fwhm_rise", "interval", "filter_change"}
+        known = trigger_keys | {f.name for f in fields(RefocusAfterFlip)}
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise ValueError(f"{unknown[0]} is not an option; known: {', '.join(sorted(known))}")
         series = RefocusAfterFlip.from_options({k: v for k, v in options.items() if k not in trigger_keys})
         triggers = RefocusTriggers(**{k: v for k, v in options.items() if k in trigger_keys})
         return cls(triggers, series, focuser, {str(k): float(v) for k, v in offsets.items()})
