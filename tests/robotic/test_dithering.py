@@ -6,13 +6,11 @@ import itertools
 import math
 import re
 import shlex
-import shutil
 from pathlib import Path
 
 import pytest
 
 from nightcrew.cli.main import main
-from nightcrew.night.build import bundled_observatory
 from nightcrew.robotic.scripts._dither import SPIRAL_STEPS, dither_offset, dither_to_radec, dithers_before
 from nightcrew.robotic.tasks import DitherConfig, DitherPattern, InvalidTaskError, parse_request_group
 
@@ -70,14 +68,10 @@ def _block(language: str, after: str) -> str:
     return match.group(1)
 
 
-@pytest.mark.usefixtures("bundled_xmpp_files")
 def test_check_refuses_a_dither_larger_than_the_field_as_docs_tasks_shows(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    observatory_copy: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    observatory = tmp_path / "observatory"
-    ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
-    shutil.copytree(bundled_observatory(), observatory, ignore=ignore)
-    monkeypatch.chdir(observatory)
+    monkeypatch.chdir(observatory_copy)
     task = _block("yaml", "## Dithering")
     command, expected = _block("console", "## Dithering").splitlines()[:2]
     Path("dithered.yaml").write_text(task, encoding="utf-8")

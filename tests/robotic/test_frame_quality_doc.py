@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-import shutil
 from pathlib import Path
 
 import pytest
@@ -12,7 +11,6 @@ import yaml
 from nightcrew.cli.main import main
 from nightcrew.config import build_object
 from nightcrew.errors import ConfigError
-from nightcrew.night.build import bundled_observatory
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts import ImagingScript
 
@@ -33,14 +31,10 @@ def test_the_documented_options_build_imaging_scripts_that_grade_and_refocus() -
         assert isinstance(script, ImagingScript)
 
 
-@pytest.mark.usefixtures("bundled_xmpp_files")
 def test_the_documented_keys_in_the_bundled_mastermind_pass_check(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    observatory_copy: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    observatory = tmp_path / "observatory"
-    ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
-    shutil.copytree(bundled_observatory(), observatory, ignore=ignore)
-    mastermind = observatory / "robotic" / "mastermind.yaml"
+    mastermind = observatory_copy / "robotic" / "mastermind.yaml"
     text = mastermind.read_text(encoding="utf-8")
     start, end = text.index("runner:\n"), text.index("\n\n", text.index("runner:\n"))
     mastermind.write_text(text[:start] + _block() + text[end:], encoding="utf-8")
