@@ -38,7 +38,7 @@ async def night() -> AsyncIterator[SimSetup]:
             SimCamera, "guider", detector=DETECTOR, catalog_depth=14.0, seed=3, readout_time=0.2, weather=None
         )
         guiding = Pipeline([NStarOffsets()])
-        await obs.start(AutoGuiding, "autoguider", camera="guider", pipeline=guiding, exposure_time=5.0)
+        await obs.start(AutoGuiding, "autoguider", camera="guider", pipeline=guiding, exposure_time=10.0)
         yield setup
     finally:
         await obs.close()
@@ -90,3 +90,13 @@ async def test_dithered_graded_frames_and_a_refocus_when_the_stars_grow(
     dithers = [i for i, m in enumerate(messages) if m.startswith("dither ")]
     assert len(dithers) == 2 and len(started) == 3  # guiding started with the task and after each dither
     assert started[0] < dithers[0] < started[1] < dithers[1] < started[2]
+
+
+async def test_each_filter_brings_its_focus_offset(night: SimSetup) -> None:
+    offsets = {"V": 0.0, "R": 0.1}
+    runner = await night.runner({"EXPOSE": ImagingScript(focuser="focuser", filter_focus_offsets=offsets)})
+    frames = [{"exposure_time": 1.0, "optical_elements": {"filter": name}, "binning": 2} for name in "VRV"]
+    task = make_task({"type": "EXPOSE", "target": PLEIADES, "instrument_configs": frames})
+    await runner.run_task(task, ProgressLog())
+    headers = await night.headers(3)
+    assert [(h["FILTER"], h["FOCOFFS"]) for h in headers] == [("V", 0.0), ("R", 0.1), ("V", 0.0)]
