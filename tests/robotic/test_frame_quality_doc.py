@@ -54,6 +54,10 @@ def test_the_documented_keys_in_the_bundled_mastermind_pass_check(
             r"key 'refocus_triggers.fwhm_rise': fwhm_rise must be >= 0",
         ),
         ({"filter_focus_offsets": {"R": 0.1}}, r"key 'focuser': filter focus offsets need the focuser"),
+        (
+            {"refocus_triggers": {"fwhm_rise": 0.2}},
+            r"key 'refocus_triggers.fwhm_rise': a FWHM rise is measured",
+        ),
     ],
 )
 def test_options_that_make_no_sense_are_config_errors(options: dict[str, object], message: str) -> None:

@@ -1,8 +1,8 @@
 """What the imaging script does between two science frames: dither, grade the last, refocus.
 
 * **Dither** (the configuration's ``dither_config``): after every ``every`` frames the telescope's
-  RA/Dec offsets move to the next position of the pattern (:mod:`._dither`); a running guider is
-  stopped before the move and started after it, so it takes its reference on the new position.
+  RA/Dec offsets move to the next position of the pattern (:mod:`._dither`); the script stops a
+  running guider before the move and starts it after, so it takes its reference on the new position.
   Offsets the acquisition or the guider set stay: the dither moves them by its own step. A mount
   without offsets is sent to the dithered position instead.
 * **Grading** (the script's ``grading``): each frame is read through the VFS and measured
@@ -30,12 +30,12 @@ from nightcrew.focus.refocus import FocusState, RefocusTriggers, refocus_cause
 from nightcrew.images import Image
 from nightcrew.images.grading import FrameGrade, FrameGrader, GradingPolicy
 from nightcrew.images.quality import measure_frame_quality
-from nightcrew.interfaces import IAutoFocus, IAutoGuiding, IFocuser, IOffsetsRaDec, ITelescope
+from nightcrew.interfaces import IAutoFocus, IFocuser, IOffsetsRaDec, ITelescope
 from nightcrew.robotic.runner import Script
-from nightcrew.robotic.scripts._dither import dither_offset, dither_to_radec
+from nightcrew.robotic.scripts._dither import dither_offset, dither_to_radec, dithers_before
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
-from nightcrew.robotic.scripts._steps import quietly, step
+from nightcrew.robotic.scripts._steps import step
 from nightcrew.robotic.tasks import DitherConfig, InstrumentConfig, Target
 from nightcrew.vfs import VirtualFileSystem
 
@@ -71,21 +71,19 @@ class Dithering:
         """The mount was sent to the target again (a flip): no dither step is in its offsets now."""
         self.applied = (0.0, 0.0)
 
-    async def dither_if_due(
-        self, telescope: ITelescope, offsets: IOffsetsRaDec | None, guider: IAutoGuiding | None
-    ) -> None:
-        config = self.config
-        if config.amplitude == 0 or self.frames == 0 or self.frames % config.every != 0:
-            return
-        due = self.frames // config.every
-        if due == self.position:
-            return  # already there (a retake, or nothing kept since the last dither)
+    @property
+    def due(self) -> bool:
+        """Whether the next frame is to be taken at another position than the last (never for a
+        retake: no frame was kept since)."""
+        return dithers_before(self.config, self.frames) != self.position
+
+    async def move(self, telescope: ITelescope, offsets: IOffsetsRaDec | None) -> None:
+        """Move the telescope to the position the next frame is due at (guiding stopped first)."""
+        due = dithers_before(self.config, self.frames)
         self.position = due
-        east, north = dither_offset(config, due, seed=self.seed)
+        east, north = dither_offset(self.config, due, seed=self.seed)
         dra, ddec = dither_to_radec((east, north), self.target.dec)
         log.info('dither %d to %+.1f" east, %+.1f" north of %s', due, east, north, self.target.name)
-        if guider is not None:
-            await quietly("stop guiding for the dither", guider.stop)
         if offsets is not None:
             now_ra, now_dec = await step("read the offsets", offsets.get_offsets_radec())
             moved = (now_ra + dra - self.applied[0], now_dec + ddec - self.applied[1])
@@ -94,8 +92,6 @@ class Dithering:
             ra, dec = (self.target.ra + dra) % 360.0, self.target.dec + ddec
             await step(f"dither {due}", telescope.move_radec(ra, dec), on_cancel=telescope.stop_motion)
         self.applied = (dra, ddec)
-        if guider is not None:
-            await step("start guiding after the dither", guider.start())
 
 
 class Grading:

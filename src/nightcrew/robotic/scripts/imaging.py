@@ -126,6 +126,10 @@ class ImagingScript(Script):
         )
         if filter_focus_offsets and focuser is None:
             raise ConfigError("filter focus offsets need the focuser to move", key="focuser")
+        if refocus_triggers and refocus_triggers.get("fwhm_rise") is not None and grading is None:
+            raise ConfigError(
+                "a FWHM rise is measured on graded frames: set grading", key="refocus_triggers.fwhm_rise"
+            )
         self._refocusing = _option(
             "refocus_triggers",
             lambda: (
@@ -223,6 +227,16 @@ class ImagingScript(Script):
         await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
         return True
+
+    async def _dither_if_due(self, pointing: _Pointing) -> None:
+        """Dither before the next frame if it is due at another position; guiding paused for it."""
+        if not pointing.dithering.due:
+            return
+        if pointing.guider is not None:
+            await quietly("stop guiding for the dither", pointing.guider.stop)
+        await pointing.dithering.move(pointing.telescope, pointing.offsets)
+        if pointing.guider is not None:
+            pointing.guider = await self._start_guiding(pointing.config.guiding_config)
 
     async def _refocus_after_flip(self) -> None:
         if self._refocus is not None:
@@ -322,7 +336,7 @@ class ImagingScript(Script):
         retakes = 0
         while True:
             flipped = await self._flip_if_needed(pointing, instrument_config.exposure_time)
-            await pointing.dithering.dither_if_due(pointing.telescope, pointing.offsets, pointing.guider)
+            await self._dither_if_due(pointing)
             refocused = self._refocusing is not None and await self._refocusing.refocus_if_due(
                 self, instrument_config.optical_elements.get(FILTER_ELEMENT), self._grading
             )
