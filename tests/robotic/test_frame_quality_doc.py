@@ -50,7 +50,7 @@ def test_the_documented_keys_in_the_bundled_mastermind_pass_check(
             r"'refocus_triggers.temperature_change': .* known: count",
         ),
         (
-            {"refocus_triggers": {"fwhm_rise": -1}},
+            {"grading": {}, "refocus_triggers": {"fwhm_rise": -1}},
             r"key 'refocus_triggers.fwhm_rise': fwhm_rise must be >= 0",
         ),
         ({"filter_focus_offsets": {"R": 0.1}}, r"key 'focuser': filter focus offsets need the focuser"),
