@@ -46,14 +46,18 @@ def test_the_documented_keys_in_the_bundled_mastermind_pass_check(
     [
         ({"grading": {"max_retakes": -1}}, r"key 'grading.max_retakes': max_retakes must be an integer >= 0"),
         (
-            {"refocus_triggers": {"temperature_change": 1}},
-            r"'refocus_triggers.temperature_change': .* known: count",
+            {"refocus_triggers": {"hfr_rise": 0.2}},
+            r"key 'refocus_triggers.hfr_rise': hfr_rise is not an option; known: count, ",
         ),
         (
             {"grading": {}, "refocus_triggers": {"fwhm_rise": -1}},
             r"key 'refocus_triggers.fwhm_rise': fwhm_rise must be >= 0",
         ),
         ({"filter_focus_offsets": {"R": 0.1}}, r"key 'focuser': filter focus offsets need the focuser"),
+        (
+            {"refocus_triggers": {"temperature_change": 1.0}},
+            r"key 'refocus_triggers.temperature_change': temperature_change needs the script's temperatures",
+        ),
         (
             {"refocus_triggers": {"fwhm_rise": 0.2}},
             r"key 'refocus_triggers.fwhm_rise': a FWHM rise is measured",

@@ -11,8 +11,8 @@
   ``max_retakes`` times, and a log line gives the grade and why.
 * **Refocus** (the script's ``refocus_triggers``): before a frame, a focus series runs when a
   trigger fires (:func:`~nightcrew.focus.refocus.refocus_cause`): the graded frames' FWHM rose,
-  time passed, or the filter changed. Filter focus offsets (``filter_focus_offsets``) move the
-  focuser's offset whenever the filter is set.
+  the temperature changed, time passed, or the filter changed. Filter focus offsets
+  (``filter_focus_offsets``) move the focuser's offset whenever the filter is set.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import logging
 import statistics
 from collections import deque
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 from nightcrew.errors import NightcrewError
@@ -30,16 +30,24 @@ from nightcrew.focus.refocus import FocusState, RefocusTriggers, refocus_cause
 from nightcrew.images import Image
 from nightcrew.images.grading import FrameGrade, FrameGrader, GradingPolicy
 from nightcrew.images.quality import measure_frame_quality
-from nightcrew.interfaces import IAutoFocus, IFocuser, IOffsetsRaDec, ITelescope
+from nightcrew.interfaces import (
+    IAutoFocus,
+    IAutoGuiding,
+    IFocuser,
+    IOffsetsRaDec,
+    IPierSide,
+    ITelescope,
+    ITemperatures,
+)
 from nightcrew.robotic.runner import Script
 from nightcrew.robotic.scripts._dither import dither_offset, dither_to_radec, dithers_before
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
-from nightcrew.robotic.tasks import DitherConfig, InstrumentConfig, Target
+from nightcrew.robotic.tasks import Configuration, DitherConfig, InstrumentConfig, Target
 from nightcrew.vfs import VirtualFileSystem
 
-__all__ = ["Dithering", "Grading", "Refocusing", "focus_series", "setup_of"]
+__all__ = ["Dithering", "Grading", "Pointing", "Refocusing", "focus_series", "setup_of"]
 
 log = logging.getLogger(__name__)
 
@@ -51,6 +59,20 @@ RECENT_FRAMES = 3
 def setup_of(config: InstrumentConfig) -> tuple[str, int, float]:
     """The setup a frame is graded with: filter, binning, exposure time."""
     return config.optical_elements.get(FILTER_ELEMENT, ""), config.binning, config.exposure_time
+
+
+@dataclass
+class Pointing:
+    """What a flip or a dither changes and needs: the mount, its pier side and offsets, the
+    target, the guider running, the dither so far."""
+
+    telescope: ITelescope
+    pier: IPierSide | None
+    target: Target
+    config: Configuration
+    guider: IAutoGuiding | None
+    offsets: IOffsetsRaDec | None
+    dithering: Dithering
 
 
 @dataclass
@@ -148,39 +170,62 @@ class Refocusing:
     series: RefocusAfterFlip
     focuser: str | None = None
     filter_offsets: Mapping[str, float] = field(default_factory=dict)
+    temperatures: str | None = None  # the ITemperatures module, for the temperature trigger
+    temperature_sensor: str = "temperature"
     last: FocusState | None = None
 
     @classmethod
     def from_options(
-        cls, options: Mapping[str, Any], focuser: str | None, offsets: Mapping[str, Any]
+        cls,
+        options: Mapping[str, Any],
+        focuser: str | None,
+        offsets: Mapping[str, Any],
+        temperatures: str | None = None,
+        temperature_sensor: str = "temperature",
     ) -> Refocusing:
         """From the script's ``refocus_triggers`` (trigger and series keys in one mapping)."""
-        trigger_keys = {"fwhm_rise", "interval", "filter_change"}
+        trigger_keys = {"fwhm_rise", "interval", "filter_change", "temperature_change"}
         known = trigger_keys | {f.name for f in fields(RefocusAfterFlip)}
         unknown = sorted(set(options) - known)
         if unknown:
             raise ValueError(f"{unknown[0]} is not an option; known: {', '.join(sorted(known))}")
         series = RefocusAfterFlip.from_options({k: v for k, v in options.items() if k not in trigger_keys})
         triggers = RefocusTriggers(**{k: v for k, v in options.items() if k in trigger_keys})
-        return cls(triggers, series, focuser, {str(k): float(v) for k, v in offsets.items()})
+        if triggers.temperature_change is not None and temperatures is None:
+            raise ValueError("temperature_change needs the script's temperatures (an ITemperatures module)")
+        filter_offsets = {str(k): float(v) for k, v in offsets.items()}
+        return cls(triggers, series, focuser, filter_offsets, temperatures, temperature_sensor)
 
     async def refocus_if_due(self, script: Script, filter_name: str | None, grading: Grading | None) -> bool:
         """Run the focus series if a trigger fires before a frame in ``filter_name``; whether it ran."""
-        now = script.clock.time()
+        now, temperature = script.clock.time(), await self._temperature(script)
         if self.last is None:  # the task starts in focus (the mastermind focused before it)
-            self.last = FocusState(time=now, filter_name=filter_name)
+            self.last = FocusState(time=now, temperature=temperature, filter_name=filter_name)
         recent = grading.recent_fwhm() if grading is not None else None
         if self.last.fwhm is None and recent is not None:
-            self.last = FocusState(self.last.time, None, self.last.filter_name, recent)
-        cause = refocus_cause(self.triggers, self.last, time=now, filter_name=filter_name, fwhm=recent)
+            self.last = replace(self.last, fwhm=recent)
+        cause = refocus_cause(
+            self.triggers, self.last, time=now, temperature=temperature, filter_name=filter_name, fwhm=recent
+        )
         if cause is None:
             return False
         log.info("refocusing: %s", cause)
         await focus_series(script, self.series, "refocus")
-        self.last = FocusState(time=script.clock.time(), filter_name=filter_name)
+        self.last = FocusState(time=script.clock.time(), temperature=temperature, filter_name=filter_name)
         if grading is not None:
             grading.recent.clear()  # the FWHM after this focus is measured anew
         return True
+
+    async def _temperature(self, script: Script) -> float | None:
+        """The sensor's temperature (°C) when the temperature trigger is on and it answers."""
+        if self.triggers.temperature_change is None or self.temperatures is None:
+            return None
+        try:
+            sensors = await (await script.proxy_as(self.temperatures, ITemperatures)).get_temperatures()
+        except NightcrewError as exc:
+            log.warning("no temperature for the refocus trigger: %s", exc)
+            return None
+        return sensors.get(self.temperature_sensor)
 
     async def apply_filter_offset(self, script: Script, filter_name: str | None) -> None:
         """Move the focuser's offset to ``filter_name``'s (0 for a filter not listed)."""

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from typing import Any, TypeVar
+from collections.abc import Mapping
+from typing import Any
 
 from nightcrew.astro.pier import hour_angle
 from nightcrew.errors import ConfigError, NotSupportedError
@@ -22,7 +21,14 @@ from nightcrew.interfaces import (
     ITelescope,
 )
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
-from nightcrew.robotic.scripts._between import Dithering, Grading, Refocusing, focus_series, setup_of
+from nightcrew.robotic.scripts._between import (
+    Dithering,
+    Grading,
+    Pointing,
+    Refocusing,
+    focus_series,
+    setup_of,
+)
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip, flip_wait
 from nightcrew.robotic.scripts._instrument import (
     FILTER_ELEMENT,
@@ -31,7 +37,7 @@ from nightcrew.robotic.scripts._instrument import (
     instrument_supported,
 )
 from nightcrew.robotic.scripts._repeat import RepeatTiming
-from nightcrew.robotic.scripts._steps import quietly, step
+from nightcrew.robotic.scripts._steps import config_option, quietly, step
 from nightcrew.robotic.tasks import (
     AcquisitionMode,
     Configuration,
@@ -39,15 +45,12 @@ from nightcrew.robotic.tasks import (
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
-    Target,
     Task,
 )
 
 __all__ = ["ImagingScript"]
 
 log = logging.getLogger(__name__)
-
-T = TypeVar("T")
 
 _TYPES = frozenset({ConfigurationType.EXPOSE, ConfigurationType.REPEAT_EXPOSE})
 
@@ -89,10 +92,13 @@ class ImagingScript(Script):
         grading: Grade every science frame against the night and take failed ones again: a
             mapping of :class:`~nightcrew.images.grading.GradingPolicy` fields (``{}``: the
             defaults); None: no grading.
-        refocus_triggers: Refocus between frames: ``fwhm_rise`` (fraction), ``interval`` (s),
-            ``filter_change`` (bool), and the series as in ``refocus_after_flip``; None: never.
+        refocus_triggers: Refocus between frames: ``fwhm_rise`` (fraction), ``temperature_change``
+            (°C), ``interval`` (s), ``filter_change`` (bool), and the series as in
+            ``refocus_after_flip``; None: never.
         focuser: Module offering IFocuser, for ``filter_focus_offsets``.
         filter_focus_offsets: Filter name to focuser offset (mm), set with the filter.
+        temperatures: Module offering ITemperatures, for ``temperature_change``.
+        temperature_sensor: Its sensor to read.
     """
 
     def __init__(
@@ -109,6 +115,8 @@ class ImagingScript(Script):
         refocus_triggers: Mapping[str, Any] | None = None,
         focuser: str | None = None,
         filter_focus_offsets: Mapping[str, float] | None = None,
+        temperatures: str | None = None,
+        temperature_sensor: str = "temperature",
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -117,11 +125,11 @@ class ImagingScript(Script):
                 f"must be within 0..90 degrees, got {flip_past_meridian}", key="flip_past_meridian"
             )
         self._flip_past_meridian = float(flip_past_meridian)
-        self._refocus = _option(
+        self._refocus = config_option(
             "refocus_after_flip",
             lambda: None if refocus_after_flip is None else RefocusAfterFlip.from_options(refocus_after_flip),
         )
-        self._grading = _option(
+        self._grading = config_option(
             "grading", lambda: None if grading is None else Grading(GradingPolicy.from_options(grading))
         )
         if filter_focus_offsets and focuser is None:
@@ -130,12 +138,18 @@ class ImagingScript(Script):
             raise ConfigError(
                 "a FWHM rise is measured on graded frames: set grading", key="refocus_triggers.fwhm_rise"
             )
-        self._refocusing = _option(
+        self._refocusing = config_option(
             "refocus_triggers",
             lambda: (
                 None
                 if refocus_triggers is None and not filter_focus_offsets
-                else Refocusing.from_options(refocus_triggers or {}, focuser, filter_focus_offsets or {})
+                else Refocusing.from_options(
+                    refocus_triggers or {},
+                    focuser,
+                    filter_focus_offsets or {},
+                    temperatures,
+                    temperature_sensor,
+                )
             ),
         )
         self._telescope, self._camera, self._filters = telescope, camera, filters
@@ -176,7 +190,7 @@ class ImagingScript(Script):
         )
         await self._acquire(config)
         pier = await self.optional_proxy(self._telescope, IPierSide)
-        pointing = _Pointing(
+        pointing = Pointing(
             telescope,
             pier,
             target,
@@ -195,7 +209,7 @@ class ImagingScript(Script):
             if pointing.guider is not None:
                 await quietly("stop guiding", pointing.guider.stop)
 
-    async def _flip_if_needed(self, pointing: _Pointing, seconds: float) -> bool:
+    async def _flip_if_needed(self, pointing: Pointing, seconds: float) -> bool:
         """Flip before a frame of ``seconds`` that would carry the mount too far past the meridian;
         whether it did."""
         site = self.site
@@ -228,7 +242,7 @@ class ImagingScript(Script):
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
         return True
 
-    async def _dither_if_due(self, pointing: _Pointing) -> None:
+    async def _dither_if_due(self, pointing: Pointing) -> None:
         """Dither before the next frame if it is due at another position; guiding paused for it."""
         if not pointing.dithering.due:
             return
@@ -281,7 +295,7 @@ class ImagingScript(Script):
         return guider
 
     async def _expose(
-        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: _Pointing
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: Pointing
     ) -> None:
         for index, instrument_config in enumerate(config.instrument_configs):
             missing = reporter.remaining(index)
@@ -292,7 +306,7 @@ class ImagingScript(Script):
                 await self._science_frame(pointing, instrument, reporter, index, instrument_config)
 
     async def _expose_repeatedly(
-        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: _Pointing
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: Pointing
     ) -> None:
         assert config.repeat_duration is not None  # the task model requires it for REPEAT_EXPOSE
         # Resumed after an interruption: only the time left, and a first cycle already taken is
@@ -325,7 +339,7 @@ class ImagingScript(Script):
 
     async def _science_frame(
         self,
-        pointing: _Pointing,
+        pointing: Pointing,
         instrument: Instrument,
         reporter: ProgressReporter,
         index: int,
@@ -360,28 +374,6 @@ class ImagingScript(Script):
         pointing.dithering.count_frame()
         await reporter.add(index)
         return retakes
-
-
-@dataclass
-class _Pointing:
-    """What a flip or a dither changes and needs: the mount, its pier side and offsets, the
-    target, the guider running, the dither so far."""
-
-    telescope: ITelescope
-    pier: IPierSide | None
-    target: Target
-    config: Configuration
-    guider: IAutoGuiding | None
-    offsets: IOffsetsRaDec | None
-    dithering: Dithering
-
-
-def _option(key: str, build: Callable[[], T]) -> T:
-    """``build()``, its TypeError or ValueError as a ConfigError naming ``key.<first word>``."""
-    try:
-        return build()
-    except (TypeError, ValueError) as exc:
-        raise ConfigError(str(exc), key=f"{key}.{str(exc).split()[0]}") from exc
 
 
 def _recorder(
