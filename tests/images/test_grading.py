@@ -48,7 +48,12 @@ def test_a_frame_is_compared_with_its_setups_median_once_there_is_history() -> N
 
 def test_a_frame_without_stars_always_fails_and_a_lasting_change_becomes_the_norm() -> None:
     grader = FrameGrader(GradingPolicy(min_history=1, history=5))
-    assert grader.grade(FrameQuality(math.nan, math.nan, 0, 900.0), SETUP, 0.0).why == "no stars"
+    empty = FrameQuality(math.nan, math.nan, 0, 900.0)
+    assert [grader.grade(empty, SETUP, 0.0).why, grader.grade(GOOD, SETUP, 1.0).why] == ["no stars", ""]
+    assert grader.grade(empty, SETUP, 2.0).why == "no stars"  # the setup has stars
+    starless = FrameGrader(GradingPolicy(min_history=2))
+    verdicts = [starless.grade(empty, SETUP, float(k)).passed for k in range(4)]
+    assert verdicts == [False, False, True, True]  # a field without stars: its frames pass then
     grader = FrameGrader(GradingPolicy(min_history=1, history=5))
     for minute in range(3):
         grader.grade(GOOD, SETUP, 60.0 * minute)

@@ -8,7 +8,7 @@ compared with the running medians of that history *before* it joins:
 * ellipticity above the median plus ``max_ellipticity_rise`` (trailing: guiding or tracking lost);
 * fewer stars than ``min_stars_ratio`` times the median (clouds, a closed dome);
 * sky above ``max_sky_ratio`` times the median (Moon, twilight, clouds lit from below);
-* no star at all.
+* no star at all (unless the setup's frames have none: a field without stars).
 
 Until a setup has ``min_history`` frames, only the last rule applies. Failed frames join the
 history too, so the medians follow a lasting change of the night instead of failing every frame
@@ -115,11 +115,12 @@ class FrameGrader:
         return statistics.median(values) if len(values) >= self.policy.min_history else None
 
     def _failures(self, quality: FrameQuality, history: deque[FrameQuality]) -> list[str]:
-        if quality.stars == 0:
-            return ["no stars"]
         policy = self.policy
         if len(history) < policy.min_history:
-            return []
+            return ["no stars"] if quality.stars == 0 else []
+        stars = statistics.median(q.stars for q in history)
+        if quality.stars == 0:
+            return ["no stars"] if stars > 0 else []  # a field without stars (none in the history)
         reasons = []
         fwhm = _median([q.fwhm for q in history])
         if fwhm is not None and quality.fwhm > policy.max_fwhm_ratio * fwhm:
@@ -128,7 +129,6 @@ class FrameGrader:
         if ellipticity is not None and quality.ellipticity > ellipticity + policy.max_ellipticity_rise:
             rise = policy.max_ellipticity_rise
             reasons.append(f"ellipticity {quality.ellipticity:.2f} > median {ellipticity:.2f} + {rise:g}")
-        stars = statistics.median(q.stars for q in history)
         if quality.stars < policy.min_stars_ratio * stars:
             reasons.append(f"{quality.stars} stars < {policy.min_stars_ratio:g} x median {stars:g}")
         sky = _median([q.sky for q in history])
