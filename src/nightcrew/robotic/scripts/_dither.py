@@ -24,7 +24,6 @@ __all__ = [
     "SPIRAL_STEPS",
     "dither_field_problems",
     "dither_offset",
-    "dither_radius",
     "dither_to_radec",
     "dithers_before",
 ]
@@ -54,11 +53,6 @@ def dither_offset(config: DitherConfig, index: int, *, seed: str = "") -> tuple[
         return east * config.amplitude, north * config.amplitude
     rng = random.Random(f"{seed}:{index}")  # one draw per position: any index alone is reproducible
     return rng.uniform(-1.0, 1.0) * config.amplitude, rng.uniform(-1.0, 1.0) * config.amplitude
-
-
-def dither_radius(config: DitherConfig) -> float:
-    """The farthest any position of the pattern lies from the target, arcsec."""
-    return config.amplitude * math.sqrt(2.0)
 
 
 def dithers_before(config: DitherConfig, frames_taken: int) -> int:
