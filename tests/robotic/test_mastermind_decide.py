@@ -424,7 +424,9 @@ def test_task_cards_name_the_task() -> None:
 def test_focus_is_due_first_and_then_after_a_temperature_change(
     focused: bool, last: float | None, now: float | None, due: bool
 ) -> None:
-    assert focus_due(focused=focused, last_temperature=last, temperature=now, threshold=2.0) is due
+    assert (
+        focus_due(focused=focused, last_temperature=last, temperature=now, threshold=2.0) is not None
+    ) is due
 
 
 def test_the_recorded_progress_never_shrinks_when_a_retry_counts_from_zero() -> None:
@@ -449,3 +451,10 @@ def test_the_roof_state_follows_the_motion_status() -> None:
     assert RoofState.of_motion(MotionStatus.PARKING) is RoofState.CLOSING
     assert RoofState.of_motion(MotionStatus.MOVING) is RoofState.OPENING
     assert RoofState.of_motion(MotionStatus.ERROR) is RoofState.UNKNOWN
+
+
+def test_focus_is_due_again_after_the_refocus_interval_when_one_is_set() -> None:
+    steady = {"focused": True, "last_temperature": 5.0, "temperature": 5.0, "threshold": 2.0}
+    assert focus_due(**steady, since_focus=7200.0) is None  # type: ignore[arg-type]
+    assert focus_due(**steady, since_focus=3500.0, interval=3600.0) is None  # type: ignore[arg-type]
+    assert focus_due(**steady, since_focus=3700.0, interval=3600.0) == "3700 s since the last focus"  # type: ignore[arg-type]
