@@ -4,6 +4,8 @@
 configuration, a self-signed certificate (``DIR/certs/<domain>.crt``, for the modules'
 ``ca_file``) and one account per module configuration with a ``comm: {jid, password}``
 (``${VAR}`` resolved from the environment) and per person (a comm file alone, as operator.yaml).
+A password a file includes from a ``secrets/`` folder (``password: !include
+secrets/roof.password``) that does not exist yet is made: random, one per account, mode 0600.
 Module accounts own the room; people are members. Unless it exists, it writes the starting
 access policy ``DIR/access.policy`` (docs/security.md) the modules' comms name: the modules may
 call each other, the ``--operator`` people everything, other people only what reads.
@@ -22,6 +24,7 @@ from nightcrew.night.init import module_text
 from nightcrew.server import (
     ServerSettings,
     accounts_from_configs,
+    create_missing_passwords,
     init_server,
     policy_for_accounts,
     server_status,
@@ -91,6 +94,8 @@ def _init_options() -> argparse.ArgumentParser:
 
 def _init(args: argparse.Namespace) -> int:
     options = _init_options().parse_intermixed_args(args.rest)
+    for made in create_missing_passwords(options.configs):
+        print(f"made a random password in {made} (mode 0600)")
     accounts = accounts_from_configs(options.configs)
     modules = [a for a in accounts if not a.person]
     # Module accounts own the room; with any, it is members-only (docs/security.md). People are

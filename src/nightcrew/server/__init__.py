@@ -2,10 +2,12 @@
 
 :func:`init_server` writes a Prosody configuration for loopback (or a given address), a
 self-signed certificate and one account per module configuration; :func:`start_server` runs
-Prosody in the background with its own data directory and pidfile, no root or systemd needed.
+Prosody in the background with its own data directory and pidfile, no root or systemd needed;
+:func:`create_missing_passwords` makes the random passwords the files keep in ``secrets/``.
 """
 
 from nightcrew.server._accounts import Account, accounts_from_configs, policy_for_accounts
+from nightcrew.server._secrets import create_missing_passwords
 from nightcrew.server._prosody import (
     ServerSettings,
     init_server,
@@ -19,6 +21,7 @@ __all__ = [
     "Account",
     "ServerSettings",
     "accounts_from_configs",
+    "create_missing_passwords",
     "init_server",
     "policy_for_accounts",
     "register_account",
