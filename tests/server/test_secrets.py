@@ -10,13 +10,15 @@ import pytest
 from nightcrew.errors import ConfigError
 from nightcrew.server import Account, accounts_from_configs, create_missing_passwords
 
-COMM = "comm:\n  class: nightcrew.comm.xmpp.XmppComm\n  jid: {name}@obs.local\n  password: !include {secret}\n"
+COMM = (
+    "comm:\n  class: nightcrew.comm.xmpp.XmppComm\n  jid: {name}@obs.local\n  password: !include {secret}\n"
+)
 
 
 def _module(directory: Path, name: str, secret: str = "") -> Path:
     path = directory / f"{name}.yaml"
-    text = "class: nightcrew.modules.Module\n" + COMM.format(name=name, secret=secret or f"secrets/{name}.password")
-    path.write_text(text)
+    comm = COMM.format(name=name, secret=secret or f"secrets/{name}.password")
+    path.write_text("class: nightcrew.modules.Module\n" + comm)
     return path
 
 
@@ -48,5 +50,6 @@ def test_only_files_in_a_secrets_folder_are_made(tmp_path: Path) -> None:
 
 def test_an_unset_variable_in_the_path_is_one_error(tmp_path: Path) -> None:
     bad = _module(tmp_path, "roof", secret="${NO_SUCH_FOLDER}/roof.password")
-    with pytest.raises(ConfigError, match=r"roof\.yaml:5: key 'password': environment variable NO_SUCH_FOLDER"):
+    unset = r"roof\.yaml:5: key 'password': environment variable NO_SUCH_FOLDER"
+    with pytest.raises(ConfigError, match=unset):
         create_missing_passwords([bad], environ={})

@@ -7,7 +7,6 @@ Prosody in the background with its own data directory and pidfile, no root or sy
 """
 
 from nightcrew.server._accounts import Account, accounts_from_configs, policy_for_accounts
-from nightcrew.server._secrets import create_missing_passwords
 from nightcrew.server._prosody import (
     ServerSettings,
     init_server,
@@ -16,6 +15,7 @@ from nightcrew.server._prosody import (
     start_server,
     stop_server,
 )
+from nightcrew.server._secrets import create_missing_passwords
 
 __all__ = [
     "Account",
