@@ -1,4 +1,5 @@
-"""``server init`` makes the passwords module and person files keep in ``secrets/`` (no server needed)."""
+"""``server init`` makes the passwords module and person files keep in ``secrets/``, and writes no
+access policy nobody names."""
 
 from __future__ import annotations
 
@@ -7,8 +8,12 @@ from pathlib import Path
 
 import pytest
 
+from nightcrew.cli.main import main
 from nightcrew.errors import ConfigError
-from nightcrew.server import Account, accounts_from_configs, create_missing_passwords
+from nightcrew.server import Account, accounts_from_configs, create_missing_passwords, policies_named
+from nightcrew.testing.processes import free_port
+
+from ..comm.xmpp_servers import require_command
 
 COMM = (
     "comm:\n  class: nightcrew.comm.xmpp.XmppComm\n  jid: {name}@obs.local\n  password: !include {secret}\n"
@@ -53,3 +58,27 @@ def test_an_unset_variable_in_the_path_is_one_error(tmp_path: Path) -> None:
     unset = r"roof\.yaml:5: key 'password': environment variable NO_SUCH_FOLDER"
     with pytest.raises(ConfigError, match=unset):
         create_missing_passwords([bad], environ={})
+
+
+def test_server_init_writes_no_policy_beside_one_the_modules_name(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A `nightcrew init` directory has its access.policy, which comm.yaml names: server init
+    writes none into xmpp/ that nobody would name; where the modules name none, it writes one."""
+    require_command("prosody", "prosody")
+    (tmp_path / "access.policy").write_text("roles: {modules: ['*']}\naccounts: {roof: [modules]}\n")
+    (tmp_path / "comm.yaml").write_text("class: nightcrew.comm.xmpp.XmppComm\npolicy: access.policy\n")
+    roof = tmp_path / "roof.yaml"
+    roof.write_text(
+        "class: nightcrew.modules.Module\ncomm:\n  <<: !include comm.yaml\n  jid: roof@obs.local\n"
+        "  password: !include secrets/roof.password\n"
+    )
+    assert main(["server", "init", str(tmp_path / "xmpp"), "--port", str(free_port()), str(roof)]) == 0
+    assert policies_named([roof]) == [tmp_path / "access.policy"]
+    assert not (tmp_path / "xmpp" / "access.policy").exists()
+    assert f"the modules name their access policy ({tmp_path / 'access.policy'}); none written" in (
+        capsys.readouterr().out
+    )
+    (tmp_path / "access.policy").unlink()  # named, but not there: the starting policy is written
+    assert main(["server", "init", str(tmp_path / "xmpp"), "--port", str(free_port()), str(roof)]) == 0
+    assert (tmp_path / "xmpp" / "access.policy").exists()

@@ -6,7 +6,7 @@ Prosody in the background with its own data directory and pidfile, no root or sy
 :func:`create_missing_passwords` makes the random passwords the files keep in ``secrets/``.
 """
 
-from nightcrew.server._accounts import Account, accounts_from_configs, policy_for_accounts
+from nightcrew.server._accounts import Account, accounts_from_configs, policies_named, policy_for_accounts
 from nightcrew.server._prosody import (
     ServerSettings,
     init_server,
@@ -23,6 +23,7 @@ __all__ = [
     "accounts_from_configs",
     "create_missing_passwords",
     "init_server",
+    "policies_named",
     "policy_for_accounts",
     "register_account",
     "server_status",
