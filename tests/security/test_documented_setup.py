@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import json
 import os
 import signal
 import stat
@@ -270,6 +271,14 @@ async def test_forged_hardware_events_are_not_obeyed(
     with pytest.raises(RemoteError, match=f"cannot enter room {ROOM}"):
         await intruder.open()
     await intruder.close()
+    outsider = await observatory.raw("outsider")  # sending to the room all the same
+    try:
+        for event in FORGED:
+            fields = json.dumps(event.to_dict())
+            element = f'<event xmlns="urn:nightcrew:event" name="{event.event_name()}">{fields}</event>'
+            outsider.connection.send_text("message", ROOM, element, type="groupchat")
+    finally:
+        await outsider.connection.close()
     # The observer, a member, forges every event that moves hardware; a marker tells when all arrived.
     heard: list[str] = []
 
@@ -287,6 +296,7 @@ async def test_forged_hardware_events_are_not_obeyed(
         20, message="every forged event refused by the roof",
     )  # fmt: skip
     assert await _roof(operator) is MotionStatus.IDLE  # 0 obeyed: still open
+    assert "from outsider" not in observatory.log("roof")  # the room did not even pass them on
     refused = read_audit(observatory.directory / "audit.jsonl", caller="observer", module="roof")
     assert {r.method for r in refused if r.outcome == "forbidden"} >= set(hardware_event_names())
 
