@@ -1,13 +1,13 @@
 """The documented set-up under attack (issue 26's "Done when"), as docs/observatory.md sets it up.
 
-An observatory directory as ``nightcrew init --comm xmpp`` writes one (module files naming
+An observatory directory in the shape ``nightcrew init --comm xmpp`` writes (module files naming
 ``comm.yaml`` and their own ``secrets/NAME.password``; the people's ``operator.yaml`` and
-``observer.yaml``), then, in it, ``nightcrew server init xmpp *.yaml`` (the passwords, the
-accounts, the starting policy the comm names), ``nightcrew server start xmpp`` and ``nightcrew up
-.``. An outsider has an account on the server, registered by its administrator, but is not in the
-policy. The modules: a simulated roof with the dead-man's switch, a simulated camera and the
-safety watchdog, on the real clock. One set-up for the whole file; the tests run in order (the
-last one freezes the watchdog).
+``observer.yaml``; the comm naming the policy ``server init`` writes), then, in it, ``nightcrew
+server init xmpp --port P *.yaml`` (the passwords, the accounts, the starting policy),
+``nightcrew server start xmpp`` and ``nightcrew up .``. An outsider has an account on the server,
+registered by its administrator, but is not in the policy. The modules: a simulated roof with the
+dead-man's switch, a simulated camera and the safety watchdog, on the real clock. One set-up for
+the whole file; the tests run in order (the last one freezes the watchdog).
 """
 
 from __future__ import annotations
@@ -123,7 +123,8 @@ class Observatory:
 
 
 def _write_directory(directory: Path, port: int) -> None:
-    """The files ``nightcrew init --comm xmpp`` writes (docs/observatory.md), for these modules."""
+    """Module and person files in the shape ``nightcrew init --comm xmpp`` writes them (its device
+    discovery is not what is tested here), the comm naming the policy ``server init`` writes."""
     (directory / "comm.yaml").write_text(
         "class: nightcrew.comm.xmpp.XmppComm\n"
         f"server: 127.0.0.1:{port}\nroom: nightcrew\nca_file: xmpp/certs/{DOMAIN}.crt\n"
