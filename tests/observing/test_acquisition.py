@@ -58,8 +58,9 @@ async def test_acquisition_converges_from_a_large_miss(
         result: dict[str, Any] = await acquisition.acquire_target()
         final = angular_separation(*await mount.get_true_radec(), *PLEIADES) * 3600.0
         print(
-            f"acquisition: miss {start_miss:.2f}' -> {final:.2f}\" (true) in {result['iterations']} iterations; "
-            f'measured {", ".join(f"{d:.1f}" for d in result["offsets"])}"'
+            f"acquisition: miss {start_miss:.2f}' -> {final:.2f}\" (true) "
+            f"in {result['iterations']} iterations; measured "
+            f'{", ".join(f"{d:.1f}" for d in result["offsets"])}"'
         )
         assert 2.0 < start_miss <= 10.0
         assert result["iterations"] <= 3
