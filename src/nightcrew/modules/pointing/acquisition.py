@@ -43,9 +43,12 @@ import math
 from collections.abc import Sequence
 from typing import Any, ClassVar, Literal
 
+import astropy.units as u  # type: ignore[import-untyped]
+from astropy.coordinates import Angle  # type: ignore[import-untyped]
+
 from nightcrew.errors import ConfigError, InterfaceError, InvalidArgumentError, NightcrewError
 from nightcrew.images import Image, ImageProcessor
-from nightcrew.images.astrometry import standard_to_sky
+from nightcrew.images.astrometry import sky_to_standard, standard_to_sky
 from nightcrew.images.processors.offsets import OFFSETS_KEY, AstrometryOffsets, Offsets
 from nightcrew.interfaces import (
     IAcquisition,
@@ -53,7 +56,6 @@ from nightcrew.interfaces import (
     IExposureTime,
     IImageType,
     ImageType,
-    IOffsetsRaDec,
     IPointingRaDec,
     ISyncRaDec,
 )
@@ -161,8 +163,7 @@ class Acquisition(Module, IAcquisition):
             filename = await camera.grab_data(broadcast=False)
             async with self.clock.work("plate_solve"):
                 image = await self._pipeline(await Image.from_vfs(self.vfs, filename))
-                measured = await self._measure(image)
-            error = measured + applied  # from the target: the header position includes the offsets
+                error, target = await self._measure(image, applied)
             history.append(error.distance)
             log.info(
                 'iteration %d: target %.1f" off (E %.1f", N %.1f")',
@@ -179,7 +180,7 @@ class Acquisition(Module, IAcquisition):
                     "not applied (wrong field or failed solve?)"
                 )
             if self._method == "sync":
-                await self._sync(measured)
+                await self._sync(error, target)
             else:
                 await self._apply.apply(error)
         raise AcquisitionFailedError(
@@ -187,35 +188,49 @@ class Acquisition(Module, IAcquisition):
             f'(tolerance {self._tolerance:g}"; offsets {", ".join(f"{d:.1f}" for d in history)}")'
         )
 
-    async def _measure(self, image: Image) -> SkyError:
-        """The pointing error at the target pixel: from the frame's WCS, else from the pipeline's offsets."""
-        if self._target_pixel is not None:
-            x, y = self._target_pixel
-            rows, cols = image.shape
-            if not (x <= cols - 1 and y <= rows - 1):
-                raise InvalidArgumentError(
-                    f"target_pixel ({x:g}, {y:g}) is outside the {cols}x{rows} frame of the camera"
-                )
+    async def _measure(self, image: Image, applied: SkyError) -> tuple[SkyError, tuple[float, float] | None]:
+        """The error from the target at the target pixel (where it points minus the target), and
+        the target: from the frame's WCS and the target in the header (OBJCTRA/OBJCTDEC) where it
+        has them, so a mount that reports a little beside its target is still centred; else from
+        the pipeline's offsets and the reported position (RA/DEC) less the offsets."""
+        rows, cols = image.shape
+        x, y = self._target_pixel or ((cols - 1) / 2.0, (rows - 1) / 2.0)
+        if not (x <= cols - 1 and y <= rows - 1):
+            raise InvalidArgumentError(
+                f"target_pixel ({x:g}, {y:g}) is outside the {cols}x{rows} frame of the camera"
+            )
+        target = _header_target(image)
+        if image.wcs is not None and target is not None:
+            ra, dec = image.pixel_to_sky(x, y)
+            east, north = sky_to_standard(ra, dec, *target)
+            return SkyError(float(east) * 3600.0, float(north) * 3600.0), target
         offsets = image.metadata.get(OFFSETS_KEY)
         if image.wcs is not None and (offsets is None or offsets.source == AstrometryOffsets.__name__):
-            image = await self._locate(image)
-            offsets = image.metadata[OFFSETS_KEY]
+            offsets = (await self._locate(image)).metadata[OFFSETS_KEY]
         if not isinstance(offsets, Offsets):
             raise ConfigError("the acquisition pipeline gave neither a WCS nor offsets (add a plate solve)")
-        return sky_error(offsets, image, position_angle=self._position_angle, flip=self._flip)
+        measured = sky_error(offsets, image, position_angle=self._position_angle, flip=self._flip)
+        reported = image.header.get("RA"), image.header.get("DEC")
+        if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in reported):
+            return measured + applied, None
+        ra, dec = standard_to_sky(-applied.east / 3600.0, -applied.north / 3600.0, *reported)
+        return measured + applied, (float(ra), float(dec))  # the header position includes the offsets
 
-    async def _sync(self, measured: SkyError) -> None:
+    async def _sync(self, error: SkyError, target: tuple[float, float] | None) -> None:
         """Sync the mount on where the target pixel really points, then slew to the target again."""
+        if target is None:
+            raise InvalidArgumentError(
+                "method: sync needs the target in the frame's header (OBJCTRA/OBJCTDEC or RA/DEC)"
+            )
         try:
             sync = await self.proxy(self._telescope, ISyncRaDec)
         except InterfaceError as exc:
             raise InterfaceError(f"method: sync needs a telescope that syncs (ISyncRaDec): {exc}") from exc
         pointing = await self.proxy(self._telescope, IPointingRaDec)
-        ra, dec = await pointing.get_radec()  # reported: the target plus the offsets
-        dra, ddec = await (await self.proxy(self._telescope, IOffsetsRaDec)).get_offsets_radec()
-        true_ra, true_dec = standard_to_sky(measured.east / 3600.0, measured.north / 3600.0, ra, dec)
-        await sync.sync_radec(float(true_ra), float(true_dec))
-        await pointing.move_radec((ra - dra) % 360.0, dec - ddec)
+        # The target pixel shows the target plus the error: the mount is told so, then slews by -error.
+        true_ra, true_dec = standard_to_sky(error.east / 3600.0, error.north / 3600.0, *target)
+        await sync.sync_radec(float(true_ra) % 360.0, float(true_dec))
+        await pointing.move_radec(*target)
 
     def _result(self, iterations: int, error: SkyError, history: list[float]) -> dict[str, Any]:
         return {
@@ -225,6 +240,17 @@ class Acquisition(Module, IAcquisition):
             "offset_north": error.north,
             "offsets": history,  # arcsec, one per iteration
         }
+
+
+def _header_target(image: Image) -> tuple[float, float] | None:
+    """The telescope's target without offsets (OBJCTRA, OBJCTDEC: 'hh mm ss.ss', '+dd mm ss.s')."""
+    ra, dec = image.header.get("OBJCTRA"), image.header.get("OBJCTDEC")
+    if not (isinstance(ra, str) and isinstance(dec, str)):
+        return None
+    try:
+        return float(Angle(ra, unit=u.hourangle).degree), float(Angle(dec, unit=u.deg).degree)
+    except ValueError:
+        return None
 
 
 def _target_pixel(value: Sequence[float] | None) -> tuple[float, float] | None:
