@@ -15,8 +15,9 @@ Prints ``OK FILE`` for every valid file and one ``FILE:LINE: key 'x': message`` 
 for every invalid one (a problem in a fragment once, naming the files that include it); a file of
 none of these kinds is listed as ``SKIP FILE`` with the reason. The variables the files need and
 the environment lacks are named on one line, with the files that read them. Across the files: a
-camera's field the index files cannot solve, and a cooling schedule's set point below what its
-camera declares it can reach. Exits 0 when all are valid, else 2.
+camera's field the index files cannot solve, a cooling schedule's set point below what its
+camera declares it can reach, and an acquisition's target pixel outside its camera's chip. Exits
+0 when all are valid, else 2.
 """
 
 from __future__ import annotations
@@ -135,6 +136,11 @@ def run_check(args: argparse.Namespace) -> int:
 
     for reach in cooling_reach_problems(files):  # a set point colder than the camera can hold
         print(f"nightcrew: error: {reach}", file=sys.stderr)
+        all_valid = False
+    from nightcrew.modules.pointing.acquisition import target_pixel_problems
+
+    for outside in target_pixel_problems(files):  # an acquisition's target pixel beyond its camera's chip
+        print(f"nightcrew: error: {outside}", file=sys.stderr)
         all_valid = False
     return 0 if all_valid else 2
 

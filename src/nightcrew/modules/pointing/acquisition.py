@@ -40,12 +40,15 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from pathlib import Path
 from typing import Any, ClassVar, Literal
 
 import astropy.units as u  # type: ignore[import-untyped]
 from astropy.coordinates import Angle  # type: ignore[import-untyped]
 
+from nightcrew.config import load_config, to_plain
+from nightcrew.config._classes import ClassResolutionError, import_class
 from nightcrew.errors import ConfigError, InterfaceError, InvalidArgumentError, NightcrewError
 from nightcrew.images import Image, ImageProcessor
 from nightcrew.images.astrometry import sky_to_standard, standard_to_sky
@@ -64,7 +67,7 @@ from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
 from nightcrew.modules.pointing.apply import ApplyOffsets, ApplyRaDecOffsets, SkyError, sky_error
 
-__all__ = ["Acquisition", "AcquisitionFailedError", "CentringMethod"]
+__all__ = ["Acquisition", "AcquisitionFailedError", "CentringMethod", "target_pixel_problems"]
 
 log = logging.getLogger(__name__)
 
@@ -264,3 +267,34 @@ def _target_pixel(value: Sequence[float] | None) -> tuple[float, float] | None:
             f"target_pixel ({x:g}, {y:g}) is outside the frame (0-based pixels)", key="target_pixel"
         )
     return x, y
+
+
+def target_pixel_problems(files: Iterable[Path]) -> list[str]:
+    """For the module files of one observatory: a line per acquisition whose ``target_pixel`` lies
+    outside the chip its camera (a module file among ``files``, by name) states (``detector``:
+    ``chip_width``, ``chip_height``); cameras that state none are checked on the first frame."""
+    modules: dict[str, tuple[Path, dict[str, Any]]] = {}
+    for path in files:
+        try:
+            config = to_plain(load_config(path))
+        except ConfigError:
+            continue  # reported by the file's own check
+        if isinstance(config, dict) and "class" in config:
+            modules[str(config.get("name") or path.stem)] = (path, config)
+    problems = []
+    for path, config in modules.values():
+        try:
+            if not issubclass(import_class(str(config["class"])), Acquisition):
+                continue
+            camera_path, camera = modules[str(config.get("camera"))]
+            detector = camera["detector"]
+            x, y = (float(v) for v in config["target_pixel"])
+            width, height = int(detector["chip_width"]), int(detector["chip_height"])
+        except (ConfigError, ClassResolutionError, KeyError, TypeError, ValueError):
+            continue  # no such camera or chip here, or a value the file's own check names
+        if not (x <= width - 1 and y <= height - 1):
+            problems.append(
+                f"{path}: key 'target_pixel': ({x:g}, {y:g}) is outside the {width}x{height} frame "
+                f"of the camera in {camera_path}"
+            )
+    return problems
