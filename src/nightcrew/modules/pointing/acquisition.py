@@ -176,6 +176,7 @@ class Acquisition(Module, IAcquisition):
                 error.north,
             )
             if error.distance < self._tolerance:
+                log.info('centred in %d iteration(s): %.1f" from the target pixel', iteration, error.distance)
                 return self._result(iteration, error, history)
             if error.distance > self._max_offset:
                 raise InvalidArgumentError(
