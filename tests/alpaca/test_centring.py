@@ -19,7 +19,10 @@ async def test_centring_on_the_alpaca_mount(alpaca_simulator: AlpacaSimulator) -
     async with Observatory(clock=RealClock(), site=SIMULATOR_SITE) as obs:
         mount = await obs.start(AlpacaMountWithError, "mount", server=alpaca_simulator.url)
         await mount.init()
-        ra, dec = altaz_to_radec(
-            60.0, 180.0, SIMULATOR_SITE.latitude, SIMULATOR_SITE.longitude, obs.clock.time()
-        )
+        # Where the mount stands when that is high enough (the session's simulator keeps its state):
+        # a short slew, as the simulator slews in real time.
+        alt, az = await mount.get_altaz()
+        if alt < 30.0:
+            alt, az = 60.0, 180.0
+        ra, dec = altaz_to_radec(alt, az, SIMULATOR_SITE.latitude, SIMULATOR_SITE.longitude, obs.clock.time())
         await centre_both_ways(obs, mount, (float(ra) % 360.0, float(dec)))
