@@ -34,6 +34,7 @@ from nightcrew.robotic.tasks import (
     InvalidTaskError,
     RequestGroup,
     TaskState,
+    cadence_progress,
     estimate_duration,
     filled_defaults,
     load_request_group_file,
@@ -161,6 +162,11 @@ async def _list(args: argparse.Namespace) -> int:
 async def _show(args: argparse.Namespace) -> int:
     async with _archive(args) as archive:
         task = await archive.get_task(args.task_id)
+        group = (
+            [t for t in await archive.list_tasks() if t.group_id == task.group_id]
+            if task.request.cadence
+            else []
+        )
     status = task.status
     estimate = estimate_duration(task.request)
     print(f"task {task.id}: request {task.request_index} of group {task.group_id} {task.name!r}")
@@ -168,6 +174,9 @@ async def _show(args: argparse.Namespace) -> int:
     kind = task.observation_type.value
     print(f"proposal: {task.proposal}, {kind}, priority {task.priority:g} x ipp {task.ipp:g}")
     print(f"duration: {_duration(estimate.total_s)} (set-up {_duration(estimate.setup_s)})")
+    cadence = cadence_progress(task, group)
+    if cadence is not None:
+        print(f"cadence: {cadence}")
     for label, when in (("started", status.started_at), ("finished", status.finished_at)):
         if when is not None:
             print(f"{label}: {when.isoformat()}")

@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 
 from pydantic import Field
 
 from nightcrew.robotic.tasks._base import Integer, Number, TaskModel
+from nightcrew.robotic.tasks._cadence import cadence_visit
 from nightcrew.robotic.tasks._request import ObservationType, Request, RequestGroup
 from nightcrew.robotic.tasks._state import SCHEDULABLE_STATES, TaskState, TaskStatus
 
-__all__ = ["Task", "tasks_of_group"]
+__all__ = ["Task", "cadence_progress", "tasks_of_group"]
 
 
 class Task(TaskModel):
@@ -81,3 +83,16 @@ def tasks_of_group(
         )
         for index, (task_id, request) in enumerate(zip(task_ids, group.requests, strict=True))
     ]
+
+
+def cadence_progress(task: Task, group: Sequence[Task]) -> str | None:
+    """How far the cadence of ``task`` has come, from its ``group``'s tasks (the visits, with
+    others); None when the task is no cadence visit. E.g. ``visit 2 of 4; 1 done, 2 pending, 1 expired``."""
+    cadence = task.request.cadence
+    if cadence is None:
+        return None
+    visit, count = cadence_visit(cadence, task.request.first_start)
+    visits = [t for t in group if t.request.cadence == cadence]
+    states = Counter(t.state.value.lower() for t in visits)
+    told = ", ".join(f"{states[name]} {name}" for name in sorted(states))
+    return f"visit {visit} of {count}; {told}"
