@@ -9,9 +9,11 @@ from typing import Any
 
 import pytest
 
+from nightcrew.config import load_config
 from nightcrew.events import RapidResponseEvent, TasksChangedEvent
 from nightcrew.modules import Module
 from nightcrew.modules.alerts import AlertListener
+from nightcrew.night.build import files_environ
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.tasks import ObservationType, TaskState
 from nightcrew.testing import Observatory, wait_for
@@ -19,7 +21,8 @@ from nightcrew.testing.comet import CometBroker
 
 from .voevents import STREAM, notice
 
-RULES = {"field_of_view": 0.5, "notice_types": ["61"], "priority": 80}
+#: The example a user copies (its broker and data folder from the environment, as documented).
+EXAMPLE = Path(__file__).parents[3] / "examples/observatory/options/alerts.yaml"
 
 
 class Heard(Module):
@@ -45,13 +48,16 @@ class Heard(Module):
 async def test_notices_become_requests_updates_move_them_and_retractions_cancel(
     comet: CometBroker, tmp_path: Path, caplog: pytest.LogCaptureFixture
 ) -> None:
+    environ = {**files_environ(), "ALERTS_BROKER": comet.address, "OBSERVATORY_DATA": str(tmp_path)}
+    config = load_config(EXAMPLE, environ=environ)
+    assert config["class"] == "nightcrew.modules.alerts.AlertListener"
     async with Observatory(speed=1.0) as obs:  # the broker runs in wall time
-        archive = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=obs.clock, poll_interval=0)
+        archive = SqliteTaskArchive(tmp_path / "tasks.sqlite", clock=obs.clock, poll_interval=0)  # to look
         heard = await obs.start(Heard, "heard")
-        listener = await obs.start(
-            AlertListener, "alerts", broker=comet.address, archive=archive, rules=RULES
-        )
+        options = {key: value for key, value in config.items() if key != "class"}
+        listener = await obs.start(AlertListener, "alerts", **options)
         await wait_for(lambda: listener.connected, 20, message="the listener did not connect")
+        await archive.open()  # the one the listener's file names, made by the listener
 
         async def tasks() -> list[Any]:
             return sorted(await archive.list_tasks(), key=lambda t: int(t.id))
@@ -64,7 +70,7 @@ async def test_notices_become_requests_updates_move_them_and_retractions_cancel(
             assert await comet.publish(notice("pos1", error=0.2)) == "ack"
             await wait_for(lambda: bool(heard.rapid), 20, message="no request from the GRB notice")
             (first,) = await tasks()
-            assert first.observation_type is ObservationType.RAPID_RESPONSE and first.priority == 80
+            assert first.observation_type is ObservationType.RAPID_RESPONSE and first.priority == 100
             assert heard.rapid == [(first.id,)]
             out_of_range = [r for r in caplog.records if "#bad" in r.getMessage()]
             assert [r.getMessage() for r in out_of_range] == [
@@ -93,3 +99,4 @@ async def test_notices_become_requests_updates_move_them_and_retractions_cancel(
             await wait_for(lambda: ("cancelled", (new.id,)) in heard.changes, 20, message="not cancelled")
             assert (await archive.get_task(new.id)).state is TaskState.CANCELED
             assert len(await tasks()) == 2 and len(heard.rapid) == 2
+        await archive.close()
