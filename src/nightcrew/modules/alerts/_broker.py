@@ -74,7 +74,10 @@ class BrokerSubscription:
                 log.warning("the VOEvent client wrote something unreadable: %r", line[:200])
                 continue
             if "voevent" in message:
-                await self._on_voevent(base64.b64decode(message["voevent"]))
+                try:
+                    await self._on_voevent(base64.b64decode(message["voevent"]))
+                except Exception as exc:  # one notice's trouble must not end the subscription
+                    log.error("handling a VOEvent failed: %s", exc or type(exc).__name__)
             else:
                 self._on_log(int(message.get("log", logging.INFO)), str(message.get("message", "")))
         if self._process is process:

@@ -104,7 +104,7 @@ def request_for(notice: Notice, rules: AlertRules, site: Site, now: datetime) ->
 
 
 def _group_data(notice: Notice, rules: AlertRules, start: datetime, end: datetime) -> dict[str, Any]:
-    name = notice.ivorn.split("#", 1)[-1][:100]
+    name = (notice.ivorn.split("#", 1)[-1].strip() or notice.ivorn)[:100]
     return {
         "name": name,
         "proposal": rules.proposal,

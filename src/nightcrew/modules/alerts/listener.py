@@ -29,7 +29,13 @@ from nightcrew.modules.alerts._rules import AlertRules, Rejected, request_for
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.robotic.archives import SqliteTaskArchive
-from nightcrew.robotic.tasks import FINAL_STATES, InvalidTransitionError, TaskNotFoundError, TaskState
+from nightcrew.robotic.tasks import (
+    FINAL_STATES,
+    InvalidTaskError,
+    InvalidTransitionError,
+    TaskNotFoundError,
+    TaskState,
+)
 from nightcrew.site import Site
 
 __all__ = ["AlertListener"]
@@ -113,6 +119,9 @@ class AlertListener(Module):
             group = request_for(notice, self._rules, self._site, self.clock.now())
         except Rejected as exc:
             log.info("%s: %s: not observed: %s", self.name, notice.ivorn, exc)
+            return
+        except InvalidTaskError as exc:  # e.g. an exposure plan the notice's target cannot take
+            log.warning("%s: %s: no request: %s", self.name, notice.ivorn, exc)
             return
         if not await self._cancel(key, f"superseded by {notice.ivorn}", update=True):
             return
