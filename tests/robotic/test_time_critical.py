@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import copy
 import re
 from datetime import UTC, datetime, timedelta
@@ -12,11 +13,16 @@ import pytest
 
 from nightcrew.cli.main import main
 from nightcrew.errors import InvalidArgumentError
+from nightcrew.night.cadences import stored_cadences
+from nightcrew.report import write_report
+from nightcrew.report._data import Night as RecordedNight
+from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.scheduler import Night, SchedulableBlock, Scheduler, Target
 from nightcrew.robotic.tasks import (
     InvalidTaskError,
     ObservationType,
     RequestGroup,
+    TaskProgress,
     cadence_visit,
     parse_request_group,
     tasks_of_group,
@@ -144,3 +150,18 @@ def test_the_cadence_example_in_the_doc_adds_four_visits_and_shows_progress(
     assert "tasks 1, 2, 3, 4" in capsys.readouterr().out
     assert main(["tasks", "--db", db, "show", "2"]) == 0
     assert "cadence: visit 2 of 4; 4 pending" in capsys.readouterr().out.splitlines()
+
+
+async def test_the_night_report_shows_each_cadence_s_progress(tmp_path: Path) -> None:
+    db = tmp_path / "tasks.sqlite"
+    async with SqliteTaskArchive(db, poll_interval=0) as archive:
+        first, *_ = await archive.add_request_group(parse_request_group(CADENCE_GROUP))
+        await archive.mark_started(first.id)
+        await archive.mark_finished(first.id, TaskProgress(exposures_done=((2,),)))
+    # Read where no event loop runs, as `nightcrew report` and `nightcrew sim` do.
+    cadences = await asyncio.to_thread(stored_cadences, db)
+    assert cadences == [("monitoring", "1 of 4 visits completed; 1 completed, 3 pending")]
+    page = write_report(
+        tmp_path, night=RecordedNight(records=[], frames=[]), thumbnails=False, cadences=cadences
+    )
+    assert "<h2>Cadences</h2>" in page.read_text() and "1 of 4 visits completed" in page.read_text()

@@ -59,7 +59,7 @@ from nightcrew.robotic.tasks._state import (
     TaskState,
     TaskStatus,
 )
-from nightcrew.robotic.tasks._task import Task, cadence_progress, tasks_of_group
+from nightcrew.robotic.tasks._task import Task, cadence_progress, cadence_summaries, tasks_of_group
 from nightcrew.robotic.tasks._validation import (
     filled_defaults,
     load_request_group_file,
@@ -101,6 +101,7 @@ __all__ = [
     "TaskStatus",
     "Window",
     "cadence_progress",
+    "cadence_summaries",
     "cadence_visit",
     "configuration_duration",
     "estimate_duration",

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from pydantic import Field
 
@@ -12,7 +12,7 @@ from nightcrew.robotic.tasks._cadence import cadence_visit
 from nightcrew.robotic.tasks._request import ObservationType, Request, RequestGroup
 from nightcrew.robotic.tasks._state import SCHEDULABLE_STATES, TaskState, TaskStatus
 
-__all__ = ["Task", "cadence_progress", "tasks_of_group"]
+__all__ = ["Task", "cadence_progress", "cadence_summaries", "tasks_of_group"]
 
 
 class Task(TaskModel):
@@ -92,7 +92,28 @@ def cadence_progress(task: Task, group: Sequence[Task]) -> str | None:
     if cadence is None:
         return None
     visit, count = cadence_visit(cadence, task.request.first_start)
-    visits = [t for t in group if t.request.cadence == cadence]
-    states = Counter(t.state.value.lower() for t in visits)
-    told = ", ".join(f"{states[name]} {name}" for name in sorted(states))
-    return f"visit {visit} of {count}; {told}"
+    return f"visit {visit} of {count}; {_states([t for t in group if t.request.cadence == cadence])}"
+
+
+def cadence_summaries(tasks: Iterable[Task]) -> list[tuple[str, str]]:
+    """``(group name, progress)`` of every cadence among ``tasks``, in the order of their first
+    visit, e.g. ``("RZ Cas", "1 of 4 visits completed; 1 completed, 3 pending")``."""
+    cadences: dict[tuple[str, int], tuple[str, int, list[Task]]] = {}
+    for task in tasks:
+        cadence = task.request.cadence
+        if cadence is None:
+            continue
+        visit, count = cadence_visit(cadence, task.request.first_start)
+        # A group may hold two cadences: each is known by the request index of its first visit.
+        first = (task.group_id, task.request_index - visit + 1)
+        cadences.setdefault(first, (task.name, count, []))[2].append(task)
+    summaries = []
+    for name, count, visits in cadences.values():
+        done = sum(t.state is TaskState.COMPLETED for t in visits)
+        summaries.append((name, f"{done} of {count} visits completed; {_states(visits)}"))
+    return summaries
+
+
+def _states(tasks: Sequence[Task]) -> str:
+    states = Counter(t.state.value.lower() for t in tasks)
+    return ", ".join(f"{states[name]} {name}" for name in sorted(states))
