@@ -42,7 +42,8 @@ __all__ = ["AlertListener"]
 
 log = logging.getLogger(__name__)
 
-#: Most notice IVORNs remembered (older ones are forgotten first): a bounded memory for a long run.
+#: Most notice IVORNs (and events with a request) remembered, the oldest forgotten first: a bounded
+#: memory for a long run.
 _REMEMBERED = 10_000
 
 
@@ -128,6 +129,8 @@ class AlertListener(Module):
         tasks = await self._archive.add_request_group(group)
         ids = tuple(task.id for task in tasks)
         self._task_of[key] = ids[0]
+        if len(self._task_of) > _REMEMBERED:
+            self._task_of.pop(next(iter(self._task_of)))
         log.info(
             "%s: %s: rapid-response request %s at ra %.4f dec %.4f",
             self.name,
