@@ -46,6 +46,11 @@ Decisions:
   cap), airmass or Moon limit stops holding - the early start's minute grid. Otherwise it is passed
   over at that step (not failed; asked again at the next one), so it is not aborted at dawn half
   done. The Sun still aborts a task that runs longer than estimated.
+* **Rapid response**: on a RapidResponseEvent (trusted only from the senders the access policy
+  names for it) the announced RAPID_RESPONSE tasks that fit now run at the next safe point: a
+  running task of lower priority is stopped as for bad weather (its frame in flight stopped and
+  kept, the task FAILED with its progress, planned again later) and the rapid-response task runs
+  in a slot from now, ahead of the plan (docs/rapid-response.md).
 * **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
   before its slot if it can be observed from now on (a task that ended early leaves no gap).
 * **Progress** of a task is recorded in the archive in the background: the exposure loop does not
@@ -65,7 +70,13 @@ from datetime import datetime, timedelta
 from typing import Any, ClassVar
 
 from nightcrew.errors import ConfigError
-from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent, ScheduleChangedEvent
+from nightcrew.events import (
+    BadWeatherEvent,
+    GoodWeatherEvent,
+    RapidResponseEvent,
+    RoofClosingEvent,
+    ScheduleChangedEvent,
+)
 from nightcrew.interfaces import (
     FitsCard,
     IAutoFocus,
@@ -82,6 +93,7 @@ from nightcrew.interfaces import (
 from nightcrew.interfaces.quantities import Altitude, Azimuth, ExposureTime, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
+from nightcrew.modules.robotic.rapid_response import AnnouncedTasks
 from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
@@ -93,14 +105,17 @@ from nightcrew.robotic.mastermind import (
     FocusKeeper,
     ObservatoryControl,
     OpenUp,
+    RapidResponse,
     RunTask,
     ScheduleReader,
     Slot,
     TaskRecorder,
     abort_cause,
+    ahead_of_plan,
     decide,
     focus_field,
     focus_now,
+    preemption_cause,
     robotic_status,
     task_cards,
     time_left,
@@ -246,6 +261,12 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             max_sun_altitude=max_sun_altitude,
             twilight_max_sun_altitude=twilight_max_sun_altitude,
         )
+        self._rapid = AnnouncedTasks(
+            self._archive,
+            RapidResponse(
+                site, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude
+            ),
+        )
         self._recorder = TaskRecorder(self, self._archive)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
         self._running = autostart
@@ -284,6 +305,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         await self.comm.register_event(GoodWeatherEvent, self.on_good_weather)
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
         await self.comm.register_event(ScheduleChangedEvent, self.on_schedule_changed)
+        await self.comm.register_event(RapidResponseEvent, self.on_rapid_response)
 
     async def close(self) -> None:
         await super().close()
@@ -303,6 +325,17 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._wake.set()
 
     async def on_schedule_changed(self, event: ScheduleChangedEvent, sender: str) -> None:
+        self._wake.set()
+
+    async def on_rapid_response(self, event: RapidResponseEvent, sender: str) -> None:
+        log.info(
+            "%s: rapid-response task%s %s from %s",
+            self.name,
+            "s"[: len(event.ids) > 1],
+            ", ".join(event.ids),
+            sender,
+        )
+        self._rapid.rapid.announce(event.ids)
         self._wake.set()
 
     # --- IStartStop, IAutonomous, IFitsHeaderBefore --------------------------------------------
@@ -366,6 +399,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         """Decide and act once; returns the clock seconds to wait before the next step."""
         conditions = self._conditions = await self._observatory.observe()
         slots, tasks = await self._schedule.read(conditions.now)
+        rapid = await self._rapid.to_run(None, conditions.now)
+        if rapid is not None:
+            tasks[rapid.id] = rapid
+            slots = ahead_of_plan(self._rapid.rapid.slot_now(rapid, conditions.now), slots, conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
         while True:  # ends: each round takes one slot out
@@ -388,6 +425,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             log.info("%s: %s", self.name, action.describe())
             self._last_action = action
         if isinstance(action, RunTask):
+            self._rapid.rapid.started(action.slot.task_id)
             await self._task_runs.run(action.slot, tasks[action.slot.task_id])
             return 0.0
         if isinstance(action, Focus):
@@ -456,7 +494,12 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     # --- running a task ------------------------------------------------------------------------
 
     async def _abort_cause(self, slot: Slot) -> str | None:
-        return self._stop_cause or abort_cause(await self._observatory.observe(), slot)
+        cause = self._stop_cause or abort_cause(await self._observatory.observe(), slot)
+        running = self._recorder.current
+        if cause is None and running is not None:  # a focus run is not pre-empted: it is short
+            rapid = await self._rapid.to_run(running, self.clock.now())
+            cause = None if rapid is None else preemption_cause(rapid)
+        return cause
 
     async def _focus(self, slot: Slot) -> None:
         """Focus (for the task of ``slot``); stopped by weather, roof or the Sun above the limit."""

@@ -9,7 +9,8 @@ weather, roof, telescope and Sun through proxies and opens up or closes down; :c
 knows when a focus is due and runs it on a tracked :class:`FocusField`; :class:`ScheduleReader`
 reads the slots around now, :class:`EarlyStarts` marks the next one that may start early, and
 :class:`TaskRecorder` records a task's start, progress and end in the archive and on the bus;
-:func:`device_fault` tells a device's failure under a task from the task's own. The
+:func:`device_fault` tells a device's failure under a task from the task's own;
+:class:`RapidResponse` picks an announced rapid-response task that pre-empts the running one. The
 module :class:`nightcrew.modules.robotic.Mastermind` only observes, calls these and acts.
 """
 
@@ -34,6 +35,12 @@ from nightcrew.robotic.mastermind._early_start import EarlyStarts
 from nightcrew.robotic.mastermind._faults import DeviceFault, device_fault, resumed
 from nightcrew.robotic.mastermind._focusing import FocusField, FocusKeeper, focus_field
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
+from nightcrew.robotic.mastermind._preemption import (
+    RapidResponse,
+    ahead_of_plan,
+    preempting_task,
+    preemption_cause,
+)
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
 from nightcrew.robotic.mastermind._status import robotic_status
@@ -68,6 +75,7 @@ __all__ = [
     "FocusKeeper",
     "ObservatoryControl",
     "OpenUp",
+    "RapidResponse",
     "RoofState",
     "RunTask",
     "ScheduleReader",
@@ -76,6 +84,7 @@ __all__ = [
     "TaskRecorder",
     "Wait",
     "abort_cause",
+    "ahead_of_plan",
     "all_done",
     "decide",
     "device_fault",
@@ -88,6 +97,8 @@ __all__ = [
     "needs_sky",
     "observable_since",
     "planned_exposures",
+    "preempting_task",
+    "preemption_cause",
     "resumed",
     "robotic_status",
     "run_watched",
