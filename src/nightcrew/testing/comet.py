@@ -1,8 +1,10 @@
-"""A local VOEvent broker for tests: Comet (``twistd -n comet --receive --broadcast``) on loopback
-ports, and an author's side of the VOEvent Transport Protocol to publish notices to it.
+"""A local VOEvent broker for tests: Comet (``twistd -n comet --receive --broadcast``) in a network
+namespace of its own, and an author's side of the VOEvent Transport Protocol to publish notices to
+it.
 
-Comet binds its ports on every interface; its author and subscriber whitelists admit only
-127.0.0.1, so nothing else can publish or listen.
+Comet binds its ports on every interface and has no option to choose one, so, like indiserver, it
+runs only inside a :class:`~nightcrew.testing.indi.PrivateNetwork`, reached from the test through
+the namespace's veth link; its author and subscriber whitelists admit only that link.
 """
 
 from __future__ import annotations
@@ -14,7 +16,8 @@ from pathlib import Path
 
 from lxml import etree  # type: ignore[import-untyped]
 
-from nightcrew.testing.processes import ChildServer, free_port, wait_until_listening
+from nightcrew.testing.indi import PrivateNetwork
+from nightcrew.testing.processes import ChildServer, wait_until_listening
 
 __all__ = ["CometBroker"]
 
@@ -28,9 +31,15 @@ class CometBroker(ChildServer):
         directory: For its event database and log.
     """
 
+    #: Comet's own default ports: the namespace holds nothing else.
+    RECEIVE_PORT = 8098
+    BROADCAST_PORT = 8099
+
     def __init__(self, directory: Path) -> None:
-        super().__init__(directory)
-        self.receive_port = free_port()
+        self.network = PrivateNetwork()
+        # The namespace's address is known once it exists (start).
+        super().__init__(directory, host="", port=self.BROADCAST_PORT, wrap=self.network.command)
+        self.receive_port = self.RECEIVE_PORT
 
     @property
     def address(self) -> str:
@@ -38,7 +47,9 @@ class CometBroker(ChildServer):
         return f"{self.host}:{self.port}"
 
     def start(self) -> None:
-        """Start Comet; return once both ports listen."""
+        """Start the namespace and Comet in it; return once both ports listen."""
+        self.network.start()
+        self.host = self.network.host
         twistd = Path(sys.executable).with_name("twistd")
         command = [
             str(twistd),
@@ -52,8 +63,8 @@ class CometBroker(ChildServer):
             "--local-ivo=ivo://nightcrew.test/comet",
             f"--eventdb={self.directory}",
             "--broadcast-test-interval=0",
-            "--author-whitelist=127.0.0.1/32",
-            "--subscriber-whitelist=127.0.0.1/32",
+            f"--author-whitelist={self.network.test_address}/32",
+            f"--subscriber-whitelist={self.network.test_address}/32",
         ]
         log = self.directory / "comet.log"
         self._spawn(command, what="comet", log=log)
@@ -78,3 +89,8 @@ class CometBroker(ChildServer):
                 writer.close()
                 await writer.wait_closed()
         return str(answer.get("role"))
+
+    def stop(self) -> None:
+        """Stop Comet, then end its namespace; safe to call twice."""
+        super().stop()
+        self.network.stop()
