@@ -48,8 +48,6 @@ async def test_a_failed_focus_is_retried_after_the_interval_and_not_before(obser
         roof="roof",
         telescope="telescope",
         weather=None,
-        temperatures=None,
-        temperature_sensor="t",
     )
     keeper = FocusKeeper(
         focuser,

@@ -15,8 +15,9 @@ Prints ``OK FILE`` for every valid file and one ``FILE:LINE: key 'x': message`` 
 for every invalid one (a problem in a fragment once, naming the files that include it); a file of
 none of these kinds is listed as ``SKIP FILE`` with the reason. The variables the files need and
 the environment lacks are named on one line, with the files that read them. Across the files: a
-camera's field the index files cannot solve, and a cooling schedule's set point below what its
-camera declares it can reach. Exits 0 when all are valid, else 2.
+camera's field the index files cannot solve, a cooling schedule's set point below what its
+camera declares it can reach, and a focus temperature source naming a module that no file provides
+(or one without that kind of reading). Exits 0 when all are valid, else 2.
 """
 
 from __future__ import annotations
@@ -135,6 +136,11 @@ def run_check(args: argparse.Namespace) -> int:
 
     for reach in cooling_reach_problems(files):  # a set point colder than the camera can hold
         print(f"nightcrew: error: {reach}", file=sys.stderr)
+        all_valid = False
+    from nightcrew.modules.focus.checks import temperature_source_problems
+
+    for source in temperature_source_problems(files):  # a refocus temperature no module provides
+        print(f"nightcrew: error: {source}", file=sys.stderr)
         all_valid = False
     return 0 if all_valid else 2
 
