@@ -407,7 +407,15 @@ def test_task_cards_name_the_task() -> None:
         "TASK-REQ": 0,
         "PROPOSAL": "tests",
         "TASK-PRI": 1.0,
+        "OBJECT": "M31",
     }
+
+
+def test_object_names_the_target_of_the_configuration_being_taken() -> None:
+    task = _task([DARK, EXPOSE])
+    assert task_cards(task)["OBJECT"][0] == "DARK"
+    half = TaskProgress(exposures_done=((5,), (1, 0)))
+    assert task_cards(task, half)["OBJECT"][0] == "M31"  # the darks are done
 
 
 @pytest.mark.parametrize(

@@ -331,7 +331,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
 
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
         task = self._recorder.current
-        return task_cards(task) if task is not None else {}
+        return task_cards(task, self._recorder.progress) if task is not None else {}
 
     async def get_robotic_status(self) -> RoboticStatus:
         started, eta = self._task_runs.times or (None, None)

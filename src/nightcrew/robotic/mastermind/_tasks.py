@@ -190,9 +190,14 @@ def _seconds(value: float) -> str:
     return f"{value:.0f}" if value >= 9.95 else f"{value:.1f}".removesuffix(".0")
 
 
-def task_cards(task: Task) -> dict[str, FitsCard]:
-    """The FITS cards naming the task an image belongs to."""
-    return {
+def task_cards(task: Task, progress: TaskProgress | None = None) -> dict[str, FitsCard]:
+    """The FITS cards naming the task an image belongs to, and its target (OBJECT).
+
+    OBJECT names the target of the configuration being taken: the first one ``progress`` does not
+    have all exposures of (a task without progress: the first); a configuration without a target
+    (flats, darks) names its type, e.g. ``SKY_FLAT``.
+    """
+    cards: dict[str, FitsCard] = {
         "TASK-ID": (task.id, "Task archive id"),
         "TASK-NAM": (task.name, "Task (request group) name"),
         "TASK-GRP": (task.group_id, "Request group id"),
@@ -200,6 +205,21 @@ def task_cards(task: Task) -> dict[str, FitsCard]:
         "PROPOSAL": (task.proposal, "Proposal"),
         "TASK-PRI": (task.effective_priority, "Task priority x IPP"),
     }
+    configurations = task.request.configurations
+    if configurations:
+        done = progress.exposures_done if progress is not None else ()
+        running = next(
+            (
+                c
+                for index, c in enumerate(configurations)
+                if index >= len(done)
+                or any(n < ic.exposure_count for n, ic in zip(done[index], c.instrument_configs, strict=False))
+            ),
+            configurations[-1],
+        )
+        name = running.target.name if running.target is not None else running.type.value
+        cards["OBJECT"] = (name, "Target name")
+    return cards
 
 
 def kept_progress(recorded: TaskProgress, this_run: TaskProgress) -> TaskProgress:
