@@ -280,7 +280,8 @@ class ExposingModule(Module, IAbortable, IExposure):
             }
             cards.update(own_cards(frame))
             cards.update(self._cut_short_cards(exposure_time))
-            cards.update(_end_cards(self._exposure_start, cards["EXPTIME"][0] if "EXPTIME" in cards else None))
+            exposed = cards["EXPTIME"][0] if "EXPTIME" in cards else None
+            cards.update(_end_cards(self._exposure_start, exposed))
             filename = format_filename(self._filename_pattern, {k: v for k, (v, _) in cards.items()})
             await self._write(filename, frame.data, cards)
         finally:

@@ -208,15 +208,14 @@ def task_cards(task: Task, progress: TaskProgress | None = None) -> dict[str, Fi
     configurations = task.request.configurations
     if configurations:
         done = progress.exposures_done if progress is not None else ()
-        running = next(
-            (
-                c
-                for index, c in enumerate(configurations)
-                if index >= len(done)
-                or any(n < ic.exposure_count for n, ic in zip(done[index], c.instrument_configs, strict=False))
-            ),
-            configurations[-1],
-        )
+
+        def unfinished(index: int) -> bool:
+            if index >= len(done):
+                return True
+            counts = zip(done[index], configurations[index].instrument_configs, strict=False)
+            return any(n < ic.exposure_count for n, ic in counts)
+
+        running = next((c for index, c in enumerate(configurations) if unfinished(index)), configurations[-1])
         name = running.target.name if running.target is not None else running.type.value
         cards["OBJECT"] = (name, "Target name")
     return cards
