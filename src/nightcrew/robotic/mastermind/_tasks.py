@@ -31,13 +31,13 @@ __all__ = [
 ]
 
 #: Configuration types that work with the roof closed.
-_CLOSED_ROOF_TYPES = frozenset({ConfigurationType.BIAS, ConfigurationType.DARK})
+_CLOSED_ROOF_TYPES = frozenset({ConfigurationType.BIAS, ConfigurationType.DARK, ConfigurationType.PANEL_FLAT})
 #: Configuration types that do not need sharp stars.
 _UNFOCUSED_TYPES = _CLOSED_ROOF_TYPES | {ConfigurationType.SKY_FLAT}
 
 
 def needs_sky(task: Task) -> bool:
-    """Whether the task needs the roof open: any configuration but BIAS and DARK (SCRIPT too)."""
+    """Whether the task needs the roof open: any configuration but BIAS, DARK and PANEL_FLAT (SCRIPT too)."""
     return any(c.type not in _CLOSED_ROOF_TYPES for c in task.request.configurations)
 
 

@@ -7,6 +7,7 @@ ImagingScript          EXPOSE, REPEAT_EXPOSE  telescope, camera, filters; acquis
 CalibrationScript      BIAS, DARK             camera
 AutoFocusScript        AUTO_FOCUS             focus, telescope, filters (+ ``step`` in mm)
 SkyFlatScript          SKY_FLAT               flatfield
+PanelFlatScript        PANEL_FLAT             camera, filters, calibrator
 PointingSeriesScript   SCRIPT:<name>          pointing
 =====================  =====================  ===========================================================
 
@@ -20,6 +21,7 @@ slew, series) and stops guiding before re-raising.
 from nightcrew.robotic.scripts.autofocus import AutoFocusScript, focus_step
 from nightcrew.robotic.scripts.calibration import CalibrationScript
 from nightcrew.robotic.scripts.imaging import ImagingScript
+from nightcrew.robotic.scripts.panelflat import PanelFlatScript
 from nightcrew.robotic.scripts.pointing import PointingSeriesScript
 from nightcrew.robotic.scripts.skyflat import SkyFlatScript
 
@@ -27,6 +29,7 @@ __all__ = [
     "AutoFocusScript",
     "CalibrationScript",
     "ImagingScript",
+    "PanelFlatScript",
     "PointingSeriesScript",
     "SkyFlatScript",
     "focus_step",
