@@ -146,3 +146,19 @@ async def test_an_auto_focus_task_tracks_its_target(sim: SimSetup) -> None:
     ra, dec = PLEIADES["ra"], PLEIADES["dec"]
     assert isinstance(ra, float) and isinstance(dec, float)
     assert angular_separation(*first.true_radec, ra, dec) < 0.1  # within the pointing error of 1'
+
+
+async def test_an_auto_focus_task_without_a_target_tracks_a_catalogue_field_near_the_pointing(
+    sim: SimSetup,
+) -> None:
+    probe = await sim.obs.start(FocusProbe, "probe")
+    await sim.telescope.move_altaz(80.0, 90.0)
+    runner = await sim.runner({"AUTO_FOCUS": AutoFocusScript(focus="probe", field={"min_stars": 4})})
+    focus_frames = {"exposure_time": 2.0, "exposure_count": 7}
+    await runner.run_task(
+        make_task({"type": "AUTO_FOCUS", "instrument_configs": [focus_frames]}), ProgressLog()
+    )
+
+    ((first, last),) = probe.series
+    assert_tracked(first, last)
+    assert_a_good_field(first, near=(80.0, 90.0))

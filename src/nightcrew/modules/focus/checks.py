@@ -3,7 +3,9 @@
 A mastermind's ``focus_temperature`` and a focus model's ``temperatures`` name a module and a
 sensor; a module name that no file provides would leave the refocus (or the model) without a
 temperature all night, so ``check`` refuses it, and a module of the wrong kind (a ``sensor`` on a
-module without ITemperatures, a ``weather_sensor`` on one without IWeather) too.
+module without ITemperatures, a ``weather_sensor`` on one without IWeather) too. Files among which
+no module gives temperatures at all are a part of an observatory (like ``examples/automation``),
+not a whole one: a name they do not hold is not held against them.
 """
 
 from __future__ import annotations
@@ -26,10 +28,11 @@ def temperature_source_problems(files: Iterable[Path]) -> list[str]:
     """For the module files of one observatory: a line per temperature source naming a module
     that no file among ``files`` provides, or one that cannot give that kind of reading."""
     modules = module_configs(files)
+    whole = any(_offers(config, (ITemperatures, IWeather)) for _, config in modules.values())
     problems = []
     for path, config in modules.values():
         for key, source in _sources(config):
-            problem = _problem(source, modules)
+            problem = _problem(source, modules, whole=whole)
             if problem is not None:
                 problems.append(f"{path}: key '{key}': {problem}")
     return problems
@@ -59,8 +62,20 @@ def _is_focus_model(config: Mapping[str, Any]) -> bool:
     return isinstance(cls, type) and issubclass(cls, FocusModel)
 
 
-def _problem(source: TemperatureSource, modules: Mapping[str, tuple[Path, dict[str, Any]]]) -> str | None:
+def _offers(config: Mapping[str, Any], interfaces: tuple[type, ...]) -> bool:
+    try:
+        cls = import_class(str(config["class"]))
+    except (ConfigError, ClassResolutionError):
+        return False
+    return isinstance(cls, type) and issubclass(cls, interfaces)
+
+
+def _problem(
+    source: TemperatureSource, modules: Mapping[str, tuple[Path, dict[str, Any]]], *, whole: bool
+) -> str | None:
     if source.module not in modules:
+        if not whole:
+            return None
         known = ", ".join(sorted(modules)) or "none"
         return f"no module '{source.module}' here provides temperatures (modules: {known})"
     path, config = modules[source.module]

