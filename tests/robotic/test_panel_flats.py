@@ -12,7 +12,7 @@ import pytest
 import yaml
 
 from nightcrew.config import build_object
-from nightcrew.errors import NightcrewError
+from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.interfaces import CalibratorState, CoverState
 from nightcrew.modules.sim import SimCoverCalibrator
 from nightcrew.robotic.runner import Script, ScriptError
@@ -86,3 +86,8 @@ def test_a_flat_level_above_saturation_is_refused_when_the_task_is_added() -> No
         NightcrewError, match=r"extra_params.level.*70000 ADU is at or above saturation \(65535"
     ):
         parse_request_group(request_group(too_bright))
+
+
+def test_a_script_level_above_saturation_is_refused_at_check() -> None:
+    with pytest.raises(ConfigError, match=r"key 'level': 70000 ADU is not below saturation \(65535 ADU\)"):
+        documented_script(level=70000)

@@ -35,6 +35,9 @@ __all__ = ["FocusKeeper"]
 
 log = logging.getLogger(__name__)
 
+#: Clock seconds a field chosen while the roof opened stays the one to focus on (it sinks meanwhile).
+_FIELD_FRESH_S = 600.0
+
 
 class FocusKeeper:
     """Remembers the last focus (and its temperature) and runs the auto-focus when asked.
@@ -66,7 +69,8 @@ class FocusKeeper:
     ) -> None:
         self._host, self._observatory, self._autofocus = host, observatory, autofocus
         self._fields, self._attempts = fields, attempts
-        self._next_field: StarField | None = None  # chosen ahead, for pointing while the roof opens
+        # Chosen ahead, for pointing while the roof opens, with the clock time it was chosen at.
+        self._next_field: tuple[StarField, float] | None = None
         self.limits = SunLimits(high=float(max_sun_altitude))
         self._refocus_change, self._arguments = refocus_change, arguments
         self._retry_interval = float(retry_interval)
@@ -129,13 +133,13 @@ class FocusKeeper:
         without fields, or when none qualifies (the series says so when it starts)."""
         if self._fields is None:
             return None
+        now = self._host.clock.time()
         try:
-            self._next_field = await self._fields.choose(
-                await self._observatory.pointing(), self._host.clock.time()
-            )
+            field = await self._fields.choose(await self._observatory.pointing(), now)
         except FocusFieldError:
             return None
-        return self._next_field.ra, self._next_field.dec
+        self._next_field = field, now
+        return field.ra, field.dec
 
     async def _tracked_series(self, autofocus: IAutoFocus) -> tuple[float, float]:
         fields = self._fields
@@ -143,9 +147,12 @@ class FocusKeeper:
             return await autofocus.auto_focus(*self._arguments)
         name = self._host.context_name
         for attempt in range(1, self._attempts + 1):
-            field, self._next_field = self._next_field, None
-            if field is None:
-                field = await fields.choose(await self._observatory.pointing(), self._host.clock.time())
+            ahead, self._next_field = self._next_field, None
+            now = self._host.clock.time()
+            if ahead is not None and now - ahead[1] <= _FIELD_FRESH_S:
+                field = ahead[0]
+            else:
+                field = await fields.choose(await self._observatory.pointing(), now)
             log.info(
                 "%s: tracking the focus field at ra %.3f°, dec %.3f° (alt %.0f°, %d catalogue stars)",
                 name,
