@@ -55,6 +55,7 @@ class ObservatoryControl:
         self._host, self._site = host, site
         self._roof, self._telescope, self._weather = roof, telescope, weather
         self._temperature = temperature
+        self._temperature_problem: str | None = None  # the last cause of no temperature, logged once
         self._weather_heard: bool | None = None  # the last weather event's verdict
         self._good_from: datetime | None = None  # a GoodWeatherEvent's eta
 
@@ -96,13 +97,19 @@ class ObservatoryControl:
         (logged with the cause) when there is none."""
         try:
             if self._temperature is not None:
-                return await read_temperature(self._host, self._temperature)
-            if self._weather is not None:
+                value: float | None = await read_temperature(self._host, self._temperature)
+            elif self._weather is not None:
                 report = await (await self._host.proxy(self._weather, IWeather)).get_current_weather()
-                return report.sensors.get("temperature")
+                value = report.sensors.get("temperature")
+            else:
+                return None
         except NightcrewError as exc:
-            log.warning("%s: no temperature: %s", self._name, exc)
-        return None
+            if str(exc) != self._temperature_problem:  # once per cause, not at every look
+                log.warning("%s: no temperature for refocusing: %s", self._name, exc)
+            self._temperature_problem = str(exc)
+            return None
+        self._temperature_problem = None
+        return value
 
     async def pointing(self) -> tuple[float, float] | None:
         """Where the telescope points now, ICRS (ra, dec); None (logged) when it cannot tell."""
