@@ -195,7 +195,9 @@ class AutoFocusSeries(Module, IAutoFocus):
             log.warning("%s: focus series failed: %s", self.name, reason)
             self._status["failed"] = reason
             await self.comm.send_event(FocusFailedEvent(reason=reason, filter_name=filter_name))
-            raise FocusSeriesError(reason) from exc
+            if reason == str(exc):
+                raise
+            raise type(exc)(reason) from exc  # the same kind (e.g. outside the series), with the cause
         finally:
             self._status["running"] = False
             if not found:
