@@ -39,6 +39,7 @@ def test_a_mastermind_without_site_or_schedule_is_refused(tmp_path: Path) -> Non
         ("focus_field.magnitudes", {"magnitudes": [10, 6]}, r"must be \[bright, faint\], got \(10.0, 6.0\)"),
         ("focus_field.min_altitude", {"min_altitude": 95}, r"must be within \[0, 90\) degrees, got 95"),
         ("focus_field", {"height": 5}, r"unknown keys \['height'\]"),
+        ("focus_field.magnitudes", {"magnitudes": [11, 14]}, r"the catalogue holds stars to G 10"),
         ("focus_temperature", {"module": "telescope"}, r"give exactly one of 'sensor'"),
         ("focus_attempts", 0, r"must be an integer >= 1, got 0"),
         ("focus_retry_interval", 0, r"0 is out of range \(must be >= 0.01 s\)"),

@@ -64,7 +64,6 @@ from dataclasses import replace
 from datetime import datetime, timedelta
 from typing import Any, ClassVar
 
-from nightcrew.astro.star_fields import StarFieldRules
 from nightcrew.errors import ConfigError
 from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, RoofClosingEvent, ScheduleChangedEvent
 from nightcrew.focus.sources import source_from_config
@@ -108,6 +107,7 @@ from nightcrew.robotic.mastermind import (
     within_constraints,
 )
 from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.scripts.focus_fields import catalogue_rules
 from nightcrew.robotic.tasks import Task
 
 __all__ = ["Mastermind"]
@@ -222,7 +222,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         # Checked even without autofocus.
         if not (isinstance(focus_attempts, int) and focus_attempts >= 1):
             raise ConfigError(f"must be an integer >= 1, got {focus_attempts!r}", key="focus_attempts")
-        fields = FocusFields(StarFieldRules.from_config(focus_field or {}, "focus_field"), site)
+        fields = FocusFields(catalogue_rules(focus_field or {}, "focus_field"), site)
         self._focus_keeper = (
             None
             if autofocus is None

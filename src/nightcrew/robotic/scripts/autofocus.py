@@ -5,13 +5,12 @@ from __future__ import annotations
 import logging
 from typing import Any
 
-from nightcrew.astro.star_fields import StarFieldRules
 from nightcrew.errors import ConfigError, InvalidArgumentError, NotSupportedError
 from nightcrew.interfaces import IAutoFocus, IFilters, ITelescope
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
-from nightcrew.robotic.scripts.focus_fields import FocusFields
+from nightcrew.robotic.scripts.focus_fields import FocusFields, catalogue_rules
 from nightcrew.robotic.tasks import ConfigurationType, InstrumentConfig, Target, Task
 
 __all__ = ["AutoFocusScript", "focus_step"]
@@ -78,7 +77,7 @@ class AutoFocusScript(Script):
         if not step > 0:
             raise ConfigError(f"must be > 0 mm, got {step}", key="step")
         self._focus, self._telescope, self._filters, self._step = focus, telescope, filters, float(step)
-        self._field = None if field is None else StarFieldRules.from_config(field, "field")
+        self._field = None if field is None else catalogue_rules(field, "field")
 
     async def can_run(self, task: Task) -> bool:
         config = the_configuration(task)

