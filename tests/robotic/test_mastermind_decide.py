@@ -457,3 +457,9 @@ def test_the_roof_state_follows_the_motion_status() -> None:
     assert RoofState.of_motion(MotionStatus.PARKING) is RoofState.CLOSING
     assert RoofState.of_motion(MotionStatus.MOVING) is RoofState.OPENING
     assert RoofState.of_motion(MotionStatus.ERROR) is RoofState.UNKNOWN
+
+
+def test_panel_flats_need_neither_the_sky_nor_a_focus() -> None:
+    panel = {"type": "PANEL_FLAT", "instrument_configs": [{"exposure_time": 1, "exposure_count": 3}]}
+    task = _task([panel])
+    assert not needs_sky(task) and not needs_focus(task)
