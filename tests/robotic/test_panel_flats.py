@@ -70,6 +70,10 @@ async def test_panel_flats_reach_the_level_in_every_filter_and_leave_the_telesco
     assert all(abs(level - LEVEL) <= 0.1 * (LEVEL - bias) for level in levels)
     assert headers[2]["EXPTIME"] == pytest.approx(2 * headers[0]["EXPTIME"], rel=0.1)  # R passes half
     assert calibrator.cover is CoverState.OPEN and calibrator.light is CalibratorState.OFF
+    # The bias and test frames are gone (they would go into a master flat); the flats are there.
+    vfs = panel_sim.obs.vfs
+    assert await vfs.find("/cache/**/*-domeflat*.fits") == sorted(panel_sim.frames)
+    assert await vfs.find("/cache/**/*-bias*.fits") == []
 
 
 async def test_a_panel_too_faint_for_the_level_fails_naming_it_and_still_opens(panel_sim: SimSetup) -> None:

@@ -2,7 +2,8 @@
 
 The script closes the cover, switches the light on at ``brightness``, measures the bias once (a
 zero-second frame) and, per instrument config (filter, binning), finds the exposure time that
-brings the frame's median to the target level: test frames (not announced, not counted) scaled
+brings the frame's median to the target level: test frames (not announced, not counted, removed
+once measured) scaled
 linearly towards it, :data:`MAX_TEST_FRAMES` at most, between ``min_exposure`` and
 ``max_exposure``. Then it takes the config's ``exposure_count`` flats (image type ``domeflat``).
 Whatever happens - done, failed, cancelled - the light goes off and the cover opens again.
@@ -19,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.errors import ConfigError, NightcrewError, NotSupportedError
 from nightcrew.flatfield.fit import FlatSample, target_exposure_time
 from nightcrew.images import Image
 from nightcrew.interfaces import ICamera, ICoverCalibrator, IFilters, ImageType
@@ -162,7 +163,13 @@ class PanelFlatScript(Script):
         raise ScriptError(f"no exposure time reached {level:g} ADU within {MAX_TEST_FRAMES} test frames")
 
     async def _median(self, filename: str) -> float:
+        """The frame's median (ADU); the frame is removed then: a test frame at the wrong level
+        must not go into a master flat (``nightcrew reduce`` takes every domeflat it finds)."""
         image = await Image.from_vfs(self.vfs, filename)
+        try:
+            await self.vfs.remove(filename)
+        except NightcrewError as exc:
+            log.warning("panel flat: could not remove the test frame %s: %s", filename, exc)
         return float(await asyncio.to_thread(np.median, image.data))
 
     @staticmethod
