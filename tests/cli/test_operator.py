@@ -50,7 +50,7 @@ async def test_call_with_command_line_arguments(operator: Comm) -> None:
         "unit": "adu",
         "colour": "red",
     }
-    with pytest.raises(InvalidArgumentError, match=r"divide\(\): argument 'b': expected float, got str"):
+    with pytest.raises(InvalidArgumentError, match=r"divide\(\): argument 'b': expected number, got string"):
         await call_method(operator, "calc.divide", parse_cli_arguments(["1", "zero"]))
     with pytest.raises(InvalidArgumentError, match=r"'calc' is not MODULE\.METHOD"):
         await call_method(operator, "calc", [])

@@ -75,7 +75,7 @@ async def test_unexpected_remote_exception_arrives_as_remote_error(network: Netw
 async def test_wrong_argument_type_is_refused_by_callee(network: Network) -> None:
     await network.start(Calculator, "calc")
     caller = await network.start(Module, "caller")
-    with pytest.raises(InvalidArgumentError, match=r"add\(\): argument 'a': expected float, got str"):
+    with pytest.raises(InvalidArgumentError, match=r"add\(\): argument 'a': expected number, got string"):
         await caller.comm.execute("calc", "add", ["two", 1.0])
     with pytest.raises(InterfaceError, match="no method 'subtract'"):
         await caller.comm.execute("calc", "subtract", [1.0, 2.0])

@@ -110,7 +110,7 @@ async def test_oversized_argument_gets_a_short_fault(caplog: pytest.LogCaptureFi
 async def test_non_finite_arguments_refused(network: Network, value: float) -> None:
     await network.start(Calculator, "calc")
     caller = await network.start(Calculator, "caller")
-    with pytest.raises(InvalidArgumentError, match=r"add\(\): argument 1 is .*, not a finite number"):
+    with pytest.raises(InvalidArgumentError, match=r"add\(\): argument 'a': .* is not a finite number"):
         await caller.comm.execute("calc", "add", [value, 1.0])
 
 

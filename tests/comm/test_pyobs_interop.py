@@ -289,7 +289,7 @@ async def test_pyobs_gets_typed_results_and_nightcrew_errors(nightcrew_side: Nig
     assert await shooter.add_remote("nccalc", 2.5, 4.0, False) == "float 6.5"
     # A dataclass where nightcrew expects a number: refused with one clear error, as pyobs' own.
     refused = await shooter.add_remote("nccalc", 2.5, 4.0, True)
-    assert refused == "InvalidArgumentError: add(): argument 'a': expected float, got dict"
+    assert refused == "InvalidArgumentError: add(): argument 'a': expected number, got object"
 
 
 async def test_fits_cards_are_pairs_in_nightcrew_and_header_entries_in_pyobs(

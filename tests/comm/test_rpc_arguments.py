@@ -35,12 +35,12 @@ class _Mount(Module, IPointingRaDec):
         ([10.0], "move_radec(): missing argument 'dec'"),
         ([], "move_radec(): missing argument 'ra'"),
         ([1.0, 2.0, 3.0], "move_radec(): takes 2 arguments, got 3"),
-        (["ten", 0.0], "move_radec(): argument 'ra': expected float, got str"),
+        (["ten", 0.0], "move_radec(): argument 'ra': expected number, got string \"ten\""),
         ([10.0, 95.0], "move_radec(): argument 'dec': 95.0 is out of range (must be <= 90.0 deg)"),
         ([360.0, 0.0], "move_radec(): argument 'ra': 360.0 is out of range (must be < 360.0 deg)"),
         ([-1.0, 0.0], "move_radec(): argument 'ra': -1.0 is out of range (must be >= 0.0 deg)"),
         # NaN is refused by the wire check every RPC argument passes, before any declared bound.
-        ([math.nan, 0.0], "move_radec(): argument 1 is nan, not a finite number"),
+        ([math.nan, 0.0], "move_radec(): argument 'ra': NaN is not a finite number"),
     ],
 )
 async def test_refused_arguments_are_refused_before_any_announcement(

@@ -90,12 +90,12 @@ def test_unknown_fields_from_newer_senders_are_ignored() -> None:
 
 
 def test_bad_enum_value_is_refused() -> None:
-    with pytest.raises(CodecError, match="'sleeping' is not a valid ExposureStatus"):
+    with pytest.raises(CodecError, match=r'expected one of .*, got string "sleeping"'):
         ExposureStatusChangedEvent.from_dict({"last": None, "current": "sleeping"})
 
 
 def test_wrong_field_type_is_refused() -> None:
-    with pytest.raises(CodecError, match="filename: expected str"):
+    with pytest.raises(CodecError, match="filename: expected string, got integer 3"):
         NewImageEvent.from_dict({"filename": 3})
 
 

@@ -68,12 +68,12 @@ def test_fits_header_result_decodes_to_tuples() -> None:
 
 def test_wrong_argument_type_is_refused() -> None:
     hint = typing.get_type_hints(IMotion.get_motion_status)["device"]
-    with pytest.raises(CodecError, match="int fits none of"):
+    with pytest.raises(CodecError, match="expected string or null, got integer 5"):
         decode(5, hint)
 
 
 def test_unknown_motion_status_is_refused() -> None:
-    with pytest.raises(CodecError, match="not a valid MotionStatus"):
+    with pytest.raises(CodecError, match=r'expected one of "parked", .*, got string "sleeping"'):
         decode("sleeping", MotionStatus)
 
 
@@ -100,5 +100,6 @@ def test_cover_calibrator_states_travel_as_strings(
     enum_class: type[CoverState | CalibratorState], wire: str
 ) -> None:
     assert encode(enum_class(wire)) == wire
-    with pytest.raises(CodecError, match=f"not a valid {enum_class.__name__}"):
+    first = next(iter(enum_class)).value
+    with pytest.raises(CodecError, match=rf'expected one of "{first}", .*, got string "half_open"'):
         decode("half_open", enum_class)

@@ -432,7 +432,9 @@ def test_object_names_the_target_of_the_configuration_being_taken() -> None:
 def test_focus_is_due_first_and_then_after_a_temperature_change(
     focused: bool, last: float | None, now: float | None, due: bool
 ) -> None:
-    assert focus_due(focused=focused, last_temperature=last, temperature=now, threshold=2.0) is due
+    assert (
+        focus_due(focused=focused, last_temperature=last, temperature=now, threshold=2.0) is not None
+    ) is due
 
 
 def test_the_recorded_progress_never_shrinks_when_a_retry_counts_from_zero() -> None:
@@ -463,3 +465,10 @@ def test_panel_flats_need_neither_the_sky_nor_a_focus() -> None:
     panel = {"type": "PANEL_FLAT", "instrument_configs": [{"exposure_time": 1, "exposure_count": 3}]}
     task = _task([panel])
     assert not needs_sky(task) and not needs_focus(task)
+
+
+def test_focus_is_due_again_after_the_refocus_interval_when_one_is_set() -> None:
+    steady = {"focused": True, "last_temperature": 5.0, "temperature": 5.0, "threshold": 2.0}
+    assert focus_due(**steady, since_focus=7200.0) is None  # type: ignore[arg-type]
+    assert focus_due(**steady, since_focus=3500.0, interval=3600.0) is None  # type: ignore[arg-type]
+    assert focus_due(**steady, since_focus=3700.0, interval=3600.0) == "3700 s since the last focus"  # type: ignore[arg-type]

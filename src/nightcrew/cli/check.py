@@ -16,8 +16,9 @@ for every invalid one (a problem in a fragment once, naming the files that inclu
 none of these kinds is listed as ``SKIP FILE`` with the reason. The variables the files need and
 the environment lacks are named on one line, with the files that read them. Across the files: a
 camera's field the index files cannot solve, a cooling schedule's set point below what its
-camera declares it can reach, and a focus temperature source naming a module that no file provides
-(or one without that kind of reading). Exits 0 when all are valid, else 2.
+camera declares it can reach, a task's dither amplitude larger than the camera's field, and a focus
+temperature source naming a module that no file provides (or one without that kind of reading).
+Exits 0 when all are valid, else 2.
 """
 
 from __future__ import annotations
@@ -27,12 +28,15 @@ import os
 import sys
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from nightcrew.cli.run import build_file
 from nightcrew.config import config_files, load_data_file, unset_variable
 from nightcrew.config._loader import load_file
 from nightcrew.errors import ConfigError, NightcrewError
+
+if TYPE_CHECKING:
+    from nightcrew.robotic.tasks import RequestGroup
 
 __all__ = ["add_parser", "check_file", "run_check"]
 
@@ -99,6 +103,7 @@ def run_check(args: argparse.Namespace) -> int:
     unset: dict[str, list[Path]] = {}  # variable -> files that need it
     # A problem in a fragment is told once, with the files that include it.
     in_fragments: dict[tuple[str, int | None, str], tuple[ConfigError, list[Path]]] = {}
+    task_files: list[Path] = []
     for path in files:
         try:
             kind = check_any(path)
@@ -122,6 +127,8 @@ def run_check(args: argparse.Namespace) -> int:
             print(str(exc) if str(path) in str(exc) else f"{path}: {exc}", file=sys.stderr)
         else:
             print(f"OK {path}" + (f" ({kind})" if kind else ""))
+            if kind == _TASKS:
+                task_files.append(path)
     for problem, paths in in_fragments.values():
         print(f"{problem} (included from {_few(paths)})", file=sys.stderr)
     if unset:
@@ -137,12 +144,24 @@ def run_check(args: argparse.Namespace) -> int:
     for reach in cooling_reach_problems(files):  # a set point colder than the camera can hold
         print(f"nightcrew: error: {reach}", file=sys.stderr)
         all_valid = False
+    for dither in _dither_problems(task_files, files):  # a dither that leaves the field
+        print(f"nightcrew: error: {dither}", file=sys.stderr)
+        all_valid = False
     from nightcrew.modules.focus.checks import temperature_source_problems
 
     for source in temperature_source_problems(files):  # a refocus temperature no module provides
         print(f"nightcrew: error: {source}", file=sys.stderr)
         all_valid = False
     return 0 if all_valid else 2
+
+
+def _dither_problems(task_files: list[Path], files: list[Path]) -> list[str]:
+    from nightcrew.images.astrometry import camera_fields_arcmin
+    from nightcrew.robotic.scripts import dither_field_problems
+
+    fields = camera_fields_arcmin(files)
+    groups = [(f"{path}: {prefix}", group) for path in task_files for prefix, group in _task_groups(path)]
+    return dither_field_problems(groups, min(fields) if fields else None)
 
 
 def _few(paths: list[Path]) -> str:
@@ -162,11 +181,19 @@ def _is_task_data(value: object) -> bool:
 
 def _check_tasks(path: Path) -> None:
     """Validate a task file as ``nightcrew tasks add`` (one group) or a YAML archive (a list) reads it."""
+    _task_groups(path)
+
+
+def _task_groups(path: Path) -> list[tuple[str, RequestGroup]]:
+    """The request groups of a task file, each with its prefix (``[1]`` in a list, else "")."""
     from nightcrew.robotic.tasks import parse_request_group
 
     data = load_data_file(path)
     if isinstance(data, Mapping) and "request_groups" in data:
         data = data["request_groups"]
     groups = data if isinstance(data, list) else [data]
-    for index, group in enumerate(groups):
-        parse_request_group(group, prefix=f"[{index}]" if isinstance(data, list) else "", source=str(path))
+    prefixes = [f"[{index}]" if isinstance(data, list) else "" for index in range(len(groups))]
+    return [
+        (prefix, parse_request_group(group, prefix=prefix, source=str(path)))
+        for prefix, group in zip(prefixes, groups, strict=True)
+    ]

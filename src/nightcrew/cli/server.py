@@ -4,9 +4,12 @@
 configuration, a self-signed certificate (``DIR/certs/<domain>.crt``, for the modules'
 ``ca_file``) and one account per module configuration with a ``comm: {jid, password}``
 (``${VAR}`` resolved from the environment) and per person (a comm file alone, as operator.yaml).
-Module accounts own the room; people are members. Unless it exists, it writes the starting
-access policy ``DIR/access.policy`` (docs/security.md) the modules' comms name: the modules may
-call each other, the ``--operator`` people everything, other people only what reads.
+A password a file includes from a ``secrets/`` folder (``password: !include
+secrets/roof.password``) that does not exist yet is made: random, one per account, mode 0600.
+Module accounts own the room; people are members. Unless it exists, or every module's comm names a
+policy file that exists (as ``nightcrew init`` writes them), it writes the starting access policy
+``DIR/access.policy`` (docs/security.md) for the modules' comms to name: the modules may call each
+other, the ``--operator`` people everything, other people only what reads.
 ``start`` runs Prosody in the background with its data, log and pidfile in DIR; ``stop`` ends
 it; ``status`` says whether it runs (exit 0) or not (exit 3). Using an existing Prosody or
 ejabberd instead: see docs/xmpp-servers.md.
@@ -22,7 +25,9 @@ from nightcrew.night.init import module_text
 from nightcrew.server import (
     ServerSettings,
     accounts_from_configs,
+    create_missing_passwords,
     init_server,
+    policies_named,
     policy_for_accounts,
     server_status,
     start_server,
@@ -91,6 +96,8 @@ def _init_options() -> argparse.ArgumentParser:
 
 def _init(args: argparse.Namespace) -> int:
     options = _init_options().parse_intermixed_args(args.rest)
+    for made in create_missing_passwords(options.configs):
+        print(f"made a random password in {made} (mode 0600)")
     accounts = accounts_from_configs(options.configs)
     modules = [a for a in accounts if not a.person]
     # Module accounts own the room; with any, it is members-only (docs/security.md). People are
@@ -110,8 +117,14 @@ def _init(args: argparse.Namespace) -> int:
         f"server in {args.directory}: {settings.host}:{settings.port}, {' '.join(settings.domains)}; {names}"
     )
     policy = Path(args.directory) / POLICY_FILE
+    named = policies_named(options.configs)
     if policy.exists():
         print(f"kept the access policy {policy}")
+    elif named and all(p is not None and p.is_file() for p in named):
+        # Every module names a policy that exists (`nightcrew init` writes access.policy beside
+        # them): one more here would be named by nobody.
+        files = ", ".join(sorted({str(p) for p in named}))
+        print(f"the modules name their access policy ({files}); none written")
     elif accounts:
         body = policy_for_accounts(accounts, options.operator or ["operator"])
         policy.write_text(module_text(_POLICY_HEADER, body))

@@ -28,6 +28,8 @@ import dataclasses
 import enum
 import functools
 import inspect
+import json
+import math
 import types
 import typing
 from collections.abc import Callable, Mapping
@@ -97,7 +99,7 @@ def decode(value: Any, hint: Any, path: str = "value") -> Any:
         return value
     if hint is type(None) or hint is None:
         if value is not None:
-            raise CodecError(f"{path}: expected nothing (None), got {_kind(value)}")
+            raise CodecError(f"{path}: expected null, got {_kind(value)}")
         return None
     origin = typing.get_origin(hint)
     if origin is None:
@@ -106,22 +108,27 @@ def decode(value: Any, hint: Any, path: str = "value") -> Any:
     if origin is typing.Union or origin is types.UnionType:
         if value is None and type(None) in args:
             return None
-        errors = []
-        for arg in args:
-            if arg is type(None):
-                continue
+        choices = [arg for arg in args if arg is not type(None)]
+        if len(choices) == 1:
+            try:
+                return decode(value, choices[0], path)
+            except CodecError as exc:
+                # A bound broken or a struct's own key wrong says more than the list of choices.
+                if not exc.message.startswith(f"{path}: expected "):
+                    raise
+        for arg in choices:
             try:
                 return decode(value, arg, path)
-            except CodecError as exc:
-                errors.append(str(exc))
-        raise CodecError(f"{path}: {_kind(value)} fits none of {_hint_name(hint)}")
+            except CodecError:
+                continue
+        raise CodecError(f"{path}: expected {_hint_name(hint)}, got {_kind(value)}")
     if origin is typing.Literal:
         if value not in args:
-            raise CodecError(f"{path}: {value!r} is not one of {', '.join(map(repr, args))}")
+            raise CodecError(f"{path}: expected {_hint_name(hint)}, got {_kind(value)}")
         return value
     if origin is list or origin is tuple or origin is set or origin is frozenset:
         if not isinstance(value, list | tuple):
-            raise CodecError(f"{path}: expected a list, got {_kind(value)}")
+            raise CodecError(f"{path}: expected array, got {_kind(value)}")
         if origin is tuple and args and not (len(args) == 2 and args[1] is Ellipsis):
             if len(args) != len(value):
                 raise CodecError(f"{path}: expected {len(args)} items, got {len(value)}")
@@ -133,7 +140,7 @@ def decode(value: Any, hint: Any, path: str = "value") -> Any:
         return origin(items) if origin is not list else items
     if origin is dict or origin is Mapping:
         if not isinstance(value, dict):
-            raise CodecError(f"{path}: expected a dict, got {_kind(value)}")
+            raise CodecError(f"{path}: expected object, got {_kind(value)}")
         vhint = args[1] if len(args) == 2 else Any
         return {k: decode(v, vhint, f"{path}.{k}") for k, v in value.items()}
     if origin is typing.Annotated:
@@ -173,16 +180,16 @@ def _decode_plain(value: Any, hint: Any, path: str) -> Any:
             try:
                 parsed = datetime.fromisoformat(value)
             except ValueError as exc:
-                raise CodecError(f"{path}: {value!r} is not an ISO date/time") from exc
+                raise CodecError(f"{path}: expected {_hint_name(hint)}, got {_kind(value)}") from exc
             return parsed if parsed.tzinfo else parsed.replace(tzinfo=UTC)
     elif isinstance(hint, type) and issubclass(hint, enum.Enum):
         try:
             return hint(value)
         except ValueError as exc:
-            raise CodecError(f"{path}: {value!r} is not a valid {hint.__name__}") from exc
+            raise CodecError(f"{path}: expected {_hint_name(hint)}, got {_kind(value)}") from exc
     elif dataclasses.is_dataclass(hint) and isinstance(hint, type):
         if kind is not dict:
-            raise CodecError(f"{path}: expected a struct for {hint.__name__}, got {_kind(value)}")
+            raise CodecError(f"{path}: expected {_hint_name(hint)}, got {_kind(value)}")
         return hint(**decode_fields(hint, value, path))
     elif hint is list or hint is dict or hint is tuple:
         return decode(value, hint[Any] if hint is not dict else dict[str, Any], path)
@@ -274,9 +281,56 @@ def decode_arguments(func: Callable[..., Any], args: list[Any]) -> dict[str, Any
     return decoded
 
 
+#: The JSON names of wire values: errors speak JSON, the one language every client shares.
+_JSON_KINDS: dict[type, str] = {
+    bool: "boolean",
+    int: "integer",
+    float: "number",
+    str: "string",
+    bytes: "base64 string",
+    list: "array",
+    tuple: "array",
+    dict: "object",
+}
+_SHOWN_CHARS = 40
+
+
 def _kind(value: Any) -> str:
-    return "None" if value is None else type(value).__name__
+    """A value as an error shows it: its JSON type and, for scalars, itself (cut short)."""
+    if value is None:
+        return "null"
+    if isinstance(value, datetime):
+        return f"date-time {value.isoformat()}"
+    kind = next((name for cls, name in _JSON_KINDS.items() if type(value) is cls), type(value).__name__)
+    if isinstance(value, bool):
+        return f"{kind} {str(value).lower()}"
+    if isinstance(value, int | float | str):
+        shown = json.dumps(value) if not isinstance(value, float) or math.isfinite(value) else repr(value)
+        return f"{kind} {shown if len(shown) <= _SHOWN_CHARS else shown[:_SHOWN_CHARS] + '...'}"
+    return kind
 
 
 def _hint_name(hint: Any) -> str:
+    """A type hint in the words of docs/catalogue.json: JSON types, enum values, struct names."""
+    if hint is None or hint is type(None):
+        return "null"
+    origin = typing.get_origin(hint)
+    if origin is typing.Annotated:
+        return _hint_name(typing.get_args(hint)[0])
+    if origin is typing.Union or origin is types.UnionType:
+        return " or ".join(_hint_name(arg) for arg in typing.get_args(hint))
+    if origin is typing.Literal:
+        return "one of " + ", ".join(json.dumps(arg) for arg in typing.get_args(hint))
+    if origin in (list, tuple, set, frozenset):
+        return "array"
+    if origin in (dict, Mapping):
+        return "object"
+    if isinstance(hint, type) and issubclass(hint, enum.Enum):
+        return "one of " + ", ".join(json.dumps(member.value) for member in hint)
+    if dataclasses.is_dataclass(hint) and isinstance(hint, type):
+        return f"object ({hint.__name__})"
+    if hint is datetime:
+        return "date-time (ISO 8601 string)"
+    if isinstance(hint, type) and hint in _JSON_KINDS:
+        return _JSON_KINDS[hint]
     return getattr(hint, "__name__", None) or str(hint).replace("typing.", "")

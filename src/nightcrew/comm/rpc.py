@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from nightcrew.clock import Clock, RealClock
-from nightcrew.comm.codec import decode_arguments, encode
+from nightcrew.comm.codec import decode_arguments, encode, method_parameters
 from nightcrew.comm.introspection import SYSTEM_PREFIX, SystemMethods
 from nightcrew.errors import (
     CodecError,
@@ -87,18 +87,23 @@ def shorten(text: str, limit: int = MAX_SHOWN_CHARS) -> str:
     return f"{text[:limit]}... ({len(text) - limit} more characters)"
 
 
-def check_wire_arguments(method: str, args: list[Any]) -> None:
+def check_wire_arguments(method: str, args: list[Any], names: Sequence[str] = ()) -> None:
     """Refuse arguments beyond :data:`MAX_ARGUMENT_DEPTH` / :data:`MAX_ARGUMENT_BYTES`, or holding
-    NaN or infinity (no setting nightcrew has means anything with them), before decoding them."""
+    NaN or infinity (no setting nightcrew has means anything with them), before decoding them.
+    ``names`` are the method's parameter names, so that a refusal names the argument."""
     size = 0
-    stack: list[tuple[Any, int, str]] = [(arg, 1, f"argument {i + 1}") for i, arg in enumerate(args)]
+    stack: list[tuple[Any, int, str]] = [
+        (arg, 1, f"argument '{names[i]}'" if i < len(names) else f"argument {i + 1}")
+        for i, arg in enumerate(args)
+    ]
     while stack:
         value, depth, where = stack.pop()
         size += 8
         if isinstance(value, str | bytes):
             size += len(value)
         elif isinstance(value, float) and not math.isfinite(value):
-            raise InvalidArgumentError(f"{shorten(method, 60)}(): {where} is {value}, not a finite number")
+            shown = "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
+            raise InvalidArgumentError(f"{shorten(method, 60)}(): {where}: {shown} is not a finite number")
         elif isinstance(value, list | dict):
             if depth >= MAX_ARGUMENT_DEPTH:
                 raise InvalidArgumentError(
@@ -250,7 +255,7 @@ class RpcServer:
             )
         if self._guard is not None:
             self._guard(method)
-        check_wire_arguments(method, args)
+        check_wire_arguments(method, args, [p.name for p in method_parameters(declaration)[0]])
         # Arguments are checked (types, bounds) before the timeout is announced: a refused call
         # gets its fault at once and is never announced as a long one.
         arguments = _decode(method, declaration, args)

@@ -3,7 +3,7 @@
 A policy file::
 
     roles:
-      observer: ["camera.*", "*.get_*", IModule]   # module.method patterns or interface names
+      observer: ["*.get_*", "*.is_*"]   # module.method patterns or interface names (ICamera)
       operator: ["*"]
       safety: []
     accounts:                                      # account (module or person) -> roles
@@ -123,7 +123,8 @@ def starting_policy(modules: list[str], people: Mapping[str, str]) -> dict[str, 
     """The policy (plain data, for a YAML file) that ``nightcrew init`` and ``nightcrew server init``
     write: the observatory's ``modules`` may call each other, a person (name → ``operator`` or
     ``observer``) everything or only what reads. Safety events come only from the safety modules
-    (weather, watchdog and safety, where present); FITS header cards only from modules."""
+    (weather, watchdog and safety, where present); focus results and FITS header cards only from
+    modules."""
     safety = [name for name in ("weather", "safety", "watchdog") if name in modules]
     accounts: dict[str, list[str]] = {
         name: ["modules", "safety"] if name in safety else ["modules"] for name in modules
@@ -136,14 +137,18 @@ def starting_policy(modules: list[str], people: Mapping[str, str]) -> dict[str, 
     return {
         "roles": {
             "operator": ["*"],
-            "observer": [*(f"*.{prefix}*" for prefix in GETTER_PREFIXES), "IModule"],
+            # What reads, and nothing else: not IModule whole, whose reset_error and
+            # set_config_value change state (its getters are among these).
+            "observer": [f"*.{prefix}*" for prefix in GETTER_PREFIXES],
             "modules": ["*"],
             "safety": [],
         },
         "accounts": accounts,
         "safety_roles": ["safety"],
-        # Every event class marked as moving hardware, so that a new one is not forgotten.
-        "events": {name: ["safety"] for name in hardware_event_names()},
+        # Every event class marked as moving hardware, so that a new one is not forgotten; and a
+        # focus series' result, which the focus model learns from and then sets the focuser by
+        # (no safety matter, so not marked: from any module, but a person cannot forge it).
+        "events": {**{name: ["safety"] for name in hardware_event_names()}, "FocusFoundEvent": ["modules"]},
         "header_providers": ["modules"],
     }
 

@@ -17,6 +17,7 @@ Errors derive from :class:`AstrometryError` (an :class:`~nightcrew.images.errors
 
 from nightcrew.images.astrometry._coverage import (
     camera_field_arcmin,
+    camera_fields_arcmin,
     index_coverage_problem,
     observatory_coverage_problems,
 )
@@ -51,6 +52,7 @@ __all__ = [
     "TanFit",
     "TanWcs",
     "camera_field_arcmin",
+    "camera_fields_arcmin",
     "fit_tan_wcs",
     "index_coverage_problem",
     "is_wcs_keyword",

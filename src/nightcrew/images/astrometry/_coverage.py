@@ -18,7 +18,12 @@ from nightcrew.config import load_config, to_plain
 from nightcrew.errors import ConfigError
 from nightcrew.sim.index_files import QUAD_FRACTIONS, index_quad_scale_arcsec, index_scales_for_field
 
-__all__ = ["camera_field_arcmin", "index_coverage_problem", "observatory_coverage_problems"]
+__all__ = [
+    "camera_field_arcmin",
+    "camera_fields_arcmin",
+    "index_coverage_problem",
+    "observatory_coverage_problems",
+]
 
 DEFAULT_INDEX_DIR = "/usr/share/astrometry"
 """Where Debian's ``astrometry-data-*`` packages put their index files."""
@@ -66,6 +71,19 @@ def camera_field_arcmin(config: Mapping[str, Any]) -> float | None:
     except (KeyError, TypeError, ValueError, ZeroDivisionError):
         return None
     return pixels * scale / 60.0
+
+
+def camera_fields_arcmin(files: Iterable[Path]) -> list[float]:
+    """The field widths (arcmin) the camera module files among ``files`` state."""
+    fields = []
+    for path in files:
+        try:
+            width = camera_field_arcmin(to_plain(load_config(path)))
+        except ConfigError:
+            continue  # reported by the file's own check
+        if width is not None:
+            fields.append(width)
+    return fields
 
 
 def _index_dirs(node: Any) -> Iterable[str]:

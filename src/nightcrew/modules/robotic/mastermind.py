@@ -34,7 +34,8 @@ Decisions:
   :class:`~nightcrew.modules.robotic.task_runs.TaskRuns`.
 * **Focus**: with an ``autofocus`` module, before the first task that images stars (not before
   twilight flats) and whenever the temperature moved by more than ``refocus_temperature_change``
-  since the last focus - once the Sun is below ``focus_max_sun_altitude``, and already while
+  since the last focus, or ``refocus_interval`` clock seconds after it (if set) - once the Sun
+  is below ``focus_max_sun_altitude``, and already while
   waiting for that task with the roof open (at dusk: after the flats, before full darkness). The
   telescope first slews to a star field chosen from the offline catalogue near where it points
   (``focus_field``: enough stars of the right brightness, none too bright, high up) and tracks it -
@@ -138,6 +139,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         poll_interval: Clock seconds between two looks at the world.
         abort_timeout: Clock seconds an aborted task may take to clean up.
         refocus_temperature_change: Refocus after this temperature change, °C.
+        refocus_interval: Refocus after this many clock seconds since the last focus; None: never
+            for time alone.
         focus_max_sun_altitude: Highest Sun altitude for focusing, degrees (stars must show).
         focus_count, focus_step, focus_exposure_time: Arguments of ``auto_focus``.
         focus_field: Rules for the focus field (:class:`~nightcrew.astro.star_fields.StarFieldRules`:
@@ -173,6 +176,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         poll_interval: Period = 10.0,
         abort_timeout: float = 60.0,
         refocus_temperature_change: float = 2.0,
+        refocus_interval: Period | None = None,
         focus_max_sun_altitude: Altitude = -10.0,
         focus_count: int = 7,
         focus_step: float = 0.05,
@@ -232,6 +236,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 autofocus,
                 max_sun_altitude=focus_max_sun_altitude,
                 refocus_change=refocus_temperature_change,
+                refocus_interval=refocus_interval,
                 arguments=(focus_count, focus_step, focus_exposure_time),
                 retry_interval=focus_retry_interval,
                 fields=fields,

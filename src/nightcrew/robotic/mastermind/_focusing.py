@@ -48,6 +48,7 @@ class FocusKeeper:
         autofocus: Module offering IAutoFocus (or a local object).
         max_sun_altitude: Highest Sun altitude for focusing, degrees (stars must show).
         refocus_change: Refocus after this temperature change, °C.
+        refocus_interval: Refocus after this many clock seconds; None: not for time alone.
         arguments: (count, step, exposure_time) of ``auto_focus``.
         retry_interval: Clock seconds after a failed focus run before the next attempt.
         fields: Where to point (and track) before a series; None: where the telescope points.
@@ -62,6 +63,7 @@ class FocusKeeper:
         *,
         max_sun_altitude: float,
         refocus_change: float,
+        refocus_interval: float | None = None,
         arguments: tuple[int, float, float],
         retry_interval: float = 1800.0,
         fields: FocusFields | None = None,
@@ -73,6 +75,8 @@ class FocusKeeper:
         self._next_field: tuple[StarField, float] | None = None
         self.limits = SunLimits(high=float(max_sun_altitude))
         self._refocus_change, self._arguments = refocus_change, arguments
+        self._refocus_interval = refocus_interval
+        self._focused_at = 0.0  # clock time of the last focus
         self._retry_interval = float(retry_interval)
         self._focused = False
         self._temperature: float | None = None
@@ -83,13 +87,17 @@ class FocusKeeper:
         if self._retry_at is not None and self._host.clock.time() < self._retry_at:
             return None
         temperature = await self._observatory.temperature() if self._focused else None
-        due = focus_due(
+        cause = focus_due(
             focused=self._focused,
             last_temperature=self._temperature,
             temperature=temperature,
             threshold=self._refocus_change,
+            since_focus=self._host.clock.time() - self._focused_at,
+            interval=self._refocus_interval,
         )
-        return self.limits.high if due else None
+        if cause is not None and self._focused:
+            log.debug("%s: focus due: %s", self._host.context_name, cause)
+        return self.limits.high if cause is not None else None
 
     async def focus(
         self,
@@ -127,6 +135,7 @@ class FocusKeeper:
             log.warning("%s: focusing aborted: %s", name, cause)
             return
         self._focused, self._temperature, self._retry_at = True, temperature, None
+        self._focused_at = self._host.clock.time()
 
     async def first_field(self) -> tuple[float, float] | None:
         """The (ra, dec) the next series will start on (to point at while the roof opens); None

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from datetime import datetime, timedelta
 
+from nightcrew.focus.refocus import FocusState, RefocusTriggers, refocus_cause
 from nightcrew.interfaces import FitsCard
 from nightcrew.robotic.mastermind._decide import Slot, SunLimits
 from nightcrew.robotic.planning import PlannedSlot
@@ -240,15 +241,22 @@ def kept_progress(recorded: TaskProgress, this_run: TaskProgress) -> TaskProgres
 
 
 def focus_due(
-    *, focused: bool, last_temperature: float | None, temperature: float | None, threshold: float
-) -> bool:
-    """Whether to focus before the next sky task.
+    *,
+    focused: bool,
+    last_temperature: float | None,
+    temperature: float | None,
+    threshold: float,
+    since_focus: float = 0.0,
+    interval: float | None = None,
+) -> str | None:
+    """Why to focus before the next sky task, or None.
 
-    Yes when there was no focus yet; then only when both temperatures are known and differ by more
-    than ``threshold`` (°C): the tube's length follows the temperature.
+    Always when there was no focus yet; then when both temperatures are known and differ by more
+    than ``threshold`` (°C: the tube's length follows the temperature), or when more than
+    ``interval`` seconds passed since the focus (``since_focus`` of them have; None: never).
     """
     if not focused:
-        return True
-    if last_temperature is None or temperature is None:
-        return False
-    return abs(temperature - last_temperature) > threshold
+        return "no focus yet"
+    triggers = RefocusTriggers(temperature_change=threshold, interval=interval)
+    last = FocusState(time=0.0, temperature=last_temperature)
+    return refocus_cause(triggers, last, time=since_focus, temperature=temperature)

@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 from nightcrew.astro.pier import SIDEREAL_RATE, counterweight_up
+from nightcrew.config.options import dataclass_from_options
 from nightcrew.interfaces import PierSide
 
 __all__ = ["FLIP_BEYOND_MERIDIAN", "RefocusAfterFlip", "flip_wait"]
@@ -67,8 +68,4 @@ class RefocusAfterFlip:
     @classmethod
     def from_options(cls, options: Mapping[str, Any]) -> RefocusAfterFlip:
         """From the script's ``refocus_after_flip`` mapping; ValueError naming an unknown key."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(options) - known)
-        if unknown:
-            raise ValueError(f"{unknown[0]} is not an option; known: {', '.join(sorted(known))}")
-        return cls(**options)
+        return dataclass_from_options(cls, options)

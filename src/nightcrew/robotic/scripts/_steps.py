@@ -7,10 +7,10 @@ import logging
 from collections.abc import Awaitable, Callable
 from typing import Any, TypeVar
 
-from nightcrew.errors import NightcrewError
+from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.robotic.runner import ScriptError
 
-__all__ = ["quietly", "step"]
+__all__ = ["config_option", "quietly", "step"]
 
 log = logging.getLogger(__name__)
 
@@ -42,3 +42,11 @@ async def quietly(what: str, action: Callable[[], Awaitable[Any]]) -> None:
         await action()
     except NightcrewError as exc:
         log.error("could not %s: %s", what, exc)
+
+
+def config_option(key: str, build: Callable[[], T]) -> T:
+    """``build()``, its TypeError or ValueError as a ConfigError naming ``key.<first word>``."""
+    try:
+        return build()
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(str(exc), key=f"{key}.{str(exc).split()[0]}") from exc

@@ -5,26 +5,39 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 from nightcrew.astro.pier import hour_angle
 from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.images.grading import GradingPolicy
 from nightcrew.interfaces import (
     IAcquisition,
-    IAutoFocus,
     IAutoGuiding,
     ICamera,
     IFilters,
     ImageType,
+    IOffsetsRaDec,
     IPierSide,
     ITelescope,
 )
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.scripts._between import (
+    Dithering,
+    Grading,
+    Pointing,
+    Refocusing,
+    focus_series,
+    setup_of,
+)
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip, flip_wait
-from nightcrew.robotic.scripts._instrument import CutShortCallback, Instrument, instrument_supported
+from nightcrew.robotic.scripts._instrument import (
+    FILTER_ELEMENT,
+    CutShortCallback,
+    Instrument,
+    instrument_supported,
+)
 from nightcrew.robotic.scripts._repeat import RepeatTiming
-from nightcrew.robotic.scripts._steps import quietly, step
+from nightcrew.robotic.scripts._steps import config_option, quietly, step
 from nightcrew.robotic.tasks import (
     AcquisitionMode,
     Configuration,
@@ -32,7 +45,6 @@ from nightcrew.robotic.tasks import (
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
-    Target,
     Task,
 )
 
@@ -60,6 +72,10 @@ class ImagingScript(Script):
     stop guiding, slew to the target again (the mount changes sides), acquire again, refocus if
     ``refocus_after_flip`` is set, restart guiding.
 
+    Between frames (see :mod:`nightcrew.robotic.scripts._between`) the script dithers as the
+    configuration's ``dither_config`` asks, grades every frame with ``grading`` (a failed frame is
+    taken again) and refocuses when one of ``refocus_triggers`` fires.
+
     A task carrying progress from an interrupted attempt is resumed: only the missing frames of
     each instrument config are taken, a REPEAT_EXPOSE only repeats for the time it has left.
 
@@ -73,6 +89,16 @@ class ImagingScript(Script):
             counterweight up before the script flips first; keep it below the mount's own limit.
         refocus_after_flip: Run a focus series after each flip: a mapping of ``focus`` (IAutoFocus
             module), ``count``, ``step`` (mm) and ``exposure_time`` (s); None: no refocus.
+        grading: Grade every science frame against the night and take failed ones again: a
+            mapping of :class:`~nightcrew.images.grading.GradingPolicy` fields (``{}``: the
+            defaults); None: no grading.
+        refocus_triggers: Refocus between frames: ``fwhm_rise`` (fraction), ``temperature_change``
+            (°C), ``interval`` (s), ``filter_change`` (bool), and the series as in
+            ``refocus_after_flip``; None: never.
+        focuser: Module offering IFocuser, for ``filter_focus_offsets``.
+        filter_focus_offsets: Filter name to focuser offset (mm), set with the filter.
+        temperatures: Module offering ITemperatures, for ``temperature_change``.
+        temperature_sensor: Its sensor to read.
     """
 
     def __init__(
@@ -85,6 +111,12 @@ class ImagingScript(Script):
         autoguider: str | IAutoGuiding | None = None,
         flip_past_meridian: float = 0.0,
         refocus_after_flip: Mapping[str, Any] | None = None,
+        grading: Mapping[str, Any] | None = None,
+        refocus_triggers: Mapping[str, Any] | None = None,
+        focuser: str | None = None,
+        filter_focus_offsets: Mapping[str, float] | None = None,
+        temperatures: str | None = None,
+        temperature_sensor: str = "temperature",
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -93,12 +125,33 @@ class ImagingScript(Script):
                 f"must be within 0..90 degrees, got {flip_past_meridian}", key="flip_past_meridian"
             )
         self._flip_past_meridian = float(flip_past_meridian)
-        try:
-            self._refocus = (
-                None if refocus_after_flip is None else RefocusAfterFlip.from_options(refocus_after_flip)
+        self._refocus = config_option(
+            "refocus_after_flip",
+            lambda: None if refocus_after_flip is None else RefocusAfterFlip.from_options(refocus_after_flip),
+        )
+        self._grading = config_option(
+            "grading", lambda: None if grading is None else Grading(GradingPolicy.from_options(grading))
+        )
+        if filter_focus_offsets and focuser is None:
+            raise ConfigError("filter focus offsets need the focuser to move", key="focuser")
+        if refocus_triggers and refocus_triggers.get("fwhm_rise") is not None and grading is None:
+            raise ConfigError(
+                "a FWHM rise is measured on graded frames: set grading", key="refocus_triggers.fwhm_rise"
             )
-        except (TypeError, ValueError) as exc:
-            raise ConfigError(str(exc), key=f"refocus_after_flip.{str(exc).split()[0]}") from exc
+        self._refocusing = config_option(
+            "refocus_triggers",
+            lambda: (
+                None
+                if refocus_triggers is None and not filter_focus_offsets
+                else Refocusing.from_options(
+                    refocus_triggers or {},
+                    focuser,
+                    filter_focus_offsets or {},
+                    temperatures,
+                    temperature_sensor,
+                )
+            ),
+        )
         self._telescope, self._camera, self._filters = telescope, camera, filters
         self._acquisition, self._autoguider = acquisition, autoguider
 
@@ -137,8 +190,14 @@ class ImagingScript(Script):
         )
         await self._acquire(config)
         pier = await self.optional_proxy(self._telescope, IPierSide)
-        pointing = _Pointing(
-            telescope, pier, target, config, await self._start_guiding(config.guiding_config)
+        pointing = Pointing(
+            telescope,
+            pier,
+            target,
+            config,
+            await self._start_guiding(config.guiding_config),
+            await self.optional_proxy(self._telescope, IOffsetsRaDec),
+            Dithering(config.dither_config, target, seed=task.id),
         )
         try:
             reporter = ProgressReporter(task, progress)
@@ -150,17 +209,18 @@ class ImagingScript(Script):
             if pointing.guider is not None:
                 await quietly("stop guiding", pointing.guider.stop)
 
-    async def _flip_if_needed(self, pointing: _Pointing, seconds: float) -> None:
-        """Flip before a frame of ``seconds`` that would carry the mount too far past the meridian."""
+    async def _flip_if_needed(self, pointing: Pointing, seconds: float) -> bool:
+        """Flip before a frame of ``seconds`` that would carry the mount too far past the meridian;
+        whether it did."""
         site = self.site
         if pointing.pier is None or site is None:
-            return
+            return False
         side = await pointing.pier.get_pier_side()
         target = pointing.target
         ha = hour_angle(target.ra, target.dec, site.longitude, self.clock.time())
         wait = flip_wait(ha, seconds, side, self._flip_past_meridian)
         if wait is None:
-            return
+            return False
         if wait > 0:
             log.info("%s reaches the meridian in %.0f s: waiting for it to flip", target.name, wait)
             await self.clock.sleep(wait)
@@ -176,21 +236,25 @@ class ImagingScript(Script):
         )
         if await pointing.pier.get_pier_side() is side:
             log.warning("the mount stayed on the %s side of the pier after the flip", side)
+        pointing.dithering.forget_offsets()
         await self._acquire(pointing.config)
         await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+        return True
+
+    async def _dither_if_due(self, pointing: Pointing) -> None:
+        """Dither before the next frame if it is due at another position; guiding paused for it."""
+        if not pointing.dithering.due:
+            return
+        if pointing.guider is not None:
+            await quietly("stop guiding for the dither", pointing.guider.stop)
+        await pointing.dithering.move(pointing.telescope, pointing.offsets)
+        if pointing.guider is not None:
+            pointing.guider = await self._start_guiding(pointing.config.guiding_config)
 
     async def _refocus_after_flip(self) -> None:
-        refocus = self._refocus
-        if refocus is None:
-            return
-        focus = await step("connect to the focus module", self.proxy(refocus.focus, IAutoFocus))
-        best, error = await step(
-            "refocus after the flip",
-            focus.auto_focus(refocus.count, refocus.step, refocus.exposure_time),
-            on_cancel=focus.abort,
-        )
-        log.info("refocused after the flip: %.4f +- %.4f mm", best, error)
+        if self._refocus is not None:
+            await focus_series(self, self._refocus, "refocus after the flip")
 
     async def _acquire(self, config: Configuration) -> None:
         if config.acquisition_config.mode is AcquisitionMode.OFF:
@@ -231,22 +295,18 @@ class ImagingScript(Script):
         return guider
 
     async def _expose(
-        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: _Pointing
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: Pointing
     ) -> None:
         for index, instrument_config in enumerate(config.instrument_configs):
             missing = reporter.remaining(index)
             if missing == 0:
                 continue  # taken in an earlier attempt
-            await instrument.set_up(instrument_config)
+            await self._set_up(instrument, instrument_config)
             for _ in range(missing):
-                await self._flip_if_needed(pointing, instrument_config.exposure_time)
-                await instrument.expose(
-                    ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
-                )
-                await reporter.add(index)
+                await self._science_frame(pointing, instrument, reporter, index, instrument_config)
 
     async def _expose_repeatedly(
-        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: _Pointing
+        self, config: Configuration, instrument: Instrument, reporter: ProgressReporter, pointing: Pointing
     ) -> None:
         assert config.repeat_duration is not None  # the task model requires it for REPEAT_EXPOSE
         # Resumed after an interruption: only the time left, and a first cycle already taken is
@@ -263,25 +323,57 @@ class ImagingScript(Script):
                         log.info("repeat duration %g s used up after %d cycles", timing.duration, cycles)
                         return
                     if number == 0:
-                        await instrument.set_up(instrument_config)
-                    await self._flip_if_needed(pointing, exposure_time)
-                    await instrument.expose(
-                        ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
+                        await self._set_up(instrument, instrument_config)
+                    retakes = await self._science_frame(
+                        pointing, instrument, reporter, index, instrument_config
                     )
-                    timing.record(started, self.clock.time(), exposure_time)
-                    await reporter.add(index)
+                    timing.record(started, self.clock.time(), (1 + retakes) * exposure_time)
             cycles += 1
 
+    async def _set_up(self, instrument: Instrument, instrument_config: InstrumentConfig) -> None:
+        await instrument.set_up(instrument_config)
+        if self._refocusing is not None:
+            await self._refocusing.apply_filter_offset(
+                self, instrument_config.optical_elements.get(FILTER_ELEMENT)
+            )
 
-@dataclass
-class _Pointing:
-    """What a flip changes and needs: the mount, its pier side, the target, the guider running."""
-
-    telescope: ITelescope
-    pier: IPierSide | None
-    target: Target
-    config: Configuration
-    guider: IAutoGuiding | None
+    async def _science_frame(
+        self,
+        pointing: Pointing,
+        instrument: Instrument,
+        reporter: ProgressReporter,
+        index: int,
+        instrument_config: InstrumentConfig,
+    ) -> int:
+        """One science frame that counts, taken again while its grade fails (at most
+        ``max_retakes`` times); returns how often it was taken again."""
+        retakes = 0
+        while True:
+            flipped = await self._flip_if_needed(pointing, instrument_config.exposure_time)
+            await self._dither_if_due(pointing)
+            refocused = self._refocusing is not None and await self._refocusing.refocus_if_due(
+                self, instrument_config.optical_elements.get(FILTER_ELEMENT), self._grading
+            )
+            if (flipped and self._refocus is not None) or refocused:
+                await self._set_up(instrument, instrument_config)  # the focus frames set their own
+            path = await instrument.expose(
+                ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
+            )
+            if self._grading is None:
+                break
+            grade = await self._grading.grade(self.vfs, path, setup_of(instrument_config), self.clock.time())
+            if grade.passed:
+                break
+            if retakes >= self._grading.policy.max_retakes:
+                log.warning("kept %s after %d retakes, though it failed: %s", path, retakes, grade.why)
+                break
+            retakes += 1
+            log.info(
+                "taking %s again (retake %d of at most %d)", path, retakes, self._grading.policy.max_retakes
+            )
+        pointing.dithering.count_frame()
+        await reporter.add(index)
+        return retakes
 
 
 def _recorder(

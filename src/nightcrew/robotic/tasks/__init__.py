@@ -4,7 +4,7 @@ A user submits a :class:`RequestGroup` (LCO-portal style)::
 
     RequestGroup  name, proposal, observation_type, priority, ipp
     └── Request   location, windows, acceptability_threshold        (one task each)
-        └── Configuration  type, target, constraints, acquisition_config, guiding_config,
+        └── Configuration  type, target, constraints, acquisition_config, guiding_config, dither_config,
             │              repeat_duration, extra_params
             └── InstrumentConfig  exposure_time, exposure_count, optical_elements, binning
 
@@ -28,6 +28,8 @@ from nightcrew.robotic.tasks._configuration import (
     Configuration,
     ConfigurationType,
     Constraints,
+    DitherConfig,
+    DitherPattern,
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
@@ -76,6 +78,8 @@ __all__ = [
     "ConfigurationType",
     "Constraints",
     "CutShortFrame",
+    "DitherConfig",
+    "DitherPattern",
     "DurationEstimate",
     "GuidingConfig",
     "GuidingMode",

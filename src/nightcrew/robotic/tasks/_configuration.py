@@ -42,6 +42,8 @@ __all__ = [
     "Configuration",
     "ConfigurationType",
     "Constraints",
+    "DitherConfig",
+    "DitherPattern",
     "GuidingConfig",
     "GuidingMode",
     "InstrumentConfig",
@@ -85,6 +87,29 @@ class GuidingMode(StrEnum):
 
     OFF = "OFF"
     ON = "ON"
+
+
+class DitherPattern(StrEnum):
+    """Where successive dither positions lie (see :mod:`nightcrew.robotic.scripts._dither`)."""
+
+    SPIRAL = "SPIRAL"  # a square spiral of steps ``amplitude`` long around the target
+    RANDOM = "RANDOM"  # uniform within ``amplitude`` of the target along each axis
+
+
+class DitherConfig(TaskModel):
+    """Moving the telescope a little between science frames (the guider follows).
+
+    Args:
+        pattern: Where the positions lie.
+        amplitude: Arcsec: the spiral's step, or the random offsets' largest along each axis;
+            0 (the default) never dithers. ``nightcrew check`` refuses one larger than the
+            camera's field.
+        every: Dither after every this many frames, >= 1.
+    """
+
+    pattern: DitherPattern = DitherPattern.SPIRAL
+    amplitude: Number = Field(default=0.0, ge=0.0, le=3600.0)
+    every: Integer = Field(default=1, ge=1, le=MAX_EXPOSURE_COUNT)
 
 
 class Target(TaskModel):
@@ -178,6 +203,7 @@ class Configuration(TaskModel):
         constraints: Conditions to run under.
         acquisition_config: How to acquire the target.
         guiding_config: How to guide.
+        dither_config: How to dither between science frames (EXPOSE, REPEAT_EXPOSE).
         instrument_configs: The exposure series, taken in order.
         repeat_duration: REPEAT_EXPOSE only: seconds to keep cycling through the series.
         extra_params: Free parameters; SCRIPT needs ``script`` (what to run) and ``duration`` (s).
@@ -189,6 +215,7 @@ class Configuration(TaskModel):
     constraints: Constraints = Field(default=Constraints())
     acquisition_config: AcquisitionConfig = Field(default=AcquisitionConfig())
     guiding_config: GuidingConfig = Field(default=GuidingConfig())
+    dither_config: DitherConfig = Field(default=DitherConfig())
     instrument_configs: tuple[InstrumentConfig, ...] = ()
     repeat_duration: Number | None = Field(default=None, gt=0.0, le=MAX_TASK_SECONDS)
     extra_params: ExtraParams = Field(default_factory=dict)
@@ -214,6 +241,8 @@ class Configuration(TaskModel):
             yield "repeat_duration", "required for REPEAT_EXPOSE configurations"
         if self.type is not ConfigurationType.REPEAT_EXPOSE and self.repeat_duration is not None:
             yield "repeat_duration", "only allowed for REPEAT_EXPOSE configurations"
+        if self.type not in TYPES_NEEDING_TARGET and self.dither_config.amplitude > 0:
+            yield "dither_config.amplitude", "dithering is only for EXPOSE and REPEAT_EXPOSE configurations"
         if self.type is ConfigurationType.SCRIPT:
             yield from _script_problems(self.extra_params)
         if self.type is ConfigurationType.PANEL_FLAT:
