@@ -17,7 +17,7 @@ from nightcrew.focus.series import (
     projection_width,
 )
 from nightcrew.modules.focus.series import AutoFocusSeries, ProjectionFocusMeasure
-from nightcrew.modules.sim import SimCamera, SimFocuser
+from nightcrew.modules.sim import SimCamera, SimFocuser, SimRoof
 from nightcrew.testing import Observatory
 from tests.modules.sim_observatory import start_observatory
 
@@ -137,6 +137,18 @@ async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
         with pytest.raises(FocusOutsideSeriesError, match=r"outside the series 25\.2200\.\.25\.3[0-8]00"):
             await autofocus.auto_focus(9, 0.02, 1.0)
         assert await focuser.get_focus() == pytest.approx(25.3)
+
+
+async def test_a_series_without_stars_says_why_its_frames_gave_no_width(
+    observatory_at: ObservatoryFactory,
+) -> None:
+    async with observatory_at() as obs:
+        _, focuser = await focus_setup(obs, 25.0)
+        await obs.module("roof", SimRoof).close_roof()  # dark frames: nothing to measure
+        autofocus = obs.module("autofocus", AutoFocusSeries)
+        with pytest.raises(FocusSeriesError, match=r"usable frames.*\(frames without a width: 7 x .*stars"):
+            await autofocus.auto_focus(7, 0.05, 1.0)
+        assert await focuser.get_focus() == pytest.approx(25.0)
 
 
 async def test_abort_ends_the_series_and_restores_the_focus(observatory_at: ObservatoryFactory) -> None:

@@ -37,10 +37,11 @@ Decisions:
   since the last focus, or ``refocus_interval`` clock seconds after it (if set) - once the Sun
   is below ``focus_max_sun_altitude``, and already while
   waiting for that task with the roof open (at dusk: after the flats, before full darkness). The
-  telescope first slews to the sky at ``focus_altitude`` and ``focus_azimuth`` (default: 75° on the
-  meridian, on the equator's side), as the (ra, dec) there at that moment, and tracks it - left
-  where the flats pointed (alt/az, not tracking), the stars would trail. A failed series keeps the
-  focus as it was and is tried again ``focus_retry_interval`` clock seconds later.
+  telescope first slews to a star field chosen from the offline catalogue near where it points
+  (``focus_field``: enough stars of the right brightness, none too bright, high up) and tracks it -
+  left where the flats pointed (alt/az, not tracking), the stars would trail. A failed series is
+  tried on another field (``focus_attempts`` fields in all); then the focus is kept as it was and
+  tried again ``focus_retry_interval`` clock seconds later.
 * **Time left**: a sky task is started (or opened up and focused for) only when what it has left
   (its recorded progress, default overheads) ends inside its window and before its Sun (with the
   cap), airmass or Moon limit stops holding - the early start's minute grid. Otherwise it is passed
@@ -77,6 +78,7 @@ from nightcrew.events import (
     RoofClosingEvent,
     ScheduleChangedEvent,
 )
+from nightcrew.focus.sources import source_from_config
 from nightcrew.interfaces import (
     FitsCard,
     IAutoFocus,
@@ -86,11 +88,10 @@ from nightcrew.interfaces import (
     IRoof,
     IStartStop,
     ITelescope,
-    ITemperatures,
     IWeather,
     RoboticStatus,
 )
-from nightcrew.interfaces.quantities import Altitude, Azimuth, ExposureTime, Period
+from nightcrew.interfaces.quantities import Altitude, ExposureTime, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.modules.robotic.rapid_response import AnnouncedTasks
@@ -102,6 +103,7 @@ from nightcrew.robotic.mastermind import (
     Conditions,
     EarlyStarts,
     Focus,
+    FocusFields,
     FocusKeeper,
     ObservatoryControl,
     OpenUp,
@@ -113,7 +115,6 @@ from nightcrew.robotic.mastermind import (
     abort_cause,
     ahead_of_plan,
     decide,
-    focus_field,
     focus_now,
     preemption_cause,
     robotic_status,
@@ -122,6 +123,7 @@ from nightcrew.robotic.mastermind import (
     within_constraints,
 )
 from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.scripts.focus_fields import catalogue_rules
 from nightcrew.robotic.tasks import Task
 
 __all__ = ["Mastermind"]
@@ -140,8 +142,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         telescope: Module offering ITelescope.
         weather: Module offering IWeather; None: only weather events count (unknown is bad).
         autofocus: Module offering IAutoFocus; None: never focus.
-        temperatures: Module offering ITemperatures for refocusing; None: the weather's temperature.
-        temperature_sensor: The sensor of ``temperatures`` to use.
+        focus_temperature: Where the refocus temperature is read: ``{module: NAME, sensor: NAME}``
+            (ITemperatures) or ``{module: NAME, weather_sensor: temperature}`` (IWeather); None:
+            the ``weather`` module's temperature.
         max_sun_altitude: Highest Sun altitude for science tasks, degrees.
         twilight_max_sun_altitude: Highest Sun altitude for twilight (SKY_FLAT) tasks, degrees.
         keep_open: Clock seconds the roof stays open waiting to be used again (a sky task - the
@@ -155,10 +158,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             for time alone.
         focus_max_sun_altitude: Highest Sun altitude for focusing, degrees (stars must show).
         focus_count, focus_step, focus_exposure_time: Arguments of ``auto_focus``.
-        focus_altitude: Altitude of the focus field, degrees (0, 90]; the telescope tracks the
-            (ra, dec) there when a focus starts. None: focus wherever the telescope points.
-        focus_azimuth: Azimuth of the focus field, degrees east of north; None: the meridian on
-            the equator's side (180 at a northern site).
+        focus_field: Rules for the focus field (:class:`~nightcrew.astro.star_fields.StarFieldRules`:
+            ``radius``, ``magnitudes``, ``min_stars``, ``min_altitude``, ``max_distance``); None:
+            the defaults.
+        focus_attempts: Fields tried before a focus run counts as failed.
         focus_retry_interval: Clock seconds after a failed focus before it is tried again.
         device_wait: Clock seconds to wait for a device module that failed under a task to be
             back and READY before the task is given up.
@@ -180,8 +183,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         telescope: str | ITelescope = "telescope",
         weather: str | IWeather | None = "weather",
         autofocus: str | IAutoFocus | None = None,
-        temperatures: str | ITemperatures | None = None,
-        temperature_sensor: str = "temperature",
+        focus_temperature: dict[str, str] | None = None,
         max_sun_altitude: Altitude = -12.0,
         twilight_max_sun_altitude: Altitude = 0.0,
         keep_open: float = 900.0,
@@ -194,8 +196,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         focus_count: int = 7,
         focus_step: float = 0.05,
         focus_exposure_time: ExposureTime = 5.0,
-        focus_altitude: Altitude | None = 75.0,
-        focus_azimuth: Azimuth | None = None,
+        focus_field: dict[str, Any] | None = None,
+        focus_attempts: int = 2,
         focus_retry_interval: Period = 1800.0,
         device_wait: float = 60.0,
         device_retries: int = 2,
@@ -230,10 +232,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             roof=roof,
             telescope=telescope,
             weather=weather,
-            temperatures=temperatures,
-            temperature_sensor=temperature_sensor,
+            temperature=(
+                None
+                if focus_temperature is None
+                else source_from_config(focus_temperature, "focus_temperature")
+            ),
         )
-        field = focus_field(focus_altitude, focus_azimuth, site)  # checked even without autofocus
+        # Checked even without autofocus.
+        if not (isinstance(focus_attempts, int) and focus_attempts >= 1):
+            raise ConfigError(f"must be an integer >= 1, got {focus_attempts!r}", key="focus_attempts")
+        fields = FocusFields(catalogue_rules(focus_field or {}, "focus_field"), site)
         self._focus_keeper = (
             None
             if autofocus is None
@@ -246,7 +254,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 refocus_interval=refocus_interval,
                 arguments=(focus_count, focus_step, focus_exposure_time),
                 retry_interval=focus_retry_interval,
-                field=field,
+                fields=fields,
+                attempts=focus_attempts,
             )
         )
         if not early_start >= 0:
@@ -360,7 +369,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
 
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
         task = self._recorder.current
-        return task_cards(task) if task is not None else {}
+        return task_cards(task, self._recorder.progress) if task is not None else {}
 
     async def get_robotic_status(self) -> RoboticStatus:
         started, eta = self._task_runs.times or (None, None)
@@ -432,7 +441,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             await self._focus(action.slot)
             return 0.0
         if isinstance(action, OpenUp):
-            point_at = self._first_pointing(action.slot, tasks[action.slot.task_id], conditions, focus_below)
+            point_at = await self._first_pointing(
+                action.slot, tasks[action.slot.task_id], conditions, focus_below
+            )
             return 1.0 if await self._observatory.open_up(conditions, point_at) else self._poll
         if isinstance(action, CloseAndPark):
             await self._observatory.close_and_park(action.reason)
@@ -472,14 +483,14 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             )
         return slot
 
-    def _first_pointing(
+    async def _first_pointing(
         self, slot: Slot, task: Task, conditions: Conditions, focus_below: float | None
     ) -> tuple[float, float] | None:
         """Where the telescope points first after opening up for ``slot``: the focus field if the
         focus comes first, else the task's first target (None: a task without one, e.g. flats)."""
         keeper = self._focus_keeper
         if keeper is not None and focus_now(slot, conditions, focus_below):
-            return keeper.field_radec()
+            return await keeper.first_field()
         target = task.request.configurations[0].target if task.request.configurations else None
         return None if target is None else (target.ra, target.dec)
 

@@ -27,6 +27,7 @@ from typing import Any
 
 from nightcrew.errors import NightcrewError
 from nightcrew.focus.refocus import FocusState, RefocusTriggers, refocus_cause
+from nightcrew.focus.sources import TemperatureSource
 from nightcrew.images import Image
 from nightcrew.images.grading import FrameGrade, FrameGrader, GradingPolicy
 from nightcrew.images.quality import measure_frame_quality
@@ -37,7 +38,6 @@ from nightcrew.interfaces import (
     IOffsetsRaDec,
     IPierSide,
     ITelescope,
-    ITemperatures,
 )
 from nightcrew.robotic.runner import Script
 from nightcrew.robotic.scripts._dither import dither_offset, dither_to_radec, dithers_before
@@ -45,6 +45,7 @@ from nightcrew.robotic.scripts._flip import RefocusAfterFlip
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
 from nightcrew.robotic.tasks import Configuration, DitherConfig, InstrumentConfig, Target
+from nightcrew.robotic.temperature_source import read_temperature
 from nightcrew.vfs import VirtualFileSystem
 
 __all__ = ["Dithering", "Grading", "Pointing", "Refocusing", "focus_series", "setup_of"]
@@ -220,12 +221,12 @@ class Refocusing:
         """The sensor's temperature (°C) when the temperature trigger is on and it answers."""
         if self.triggers.temperature_change is None or self.temperatures is None:
             return None
-        try:
-            sensors = await (await script.proxy_as(self.temperatures, ITemperatures)).get_temperatures()
+        source = TemperatureSource(self.temperatures, sensor=self.temperature_sensor)
+        try:  # a sensor the module lacks is said, with the ones it has (not a silent None)
+            return await read_temperature(script, source)
         except NightcrewError as exc:
             log.warning("no temperature for the refocus trigger: %s", exc)
             return None
-        return sensors.get(self.temperature_sensor)
 
     async def apply_filter_offset(self, script: Script, filter_name: str | None) -> None:
         """Move the focuser's offset to ``filter_name``'s (0 for a filter not listed)."""
