@@ -35,3 +35,29 @@ def test_check_refuses_a_focus_temperature_no_module_provides(
     code, error = check_with("{module: focuser, weather_sensor: temperature}")
     assert code == 2
     assert "module 'focuser' (" in error and "has no IWeather, so no 'weather_sensor' to read" in error
+
+
+@pytest.mark.usefixtures("bundled_xmpp_files")
+def test_check_refuses_an_imaging_scripts_focus_temperature_no_module_provides(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The imaging script's refocus trigger names its temperature the same way, nested in the runner."""
+    observatory = tmp_path / "observatory"
+    ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
+    shutil.copytree(bundled_observatory(), observatory, ignore=ignore)
+    mastermind = observatory / "robotic" / "mastermind.yaml"
+    exposing = "EXPOSE: {class: nightcrew.robotic.scripts.ImagingScript, "
+    text = mastermind.read_text(encoding="utf-8")
+    assert exposing in text
+    trigger = (
+        "refocus_triggers: {temperature_change: 1.0}, focus_temperature: {module: thermometer, sensor: t}, "
+    )
+    mastermind.write_text(text.replace(exposing, exposing + trigger, 1), encoding="utf-8")
+    files = [
+        str(mastermind),
+        str(observatory / "focuser.yaml"),
+        str(observatory / "robotic" / "weather.yaml"),
+    ]
+    assert main(["check", *files]) == 2
+    error = capsys.readouterr().err
+    assert "key 'runner.scripts.EXPOSE.focus_temperature': no module 'thermometer' here provides" in error

@@ -1,8 +1,8 @@
 """``nightcrew check`` across files: a temperature source must name a module of the observatory.
 
-A mastermind's ``focus_temperature`` and a focus model's ``temperatures`` name a module and a
-sensor; a module name that no file provides would leave the refocus (or the model) without a
-temperature all night, so ``check`` refuses it, and a module of the wrong kind (a ``sensor`` on a
+A mastermind's ``focus_temperature`` (and its imaging scripts') and a focus model's
+``temperatures`` name a module and a sensor; a module name that no file provides would leave the
+refocus (or the model) without a temperature all night, so ``check`` refuses it, and a module of the wrong kind (a ``sensor`` on a
 module without ITemperatures, a ``weather_sensor`` on one without IWeather) too. Files among which
 no module gives temperatures at all are a part of an observatory (like ``examples/automation``),
 not a whole one: a name they do not hold is not held against them.
@@ -45,6 +45,12 @@ def _sources(config: Mapping[str, Any]) -> list[tuple[str, TemperatureSource]]:
     temperatures = config.get("temperatures")
     if isinstance(temperatures, Mapping) and _is_focus_model(config):
         entries += [(f"temperatures.{name}", entry) for name, entry in temperatures.items()]
+    runner = config.get("runner")
+    scripts = runner.get("scripts") if isinstance(runner, Mapping) else None
+    if isinstance(scripts, Mapping):  # a mastermind's scripts (an imaging script's refocus trigger)
+        for name, script in scripts.items():
+            if isinstance(script, Mapping) and isinstance(script.get("focus_temperature"), Mapping):
+                entries.append((f"runner.scripts.{name}.focus_temperature", script["focus_temperature"]))
     sources = []
     for key, entry in entries:
         try:

@@ -171,8 +171,7 @@ class Refocusing:
     series: RefocusAfterFlip
     focuser: str | None = None
     filter_offsets: Mapping[str, float] = field(default_factory=dict)
-    temperatures: str | None = None  # the ITemperatures module, for the temperature trigger
-    temperature_sensor: str = "temperature"
+    temperature: TemperatureSource | None = None  # for the temperature trigger
     last: FocusState | None = None
 
     @classmethod
@@ -181,8 +180,7 @@ class Refocusing:
         options: Mapping[str, Any],
         focuser: str | None,
         offsets: Mapping[str, Any],
-        temperatures: str | None = None,
-        temperature_sensor: str = "temperature",
+        temperature: TemperatureSource | None = None,
     ) -> Refocusing:
         """From the script's ``refocus_triggers`` (trigger and series keys in one mapping)."""
         trigger_keys = {"fwhm_rise", "interval", "filter_change", "temperature_change"}
@@ -192,10 +190,10 @@ class Refocusing:
             raise ValueError(f"{unknown[0]} is not an option; known: {', '.join(sorted(known))}")
         series = RefocusAfterFlip.from_options({k: v for k, v in options.items() if k not in trigger_keys})
         triggers = RefocusTriggers(**{k: v for k, v in options.items() if k in trigger_keys})
-        if triggers.temperature_change is not None and temperatures is None:
-            raise ValueError("temperature_change needs the script's temperatures (an ITemperatures module)")
+        if triggers.temperature_change is not None and temperature is None:
+            raise ValueError("temperature_change needs the script's focus_temperature (module and sensor)")
         filter_offsets = {str(k): float(v) for k, v in offsets.items()}
-        return cls(triggers, series, focuser, filter_offsets, temperatures, temperature_sensor)
+        return cls(triggers, series, focuser, filter_offsets, temperature)
 
     async def refocus_if_due(self, script: Script, filter_name: str | None, grading: Grading | None) -> bool:
         """Run the focus series if a trigger fires before a frame in ``filter_name``; whether it ran."""
@@ -219,11 +217,10 @@ class Refocusing:
 
     async def _temperature(self, script: Script) -> float | None:
         """The sensor's temperature (°C) when the temperature trigger is on and it answers."""
-        if self.triggers.temperature_change is None or self.temperatures is None:
+        if self.triggers.temperature_change is None or self.temperature is None:
             return None
-        source = TemperatureSource(self.temperatures, sensor=self.temperature_sensor)
         try:  # a sensor the module lacks is said, with the ones it has (not a silent None)
-            return await read_temperature(script, source)
+            return await read_temperature(script, self.temperature)
         except NightcrewError as exc:
             log.warning("no temperature for the refocus trigger: %s", exc)
             return None
