@@ -106,7 +106,7 @@ from nightcrew.robotic.mastermind import (
     within_constraints,
 )
 from nightcrew.robotic.runner import TaskRunner
-from nightcrew.robotic.tasks import Task
+from nightcrew.robotic.tasks import Task, target_radec
 
 __all__ = ["Mastermind"]
 
@@ -438,7 +438,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         if keeper is not None and focus_now(slot, conditions, focus_below):
             return keeper.field_radec()
         target = task.request.configurations[0].target if task.request.configurations else None
-        return None if target is None else (target.ra, target.dec)
+        return None if target is None else target_radec(target, self.site, self.clock.time())
 
     async def _sleep(self, seconds: float) -> None:
         """Wait ``seconds`` of clock time or until woken by an event."""

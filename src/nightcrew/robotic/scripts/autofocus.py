@@ -10,7 +10,7 @@ from nightcrew.interfaces import IAutoFocus, IFilters, ITelescope
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
-from nightcrew.robotic.tasks import ConfigurationType, InstrumentConfig, Task
+from nightcrew.robotic.tasks import ConfigurationType, InstrumentConfig, Task, target_radec
 
 __all__ = ["AutoFocusScript", "focus_step"]
 
@@ -98,7 +98,7 @@ class AutoFocusScript(Script):
             target = config.target
             await step(
                 f"slew to {target.name}",
-                telescope.move_radec(target.ra, target.dec),
+                telescope.move_radec(*target_radec(target, self.site, self.clock.time())),
                 on_cancel=telescope.stop_motion,
             )
         reporter = ProgressReporter(task, progress)

@@ -32,8 +32,10 @@ from nightcrew.robotic.tasks import (
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
+    MovingTarget,
     Target,
     Task,
+    target_radec,
 )
 
 __all__ = ["ImagingScript"]
@@ -132,7 +134,7 @@ class ImagingScript(Script):
         )
         await step(
             f"slew to {target.name}",
-            telescope.move_radec(target.ra, target.dec),
+            telescope.move_radec(*target_radec(target, self.site, self.clock.time())),
             on_cancel=telescope.stop_motion,
         )
         await self._acquire(config)
@@ -157,7 +159,7 @@ class ImagingScript(Script):
             return
         side = await pointing.pier.get_pier_side()
         target = pointing.target
-        ha = hour_angle(target.ra, target.dec, site.longitude, self.clock.time())
+        ha = hour_angle(*target_radec(target, site, self.clock.time()), site.longitude, self.clock.time())
         wait = flip_wait(ha, seconds, side, self._flip_past_meridian)
         if wait is None:
             return
@@ -171,7 +173,7 @@ class ImagingScript(Script):
         telescope = pointing.telescope
         await step(
             f"meridian flip to {target.name}",
-            telescope.move_radec(target.ra, target.dec),
+            telescope.move_radec(*target_radec(target, site, self.clock.time())),
             on_cancel=telescope.stop_motion,
         )
         if await pointing.pier.get_pier_side() is side:
@@ -279,7 +281,7 @@ class _Pointing:
 
     telescope: ITelescope
     pier: IPierSide | None
-    target: Target
+    target: Target | MovingTarget
     config: Configuration
     guider: IAutoGuiding | None
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 from nightcrew.robotic.tasks._configuration import (
     AcquisitionConfig,
     AcquisitionMode,
+    AnyTarget,
     Configuration,
     ConfigurationType,
     Constraints,
@@ -46,6 +47,15 @@ from nightcrew.robotic.tasks._errors import (
     TaskError,
     TaskNotFoundError,
     TaskProblem,
+)
+from nightcrew.robotic.tasks._moving import (
+    MajorBodyTarget,
+    MovingTarget,
+    MpcElementsTarget,
+    OrbitalElementsScheme,
+    OrbitalElementsTarget,
+    SatelliteTarget,
+    target_radec,
 )
 from nightcrew.robotic.tasks._request import Location, ObservationType, Request, RequestGroup, Window
 from nightcrew.robotic.tasks._state import (
@@ -72,6 +82,7 @@ __all__ = [
     "SCHEDULABLE_STATES",
     "AcquisitionConfig",
     "AcquisitionMode",
+    "AnyTarget",
     "Configuration",
     "ConfigurationType",
     "Constraints",
@@ -83,10 +94,16 @@ __all__ = [
     "InvalidTaskError",
     "InvalidTransitionError",
     "Location",
+    "MajorBodyTarget",
+    "MovingTarget",
+    "MpcElementsTarget",
     "ObservationType",
+    "OrbitalElementsScheme",
+    "OrbitalElementsTarget",
     "OverheadModel",
     "Request",
     "RequestGroup",
+    "SatelliteTarget",
     "Target",
     "Task",
     "TaskError",
@@ -102,5 +119,6 @@ __all__ = [
     "load_request_group_file",
     "parse_request_group",
     "request_group_schema",
+    "target_radec",
     "tasks_of_group",
 ]

@@ -17,6 +17,7 @@ from pydantic import Field, model_validator
 
 from nightcrew.robotic.tasks._base import Number, TaskModel, UtcDatetime, raise_problems
 from nightcrew.robotic.tasks._configuration import Configuration
+from nightcrew.robotic.tasks._moving import epoch_problems
 
 __all__ = ["Location", "ObservationType", "Request", "RequestGroup", "Window"]
 
@@ -68,6 +69,12 @@ class Request(TaskModel):
     configurations: tuple[Configuration, ...] = Field(min_length=1)
     acceptability_threshold: Number = Field(default=90.0, ge=0.0, le=100.0)
     observation_note: str = ""
+
+    @model_validator(mode="after")
+    def _check_elements_epochs(self) -> Self:
+        targets = [(f"configurations[{i}].target", c.target) for i, c in enumerate(self.configurations)]
+        raise_problems(epoch_problems(targets, self.first_start, self.last_end))
+        return self
 
     @property
     def first_start(self) -> datetime:

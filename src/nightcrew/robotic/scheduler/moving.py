@@ -1,0 +1,77 @@
+"""A moving target for the scheduler: a body followed along its ephemeris.
+
+:class:`EphemerisTarget` is a :class:`~.blocks.Target` whose ``ra``/``dec`` are only a reference
+(the position at one moment, for what needs a single position: the block checks and the meridian
+estimate); :class:`~.sky.SkyGrid` asks :meth:`EphemerisTarget.track` for the position and altitude
+at every slice edge instead, so a body's visibility and Moon distance are evaluated where it is.
+
+Planets, minor planets and comets are computed every :data:`SAMPLE_S` seconds and their (ra, dec)
+interpolated to the edges (a fast near-Earth object bends its path by well under an arcminute in
+that time), their altitudes then computed as for fixed targets: a full ephemeris at every edge of
+500 blocks would cost the scheduler seconds. Satellites, which cross the sky in minutes, are
+computed at every edge.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from nightcrew.astro import radec_to_altaz
+from nightcrew.astro.elements import TwoLineElements
+from nightcrew.astro.ephemeris import Body, FloatArray, position_at, positions
+from nightcrew.robotic.scheduler.blocks import Target
+from nightcrew.site import Site
+
+__all__ = ["SAMPLE_S", "EphemerisTarget", "Track"]
+
+#: Seconds between the ephemeris samples of a body that is not a satellite.
+SAMPLE_S = 1800.0
+
+
+@dataclass(frozen=True)
+class Track:
+    """(ra, dec, altitude) in degrees at a series of times."""
+
+    ra: FloatArray
+    dec: FloatArray
+    altitude: FloatArray
+
+
+@dataclass(frozen=True, kw_only=True)
+class EphemerisTarget(Target):
+    """A body (planet, minor planet, comet, satellite) seen from ``site``.
+
+    Args:
+        body: What to follow.
+        site: Where from: a moving target's position depends on it.
+        ra: Reference right ascension (degrees), e.g. at the middle of the first window.
+        dec: Reference declination (degrees).
+    """
+
+    body: Body
+    site: Site
+
+    @classmethod
+    def at(cls, body: Body, site: Site, unix_time: float) -> EphemerisTarget:
+        """The target with its reference position at ``unix_time``."""
+        ra, dec = position_at(body, site, unix_time)
+        return cls(ra=ra, dec=dec, body=body, site=site)
+
+    def position_at(self, unix_time: float) -> tuple[float, float]:
+        """(ra, dec) in degrees at ``unix_time`` along the ephemeris."""
+        return position_at(self.body, self.site, unix_time)
+
+    def track(self, unix_times: FloatArray) -> Track:
+        """Position and altitude at every one of ``unix_times`` (Unix seconds, increasing)."""
+        times = np.asarray(unix_times, dtype=np.float64)
+        if isinstance(self.body, TwoLineElements) or len(times) < 2:
+            return Track(*positions(self.body, self.site, times))
+        count = max(2, int(np.ceil((times[-1] - times[0]) / SAMPLE_S)) + 1)
+        samples = np.linspace(times[0], times[-1], count)
+        sample_ra, sample_dec, _ = positions(self.body, self.site, samples)
+        ra = np.interp(times, samples, np.unwrap(sample_ra, period=360.0)) % 360.0
+        dec = np.interp(times, samples, sample_dec)
+        altitude, _ = radec_to_altaz(ra, dec, self.site.latitude, self.site.longitude, times)
+        return Track(ra, dec, np.asarray(altitude, dtype=np.float64))
