@@ -17,6 +17,7 @@ from nightcrew.interfaces import (
     ICamera,
     IFilters,
     ImageType,
+    INonSidereal,
     IPierSide,
     ITelescope,
 )
@@ -133,9 +134,7 @@ class ImagingScript(Script):
             "connect to the camera", Instrument.connect(self, self._camera, self._filters)
         )
         await step(
-            f"slew to {target.name}",
-            telescope.move_radec(*target_radec(target, self.site, self.clock.time())),
-            on_cancel=telescope.stop_motion,
+            f"slew to {target.name}", self._point_at(telescope, target), on_cancel=telescope.stop_motion
         )
         await self._acquire(config)
         pier = await self.optional_proxy(self._telescope, IPierSide)
@@ -173,7 +172,7 @@ class ImagingScript(Script):
         telescope = pointing.telescope
         await step(
             f"meridian flip to {target.name}",
-            telescope.move_radec(*target_radec(target, site, self.clock.time())),
+            self._point_at(telescope, target),
             on_cancel=telescope.stop_motion,
         )
         if await pointing.pier.get_pier_side() is side:
@@ -181,6 +180,21 @@ class ImagingScript(Script):
         await self._acquire(pointing.config)
         await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+
+    async def _point_at(self, telescope: ITelescope, target: Target | MovingTarget) -> None:
+        """Slew to ``target``; a moving one is followed along its ephemeris where the mount can
+        (INonSidereal), else pointed at where it is now."""
+        if not isinstance(target, Target):
+            follower = await self.optional_proxy(self._telescope, INonSidereal)
+            if follower is not None:
+                await follower.move_ephemeris(target.model_dump(mode="json"))
+                return
+            log.warning(
+                "%s cannot follow a moving target: pointing at %s where it is now",
+                self._telescope,
+                target.name,
+            )
+        await telescope.move_radec(*target_radec(target, self.site, self.clock.time()))
 
     async def _refocus_after_flip(self) -> None:
         refocus = self._refocus
