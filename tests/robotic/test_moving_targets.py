@@ -69,6 +69,7 @@ def test_the_section_runs_as_written(
         outputs.append(capsys.readouterr().out)
     assert "tasks 1, 2, 3, 4" in outputs[0]
     assert re.search(r"task 1 .*: planned 2026-11-10 ", outputs[1])
+    assert re.search(r"task 4 .*: planned 2026-11-10 18:", outputs[2])  # the pass at 18:38
 
 
 def test_a_bad_tle_checksum_is_one_line_naming_file_and_field(

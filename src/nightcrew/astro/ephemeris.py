@@ -33,7 +33,7 @@ import numpy.typing as npt
 from nightcrew.astro.elements import MAJOR_BODIES, KeplerElements, MajorBody, TwoLineElements
 from nightcrew.site import Site
 
-__all__ = ["Body", "Ephemeris", "ephemeris", "position_at", "positions"]
+__all__ = ["Body", "Ephemeris", "ephemeris", "next_rise", "position_at", "positions"]
 
 FloatArray = npt.NDArray[np.float64]
 #: What an ephemeris can be computed for.
@@ -115,6 +115,17 @@ def positions(body: Body, site: Site, unix_time: FloatArray) -> tuple[FloatArray
         body, site, np.atleast_1d(np.asarray(unix_time, dtype=np.float64)), apparent=False
     )
     return ra, dec, alt
+
+
+def next_rise(
+    body: Body, site: Site, start: float, altitude: float, *, within: float = 900.0, step: float = 5.0
+) -> float | None:
+    """The first time from ``start`` (to ``step`` seconds, within ``within`` seconds) at which
+    ``body`` stands at or above ``altitude`` degrees; None if it does not."""
+    times = start + np.arange(0.0, within + step, step)
+    _, _, alt = positions(body, site, times)
+    above = np.flatnonzero(alt >= altitude)
+    return float(times[above[0]]) if len(above) else None
 
 
 def position_at(body: Body, site: Site, unix_time: float) -> tuple[float, float]:

@@ -8,8 +8,15 @@ at every slice edge instead, so a body's visibility and Moon distance are evalua
 Planets, minor planets and comets are computed every :data:`SAMPLE_S` seconds and their (ra, dec)
 interpolated to the edges (a fast near-Earth object bends its path by well under an arcminute in
 that time), their altitudes then computed as for fixed targets: a full ephemeris at every edge of
-500 blocks would cost the scheduler seconds. Satellites, which cross the sky in minutes, are
-computed at every edge.
+500 blocks would cost the scheduler seconds.
+
+A satellite crosses the sky in minutes, between two edges: it is sampled every
+:data:`SATELLITE_SAMPLE_S` seconds, and each pass is given to the slice in which it rises above the
+horizon, with the pass's highest altitude (and its position then, for the Moon's distance) at both
+edges of that slice. A slice counts as visible
+when a pass high enough rises in it: a block placed there starts before the pass (some five
+minutes: the rise to 30° of a low orbit), and the imaging script waits for the satellite to climb
+above the limit. The passes are the satellite's windows.
 """
 
 from __future__ import annotations
@@ -24,10 +31,12 @@ from nightcrew.astro.ephemeris import Body, FloatArray, position_at, positions
 from nightcrew.robotic.scheduler.blocks import Target
 from nightcrew.site import Site
 
-__all__ = ["SAMPLE_S", "EphemerisTarget", "Track"]
+__all__ = ["SAMPLE_S", "SATELLITE_SAMPLE_S", "EphemerisTarget", "Track"]
 
 #: Seconds between the ephemeris samples of a body that is not a satellite.
 SAMPLE_S = 1800.0
+#: Seconds between the samples of a satellite (a pass above 30° lasts a few minutes).
+SATELLITE_SAMPLE_S = 20.0
 
 
 @dataclass(frozen=True)
@@ -66,8 +75,10 @@ class EphemerisTarget(Target):
     def track(self, unix_times: FloatArray) -> Track:
         """Position and altitude at every one of ``unix_times`` (Unix seconds, increasing)."""
         times = np.asarray(unix_times, dtype=np.float64)
-        if isinstance(self.body, TwoLineElements) or len(times) < 2:
+        if len(times) < 2:
             return Track(*positions(self.body, self.site, times))
+        if isinstance(self.body, TwoLineElements):
+            return self._satellite_track(times)
         count = max(2, int(np.ceil((times[-1] - times[0]) / SAMPLE_S)) + 1)
         samples = np.linspace(times[0], times[-1], count)
         sample_ra, sample_dec, _ = positions(self.body, self.site, samples)
@@ -75,3 +86,19 @@ class EphemerisTarget(Target):
         dec = np.interp(times, samples, sample_dec)
         altitude, _ = radec_to_altaz(ra, dec, self.site.latitude, self.site.longitude, times)
         return Track(ra, dec, np.asarray(altitude, dtype=np.float64))
+
+    def _satellite_track(self, edges: FloatArray) -> Track:
+        samples = np.arange(edges[0], edges[-1] + SATELLITE_SAMPLE_S, SATELLITE_SAMPLE_S)
+        sample_ra, sample_dec, altitude = positions(self.body, self.site, samples)
+        up = np.concatenate(([0], (altitude > 0.0).astype(np.int8), [0]))
+        rises, sets = np.flatnonzero(np.diff(up) == 1), np.flatnonzero(np.diff(up) == -1)
+        edge_altitude = np.full(len(edges), -90.0)
+        ra, dec = np.zeros(len(edges)), np.zeros(len(edges))
+        for rise, set_ in zip(rises, sets, strict=True):
+            index = min(int(np.searchsorted(edges, samples[rise], side="right")) - 1, len(edges) - 2)
+            peak = rise + int(np.argmax(altitude[rise:set_]))
+            for edge in (index, index + 1):
+                if altitude[peak] > edge_altitude[edge]:
+                    edge_altitude[edge] = altitude[peak]
+                    ra[edge], dec[edge] = sample_ra[peak], sample_dec[peak]
+        return Track(ra, dec, edge_altitude)

@@ -8,8 +8,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from nightcrew.astro.ephemeris import next_rise
 from nightcrew.astro.pier import hour_angle
-from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.errors import ConfigError, MoveError, NotSupportedError
 from nightcrew.interfaces import (
     IAcquisition,
     IAutoFocus,
@@ -22,6 +23,7 @@ from nightcrew.interfaces import (
     ITelescope,
 )
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.scheduler.constraints import altitude_for_airmass
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip, flip_wait
 from nightcrew.robotic.scripts._instrument import CutShortCallback, Instrument, instrument_supported
 from nightcrew.robotic.scripts._repeat import RepeatTiming
@@ -34,6 +36,7 @@ from nightcrew.robotic.tasks import (
     GuidingMode,
     InstrumentConfig,
     MovingTarget,
+    SatelliteTarget,
     Target,
     Task,
     target_radec,
@@ -133,6 +136,8 @@ class ImagingScript(Script):
         instrument = await step(
             "connect to the camera", Instrument.connect(self, self._camera, self._filters)
         )
+        if isinstance(target, SatelliteTarget):
+            await step(f"wait for {target.name}'s pass", self._wait_for_pass(target, config))
         await step(
             f"slew to {target.name}", self._point_at(telescope, target), on_cancel=telescope.stop_motion
         )
@@ -180,6 +185,21 @@ class ImagingScript(Script):
         await self._acquire(pointing.config)
         await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+
+    async def _wait_for_pass(self, target: SatelliteTarget, config: Configuration) -> None:
+        """Wait until the satellite has climbed above the configuration's airmass limit (the
+        scheduler plans a satellite into the slice in which its pass rises)."""
+        site = self.site
+        if site is None:
+            raise ConfigError("a satellite's pass needs the observatory's site", key="site")
+        lowest = altitude_for_airmass(config.constraints.max_airmass)
+        now = self.clock.time()
+        rises = next_rise(target.body(), site, now, lowest)
+        if rises is None:
+            raise MoveError(f"{target.name} does not rise above {lowest:.1f}° within 15 minutes")
+        if rises > now:
+            log.info("waiting %.0f s for %s to rise above %.1f°", rises - now, target.name, lowest)
+            await self.clock.sleep(rises - now)
 
     async def _point_at(self, telescope: ITelescope, target: Target | MovingTarget) -> None:
         """Slew to ``target``; a moving one is followed along its ephemeris where the mount can
