@@ -79,6 +79,12 @@ async def test_the_simulated_mount_follows_an_asteroid_by_rates() -> None:
         for _ in range(2):
             await observatory.clock.sleep(900.0)
             assert error_arcsec(telescope, await telescope.get_radec(), body) < 1.0
+        header = await telescope.get_fits_header_before()
+        expected = ephemeris(body, telescope.observatory, observatory.clock.time())
+        assert header["MOVOBJ"][0] == "(example) 2026 XA"
+        assert header["EPH-RA"][0] == pytest.approx(expected.ra[0], abs=1e-6)
+        assert header["EPH-RAR"][0] == pytest.approx(expected.ra_rate[0], abs=1e-5)
+        assert header["EPH-DECR"][0] == pytest.approx(expected.dec_rate[0], abs=1e-5)
         ra_rate, dec_rate = await telescope.get_tracking_rates()
         expected = ephemeris(body, telescope.observatory, observatory.clock.time())
         cos_dec = np.cos(np.radians(expected.dec[0]))
@@ -86,6 +92,7 @@ async def test_the_simulated_mount_follows_an_asteroid_by_rates() -> None:
         assert dec_rate == pytest.approx(expected.dec_rate[0], abs=0.002)
         await telescope.move_radec(*STAR)  # anything else ends the following: sidereal again
         assert await telescope.get_tracking_rates() == (0.0, 0.0)
+        assert "MOVOBJ" not in await telescope.get_fits_header_before()
         before = await telescope.get_radec()
         await observatory.clock.sleep(600.0)
         assert await telescope.get_radec() == pytest.approx(before)

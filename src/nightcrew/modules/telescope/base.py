@@ -370,7 +370,7 @@ class BaseTelescope(
             site=self.observatory,
             unix_time=self.clock.time(),
         )
-        return cards | pier_side_cards(await self._hw_get_pier_side())
+        return cards | pier_side_cards(await self._hw_get_pier_side()) | self._following_cards()
 
     # --- safety --------------------------------------------------------------------------------
 

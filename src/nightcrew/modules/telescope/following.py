@@ -31,15 +31,22 @@ import numpy as np
 from pydantic import Field, TypeAdapter, ValidationError
 
 from nightcrew.astro.elements import TwoLineElements
-from nightcrew.astro.ephemeris import Body, ephemeris
+from nightcrew.astro.ephemeris import Body, Ephemeris, ephemeris
 from nightcrew.errors import ConfigError, InvalidArgumentError
-from nightcrew.interfaces import INonSidereal, ITelescope, MotionStatus
+from nightcrew.interfaces import FitsCard, INonSidereal, ITelescope, MotionStatus
 from nightcrew.modules.motion import BaseMotion
 from nightcrew.robotic.tasks import MovingTarget
 from nightcrew.robotic.tasks._validation import problems_of
 from nightcrew.site import Site
 
-__all__ = ["MAX_INTERVAL_S", "MIN_INTERVAL_S", "FollowsEphemerides", "aim_rates", "follow_interval"]
+__all__ = [
+    "MAX_INTERVAL_S",
+    "MIN_INTERVAL_S",
+    "FollowsEphemerides",
+    "aim_rates",
+    "ephemeris_cards",
+    "follow_interval",
+]
 
 log = logging.getLogger(__name__)
 
@@ -80,6 +87,18 @@ def aim_rates(now: tuple[float, float], then: tuple[float, float], seconds: floa
     """Rates (arcsec/s of RA and of Dec) that carry the mount from ``now`` to ``then`` in ``seconds``."""
     d_ra = (then[0] - now[0] + 180.0) % 360.0 - 180.0
     return d_ra * 3600.0 / seconds, (then[1] - now[1]) * 3600.0 / seconds
+
+
+def ephemeris_cards(name: str, found: Ephemeris) -> dict[str, FitsCard]:
+    """FITS cards of a followed body's ephemeris at one time (the first of ``found``)."""
+    return {
+        "MOVOBJ": (name, "Moving target followed along its ephemeris"),
+        "EPH-RA": (round(float(found.ra[0]), 7), "Ephemeris RA, astrometric topocentric [deg]"),
+        "EPH-DEC": (round(float(found.dec[0]), 7), "Ephemeris Dec, astrometric topocentric [deg]"),
+        "EPH-RAR": (round(float(found.ra_rate[0]), 6), "Ephemeris d(RA)/dt*cos(Dec) [arcsec/s]"),
+        "EPH-DECR": (round(float(found.dec_rate[0]), 6), "Ephemeris d(Dec)/dt [arcsec/s]"),
+        "EPH-DIST": (round(float(found.distance_km[0]), 3), "Ephemeris distance from the site [km]"),
+    }
 
 
 def parse_moving_target(target: Mapping[str, Any]) -> tuple[Body, str]:
@@ -167,6 +186,13 @@ class FollowsEphemerides(BaseMotion, ITelescope, INonSidereal):
 
     async def get_tracking_rates(self) -> tuple[float, float]:
         return self._rates
+
+    def _following_cards(self) -> dict[str, FitsCard]:
+        """The followed body's ephemeris now (none when not following), for the frame's header."""
+        following = self._following
+        if following is None or self._target_radec is not following.radec:
+            return {}
+        return ephemeris_cards(following.name, ephemeris(following.body, self.observatory, self.clock.time()))
 
     # --- the loop ------------------------------------------------------------------------------
 
