@@ -136,7 +136,8 @@ def scheduler_table() -> None:
     moving = with_minor_planets(fixed, site, night.start.timestamp())
     print(f"\n{'500 requests':22s} {'problem (s)':>12s} {'solve (s)':>10s} {'placed':>7s}")
     results = {}
-    for label, blocks in (("all sidereal", fixed), ("20 % minor planets", moving)):
+    runs = (("all sidereal", fixed), ("20 % minor planets", moving), ("the same, re-planned", moving))
+    for label, blocks in runs:
         scheduler = Scheduler(solver="mip", step_s=300.0, time_limit_s=10.0)
         started = time.perf_counter()
         problem = scheduler.problem(blocks, night)
@@ -146,8 +147,9 @@ def scheduler_table() -> None:
         solved = time.perf_counter() - started
         results[label] = built + solved
         print(f"{label:22s} {built:12.2f} {solved:10.2f} {int((schedule.starts >= 0).sum()):7d}")
-    ratio = results["20 % minor planets"] / results["all sidereal"]
-    print(f"ratio: {ratio:.2f}x (target: <= 1.2x)")
+    first = results["20 % minor planets"] / results["all sidereal"]
+    again = results["the same, re-planned"] / results["all sidereal"]
+    print(f"ratio: {first:.2f}x first plan, {again:.2f}x re-planned (target: <= 1.2x)")
 
 
 def main() -> None:

@@ -144,3 +144,17 @@ def test_the_scheduler_follows_a_body_along_its_ephemeris() -> None:
     assert list(sky.moon_distance()[0]) == pytest.approx(
         list(separation(track.ra, track.dec, sky.moon_ra, sky.moon_dec))
     )
+
+
+def test_a_satellite_pass_counts_in_the_slice_it_rises_in() -> None:
+    group = parse_request_group(example())
+    block = block_of(tasks_of_group(group, "g", ["1", "2", "3", "4"])[3], site=SITE)
+    assert block is not None and isinstance(block.target, EphemerisTarget)
+    start = datetime(2026, 11, 10, 18, 14, tzinfo=UTC).timestamp()
+    sky = SkyGrid(TimeGrid(start, 300.0, 12), SITE, [block])
+    # The pass rises above the horizon at about 18:34 and culminates near 68° at 18:39.
+    high = [index for index, alt in enumerate(sky.altitude[0]) if alt > 30]
+    assert high == [4, 5]  # the edges of the slice 18:34 - 18:39
+    assert 60 < sky.altitude[0, 4] < 75
+    ra, dec = block.target.position_at(start)
+    assert (ra, dec) != (0.0, 0.0) and -90 < dec < 90

@@ -8,7 +8,10 @@ at every slice edge instead, so a body's visibility and Moon distance are evalua
 Planets, minor planets and comets are computed every :data:`SAMPLE_S` seconds and their (ra, dec)
 interpolated to the edges (a fast near-Earth object bends its path by well under an arcminute in
 that time), their altitudes then computed as for fixed targets: a full ephemeris at every edge of
-500 blocks would cost the scheduler seconds.
+500 blocks would cost the scheduler seconds. The samples fall on whole multiples of
+:data:`SAMPLE_S` (UTC) and are kept (a bounded cache of pure results): a re-plan of the same night
+reuses them, since skyfield's two-body propagation costs some 50 ms a call whatever the number of
+times.
 
 A satellite crosses the sky in minutes, between two edges: it is sampled every
 :data:`SATELLITE_SAMPLE_S` seconds, and each pass is given to the slice in which it rises above the
@@ -21,6 +24,7 @@ above the limit. The passes are the satellite's windows.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,13 +68,17 @@ class EphemerisTarget(Target):
 
     @classmethod
     def at(cls, body: Body, site: Site, unix_time: float) -> EphemerisTarget:
-        """The target with its reference position at ``unix_time``."""
-        ra, dec = position_at(body, site, unix_time)
+        """The target with its reference position at ``unix_time`` (from the kept samples: the
+        scheduler makes its blocks anew for every plan)."""
+        ra, dec = cls(ra=0.0, dec=0.0, body=body, site=site).position_at(unix_time)
         return cls(ra=ra, dec=dec, body=body, site=site)
 
     def position_at(self, unix_time: float) -> tuple[float, float]:
-        """(ra, dec) in degrees at ``unix_time`` along the ephemeris."""
-        return position_at(self.body, self.site, unix_time)
+        """(ra, dec) in degrees at ``unix_time`` along the ephemeris (as :meth:`track` gives it)."""
+        if isinstance(self.body, TwoLineElements):
+            return position_at(self.body, self.site, unix_time)  # SGP4 is cheap
+        found = self.track(np.array([unix_time, unix_time + 1.0]))
+        return float(found.ra[0]), float(found.dec[0])
 
     def track(self, unix_times: FloatArray) -> Track:
         """Position and altitude at every one of ``unix_times`` (Unix seconds, increasing)."""
@@ -79,9 +87,9 @@ class EphemerisTarget(Target):
             return Track(*positions(self.body, self.site, times))
         if isinstance(self.body, TwoLineElements):
             return self._satellite_track(times)
-        count = max(2, int(np.ceil((times[-1] - times[0]) / SAMPLE_S)) + 1)
-        samples = np.linspace(times[0], times[-1], count)
-        sample_ra, sample_dec, _ = positions(self.body, self.site, samples)
+        first, last = int(np.floor(times[0] / SAMPLE_S)), int(np.ceil(times[-1] / SAMPLE_S))
+        samples = SAMPLE_S * np.arange(first, max(last, first + 1) + 1, dtype=np.float64)
+        sample_ra, sample_dec = _sampled(self.body, self.site, first, len(samples))
         ra = np.interp(times, samples, np.unwrap(sample_ra, period=360.0)) % 360.0
         dec = np.interp(times, samples, sample_dec)
         altitude, _ = radec_to_altaz(ra, dec, self.site.latitude, self.site.longitude, times)
@@ -102,3 +110,11 @@ class EphemerisTarget(Target):
                     edge_altitude[edge] = altitude[peak]
                     ra[edge], dec[edge] = sample_ra[peak], sample_dec[peak]
         return Track(ra, dec, edge_altitude)
+
+
+@functools.lru_cache(maxsize=2048)
+def _sampled(body: Body, site: Site, first: int, count: int) -> tuple[FloatArray, FloatArray]:
+    """(ra, dec) of ``body`` at ``count`` multiples of :data:`SAMPLE_S` from ``first`` x SAMPLE_S."""
+    samples = SAMPLE_S * np.arange(first, first + count, dtype=np.float64)
+    ra, dec, _ = positions(body, site, samples)
+    return ra, dec
