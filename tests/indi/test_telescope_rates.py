@@ -23,7 +23,7 @@ async def test_custom_track_rates_move_the_tracked_position(indi_server: IndiSer
             device="Telescope Simulator",
         )
         await telescope.init()
-        await telescope.move_radec(*telescope._radec_of(25.0, 100.0))  # near the park position: a short slew
+        await telescope.move_radec(*telescope._radec_of(11.0, 91.0))  # by the park position: a short slew
         try:
             assert await telescope.get_pier_side() is PierSide.WEST  # the Dec axis runs south here
             assert await telescope._hw_set_tracking_rates(10.0, -5.0) is True
