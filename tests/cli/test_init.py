@@ -86,13 +86,18 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
     policy = load_policy(directory / "access.policy")
     assert set(policy.accounts) >= modules
     assert policy.roles_of("observer") == ("observer",) and policy.roles_of("operator") == ("operator",)
-    # Events that move hardware only from the weather verdict and the watchdog (docs/security.md).
+    # Events that move hardware only from the weather verdict and the watchdog (docs/security.md);
+    # rapid-response requests that pre-empt from the modules and the operator.
     assert sorted(policy.events) == hardware_event_names()
     for name in hardware_event_names():
         senders = {
             account for account in policy.accounts if policy.accepts_event(account, name, moves_hardware=True)
         }
-        assert senders == {"weather", "watchdog"}, name
+        if name == "RapidResponseEvent":
+            granted = {a for a in policy.accounts if {"modules", "operator"} & set(policy.roles_of(a))}
+            assert senders == granted and "operator" in granted and "observer" not in granted, name
+        else:
+            assert senders == {"weather", "watchdog"}, name
     # The scheduler and the mastermind share one task archive, relative to the directory.
     for name in ("scheduler", "mastermind"):
         archive = load_config(directory / f"{name}.yaml")["archive"]

@@ -6,13 +6,20 @@ an hour, so only the TasksChangedEvent the command sends can bring the new task 
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+import io
 from datetime import datetime, timedelta
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
 
+from nightcrew.cli.main import main
 from nightcrew.clock import RealClock
+from nightcrew.events import RapidResponseEvent
+from nightcrew.modules import Module
 from nightcrew.modules.robotic import SchedulerModule
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.testing import SITE, wait_for
@@ -89,3 +96,38 @@ async def test_tasks_add_with_a_comm_is_planned_on_its_event(network: Network, t
         after = (plan.planned_at - returned).total_seconds()
         print(f"\ntasks add --comm: re-planned {after:+.2f} s after the command returned")
         assert after <= 2.0
+
+
+class RapidResponseListener(Module):
+    """Hears RapidResponseEvents, as the mastermind does."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.heard: list[tuple[str, tuple[str, ...]]] = []
+
+    async def open(self) -> None:
+        await super().open()
+        await self.comm.register_event(RapidResponseEvent, self.on_rapid_response)
+
+    async def on_rapid_response(self, event: RapidResponseEvent, sender: str) -> None:
+        self.heard.append((sender, event.ids))
+
+
+async def test_tasks_add_with_a_comm_announces_a_rapid_response_request(
+    network: Network, tmp_path: Path
+) -> None:
+    """docs/rapid-response.md, "Submitting one by hand"."""
+    assert network.server is not None
+    clock = RealClock()
+    listener = await network.start(RapidResponseListener, "mastermind", clock=clock)
+    op_file = write_operator_comm(tmp_path / "op.yaml", network.server, network.room)
+    tasks = task_file(tmp_path / "too.yaml", clock.now())
+    tasks.write_text(tasks.read_text() + "observation_type: RAPID_RESPONSE\n")
+    # In this process (a thread with its own loop): the command's start-up is not the point here.
+    command = ["tasks", "--db", str(tmp_path / "tasks.sqlite"), "add", str(tasks), "--comm", str(op_file)]
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        code = await asyncio.to_thread(main, command)
+    assert code == 0
+    assert out.getvalue().splitlines()[-1] == "told the mastermind: rapid-response tasks 1"
+    await wait_for(lambda: bool(listener.heard), COMMAND_TIMEOUT, clock=clock, interval=0.05)
+    assert listener.heard == [("operator", ("1",))]

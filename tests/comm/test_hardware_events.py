@@ -19,6 +19,7 @@ from nightcrew.events import (
     BadWeatherEvent,
     Event,
     GoodWeatherEvent,
+    RapidResponseEvent,
     SafetyAlarmEvent,
     SafetyClearedEvent,
     TestEvent,
@@ -40,6 +41,7 @@ HARDWARE_EVENTS: list[Event] = [
     SafetyAlarmEvent(reason="forged"),
     SafetyClearedEvent(),
     WatchdogHeartbeatEvent(),
+    RapidResponseEvent(ids=("1",)),  # the right to pre-empt a running task (the mastermind's)
 ]
 POLICY = """\
 roles: {operator: ["*"], observer: ["*.get_*"], safety: []}
@@ -115,6 +117,12 @@ async def test_every_hardware_event_is_refused_from_a_non_sender_over_prosody(
         heard.append(event.message)
 
     await roof.comm.register_event(TestEvent, on_marker)
+    pre_emptions: list[RapidResponseEvent] = []
+
+    async def on_rapid_response(event: RapidResponseEvent, sender: str) -> None:  # as a mastermind
+        pre_emptions.append(event)
+
+    await roof.comm.register_event(RapidResponseEvent, on_rapid_response)
     observer = await network.start(Calculator, "observer")
     watchdog = await network.start(Calculator, "watchdog")
     await wait_for(lambda: {"observer", "watchdog"} <= set(roof.comm.clients), 10)
@@ -123,6 +131,7 @@ async def test_every_hardware_event_is_refused_from_a_non_sender_over_prosody(
     with caplog.at_level(logging.WARNING):
         await _send(observer, HARDWARE_EVENTS, heard)
     assert await roof.get_motion_status() is MotionStatus.IDLE  # still open: no forged close obeyed
+    assert pre_emptions == []
     for name in hardware_event_names():
         refusals = [r for r in caplog.records if r.getMessage().startswith(f"refused {name} from observer")]
         assert len(refusals) == 1 and refusals[0].levelno == logging.WARNING

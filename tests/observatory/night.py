@@ -143,3 +143,5 @@ def running_observatory(
         if (directory / "xmpp" / "prosody.pid").exists():
             stop_server(directory / "xmpp")
     assert up is not None and up.returncode == 0
+    # Closing parks and closes at the devices' own pace: no module may be killed halfway.
+    assert "did not stop within" not in (tmp_path / "up.log").read_text()

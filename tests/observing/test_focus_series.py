@@ -18,7 +18,7 @@ from nightcrew.focus.series import (
     series_positions,
 )
 from nightcrew.modules.focus.series import AutoFocusSeries, ProjectionFocusMeasure
-from nightcrew.modules.sim import SimCamera, SimFocuser
+from nightcrew.modules.sim import SimCamera, SimFocuser, SimRoof
 from nightcrew.testing import Observatory
 from tests.modules.sim_observatory import start_observatory
 
@@ -110,18 +110,6 @@ async def test_a_focuser_resting_at_its_end_gets_a_full_series_and_the_focus(
         assert focus == pytest.approx(await edge.get_best_focus(), abs=0.02 * 0.32)
 
 
-async def test_a_series_ends_as_soon_as_too_few_frames_are_left_to_fit(
-    observatory_at: ObservatoryFactory,
-) -> None:
-    async with observatory_at() as obs:
-        _, focuser = await focus_setup(obs, 25.05)
-        autofocus = obs.module("autofocus", AutoFocusSeries)
-        with pytest.raises(FocusSeriesError, match="6 of 6 frames gave no width: fewer than 4 of 9 can"):
-            await autofocus.auto_focus(9, 0.04, 0.0)  # no light: no stars
-        assert (await autofocus.auto_focus_status())["done"] == 6  # the last 3 frames spared
-        assert await focuser.get_focus() == pytest.approx(25.05)
-
-
 async def test_nine_frames_find_the_true_focus_within_two_percent_of_the_range(
     observatory_at: ObservatoryFactory,
 ) -> None:
@@ -175,6 +163,21 @@ async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
         with pytest.raises(FocusOutsideSeriesError, match=r"outside the series 25\.2200\.\.25\.3[0-8]00"):
             await autofocus.auto_focus(9, 0.02, 1.0)
         assert await focuser.get_focus() == pytest.approx(25.3)
+
+
+async def test_a_series_without_stars_ends_early_and_says_why_its_frames_gave_no_width(
+    observatory_at: ObservatoryFactory,
+) -> None:
+    async with observatory_at() as obs:
+        _, focuser = await focus_setup(obs, 25.0)
+        await obs.module("roof", SimRoof).close_roof()  # dark frames: nothing to measure
+        autofocus = obs.module("autofocus", AutoFocusSeries)
+        # 4 of 7 frames without a width leave fewer than the fit's 4: the last 3 are not taken.
+        reason = r"4 of 4 frames gave no width: fewer than 4 of 7 can \(frames without a width: 4 x .*stars"
+        with pytest.raises(FocusSeriesError, match=reason):
+            await autofocus.auto_focus(7, 0.05, 1.0)
+        assert (await autofocus.auto_focus_status())["done"] == 4
+        assert await focuser.get_focus() == pytest.approx(25.0)
 
 
 async def test_abort_ends_the_series_and_restores_the_focus(observatory_at: ObservatoryFactory) -> None:

@@ -73,7 +73,7 @@ def test_an_invalid_file_stores_nothing_and_exits_2(
         f"nightcrew: error: {bad}: invalid request group:"
         " requests[0].configurations[0].instrument_configs[1].exposure_time: must be > 0; nothing was stored",
         f"nightcrew: error: {bad}: invalid request group:"
-        " requests[1].windows: must have at least 1 entry; nothing was stored",
+        " requests[1].windows: at least one window is needed (or a cadence); nothing was stored",
     ]
     assert main(["tasks", "--db", db, "list"]) == 0
     assert "(no tasks)" in capsys.readouterr().out

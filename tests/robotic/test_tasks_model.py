@@ -97,7 +97,7 @@ MALFORMED = [
     ("ipp", 2.5, "ipp: must be <= 2"),
     ("observation_type", "SOON", "observation_type: must be one of 'NORMAL', 'TIME_CRITICAL' or"),
     ("requests", [], "requests: must have at least 1 entry"),
-    (f"{R0}.windows", [], "requests[0].windows: must have at least 1 entry"),
+    (f"{R0}.windows", [], "requests[0].windows: at least one window is needed (or a cadence)"),
     (
         f"{R0}.windows.0.end",
         "2026-11-10T17:00:00Z",

@@ -55,7 +55,8 @@ def test_about_ten_valid_samples_with_the_promised_mix() -> None:
     samples = load_samples()
     assert len(sample_paths()) == len(samples) == 10
     types = {c.type for g in samples.values() for r in g.requests for c in r.configurations}
-    assert types == set(ConfigurationType) - {ConfigurationType.SCRIPT}
+    # PANEL_FLAT needs a flat panel, which the bundled observatory has not (docs/tasks.md).
+    assert types == set(ConfigurationType) - {ConfigurationType.SCRIPT, ConfigurationType.PANEL_FLAT}
 
 
 def test_every_sample_request_fits_its_window_on_the_simulated_night() -> None:

@@ -14,7 +14,6 @@ import xml.etree.ElementTree as ET
 from collections.abc import AsyncIterator, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import pytest
 
@@ -28,6 +27,7 @@ from nightcrew.server import start_server, stop_server
 from nightcrew.testing.waiting import wait_for
 
 from ..comm.xmpp_servers import free_port, require_command
+from .muc import NS_OWNER, room_iq, ruling_attempts
 
 pytestmark = pytest.mark.xmpp
 
@@ -35,8 +35,7 @@ DOMAIN = "roles.test"
 ROOM = "nightcrew"
 MODULES = ("camera", "roof", "weather", "dome")
 PEOPLE = ("operator", "observer")
-NS_OWNER = "http://jabber.org/protocol/muc#owner"
-NS_ADMIN = "http://jabber.org/protocol/muc#admin"
+ROOM_JID = f"{ROOM}@conference.{DOMAIN}"
 
 
 @dataclass
@@ -108,21 +107,6 @@ def test_server_init_writes_the_starting_policy(observatory: _Observatory) -> No
     assert "observer" not in owners and "operator" not in owners  # people own no room
 
 
-async def _iq(comm: Any, kind: str, namespace: str, *children: ET.Element) -> Any:
-    client = comm._require_connection().client
-    room = f"{ROOM}@conference.{DOMAIN}"
-    iq: Any = client.make_iq_set(ito=room) if kind == "set" else client.make_iq_get(ito=room)
-    query = ET.Element(f"{{{namespace}}}query")
-    for child in children:
-        query.append(child)
-    iq.append(query)
-    return await iq.send(timeout=10)
-
-
-def _item(affiliation: str, jid: str) -> ET.Element:
-    return ET.Element(f"{{{NS_ADMIN}}}item", affiliation=affiliation, jid=jid)
-
-
 async def test_people_are_members_and_cannot_rule_the_room(
     observatory: _Observatory, modules: dict[str, Module]
 ) -> None:
@@ -132,16 +116,9 @@ async def test_people_are_members_and_cannot_rule_the_room(
     await asyncio.wait_for(observer.open(), 20)  # a member: the modules admitted it from the policy
     try:
         await wait_for(lambda: {"camera", "roof"} <= set(observer.comm.clients), 20)
-        attempts: dict[str, tuple[str, str, list[ET.Element]]] = {
-            "destroy": ("set", NS_OWNER, [ET.Element(f"{{{NS_OWNER}}}destroy")]),
-            "configure": ("get", NS_OWNER, []),
-            "grant membership": ("set", NS_ADMIN, [_item(affiliation="member", jid=f"x@{DOMAIN}")]),
-            "ban": ("set", NS_ADMIN, [_item(affiliation="outcast", jid=f"operator@{DOMAIN}")]),
-            "make itself owner": ("set", NS_ADMIN, [_item(affiliation="owner", jid=f"observer@{DOMAIN}")]),
-        }
-        for what, (kind, namespace, children) in attempts.items():
+        for what, (kind, namespace, children) in ruling_attempts(DOMAIN, "observer").items():
             with pytest.raises(IqError) as refused:
-                await _iq(observer.comm, kind, namespace, *children)
+                await room_iq(observer.comm, ROOM_JID, kind, namespace, *children)
             assert refused.value.iq["error"]["condition"] in ("forbidden", "not-allowed"), what
         with pytest.raises(ForbiddenError, match=r"observer may not call roof\.open_roof"):
             await observer.comm.execute("roof", "open_roof", [])
@@ -181,7 +158,7 @@ async def test_modules_enter_a_destroyed_room_again(
     await asyncio.wait_for(dome.open(), 20)
     try:
         await wait_for(lambda: "dome" in modules["camera"].comm.clients, 20)
-        await _iq(dome.comm, "set", NS_OWNER, ET.Element(f"{{{NS_OWNER}}}destroy"))
+        await room_iq(dome.comm, ROOM_JID, "set", NS_OWNER, ET.Element(f"{{{NS_OWNER}}}destroy"))
         await wait_for(
             lambda: f"room {ROOM}@conference.{DOMAIN} was destroyed; entering it again" in caplog.text, 20
         )

@@ -3,8 +3,10 @@ runs on the in-process comm)."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import signal
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -78,3 +80,40 @@ async def test_the_supervisor_on_the_bus_is_in_error_while_a_module_is_frozen(tm
 
 async def _state_is(module: IModule, state: ModuleState) -> bool:
     return ModuleState(await module.get_state()) is state
+
+
+async def test_nightcrew_modules_shows_what_the_supervisor_here_finds_frozen(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A frozen process keeps its last presence in the room: ``nightcrew modules`` asks this
+    computer's supervisor (its control socket) and shows ``frozen`` where it says so."""
+    from nightcrew.cli.modules import _list
+    from nightcrew.supervisor._control import ControlServer
+
+    frozen = ModuleStatus("watchdog", "frozen", 4242, 0, 0.0, "", "no heartbeat for 30 s", "watchdog.yaml")
+    running = ModuleStatus("roof", "running", 4243, 0, 0.0, "", "", "roof.yaml")
+
+    async def answer(request: dict[str, object]) -> dict[str, object]:
+        return {"modules": [dataclasses.asdict(frozen), dataclasses.asdict(running)]}
+
+    socket = Path(tempfile.mkdtemp(prefix="nc-frozen-")) / "control.sock"
+    comm_file = tmp_path / "operator.yaml"
+    comm_file.write_text("class: nightcrew.comm.local.LocalComm\nname: operator\n")
+    network = LocalNetwork.default()
+    modules = [Module(comm=LocalComm(name, network=network)) for name in ("roof", "watchdog")]
+    server = ControlServer(socket, answer)
+    for module in modules:
+        await module.open()
+    try:
+        monkeypatch.setenv("NIGHTCREW_SUPERVISOR_SOCKET", str(socket))
+        assert _rows(await _list(str(comm_file))) == {"roof": "ready", "watchdog": "ready"}  # no supervisor
+        await server.open()
+        assert _rows(await _list(str(comm_file))) == {"roof": "ready", "watchdog": "frozen"}
+    finally:
+        await server.close()
+        for module in modules:
+            await module.close()
+
+
+def _rows(table: str) -> dict[str, str]:
+    return {line.split()[0]: line.split()[1] for line in table.splitlines()}

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from nightcrew.supervisor import RestartPolicy, configure_logging, systemd_units
+from nightcrew.supervisor import DEFAULT_STOP_TIMEOUT, RestartPolicy, configure_logging, systemd_units
 from nightcrew.supervisor._logging import JsonLinesFormatter, SystemdFormatter
 
 from .conftest import REPOSITORY
@@ -33,6 +33,11 @@ def test_one_supervisor_unit(tmp_path: Path) -> None:
     text = units["nightcrew.service"]
     assert f"ExecStart={sys.executable} -m nightcrew --log-format systemd up {tmp_path} " in text
     assert "Restart=on-failure" in text and f"WorkingDirectory={tmp_path}" in text
+    # systemd must not kill the supervisor while a module parks or closes within its stop timeout
+    stop_sec = float(
+        next(line for line in text.splitlines() if line.startswith("TimeoutStopSec=")).split("=")[1]
+    )
+    assert stop_sec >= 2 * DEFAULT_STOP_TIMEOUT  # the mount's park and the roof's close, one after the other
 
 
 def test_one_unit_per_module(tmp_path: Path) -> None:

@@ -304,6 +304,23 @@ export class OffsetsRaDecEvent extends Event {
 }
 
 /**
+ * Rapid-response tasks were submitted: a mastermind stops a running task of lower priority for
+ * them (its frame in flight kept) and runs them at once. It moves the telescope off its task, so
+ * it is trusted only from the senders the access policy names for it (docs/rapid-response.md).
+ */
+export class RapidResponseEvent extends Event {
+  static eventName = "RapidResponseEvent";
+  /**
+   * @param {{ids: Array<string>}} [fields]
+   */
+  constructor(fields = {}) {
+    super();
+    /** @type {Array<string>} */
+    this.ids = fields.ids ?? undefined;
+  }
+}
+
+/**
  * The roof is fully closed.
  */
 export class RoofClosedEvent extends Event {
@@ -494,7 +511,7 @@ export class WatchdogHeartbeatEvent extends Event {
 }
 
 /** Every event class, by the name it travels under. */
-export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, ScheduleChangedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent, WatchdogHeartbeatEvent};
+export const EVENTS = {BadWeatherEvent, ExposureStatusChangedEvent, FilterChangedEvent, FocusFailedEvent, FocusFoundEvent, GoodWeatherEvent, LogEvent, ModuleClosedEvent, ModuleOpenedEvent, ModuleStateChangedEvent, MotionStatusChangedEvent, MoveAltAzEvent, MoveRaDecEvent, NewImageEvent, NewSpectrumEvent, OffsetsAltAzEvent, OffsetsRaDecEvent, RapidResponseEvent, RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent, SafetyAlarmEvent, SafetyClearedEvent, ScheduleChangedEvent, TaskFailedEvent, TaskFinishedEvent, TaskStartedEvent, TasksChangedEvent, TestEvent, WatchdogHeartbeatEvent};
 
 /** JSON Schema of every event and of the types they use (`$defs`, as in the catalogue). */
 export const EVENT_SCHEMAS = {
@@ -917,6 +934,24 @@ export const EVENT_SCHEMAS = {
       "ddec"
     ],
     "title": "OffsetsRaDecEvent",
+    "type": "object",
+    "x-persistent": false
+  },
+  "RapidResponseEvent": {
+    "description": "Rapid-response tasks were submitted: a mastermind stops a running task of lower priority for\nthem (its frame in flight kept) and runs them at once. It moves the telescope off its task, so\nit is trusted only from the senders the access policy names for it (docs/rapid-response.md).",
+    "properties": {
+      "ids": {
+        "items": {
+          "type": "string"
+        },
+        "title": "Ids",
+        "type": "array"
+      }
+    },
+    "required": [
+      "ids"
+    ],
+    "title": "RapidResponseEvent",
     "type": "object",
     "x-persistent": false
   },

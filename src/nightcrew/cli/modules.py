@@ -1,9 +1,15 @@
-"""``nightcrew modules --comm FILE.yaml``: list the online modules with state and interfaces."""
+"""``nightcrew modules --comm FILE.yaml``: list the online modules with state and interfaces.
+
+A frozen process still looks online to the others (its last presence stays in the room until the
+server notices), so where a supervisor runs on this computer (``nightcrew up``, its default
+socket or ``$NIGHTCREW_SUPERVISOR_SOCKET``) its word wins: a module it calls ``frozen`` is shown so.
+"""
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import dataclasses
 from typing import Any
 
 from nightcrew.cli._operator import (
@@ -14,8 +20,11 @@ from nightcrew.cli._operator import (
     operator_module,
     quiet_module_logs,
 )
+from nightcrew.supervisor import SupervisorError, default_socket_path, send_request
 
 __all__ = ["add_parser", "format_table"]
+
+_SUPERVISOR_ANSWER = 5.0  # seconds: a supervisor that does not answer is left out, not waited for
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -41,7 +50,19 @@ async def _list(comm_file: str | None) -> str:
     # The operator module knows who is online once open (on XMPP, the room's occupant list and
     # the pyobs modules' presence and discovery): no waiting for a time.
     async with operator_module(load_comm(comm_file)) as operator:
-        return format_table(await list_modules(operator.comm))
+        infos = await list_modules(operator.comm)
+    frozen = await _frozen_here()
+    return format_table([dataclasses.replace(i, state="frozen") if i.name in frozen else i for i in infos])
+
+
+async def _frozen_here() -> set[str]:
+    """The modules this computer's supervisor calls frozen (none without a supervisor)."""
+    try:
+        request = send_request(default_socket_path(), {"command": "status", "module": None})
+        reply = await asyncio.wait_for(request, _SUPERVISOR_ANSWER)
+    except (SupervisorError, OSError, TimeoutError):
+        return set()
+    return {str(m["name"]) for m in reply["modules"] if m.get("state") == "frozen"}
 
 
 def _command(args: argparse.Namespace) -> int:

@@ -7,7 +7,8 @@ table, ``show ID`` one task in full, ``cancel ID`` withdraws a task, ``why ID`` 
 is planned in a night or why not, ``schema`` prints the request format as JSON Schema. The database
 is ``--db PATH``, else ``$NIGHTCREW_TASKS_DB``, else ``./tasks.sqlite`` (run it in the observatory
 directory). With ``--comm FILE`` (or ``$NIGHTCREW_COMM``), ``add`` and ``cancel`` tell the
-scheduler at once (TasksChangedEvent); without, it sees the change at its next poll.
+scheduler at once (TasksChangedEvent; rapid-response tasks also RapidResponseEvent, on which the
+mastermind may pre-empt); without, it sees the change at its next poll.
 """
 
 from __future__ import annotations
@@ -28,12 +29,14 @@ from nightcrew.cli._operator import add_comm_argument, load_comm, operator_modul
 from nightcrew.cli._tasks_why import add_why_parser
 from nightcrew.comm.base import Comm
 from nightcrew.errors import NightcrewError
-from nightcrew.events import TasksChangedEvent
+from nightcrew.events import RapidResponseEvent, TasksChangedEvent
 from nightcrew.robotic.archives import DEFAULT_TASKS_DB, SqliteTaskArchive
 from nightcrew.robotic.tasks import (
     InvalidTaskError,
+    ObservationType,
     RequestGroup,
     TaskState,
+    cadence_progress,
     estimate_duration,
     filled_defaults,
     load_request_group_file,
@@ -114,10 +117,13 @@ async def _add(args: argparse.Namespace) -> int:
                 )
         return 2
     added: list[str] = []
+    rapid: list[str] = []
     async with _archive(args) as archive:
         for group in groups:
             tasks = await archive.add_request_group(group)
             added += [task.id for task in tasks]
+            if group.observation_type is ObservationType.RAPID_RESPONSE:
+                rapid += [task.id for task in tasks]
             ids = ", ".join(task.id for task in tasks)
             print(
                 f"added {group.name!r} (group {tasks[0].group_id}): task{'s' if len(tasks) > 1 else ''} {ids}"
@@ -128,7 +134,7 @@ async def _add(args: argparse.Namespace) -> int:
                 for path, value in defaults:
                     note = "  (can keep a target out of the plan)" if _can_exclude(path) else ""
                     print(f"    {path}: {json.dumps(value, ensure_ascii=False)}{note}")
-    await _tell_scheduler(comm, added, "added")
+    await _tell_scheduler(comm, added, "added", rapid=rapid)
     return 0
 
 
@@ -161,6 +167,11 @@ async def _list(args: argparse.Namespace) -> int:
 async def _show(args: argparse.Namespace) -> int:
     async with _archive(args) as archive:
         task = await archive.get_task(args.task_id)
+        group = (
+            [t for t in await archive.list_tasks() if t.group_id == task.group_id]
+            if task.request.cadence
+            else []
+        )
     status = task.status
     estimate = estimate_duration(task.request)
     print(f"task {task.id}: request {task.request_index} of group {task.group_id} {task.name!r}")
@@ -168,6 +179,9 @@ async def _show(args: argparse.Namespace) -> int:
     kind = task.observation_type.value
     print(f"proposal: {task.proposal}, {kind}, priority {task.priority:g} x ipp {task.ipp:g}")
     print(f"duration: {_duration(estimate.total_s)} (set-up {_duration(estimate.setup_s)})")
+    cadence = cadence_progress(task, group)
+    if cadence is not None:
+        print(f"cadence: {cadence}")
     for label, when in (("started", status.started_at), ("finished", status.finished_at)):
         if when is not None:
             print(f"{label}: {when.isoformat()}")
@@ -212,25 +226,33 @@ def _comm(args: argparse.Namespace) -> Comm | None:
     return load_comm(args.comm) if args.comm else None
 
 
-async def _tell_scheduler(comm: Comm | None, ids: list[str], change: str) -> None:
-    """Send TasksChangedEvent on the operator's comm, if one is configured; else say so. The tasks
-    are stored already: a comm that cannot connect is reported, not an error."""
+async def _tell_scheduler(
+    comm: Comm | None, ids: list[str], change: str, *, rapid: Sequence[str] = ()
+) -> None:
+    """Send TasksChangedEvent (and RapidResponseEvent for the ``rapid`` ones) on the operator's comm,
+    if one is configured; else say so. The tasks are stored already: a comm that cannot connect is
+    reported, not an error."""
     if comm is None:
         print("the scheduler will see it at its next poll (no --comm or $NIGHTCREW_COMM to tell it now)")
         return
     try:
-        await announce_change(comm, ids, change)
+        await announce_change(comm, ids, change, rapid=rapid)
     except NightcrewError as exc:
         print(f"could not tell the scheduler ({exc}): it will see it at its next poll")
         return
     print(f"told the scheduler: tasks {', '.join(ids)} {change}")
+    if rapid:
+        print(f"told the mastermind: rapid-response tasks {', '.join(rapid)}")
 
 
-async def announce_change(comm: Comm, ids: Sequence[str], change: str) -> None:
-    """Tell every module on ``comm`` (the scheduler) that tasks ``ids`` were ``change``d, as the
-    operator; the comm is opened and closed here."""
+async def announce_change(comm: Comm, ids: Sequence[str], change: str, *, rapid: Sequence[str] = ()) -> None:
+    """Tell every module on ``comm`` (the scheduler) that tasks ``ids`` were ``change``d, and the
+    mastermind of the ``rapid`` (rapid-response) ones, as the operator; the comm is opened and
+    closed here (the access policy decides whether the rapid ones may pre-empt)."""
     async with operator_module(comm) as module:
         await module.comm.send_event(TasksChangedEvent(ids=tuple(ids), change=change))
+        if rapid:
+            await module.comm.send_event(RapidResponseEvent(ids=tuple(rapid)))
 
 
 def _archive(args: argparse.Namespace) -> SqliteTaskArchive:

@@ -20,7 +20,13 @@ import asyncio
 from pathlib import Path
 from typing import Any
 
-from nightcrew.supervisor import DEFAULT_FROZEN_AFTER, RestartPolicy, Supervisor, default_socket_path
+from nightcrew.supervisor import (
+    DEFAULT_FROZEN_AFTER,
+    DEFAULT_STOP_TIMEOUT,
+    RestartPolicy,
+    Supervisor,
+    default_socket_path,
+)
 
 __all__ = ["add_parser"]
 
@@ -48,7 +54,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         metavar="FILE",
         help="join the bus with this comm (heartbeat for the safety watchdog)",
     )
-    parser.add_argument("--stop-timeout", type=float, default=20.0, help="seconds a module may take to close")
+    parser.add_argument(
+        "--stop-timeout",
+        type=float,
+        default=DEFAULT_STOP_TIMEOUT,
+        help=f"seconds a module may take to close (park, close the roof) before it is killed "
+        f"(default {DEFAULT_STOP_TIMEOUT:g}; a frozen one is killed after --frozen-after)",
+    )
     parser.add_argument(
         "--frozen-after",
         type=_frozen_after,

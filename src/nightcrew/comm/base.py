@@ -30,7 +30,7 @@ from nightcrew.errors import InterfaceError, ModuleError, NightcrewError, Remote
 from nightcrew.events.base import Event, event_by_name
 from nightcrew.interfaces.base import Interface, interface_by_name
 from nightcrew.log import current_module, module_context
-from nightcrew.security import OPEN_POLICY, AuditLog, Policy, closed_policy, load_policy
+from nightcrew.security import OPEN_POLICY, AuditLog, Policy, WarningThrottle, closed_policy, load_policy
 from nightcrew.timeout import DEFAULT_TIMEOUT
 
 __all__ = ["Comm", "EventHandler", "PendingCall"]
@@ -103,6 +103,7 @@ class Comm(ABC):
         self._rpc_grace = rpc_grace
         self._open_policy = policy == OPEN_POLICY
         self._closed_by_default = policy is None and self.network
+        self._refusal_warnings = WarningThrottle()  # a forger gets one log line a minute per event
         # Read when built, so that `nightcrew check` reports a broken policy file with its key.
         if isinstance(policy, str):
             self._policy: Policy | None = None if self._open_policy else load_policy(policy)
@@ -454,18 +455,20 @@ class Comm(ABC):
         if self._policy is None:  # in-process, or `policy: open` (warned at every start)
             return True
         trusted = self._policy.accepts_event(account, name, moves_hardware=event_type.moves_hardware)
-        if not trusted:
+        held_back = None if trusted else self._refusal_warnings.due((account, name))
+        if held_back is not None:
             log.warning(
-                "refused %s from %s: %s",
+                "refused %s from %s: %s%s",
                 name,
                 account if account == sender else f"{sender} ({account})",
                 "the policy does not name it as a sender of this event"
                 if not self._closed_by_default
                 else "without an access policy, events that move hardware are trusted from nobody on "
                 "a network (docs/security.md)",
+                f" ({held_back} more refused since the last such line)" if held_back else "",
             )
-            if self._audit is not None:
-                self._audit.record(account, self.name, name, [payload], "forbidden")
+        if not trusted and self._audit is not None:
+            self._audit.record(account, self.name, name, [payload], "forbidden")
         return trusted
 
     def trusts_headers_from(self, module: str) -> bool:

@@ -13,6 +13,7 @@ from nightcrew.events.pointing import MoveAltAzEvent, MoveRaDecEvent, OffsetsAlt
 from nightcrew.events.roof import RoofClosedEvent, RoofClosingEvent, RoofOpenedEvent
 from nightcrew.events.safety import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
 from nightcrew.events.task import (
+    RapidResponseEvent,
     ScheduleChangedEvent,
     TaskFailedEvent,
     TaskFinishedEvent,
@@ -41,6 +42,7 @@ __all__ = [
     "NewSpectrumEvent",
     "OffsetsAltAzEvent",
     "OffsetsRaDecEvent",
+    "RapidResponseEvent",
     "RoofClosedEvent",
     "RoofClosingEvent",
     "RoofOpenedEvent",

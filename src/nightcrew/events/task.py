@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from datetime import datetime
+from typing import ClassVar
 
 from nightcrew.events.base import Event
 
 __all__ = [
+    "RapidResponseEvent",
     "ScheduleChangedEvent",
     "TaskFailedEvent",
     "TaskFinishedEvent",
@@ -63,3 +65,14 @@ class ScheduleChangedEvent(Event):
     (a task that ended before its slot leaves no idle gap until then)."""
 
     ids: tuple[str, ...]  # the archive's ids of the planned tasks, in the order of their slots
+
+
+@dataclass(frozen=True, kw_only=True)
+class RapidResponseEvent(Event):
+    """Rapid-response tasks were submitted: a mastermind stops a running task of lower priority for
+    them (its frame in flight kept) and runs them at once. It moves the telescope off its task, so
+    it is trusted only from the senders the access policy names for it (docs/rapid-response.md)."""
+
+    moves_hardware: ClassVar[bool] = True
+
+    ids: tuple[str, ...]  # the archive's ids of the rapid-response tasks

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.control import IAbortable
 from nightcrew.interfaces.enums import ExposureStatus, ImageType
-from nightcrew.interfaces.quantities import ExposureTime, Temperature
+from nightcrew.interfaces.quantities import ExposureTime, Gain, GainOffset, Temperature
 from nightcrew.timeout import timeout
 
 __all__ = [
@@ -183,7 +183,7 @@ class IGain(Interface):
     """Detector gain and offset (bias level), in the camera's own units."""
 
     @abstractmethod
-    async def set_gain(self, gain: float) -> None:
+    async def set_gain(self, gain: Gain) -> None:
         """Set the gain for the next frames."""
 
     @abstractmethod
@@ -191,7 +191,7 @@ class IGain(Interface):
         """Current gain."""
 
     @abstractmethod
-    async def set_offset(self, offset: float) -> None:
+    async def set_offset(self, offset: GainOffset) -> None:
         """Set the offset (bias level) for the next frames."""
 
     @abstractmethod

@@ -8,7 +8,7 @@ from typing import Any
 from nightcrew.interfaces.base import Interface
 from nightcrew.interfaces.control import IAbortable
 from nightcrew.interfaces.motion import IMotion
-from nightcrew.interfaces.quantities import ExposureTime, FocusCount
+from nightcrew.interfaces.quantities import ExposureTime, FocusCount, FocusStep
 from nightcrew.timeout import timeout
 
 __all__ = ["IAutoFocus", "IFocusModel", "IFocusRange", "IFocuser"]
@@ -63,7 +63,7 @@ class IAutoFocus(IAbortable):
     @timeout(1800)
     @abstractmethod
     async def auto_focus(
-        self, count: FocusCount, step: float, exposure_time: ExposureTime
+        self, count: FocusCount, step: FocusStep, exposure_time: ExposureTime
     ) -> tuple[float, float]:
         """Take ``count`` images ``step`` mm apart, ``exposure_time`` s each; return (focus, error) in mm."""
 

@@ -37,6 +37,9 @@ __all__ = [
     "Degrees",
     "ExposureTime",
     "FocusCount",
+    "FocusStep",
+    "Gain",
+    "GainOffset",
     "Period",
     "PeriodOrOff",
     "RightAscension",
@@ -44,6 +47,7 @@ __all__ = [
     "SwitchIndex",
     "Temperature",
     "TimeZoneName",
+    "Timeout",
     "Unit",
     "Valid",
     "bound_problem",
@@ -149,12 +153,21 @@ def _off_or_period(seconds: float) -> bool:
     return seconds == 0 or MIN_PERIOD <= seconds <= 86_400.0
 
 
+#: How long to wait for an answer or a connection: a day at most (longer is a typo, and a wait
+#: that never ends).
+Timeout = Annotated[float, Interval(ge=MIN_PERIOD, le=86_400.0), Unit("s")]
 #: A period where 0 turns the loop off (an archive that is not polled).
 PeriodOrOff = Annotated[float, Valid(_off_or_period, "0 (off) or a period of 0.01..86400 s"), Unit("s")]
 #: A temperature on Earth or in a cooled camera (the absolute zero and boiling water bound it).
 Temperature = Annotated[float, Interval(ge=-273.15, le=100.0), Unit("degC")]
 #: How many frames a focus series takes (a thousand would take all night).
 FocusCount = Annotated[int, Interval(ge=1, le=1000)]
+#: The distance between two frames of a focus series: a focuser's whole travel is well under 100 mm.
+FocusStep = Annotated[float, Interval(gt=0.0, le=100.0), Unit("mm")]
+#: A detector's gain in the camera's own units (ASCOM's are small integers; a million is no camera's).
+Gain = Annotated[float, Interval(ge=0.0, le=1_000_000.0)]
+#: A detector's offset (bias level) in the camera's own units, either way.
+GainOffset = Annotated[float, Interval(ge=-1_000_000.0, le=1_000_000.0)]
 #: The number of a switch (ASCOM's Id) or another device channel.
 SwitchIndex = Annotated[int, Interval(ge=0, le=1_000_000)]
 TimeZoneName = Annotated[str, Valid(is_time_zone, "an IANA time zone name such as 'Europe/Berlin'")]

@@ -24,7 +24,9 @@ from nightcrew.night.build import (
     files_environ,
     observatory_site,
 )
+from nightcrew.night.cadences import stored_cadences
 from nightcrew.night.engine import (
+    TASKS_FILE,
     NightProgress,
     ProgressCallback,
     WholeNight,
@@ -91,7 +93,7 @@ def run_night(options: SimOptions) -> int:
         result, wall = run_one_night(directory, options, site, setup, options.out, _printer(sys.stderr))
     # The files the night wrote, not the NewImageEvents: focus and acquisition frames are not announced.
     recorded = read_night(options.out)
-    report = write_report(options.out, night=recorded)
+    report = write_report(options.out, night=recorded, cadences=stored_cadences(options.out / TASKS_FILE))
     pace = describe_pace(night_speed(options))
     state = "night complete" if result.completed else "night stopped early"
     print(

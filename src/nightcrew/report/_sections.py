@@ -182,6 +182,11 @@ def tasks_section(numbers: NightNumbers) -> str:
     return _table(("id", "task", "start", "end", "outcome", "reason"), rows)
 
 
+def cadences_section(cadences: Sequence[tuple[str, str]]) -> str:
+    """Each cadence's progress: ``(name, progress)`` pairs as the task archive tells them."""
+    return _table(("cadence", "progress"), cadences)
+
+
 def time_budget_section(spent: dict[str, float], runs: Sequence[Acquisition]) -> str:
     """The dark time per label as a bar and a table, then each run's time to its first science frame."""
     whole = sum(spent.values())

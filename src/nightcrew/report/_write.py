@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from html import escape
 from pathlib import Path
 
 from nightcrew.report._data import Night, read_night
 from nightcrew.report._metrics import night_numbers
 from nightcrew.report._sections import (
+    cadences_section,
     flats_section,
     focus_section,
     frames_section,
@@ -46,9 +48,16 @@ def night_site(night: Night) -> tuple[float, float]:
     return 51.56, 9.94
 
 
-def write_report(out_dir: Path, *, thumbnails: bool = True, night: Night | None = None) -> Path:
+def write_report(
+    out_dir: Path,
+    *,
+    thumbnails: bool = True,
+    night: Night | None = None,
+    cadences: Sequence[tuple[str, str]] = (),
+) -> Path:
     """Read the night in ``out_dir`` (or take ``night``, read from there already) and write
-    ``out_dir/report.html``; returns its path."""
+    ``out_dir/report.html``; returns its path. ``cadences``: each cadence request's progress
+    (name, progress) from the task archive, shown in a section of their own when there are any."""
     if night is None:
         night = read_night(out_dir)
     latitude, longitude = night_site(night)
@@ -60,6 +69,7 @@ def write_report(out_dir: Path, *, thumbnails: bool = True, night: Night | None 
         ("Timeline: tasks, weather, roof and Sun", timeline_section(night, numbers, latitude, longitude)),
         ("Where the good-weather dark time went", time_budget_section(spent, acquisitions(night))),
         ("Tasks", tasks_section(numbers)),
+        *([("Cadences", cadences_section(cadences))] if cadences else []),
         ("Scheduler", scheduler_section(night, numbers)),
         ("Focus", focus_section(night)),
         ("Sky flats: exposure time against solar altitude", flats_section(_flat_fits(out_dir))),

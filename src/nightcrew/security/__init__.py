@@ -23,6 +23,7 @@ from nightcrew.security._policy import (
     parse_policy,
     starting_policy,
 )
+from nightcrew.security._throttle import WarningThrottle
 
 __all__ = [
     "DEFAULT_SAFETY_METHODS",
@@ -31,6 +32,7 @@ __all__ = [
     "AuditRecord",
     "LoginLimiter",
     "Policy",
+    "WarningThrottle",
     "check_password_hash",
     "closed_policy",
     "dummy_password_hash",

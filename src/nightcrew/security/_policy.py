@@ -3,7 +3,7 @@
 A policy file::
 
     roles:
-      observer: ["camera.*", "*.get_*", IModule]   # module.method patterns or interface names
+      observer: ["*.get_*", "*.is_*"]   # module.method patterns or interface names (ICamera)
       operator: ["*"]
       safety: []
     accounts:                                      # account (module or person) -> roles
@@ -18,6 +18,11 @@ A policy file::
       SafetyAlarmEvent: [safety]
       SafetyClearedEvent: [safety]
     header_providers: [devices]                    # roles whose modules may give FITS headers
+
+Rights that are not calls are events a role may send: who may submit rapid-response requests
+that pre-empt the running task is who may send ``RapidResponseEvent`` (listed under ``events``
+like the other events that move hardware; the starting policy gives it to ``modules`` and
+``operator``).
 
 A right with a dot is a shell-style pattern over ``module.method``; one without a dot is an
 interface name (all its methods on any module), ``*`` is everything. An account not listed, or
@@ -38,7 +43,7 @@ from typing import Any
 
 from nightcrew.config import load_data_file
 from nightcrew.errors import ConfigError
-from nightcrew.events import hardware_event_names
+from nightcrew.events import RapidResponseEvent, hardware_event_names
 from nightcrew.security._audit import GETTER_PREFIXES
 
 __all__ = [
@@ -123,7 +128,8 @@ def starting_policy(modules: list[str], people: Mapping[str, str]) -> dict[str, 
     """The policy (plain data, for a YAML file) that ``nightcrew init`` and ``nightcrew server init``
     write: the observatory's ``modules`` may call each other, a person (name → ``operator`` or
     ``observer``) everything or only what reads. Safety events come only from the safety modules
-    (weather, watchdog and safety, where present); FITS header cards only from modules."""
+    (weather, watchdog and safety, where present); rapid-response requests that pre-empt from modules
+    and operators; focus results and FITS header cards only from modules."""
     safety = [name for name in ("weather", "safety", "watchdog") if name in modules]
     accounts: dict[str, list[str]] = {
         name: ["modules", "safety"] if name in safety else ["modules"] for name in modules
@@ -136,14 +142,26 @@ def starting_policy(modules: list[str], people: Mapping[str, str]) -> dict[str, 
     return {
         "roles": {
             "operator": ["*"],
-            "observer": [*(f"*.{prefix}*" for prefix in GETTER_PREFIXES), "IModule"],
+            # What reads, and nothing else: not IModule whole, whose reset_error and
+            # set_config_value change state (its getters are among these).
+            "observer": [f"*.{prefix}*" for prefix in GETTER_PREFIXES],
             "modules": ["*"],
             "safety": [],
         },
         "accounts": accounts,
         "safety_roles": ["safety"],
-        # Every event class marked as moving hardware, so that a new one is not forgotten.
-        "events": {name: ["safety"] for name in hardware_event_names()},
+        # Every event class marked as moving hardware, so that a new one is not forgotten; the
+        # right to submit rapid-response requests (which pre-empt a running task) goes to the
+        # observatory's modules (e.g. the alerts listener) and the operators; and a focus series'
+        # result, which the focus model learns from and then sets the focuser by (no safety matter,
+        # so not marked: from any module, but a person cannot forge it).
+        "events": {
+            **{
+                name: ["modules", "operator"] if name == RapidResponseEvent.event_name() else ["safety"]
+                for name in hardware_event_names()
+            },
+            "FocusFoundEvent": ["modules"],
+        },
         "header_providers": ["modules"],
     }
 

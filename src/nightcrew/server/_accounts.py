@@ -5,14 +5,16 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from nightcrew.comm.xmpp import parse_jid
-from nightcrew.config import load_config
+from nightcrew.config import ConfigNode, load_config
+from nightcrew.config._paths import resolve_path
 from nightcrew.errors import ConfigError
 from nightcrew.security import starting_policy
 
-__all__ = ["Account", "accounts_from_configs", "policy_for_accounts"]
+__all__ = ["Account", "accounts_from_configs", "policies_named", "policy_for_accounts"]
 
 
 @dataclass(frozen=True)
@@ -68,3 +70,24 @@ def policy_for_accounts(
     chosen = set(operators)
     people = {a.user: "operator" if a.user in chosen else "observer" for a in given if a.person}
     return starting_policy([a.user for a in given if not a.person], people)
+
+
+def policies_named(
+    paths: Iterable[str | os.PathLike[str]], *, environ: Mapping[str, str] | None = None
+) -> list[Path | None]:
+    """For each module file (a ``class`` with a ``comm.jid``), the access policy file its comm
+    names, resolved as the comm resolves it (against the file the key is written in); None where
+    it names none or says ``policy: open``."""
+    named: list[Path | None] = []
+    for path in paths:
+        config = load_config(path, environ=environ)
+        comm = config.get("comm")
+        if "jid" in config or not isinstance(comm, ConfigNode) or "jid" not in comm:
+            continue  # a person's file, or a module without an XMPP account
+        policy = comm.get("policy")
+        if not isinstance(policy, str) or policy == "open":
+            named.append(None)
+            continue
+        location = comm.location_of("policy")
+        named.append(Path(resolve_path(policy, location.file if location else os.fspath(path))))
+    return named

@@ -13,12 +13,13 @@ from nightcrew.supervisor._discovery import ModuleFile, module_files
 from nightcrew.supervisor._heartbeat import DEFAULT_FROZEN_AFTER, heartbeat_loop
 from nightcrew.supervisor._logging import LOG_FORMATS, configure_logging
 from nightcrew.supervisor._policy import RestartPolicy
-from nightcrew.supervisor._process import ModuleProcess, ModuleStatus
+from nightcrew.supervisor._process import DEFAULT_STOP_TIMEOUT, ModuleProcess, ModuleStatus
 from nightcrew.supervisor._supervisor import Supervisor
 from nightcrew.supervisor._systemd import systemd_units
 
 __all__ = [
     "DEFAULT_FROZEN_AFTER",
+    "DEFAULT_STOP_TIMEOUT",
     "LOG_FORMATS",
     "ModuleFile",
     "ModuleProcess",

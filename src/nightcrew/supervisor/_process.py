@@ -33,7 +33,12 @@ from nightcrew.supervisor._heartbeat import (
 )
 from nightcrew.supervisor._policy import RestartPolicy
 
-__all__ = ["ModuleProcess", "ModuleStatus"]
+__all__ = ["DEFAULT_STOP_TIMEOUT", "ModuleProcess", "ModuleStatus"]
+
+#: Seconds a module may take to close after SIGTERM before it is killed. Closing parks the mount
+#: and closes the roof, which take minutes on real hardware: killing a module halfway would leave
+#: them to chance. A module whose event loop froze is killed sooner, by its missing heartbeat.
+DEFAULT_STOP_TIMEOUT = 180.0
 
 log = logging.getLogger(__name__)
 
@@ -66,7 +71,7 @@ class ModuleProcess:
         log_dir: Path,
         log_format: str,
         policy: RestartPolicy,
-        stop_timeout: float = 20.0,
+        stop_timeout: float = DEFAULT_STOP_TIMEOUT,
         frozen_after: float | None = DEFAULT_FROZEN_AFTER,
     ) -> None:
         self.module = module

@@ -20,7 +20,7 @@ from nightcrew.supervisor._discovery import module_files
 from nightcrew.supervisor._heartbeat import DEFAULT_FROZEN_AFTER
 from nightcrew.supervisor._policy import RestartPolicy
 from nightcrew.supervisor._presence import SupervisorPresence
-from nightcrew.supervisor._process import ModuleProcess, ModuleStatus
+from nightcrew.supervisor._process import DEFAULT_STOP_TIMEOUT, ModuleProcess, ModuleStatus
 
 __all__ = ["Supervisor"]
 
@@ -53,7 +53,7 @@ class Supervisor:
         log_dir: Path,
         log_format: str = "text",
         policy: Callable[[], RestartPolicy] = RestartPolicy,
-        stop_timeout: float = 20.0,
+        stop_timeout: float = DEFAULT_STOP_TIMEOUT,
         comm_file: Path | None = None,
         frozen_after: float | None = DEFAULT_FROZEN_AFTER,
     ) -> None:

@@ -29,8 +29,9 @@ WorkingDirectory={workdir}
 Restart=on-failure
 RestartSec=2
 # A module closes cleanly on SIGTERM (nightcrew run); the supervisor stops every module first.
+# Closing parks the mount and closes the roof: give it the time (see --stop-timeout), not 90 s.
 KillSignal=SIGTERM
-TimeoutStopSec=60
+TimeoutStopSec=600
 
 [Install]
 WantedBy=multi-user.target

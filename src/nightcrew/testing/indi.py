@@ -96,6 +96,12 @@ class PrivateNetwork:
         return self._hosts[_HOST].address(OUTSIDE)
 
     @property
+    def test_address(self) -> str:
+        """The test's own address on the link, as servers in the namespace see it."""
+        link = self._hosts.link(_HOST, OUTSIDE)
+        return link.addresses[link.ends.index(OUTSIDE)]
+
+    @property
     def host_side(self) -> str:
         link = self._hosts.link(_HOST, OUTSIDE)
         return link.interfaces[link.ends.index(OUTSIDE)]

@@ -23,7 +23,7 @@ export class IAutoFocus extends RemoteInterface {
    *
    * Timeout: announced, 1800 clock seconds.
    * @param {number} count minimum 1 maximum 1000
-   * @param {number} step
+   * @param {number} step [mm] exclusiveMinimum 0.0 maximum 100.0
    * @param {number} exposure_time [s] minimum 0.0 maximum 86400.0
    * @returns {Promise<[number, number]>}
    */
@@ -57,7 +57,10 @@ IAutoFocus.spec = {
           "name": "step",
           "required": true,
           "schema": {
-            "type": "number"
+            "exclusiveMinimum": 0.0,
+            "maximum": 100.0,
+            "type": "number",
+            "x-unit": "mm"
           }
         },
         {

@@ -28,7 +28,7 @@ export class IGain extends RemoteInterface {
    * Set the gain for the next frames.
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} gain
+   * @param {number} gain minimum 0.0 maximum 1000000.0
    * @returns {Promise<null>}
    */
   set_gain(gain) {
@@ -38,7 +38,7 @@ export class IGain extends RemoteInterface {
    * Set the offset (bias level) for the next frames.
    *
    * Timeout: 10 clock seconds (the default, not announced).
-   * @param {number} offset
+   * @param {number} offset minimum -1000000.0 maximum 1000000.0
    * @returns {Promise<null>}
    */
   set_offset(offset) {
@@ -73,6 +73,8 @@ IGain.spec = {
           "name": "gain",
           "required": true,
           "schema": {
+            "maximum": 1000000.0,
+            "minimum": 0.0,
             "type": "number"
           }
         }
@@ -91,6 +93,8 @@ IGain.spec = {
           "name": "offset",
           "required": true,
           "schema": {
+            "maximum": 1000000.0,
+            "minimum": -1000000.0,
             "type": "number"
           }
         }

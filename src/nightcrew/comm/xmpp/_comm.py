@@ -17,6 +17,7 @@ from nightcrew.comm.xmpp._settings import DEFAULT_RESOURCE, XmppSettings
 from nightcrew.config import DataPath, InputPath
 from nightcrew.errors import ConfigError, RemoteError
 from nightcrew.interfaces.base import interface_by_name
+from nightcrew.interfaces.quantities import Period, Timeout
 from nightcrew.security import Policy
 
 if TYPE_CHECKING:
@@ -76,9 +77,9 @@ class XmppComm(Comm):
         require_tls: bool | None = None,
         verify_tls: bool = True,
         ca_file: InputPath | None = None,
-        connect_timeout: float = 10.0,
-        ping_interval: float | None = 10.0,
-        ping_timeout: float = 10.0,
+        connect_timeout: Timeout = 10.0,
+        ping_interval: Period | None = 10.0,
+        ping_timeout: Timeout = 10.0,
         rpc_grace: float = 1.0,
         policy: InputPath | Literal["open"] | Policy | None = None,
         audit: DataPath | None = None,

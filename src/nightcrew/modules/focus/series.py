@@ -173,6 +173,7 @@ class AutoFocusSeries(Module, IAutoFocus):
         original = await (focuser.get_focus_offset() if self._use_offset else focuser.get_focus())
         positions = series_positions(original, count, step, await self._reachable(focuser))
         widths: list[float] = []
+        frame_problems: dict[str, int] = {}  # why frames gave no width, and how many
         self._status = {"running": True, "count": count, "step": step, "done": 0, "measurements": []}
         found = False
         try:
@@ -191,6 +192,7 @@ class AutoFocusSeries(Module, IAutoFocus):
                         width = await self._measure(image)
                     except NightcrewError as exc:  # a frame without stars does not end the series
                         log.warning("%s: focus %.4f: no width (%s)", self.name, position, exc)
+                        frame_problems[str(exc)] = frame_problems.get(str(exc), 0) + 1
                         width = math.nan
                 widths.append(width)
                 log.info("%s: focus %.4f mm: width %.2f px", self.name, position, width)
@@ -201,10 +203,13 @@ class AutoFocusSeries(Module, IAutoFocus):
             await self._move(focuser, fit.focus)
             found = True
         except FocusSeriesError as exc:
-            log.warning("%s: focus series failed: %s", self.name, exc)
-            self._status["failed"] = str(exc)
-            await self.comm.send_event(FocusFailedEvent(reason=str(exc), filter_name=filter_name))
-            raise
+            reason = _failure(exc, frame_problems)
+            log.warning("%s: focus series failed: %s", self.name, reason)
+            self._status["failed"] = reason
+            await self.comm.send_event(FocusFailedEvent(reason=reason, filter_name=filter_name))
+            if reason == str(exc):
+                raise
+            raise type(exc)(reason) from exc  # the same kind (e.g. outside the series), with the cause
         finally:
             self._status["running"] = False
             if not found:
@@ -244,6 +249,14 @@ def _check_widths_can_fit(widths: list[float], count: int) -> None:
         raise FocusSeriesError(
             f"{missing} of {len(widths)} frames gave no width: fewer than {MIN_FRAMES} of {count} can"
         )
+
+
+def _failure(exc: FocusSeriesError, frame_problems: dict[str, int]) -> str:
+    """The fit's reason, with why frames gave no width (the cause a user can act on)."""
+    if not frame_problems:
+        return str(exc)
+    causes = "; ".join(f"{count} x {problem}" for problem, count in frame_problems.items())
+    return f"{exc} (frames without a width: {causes})"
 
 
 def _filter_of(image: Image) -> str | None:

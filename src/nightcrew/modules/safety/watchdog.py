@@ -32,6 +32,7 @@ from typing import Any
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.events import SafetyAlarmEvent, SafetyClearedEvent, WatchdogHeartbeatEvent
 from nightcrew.interfaces import IModule, IRoof, ITelescope, IWeather, ModuleState
+from nightcrew.interfaces.quantities import Period, Timeout
 from nightcrew.modules.module import Module
 from nightcrew.modules.safety.heartbeats import HeartbeatMonitor
 
@@ -44,25 +45,25 @@ class SafetyWatchdog(Module):
     """Watches the safety modules' heartbeats; closes and parks when one stops.
 
     Args:
-        watch: Module name → clock seconds it may go without a heartbeat (> 0).
+        watch: Module name → clock seconds it may go without a heartbeat (0.01 to 86400).
         roof: The roof module to close (None: none).
         telescope: The telescope module to park (None: none).
         weather: The weather module whose verdict must be good before the alarm clears (None: not
             asked; watch it too, so that its silence raises the alarm).
-        interval: Clock seconds between two rounds of heartbeats (> 0).
-        answer_timeout: Clock seconds a module may take to answer (> 0).
+        interval: Clock seconds between two rounds of heartbeats (0.01 to 86400).
+        answer_timeout: Clock seconds a module may take to answer (0.01 to 86400).
         **kwargs: Module options.
     """
 
     def __init__(
         self,
         *,
-        watch: dict[str, float],
+        watch: dict[str, Timeout],
         roof: str | None = "roof",
         telescope: str | None = "telescope",
         weather: str | None = None,
-        interval: float = 10.0,
-        answer_timeout: float = 10.0,
+        interval: Period = 10.0,
+        answer_timeout: Timeout = 10.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)

@@ -100,6 +100,9 @@ class SchedulableBlock:
         constraints: Conditions that must hold during the whole block.
         windows: (start, end) intervals the block must lie within; empty: any time of the night.
         setup_s: Fixed overhead before the block (instrument set-up, acquisition), >= 0.
+        early_start_weight: 0..1: how much an early start is worth, as a fraction of the block's
+            value gained by starting at the night's first moment rather than its last (for
+            time-critical requests); 0: the start time does not matter.
     """
 
     id: str
@@ -109,9 +112,14 @@ class SchedulableBlock:
     constraints: Constraints = field(default_factory=Constraints)
     windows: tuple[tuple[datetime, datetime], ...] = ()
     setup_s: float = 0.0
+    early_start_weight: float = 0.0
 
     def __post_init__(self) -> None:
         owner = f"block {self.id!r}"
+        if not 0.0 <= self.early_start_weight <= 1.0:
+            raise InvalidArgumentError(
+                f"{owner}: early_start_weight must be within 0..1, got {self.early_start_weight}"
+            )
         if not self.id:
             raise InvalidArgumentError("a block needs a non-empty id")
         if not (math.isfinite(self.priority) and self.priority > 0):

@@ -60,6 +60,7 @@ def solve_time_indexed(
     mip_rel_gap: float = 5e-3,
     kernel_size: int = 4000,
     lp_max_entries: int = 1_000_000,
+    early_start: FloatArray | None = None,
 ) -> Placement:
     """Choose start slices maximising the weight of the placed blocks without overlaps.
 
@@ -72,6 +73,8 @@ def solve_time_indexed(
         kernel_size: Most variables handed to the MIP (step 3 above).
         lp_max_entries: Largest no-overlap matrix (non-zero entries) whose LP gives the first
             prices (step 1 above).
+        early_start: Per block, 0..1: the fraction of its weight added for starting at the first
+            slice, falling linearly to nothing at the last (time-critical blocks start early).
     """
     deadline = time.perf_counter() + time_limit
     n_blocks, n_slices = can_start.shape
@@ -79,9 +82,10 @@ def solve_time_indexed(
     starts = np.full(n_blocks, -1, dtype=np.int64)
     if len(block_of) == 0:
         return Placement(starts, 0.0, 0.0, "optimal")
-    variables = IntervalVariables(
-        block_of, start_of, lengths[block_of], weights[block_of], n_blocks, n_slices
-    )
+    values = weights[block_of]
+    if early_start is not None:
+        values = values * (1.0 + early_start[block_of] * (1.0 - start_of / max(1, n_slices)))
+    variables = IntervalVariables(block_of, start_of, lengths[block_of], values, n_blocks, n_slices)
     chosen, objective, bound, status = _solve(variables, kernel_size, deadline, mip_rel_gap, lp_max_entries)
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)

@@ -112,6 +112,7 @@ class Scheduler:
             problem.weights,
             time_limit=self.time_limit_s,
             mip_rel_gap=self.mip_rel_gap,
+            early_start=np.array([b.early_start_weight for b in problem.blocks], dtype=np.float64),
         )
 
     def schedule(

@@ -9,6 +9,7 @@ from typing import Any
 
 from nightcrew.astro.pier import hour_angle
 from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.focus.sources import source_from_config
 from nightcrew.images.grading import GradingPolicy
 from nightcrew.interfaces import (
     IAcquisition,
@@ -97,8 +98,9 @@ class ImagingScript(Script):
             ``refocus_after_flip``; None: never.
         focuser: Module offering IFocuser, for ``filter_focus_offsets``.
         filter_focus_offsets: Filter name to focuser offset (mm), set with the filter.
-        temperatures: Module offering ITemperatures, for ``temperature_change``.
-        temperature_sensor: Its sensor to read.
+        focus_temperature: Where ``temperature_change`` reads the temperature, as the
+            mastermind's key of that name: ``{module, sensor}`` (ITemperatures) or
+            ``{module, weather_sensor}`` (IWeather).
     """
 
     def __init__(
@@ -115,8 +117,7 @@ class ImagingScript(Script):
         refocus_triggers: Mapping[str, Any] | None = None,
         focuser: str | None = None,
         filter_focus_offsets: Mapping[str, float] | None = None,
-        temperatures: str | None = None,
-        temperature_sensor: str = "temperature",
+        focus_temperature: Mapping[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -138,6 +139,9 @@ class ImagingScript(Script):
             raise ConfigError(
                 "a FWHM rise is measured on graded frames: set grading", key="refocus_triggers.fwhm_rise"
             )
+        temperature = (
+            None if focus_temperature is None else source_from_config(focus_temperature, "focus_temperature")
+        )
         self._refocusing = config_option(
             "refocus_triggers",
             lambda: (
@@ -147,8 +151,7 @@ class ImagingScript(Script):
                     refocus_triggers or {},
                     focuser,
                     filter_focus_offsets or {},
-                    temperatures,
-                    temperature_sensor,
+                    temperature,
                 )
             ),
         )

@@ -3,7 +3,8 @@
 A user submits a :class:`RequestGroup` (LCO-portal style)::
 
     RequestGroup  name, proposal, observation_type, priority, ipp
-    └── Request   location, windows, acceptability_threshold        (one task each)
+    └── Request   location, windows or cadence, acceptability_threshold  (one task each;
+        │         a cadence: one per visit)
         └── Configuration  type, target, constraints, acquisition_config, guiding_config, dither_config,
             │              repeat_duration, extra_params
             └── InstrumentConfig  exposure_time, exposure_count, optical_elements, binning
@@ -22,6 +23,7 @@ portal speaks.
 
 from __future__ import annotations
 
+from nightcrew.robotic.tasks._cadence import MAX_CADENCE_VISITS, Cadence, cadence_visit
 from nightcrew.robotic.tasks._configuration import (
     AcquisitionConfig,
     AcquisitionMode,
@@ -59,7 +61,7 @@ from nightcrew.robotic.tasks._state import (
     TaskState,
     TaskStatus,
 )
-from nightcrew.robotic.tasks._task import Task, tasks_of_group
+from nightcrew.robotic.tasks._task import Task, cadence_progress, cadence_summaries, tasks_of_group
 from nightcrew.robotic.tasks._validation import (
     filled_defaults,
     load_request_group_file,
@@ -71,9 +73,11 @@ __all__ = [
     "ALLOWED_TRANSITIONS",
     "DEFAULT_OVERHEADS",
     "FINAL_STATES",
+    "MAX_CADENCE_VISITS",
     "SCHEDULABLE_STATES",
     "AcquisitionConfig",
     "AcquisitionMode",
+    "Cadence",
     "Configuration",
     "ConfigurationType",
     "Constraints",
@@ -100,6 +104,9 @@ __all__ = [
     "TaskState",
     "TaskStatus",
     "Window",
+    "cadence_progress",
+    "cadence_summaries",
+    "cadence_visit",
     "configuration_duration",
     "estimate_duration",
     "filled_defaults",

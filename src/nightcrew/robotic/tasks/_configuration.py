@@ -12,6 +12,7 @@ REPEAT_EXPOSE  needed  >= 1, exposure_time > 0      ``repeat_duration`` (s): the
 BIAS           -       >= 1, exposure_time == 0
 DARK           -       >= 1, exposure_time > 0
 SKY_FLAT       -       >= 1, exposure_time > 0      (a first guess; the flat-fielder adapts it)
+PANEL_FLAT     -       >= 1, exposure_time > 0      (a first guess); ``extra_params.level`` (ADU)
 AUTO_FOCUS     any     >= 1, exposure_time > 0
 SCRIPT         any     any, exposure_time > 0       ``extra_params.script`` (str), ``.duration`` (s)
 =============  ======  ===========================  =============================================
@@ -63,6 +64,7 @@ class ConfigurationType(StrEnum):
     BIAS = "BIAS"
     DARK = "DARK"
     SKY_FLAT = "SKY_FLAT"
+    PANEL_FLAT = "PANEL_FLAT"
     AUTO_FOCUS = "AUTO_FOCUS"
     SCRIPT = "SCRIPT"
 
@@ -243,11 +245,27 @@ class Configuration(TaskModel):
             yield "dither_config.amplitude", "dithering is only for EXPOSE and REPEAT_EXPOSE configurations"
         if self.type is ConfigurationType.SCRIPT:
             yield from _script_problems(self.extra_params)
+        if self.type is ConfigurationType.PANEL_FLAT:
+            yield from _flat_level_problems(self.extra_params)
 
     @property
     def script_duration(self) -> float:
         """SCRIPT only: the seconds the script is expected to take (``extra_params.duration``)."""
         return float(self.extra_params["duration"])
+
+
+#: The highest level a frame can hold: cameras write 16-bit unsigned pixels.
+SATURATION_ADU = 65535
+
+
+def _flat_level_problems(extra_params: ExtraParams) -> Iterator[tuple[str, str]]:
+    level = extra_params.get("level")
+    if level is None:
+        return
+    if isinstance(level, bool) or not isinstance(level, int | float) or not level > 0:
+        yield "extra_params.level", f"must be a positive number of ADU, got {level!r}"
+    elif level >= SATURATION_ADU:
+        yield "extra_params.level", f"{level:g} ADU is at or above saturation ({SATURATION_ADU} ADU)"
 
 
 def _script_problems(extra_params: ExtraParams) -> Iterator[tuple[str, str]]:

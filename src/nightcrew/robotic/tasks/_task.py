@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections import Counter
+from collections.abc import Iterable, Sequence
 
 from pydantic import Field
 
 from nightcrew.robotic.tasks._base import Integer, Number, TaskModel
+from nightcrew.robotic.tasks._cadence import cadence_visit
 from nightcrew.robotic.tasks._request import ObservationType, Request, RequestGroup
 from nightcrew.robotic.tasks._state import SCHEDULABLE_STATES, TaskState, TaskStatus
 
-__all__ = ["Task", "tasks_of_group"]
+__all__ = ["Task", "cadence_progress", "cadence_summaries", "tasks_of_group"]
 
 
 class Task(TaskModel):
@@ -81,3 +83,37 @@ def tasks_of_group(
         )
         for index, (task_id, request) in enumerate(zip(task_ids, group.requests, strict=True))
     ]
+
+
+def cadence_progress(task: Task, group: Sequence[Task]) -> str | None:
+    """How far the cadence of ``task`` has come, from its ``group``'s tasks (the visits, with
+    others); None when the task is no cadence visit. E.g. ``visit 2 of 4; 1 done, 2 pending, 1 expired``."""
+    cadence = task.request.cadence
+    if cadence is None:
+        return None
+    visit, count = cadence_visit(cadence, task.request.first_start)
+    return f"visit {visit} of {count}; {_states([t for t in group if t.request.cadence == cadence])}"
+
+
+def cadence_summaries(tasks: Iterable[Task]) -> list[tuple[str, str]]:
+    """``(group name, progress)`` of every cadence among ``tasks``, in the order of their first
+    visit, e.g. ``("RZ Cas", "1 of 4 visits completed; 1 completed, 3 pending")``."""
+    cadences: dict[tuple[str, int], tuple[str, int, list[Task]]] = {}
+    for task in tasks:
+        cadence = task.request.cadence
+        if cadence is None:
+            continue
+        visit, count = cadence_visit(cadence, task.request.first_start)
+        # A group may hold two cadences: each is known by the request index of its first visit.
+        first = (task.group_id, task.request_index - visit + 1)
+        cadences.setdefault(first, (task.name, count, []))[2].append(task)
+    summaries = []
+    for name, count, visits in cadences.values():
+        done = sum(t.state is TaskState.COMPLETED for t in visits)
+        summaries.append((name, f"{done} of {count} visits completed; {_states(visits)}"))
+    return summaries
+
+
+def _states(tasks: Sequence[Task]) -> str:
+    states = Counter(t.state.value.lower() for t in tasks)
+    return ", ".join(f"{states[name]} {name}" for name in sorted(states))

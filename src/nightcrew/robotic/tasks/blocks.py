@@ -8,7 +8,9 @@ The scheduler knows nothing of the task model; this adapter gives it what it nee
   retried after an interruption is planned for what it has left (its recorded progress), so it
   reserves no night time for exposures it has, and is weighted by the time it still observes;
 - ``target``: the first configuration's target (proper motion and epoch kept);
-- ``constraints``: the strictest limits over all configurations.
+- ``constraints``: the strictest limits over all configurations;
+- ``early_start_weight``: by the observation type (:data:`EARLY_START_WEIGHTS`): a time-critical
+  or rapid-response request starts as early as its window and the telescope allow.
 
 A task without any target (only BIAS, DARK, SKY_FLAT or SCRIPT configurations) has no block of
 its own: :func:`blocks_of` lists it in :attr:`BlockConversion.left_out`, and
@@ -25,11 +27,20 @@ from dataclasses import dataclass
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
 from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks._duration import DEFAULT_OVERHEADS, OverheadModel, estimate_duration
+from nightcrew.robotic.tasks._request import ObservationType
 from nightcrew.robotic.tasks._task import Task
 from nightcrew.robotic.tasks.calibration import NOTHING_LEFT_S, calibration_block
 from nightcrew.site import Site
 
-__all__ = ["NOTHING_LEFT_S", "BlockConversion", "block_of", "blocks_of", "every_block"]
+__all__ = ["EARLY_START_WEIGHTS", "NOTHING_LEFT_S", "BlockConversion", "block_of", "blocks_of", "every_block"]
+
+#: The share of a block's value an early start adds (see ``SchedulableBlock.early_start_weight``):
+#: small, so urgency orders a block's own start without outweighing other requests' priorities.
+EARLY_START_WEIGHTS = {
+    ObservationType.NORMAL: 0.0,
+    ObservationType.TIME_CRITICAL: 0.2,
+    ObservationType.RAPID_RESPONSE: 0.5,
+}
 
 
 def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
@@ -59,6 +70,7 @@ def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> Schedu
         ),
         windows=tuple((window.start, window.end) for window in task.request.windows),
         setup_s=estimate.setup_s,
+        early_start_weight=EARLY_START_WEIGHTS[task.observation_type],
     )
 
 
