@@ -10,7 +10,7 @@ import yaml
 
 from nightcrew.astro import local_sidereal_time, sun_altitude
 from nightcrew.robotic.samples import load_samples, sample_paths
-from nightcrew.robotic.tasks import ConfigurationType, Request, estimate_duration
+from nightcrew.robotic.tasks import ConfigurationType, Request, Target, estimate_duration
 from nightcrew.site import Site
 
 SITE_FILE = Path(__file__).parents[2] / "src/nightcrew/night/observatory/shared/site.yaml"
@@ -42,7 +42,7 @@ def _observable_minutes(site: Site, request: Request) -> int:
                 sun = sun_altitude(site.latitude, site.longitude, unix)
                 good &= sun <= limits.max_sun_altitude
                 good &= limits.min_sun_altitude is None or sun >= limits.min_sun_altitude
-                if configuration.target is not None:
+                if isinstance(configuration.target, Target):
                     altitude = _altitude(site, configuration.target.ra, configuration.target.dec, unix)
                     good &= altitude > 0 and 1 / math.sin(math.radians(altitude)) <= limits.max_airmass
             run = run + 1 if good else 0

@@ -63,6 +63,7 @@ from nightcrew.interfaces.rotator import IRotator
 from nightcrew.interfaces.sensors import ITemperatures
 from nightcrew.interfaces.spectrograph import ISpectrograph
 from nightcrew.interfaces.switch import ISwitch, SwitchInfo
+from nightcrew.interfaces.tracking import INonSidereal
 from nightcrew.interfaces.weather import IWeather, SensorValue, WeatherReport
 
 __all__ = [
@@ -98,6 +99,7 @@ __all__ = [
     "IImageType",
     "IModule",
     "IMotion",
+    "INonSidereal",
     "IOffsetsAltAz",
     "IOffsetsRaDec",
     "IPierSide",

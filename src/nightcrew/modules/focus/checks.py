@@ -2,10 +2,10 @@
 
 A mastermind's ``focus_temperature`` (and its imaging scripts') and a focus model's
 ``temperatures`` name a module and a sensor; a module name that no file provides would leave the
-refocus (or the model) without a temperature all night, so ``check`` refuses it, and a module of the wrong kind (a ``sensor`` on a
-module without ITemperatures, a ``weather_sensor`` on one without IWeather) too. Files among which
-no module gives temperatures at all are a part of an observatory (like ``examples/automation``),
-not a whole one: a name they do not hold is not held against them.
+refocus (or the model) without a temperature all night, so ``check`` refuses it, and a module of
+the wrong kind (a ``sensor`` on a module without ITemperatures, a ``weather_sensor`` on one without
+IWeather) too. Files among which no module gives temperatures at all are a part of an observatory
+(like ``examples/automation``), not a whole one: a name they do not hold is not held against them.
 """
 
 from __future__ import annotations

@@ -124,7 +124,7 @@ from nightcrew.robotic.mastermind import (
 )
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts.focus_fields import catalogue_rules
-from nightcrew.robotic.tasks import Task
+from nightcrew.robotic.tasks import Task, target_radec
 
 __all__ = ["Mastermind"]
 
@@ -492,7 +492,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         if keeper is not None and focus_now(slot, conditions, focus_below):
             return await keeper.first_field()
         target = task.request.configurations[0].target if task.request.configurations else None
-        return None if target is None else (target.ra, target.dec)
+        return None if target is None else target_radec(target, self.site, self.clock.time())
 
     async def _sleep(self, seconds: float) -> None:
         """Wait ``seconds`` of clock time or until woken by an event."""

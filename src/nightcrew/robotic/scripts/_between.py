@@ -44,7 +44,7 @@ from nightcrew.robotic.scripts._dither import dither_offset, dither_to_radec, di
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
-from nightcrew.robotic.tasks import Configuration, DitherConfig, InstrumentConfig, Target
+from nightcrew.robotic.tasks import Configuration, DitherConfig, InstrumentConfig, MovingTarget, Target
 from nightcrew.robotic.temperature_source import read_temperature
 from nightcrew.vfs import VirtualFileSystem
 
@@ -69,7 +69,7 @@ class Pointing:
 
     telescope: ITelescope
     pier: IPierSide | None
-    target: Target
+    target: Target | MovingTarget
     config: Configuration
     guider: IAutoGuiding | None
     offsets: IOffsetsRaDec | None
@@ -81,7 +81,7 @@ class Dithering:
     """The dither of one task run: the positions used so far and the step applied last."""
 
     config: DitherConfig
-    target: Target
+    target: Target | None  # None for a moving target: an offset would end the following
     seed: str  # the task: a resumed run dithers to the same random positions
     frames: int = 0  # frames kept since the run began
     position: int = 0  # index of the pattern position the telescope is at
@@ -98,10 +98,12 @@ class Dithering:
     def due(self) -> bool:
         """Whether the next frame is to be taken at another position than the last (never for a
         retake: no frame was kept since)."""
-        return dithers_before(self.config, self.frames) != self.position
+        return self.target is not None and dithers_before(self.config, self.frames) != self.position
 
     async def move(self, telescope: ITelescope, offsets: IOffsetsRaDec | None) -> None:
         """Move the telescope to the position the next frame is due at (guiding stopped first)."""
+        if self.target is None:
+            return  # never due for a moving target
         due = dithers_before(self.config, self.frames)
         self.position = due
         east, north = dither_offset(self.config, due, seed=self.seed)

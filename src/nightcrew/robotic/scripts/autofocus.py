@@ -11,7 +11,7 @@ from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script,
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
 from nightcrew.robotic.scripts.focus_fields import FocusFields, catalogue_rules
-from nightcrew.robotic.tasks import ConfigurationType, InstrumentConfig, Target, Task
+from nightcrew.robotic.tasks import AnyTarget, ConfigurationType, InstrumentConfig, Task, target_radec
 
 __all__ = ["AutoFocusScript", "focus_step"]
 
@@ -131,10 +131,11 @@ class AutoFocusScript(Script):
             log.info("best focus %.4f +- %.4f mm", best, error)
             await reporter.add(index, count)
 
-    async def _where(self, target: Target | None, telescope: ITelescope) -> tuple[str, float, float]:
-        """(name, ra, dec) to focus on: the task's target, else a catalogue field near the pointing."""
+    async def _where(self, target: AnyTarget | None, telescope: ITelescope) -> tuple[str, float, float]:
+        """(name, ra, dec) to focus on: the task's target (a moving one where it is now), else a
+        catalogue field near the pointing."""
         if target is not None:
-            return target.name, target.ra, target.dec
+            return (target.name, *target_radec(target, self.site, self.clock.time()))
         assert self._field is not None  # run() asks only with a target or field rules
         if self.site is None:
             raise NotSupportedError("choosing a focus field needs the observatory's site")

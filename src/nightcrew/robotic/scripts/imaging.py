@@ -7,8 +7,9 @@ import logging
 from collections.abc import Mapping
 from typing import Any
 
+from nightcrew.astro.ephemeris import next_rise
 from nightcrew.astro.pier import hour_angle
-from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.errors import ConfigError, MoveError, NotSupportedError
 from nightcrew.focus.sources import source_from_config
 from nightcrew.images.grading import GradingPolicy
 from nightcrew.interfaces import (
@@ -17,11 +18,13 @@ from nightcrew.interfaces import (
     ICamera,
     IFilters,
     ImageType,
+    INonSidereal,
     IOffsetsRaDec,
     IPierSide,
     ITelescope,
 )
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.scheduler.constraints import altitude_for_airmass
 from nightcrew.robotic.scripts._between import (
     Dithering,
     Grading,
@@ -46,7 +49,11 @@ from nightcrew.robotic.tasks import (
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
+    MovingTarget,
+    SatelliteTarget,
+    Target,
     Task,
+    target_radec,
 )
 
 __all__ = ["ImagingScript"]
@@ -186,10 +193,10 @@ class ImagingScript(Script):
         instrument = await step(
             "connect to the camera", Instrument.connect(self, self._camera, self._filters)
         )
+        if isinstance(target, SatelliteTarget):
+            await step(f"wait for {target.name}'s pass", self._wait_for_pass(target, config))
         await step(
-            f"slew to {target.name}",
-            telescope.move_radec(target.ra, target.dec),
-            on_cancel=telescope.stop_motion,
+            f"slew to {target.name}", self._point_at(telescope, target), on_cancel=telescope.stop_motion
         )
         await self._acquire(config)
         pier = await self.optional_proxy(self._telescope, IPierSide)
@@ -200,7 +207,7 @@ class ImagingScript(Script):
             config,
             await self._start_guiding(config.guiding_config),
             await self.optional_proxy(self._telescope, IOffsetsRaDec),
-            Dithering(config.dither_config, target, seed=task.id),
+            Dithering(config.dither_config, target if isinstance(target, Target) else None, seed=task.id),
         )
         try:
             reporter = ProgressReporter(task, progress)
@@ -220,7 +227,7 @@ class ImagingScript(Script):
             return False
         side = await pointing.pier.get_pier_side()
         target = pointing.target
-        ha = hour_angle(target.ra, target.dec, site.longitude, self.clock.time())
+        ha = hour_angle(*target_radec(target, site, self.clock.time()), site.longitude, self.clock.time())
         wait = flip_wait(ha, seconds, side, self._flip_past_meridian)
         if wait is None:
             return False
@@ -234,7 +241,7 @@ class ImagingScript(Script):
         telescope = pointing.telescope
         await step(
             f"meridian flip to {target.name}",
-            telescope.move_radec(target.ra, target.dec),
+            self._point_at(telescope, target),
             on_cancel=telescope.stop_motion,
         )
         if await pointing.pier.get_pier_side() is side:
@@ -254,6 +261,36 @@ class ImagingScript(Script):
         await pointing.dithering.move(pointing.telescope, pointing.offsets)
         if pointing.guider is not None:
             pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+
+    async def _wait_for_pass(self, target: SatelliteTarget, config: Configuration) -> None:
+        """Wait until the satellite has climbed above the configuration's airmass limit (the
+        scheduler plans a satellite into the slice in which its pass rises)."""
+        site = self.site
+        if site is None:
+            raise ConfigError("a satellite's pass needs the observatory's site", key="site")
+        lowest = altitude_for_airmass(config.constraints.max_airmass)
+        now = self.clock.time()
+        rises = next_rise(target.body(), site, now, lowest)
+        if rises is None:
+            raise MoveError(f"{target.name} does not rise above {lowest:.1f}° within 15 minutes")
+        if rises > now:
+            log.info("waiting %.0f s for %s to rise above %.1f°", rises - now, target.name, lowest)
+            await self.clock.sleep(rises - now)
+
+    async def _point_at(self, telescope: ITelescope, target: Target | MovingTarget) -> None:
+        """Slew to ``target``; a moving one is followed along its ephemeris where the mount can
+        (INonSidereal), else pointed at where it is now."""
+        if not isinstance(target, Target):
+            follower = await self.optional_proxy(self._telescope, INonSidereal)
+            if follower is not None:
+                await follower.move_ephemeris(target.model_dump(mode="json"))
+                return
+            log.warning(
+                "%s cannot follow a moving target: pointing at %s where it is now",
+                self._telescope,
+                target.name,
+            )
+        await telescope.move_radec(*target_radec(target, self.site, self.clock.time()))
 
     async def _refocus_after_flip(self) -> None:
         if self._refocus is not None:

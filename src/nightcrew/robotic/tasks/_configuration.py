@@ -29,16 +29,24 @@ from collections.abc import Iterator
 from enum import StrEnum
 from typing import Annotated, Self
 
-from pydantic import Field, Strict, model_validator
+from pydantic import Discriminator, Field, Strict, Tag, model_validator
 
 from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME
 from nightcrew.robotic.tasks._base import ExtraParams, Integer, Number, TaskModel, raise_problems
+from nightcrew.robotic.tasks._moving import (
+    MajorBodyTarget,
+    MpcElementsTarget,
+    OrbitalElementsTarget,
+    SatelliteTarget,
+    target_kind,
+)
 
 __all__ = [
     "MAX_EXPOSURE_COUNT",
     "MAX_TASK_SECONDS",
     "AcquisitionConfig",
     "AcquisitionMode",
+    "AnyTarget",
     "Configuration",
     "ConfigurationType",
     "Constraints",
@@ -134,6 +142,17 @@ class Target(TaskModel):
     parallax: Number = Field(default=0.0, ge=0.0)
 
 
+#: A configuration's target: sidereal (no ``type``) or one of the moving kinds of :mod:`._moving`.
+AnyTarget = Annotated[
+    Annotated[Target, Tag("SIDEREAL")]
+    | Annotated[OrbitalElementsTarget, Tag("ORBITAL_ELEMENTS")]
+    | Annotated[MpcElementsTarget, Tag("MPC_ELEMENTS")]
+    | Annotated[MajorBodyTarget, Tag("MAJOR_BODY")]
+    | Annotated[SatelliteTarget, Tag("SATELLITE")],
+    Discriminator(target_kind),
+]
+
+
 class Constraints(TaskModel):
     """Conditions the whole configuration must run under. A limit at its loosest value is no limit.
 
@@ -199,7 +218,7 @@ class Configuration(TaskModel):
     Args:
         type: What to do.
         instrument_type: The kind of instrument that must do it (free text, e.g. ``0M4-SIM-CAMERA``).
-        target: Where to point; needed for EXPOSE and REPEAT_EXPOSE.
+        target: Where to point (sidereal or moving); needed for EXPOSE and REPEAT_EXPOSE.
         constraints: Conditions to run under.
         acquisition_config: How to acquire the target.
         guiding_config: How to guide.
@@ -211,7 +230,7 @@ class Configuration(TaskModel):
 
     type: ConfigurationType
     instrument_type: str = ""
-    target: Target | None = None
+    target: AnyTarget | None = None
     constraints: Constraints = Field(default=Constraints())
     acquisition_config: AcquisitionConfig = Field(default=AcquisitionConfig())
     guiding_config: GuidingConfig = Field(default=GuidingConfig())
