@@ -35,7 +35,7 @@ from nightcrew.interfaces.enums import (
 )
 from nightcrew.interfaces.filters import IFilters
 from nightcrew.interfaces.fits import FitsCard, FitsValue, IFitsHeaderAfter, IFitsHeaderBefore
-from nightcrew.interfaces.focus import IAutoFocus, IFocuser, IFocusModel
+from nightcrew.interfaces.focus import IAutoFocus, IFocuser, IFocusModel, IFocusRange
 from nightcrew.interfaces.module import IConfig, IModule
 from nightcrew.interfaces.motion import IMotion
 from nightcrew.interfaces.pointing import (
@@ -93,6 +93,7 @@ __all__ = [
     "IFitsHeaderBefore",
     "IFlatField",
     "IFocusModel",
+    "IFocusRange",
     "IFocuser",
     "IGain",
     "IImageType",
