@@ -77,6 +77,7 @@ from nightcrew.events import (
     RapidResponseEvent,
     RoofClosingEvent,
     ScheduleChangedEvent,
+    TasksChangedEvent,
 )
 from nightcrew.focus.sources import source_from_config
 from nightcrew.interfaces import (
@@ -94,7 +95,7 @@ from nightcrew.interfaces import (
 from nightcrew.interfaces.quantities import Altitude, ExposureTime, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
-from nightcrew.modules.robotic.rapid_response import AnnouncedTasks
+from nightcrew.modules.robotic.rapid_response import AnnouncedTasks, Withdrawals
 from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
@@ -276,6 +277,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 site, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude
             ),
         )
+        self._withdrawals = Withdrawals(self._archive)
         self._recorder = TaskRecorder(self, self._archive)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
         self._running = autostart
@@ -315,6 +317,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
         await self.comm.register_event(ScheduleChangedEvent, self.on_schedule_changed)
         await self.comm.register_event(RapidResponseEvent, self.on_rapid_response)
+        await self.comm.register_event(TasksChangedEvent, self.on_tasks_changed)
 
     async def close(self) -> None:
         await super().close()
@@ -346,6 +349,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         )
         self._rapid.rapid.announce(event.ids)
         self._wake.set()
+
+    async def on_tasks_changed(self, event: TasksChangedEvent, sender: str) -> None:
+        if event.change == "cancelled" and await self._withdrawals.heard(event.ids, self._recorder.current):
+            self._wake.set()  # the running task was cancelled: stopped at once
 
     # --- IStartStop, IAutonomous, IFitsHeaderBefore --------------------------------------------
 
@@ -505,8 +512,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     # --- running a task ------------------------------------------------------------------------
 
     async def _abort_cause(self, slot: Slot) -> str | None:
-        cause = self._stop_cause or abort_cause(await self._observatory.observe(), slot)
         running = self._recorder.current
+        cause = self._stop_cause or self._withdrawals.cause(running)
+        cause = cause or abort_cause(await self._observatory.observe(), slot)
         if cause is None and running is not None:  # a focus run is not pre-empted: it is short
             rapid = await self._rapid.to_run(running, self.clock.now())
             cause = None if rapid is None else preemption_cause(rapid)
