@@ -122,6 +122,7 @@ from nightcrew.robotic.mastermind import (
     task_cards,
     time_left,
     within_constraints,
+    without_refocus,
 )
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts.focus_fields import catalogue_rules
@@ -421,6 +422,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             slots = ahead_of_plan(self._rapid.rapid.slot_now(rapid, conditions.now), slots, conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
+        slots = without_refocus(slots, tasks, focused=keeper is not None and keeper.focused)
         while True:  # ends: each round takes one slot out
             # Marked again after a slot is taken out: with a due task that may not start, the
             # next one may start early at once, not only once a new plan leaves the first out.
