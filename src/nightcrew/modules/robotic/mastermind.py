@@ -51,7 +51,11 @@ Decisions:
   names for it) the announced RAPID_RESPONSE tasks that fit now run at the next safe point: a
   running task of lower priority is stopped as for bad weather (its frame in flight stopped and
   kept, the task FAILED with its progress, planned again later) and the rapid-response task runs
-  in a slot from now, ahead of the plan (docs/rapid-response.md).
+  in a slot from now, ahead of the plan (docs/rapid-response.md). It does not wait for a due
+  refocus (only for the first focus since the start).
+* **Cancelled while running** (a retracted alert, an operator): on a TasksChangedEvent saying so,
+  the task the archive holds as CANCELED is stopped at once, its frame in flight kept; it stays
+  CANCELED.
 * **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
   before its slot if it can be observed from now on (a task that ended early leaves no gap).
 * **Progress** of a task is recorded in the archive in the background: the exposure loop does not
