@@ -51,7 +51,11 @@ Decisions:
   names for it) the announced RAPID_RESPONSE tasks that fit now run at the next safe point: a
   running task of lower priority is stopped as for bad weather (its frame in flight stopped and
   kept, the task FAILED with its progress, planned again later) and the rapid-response task runs
-  in a slot from now, ahead of the plan (docs/rapid-response.md).
+  in a slot from now, ahead of the plan (docs/rapid-response.md). It does not wait for a due
+  refocus (only for the first focus since the start).
+* **Cancelled while running** (a retracted alert, an operator): on a TasksChangedEvent saying so,
+  the task the archive holds as CANCELED is stopped at once, its frame in flight kept; it stays
+  CANCELED.
 * **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
   before its slot if it can be observed from now on (a task that ended early leaves no gap).
 * **Progress** of a task is recorded in the archive in the background: the exposure loop does not
@@ -77,6 +81,7 @@ from nightcrew.events import (
     RapidResponseEvent,
     RoofClosingEvent,
     ScheduleChangedEvent,
+    TasksChangedEvent,
 )
 from nightcrew.focus.sources import source_from_config
 from nightcrew.interfaces import (
@@ -94,7 +99,7 @@ from nightcrew.interfaces import (
 from nightcrew.interfaces.quantities import Altitude, ExposureTime, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
-from nightcrew.modules.robotic.rapid_response import AnnouncedTasks
+from nightcrew.modules.robotic.rapid_response import AnnouncedTasks, Withdrawals
 from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
@@ -121,6 +126,7 @@ from nightcrew.robotic.mastermind import (
     task_cards,
     time_left,
     within_constraints,
+    without_refocus,
 )
 from nightcrew.robotic.runner import TaskRunner
 from nightcrew.robotic.scripts.focus_fields import catalogue_rules
@@ -276,6 +282,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 site, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude
             ),
         )
+        self._withdrawals = Withdrawals(self._archive)
         self._recorder = TaskRecorder(self, self._archive)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
         self._running = autostart
@@ -315,6 +322,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
         await self.comm.register_event(ScheduleChangedEvent, self.on_schedule_changed)
         await self.comm.register_event(RapidResponseEvent, self.on_rapid_response)
+        await self.comm.register_event(TasksChangedEvent, self.on_tasks_changed)
 
     async def close(self) -> None:
         await super().close()
@@ -346,6 +354,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         )
         self._rapid.rapid.announce(event.ids)
         self._wake.set()
+
+    async def on_tasks_changed(self, event: TasksChangedEvent, sender: str) -> None:
+        if event.change == "cancelled" and await self._withdrawals.heard(event.ids, self._recorder.current):
+            self._wake.set()  # the running task was cancelled: stopped at once
 
     # --- IStartStop, IAutonomous, IFitsHeaderBefore --------------------------------------------
 
@@ -414,6 +426,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             slots = ahead_of_plan(self._rapid.rapid.slot_now(rapid, conditions.now), slots, conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
+        slots = without_refocus(slots, tasks, focused=keeper is not None and keeper.focused)
         while True:  # ends: each round takes one slot out
             # Marked again after a slot is taken out: with a due task that may not start, the
             # next one may start early at once, not only once a new plan leaves the first out.
@@ -505,8 +518,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     # --- running a task ------------------------------------------------------------------------
 
     async def _abort_cause(self, slot: Slot) -> str | None:
-        cause = self._stop_cause or abort_cause(await self._observatory.observe(), slot)
         running = self._recorder.current
+        cause = self._stop_cause or self._withdrawals.cause(running)
+        cause = cause or abort_cause(await self._observatory.observe(), slot)
         if cause is None and running is not None:  # a focus run is not pre-empted: it is short
             rapid = await self._rapid.to_run(running, self.clock.now())
             cause = None if rapid is None else preemption_cause(rapid)

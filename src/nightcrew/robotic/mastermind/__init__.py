@@ -41,6 +41,7 @@ from nightcrew.robotic.mastermind._preemption import (
     ahead_of_plan,
     preempting_task,
     preemption_cause,
+    without_refocus,
 )
 from nightcrew.robotic.mastermind._recording import TaskRecorder
 from nightcrew.robotic.mastermind._schedule import ScheduleReader
@@ -113,4 +114,5 @@ __all__ = [
     "time_left",
     "window_begun",
     "within_constraints",
+    "without_refocus",
 ]

@@ -82,6 +82,11 @@ class FocusKeeper:
         self._temperature: float | None = None
         self._retry_at: float | None = None  # clock time before which a failed focus is not retried
 
+    @property
+    def focused(self) -> bool:
+        """Whether a focus succeeded since the start (a refocus may be due, the first one is not)."""
+        return self._focused
+
     async def focus_below(self) -> float | None:
         """The highest Sun altitude to focus at if a focus is due, else None."""
         if self._retry_at is not None and self._host.clock.time() < self._retry_at:
