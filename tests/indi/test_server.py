@@ -105,7 +105,8 @@ async def served() -> AsyncIterator[Served]:
 
 
 async def test_getprop_lists_the_simulated_observatory_with_the_telescope_position(served: Served) -> None:
-    kinds = {"telescope": "1", "camera": "2", "focuser": "8", "filters": "16", "dome": "32"}
+    # The telescope is also a guider (4): it takes timed guide pulses.
+    kinds = {"telescope": "5", "camera": "2", "focuser": "8", "filters": "16", "dome": "32"}
     values = await getprop(served.port, *(f"{d}.DRIVER_INFO.DRIVER_INTERFACE" for d in kinds))
     assert values == {f"{d}.DRIVER_INFO.DRIVER_INTERFACE": bits for d, bits in kinds.items()}
 
