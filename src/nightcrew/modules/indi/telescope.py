@@ -26,7 +26,7 @@ from typing import Any
 from nightcrew.astro import angular_separation, j2000_to_of_date, of_date_to_j2000
 from nightcrew.bridges.indi import IndiUpdate, PropertyState, Vector
 from nightcrew.errors import InvalidArgumentError, MoveError
-from nightcrew.interfaces import MotionStatus, PierSide
+from nightcrew.interfaces import ISyncRaDec, MotionStatus, PierSide
 from nightcrew.modules.indi.link import IndiModule
 from nightcrew.modules.telescope import BaseTelescope
 
@@ -41,7 +41,7 @@ _ON_TARGET = 0.01
 _APPROACHES = 3
 
 
-class IndiTelescope(IndiModule, BaseTelescope):
+class IndiTelescope(IndiModule, BaseTelescope, ISyncRaDec):
     """An INDI mount.
 
     Args:
