@@ -82,7 +82,7 @@ bench: setup
 # KStars/Ekos against nightcrew's IndiServer under Xvfb and a private D-Bus session (bench/ekos.py);
 # these packages are the bench's only, not the test suite's (tests/indi/test_ekos_properties.py
 # checks with indi-bin what Ekos asked for here).
-EKOS_PACKAGES := kstars xvfb xauth dbus-bin libglib2.0-bin
+EKOS_PACKAGES := kstars xvfb xauth dbus-daemon libglib2.0-bin
 bench-ekos: setup
 	bash scripts/install-system-deps.sh $(EKOS_PACKAGES)
 	$(PY) bench/ekos.py
