@@ -262,7 +262,9 @@ class IndiServer(Module):
     async def _on_element(self, client: IndiClient, element: ET.Element) -> None:
         tag = element.tag
         if tag == "getProperties" or tag.startswith("new"):  # what clients ask for (bench/ekos.py)
-            log.debug("INDI client %s: %s %s.%s", client.address, tag, element.get("device"), element.get("name"))
+            log.debug(
+                "INDI client %s: %s %s.%s", client.address, tag, element.get("device"), element.get("name")
+            )
         if tag == "getProperties":
             self._define(client, element.get("device"), element.get("name"))
         elif tag.startswith("new") and tag.endswith("Vector"):

@@ -20,6 +20,7 @@ West lowers RA, east raises it (in RA degrees, as sidereal rate counts); north r
 from __future__ import annotations
 
 import asyncio
+import contextlib
 from typing import TYPE_CHECKING, Any
 
 from nightcrew.bridges.indi.server_vectors import (
@@ -90,7 +91,8 @@ class HandControls:
 
     def __init__(self, device: str, link: ServerLink) -> None:
         self._link = link
-        self._moving: dict[str, asyncio.Task[None]] = {}  # property name -> its motion loop
+        # property name -> its motion loop and what stops it
+        self._moving: dict[str, tuple[asyncio.Task[None], asyncio.Event]] = {}
         self.slew_rate = Property(
             device,
             "TELESCOPE_SLEW_RATE",
@@ -156,11 +158,17 @@ class HandControls:
         vector.state = PropertyState.OK
         self._link.publish(vector)
 
-    def motion(self, telescope: IOffsetsRaDec, vector: Property[Any], values: Values) -> None:
-        """Start or stop a manual motion; the vector is Busy while it moves."""
+    async def motion(self, telescope: IOffsetsRaDec, vector: Property[Any], values: Values) -> None:
+        """Start or stop a manual motion; the vector is Busy while it moves.
+
+        A running motion ends after its current step (never cancelled halfway through a call to
+        the telescope, which would leave its offset slew unfinished).
+        """
         running = self._moving.pop(vector.name, None)
         if running is not None:
-            running.cancel()
+            task, stop = running
+            stop.set()
+            await asyncio.gather(task, return_exceptions=True)
         direction = next((name for name, on in values.items() if on), None)
         for member in vector.members:
             member.on = member.name == direction
@@ -170,16 +178,23 @@ class HandControls:
             return
         vector.state = PropertyState.BUSY
         self._link.publish(vector)
-        task = asyncio.create_task(self._move(telescope, vector, direction), name=f"INDI {vector.where}")
-        self._moving[vector.name] = task
+        stop = asyncio.Event()
+        task = asyncio.create_task(
+            self._move(telescope, vector, direction, stop), name=f"INDI {vector.where}"
+        )
+        self._moving[vector.name] = (task, stop)
 
-    async def _move(self, telescope: IOffsetsRaDec, vector: Property[Any], direction: str) -> None:
+    async def _move(
+        self, telescope: IOffsetsRaDec, vector: Property[Any], direction: str, stop: asyncio.Event
+    ) -> None:
         rate = next(SLEW_RATES[m.name] for m in self.slew_rate.members if m.on) * SIDEREAL_DEG_PER_S
         step = rate * MOTION_STEP
         try:
-            while True:
+            while not stop.is_set():
                 await _offset_by(telescope, direction, step)
-                await asyncio.sleep(MOTION_STEP)  # a hand paddle moves in the user's (wall) time
+                with contextlib.suppress(TimeoutError):  # a hand paddle moves in the user's (wall) time
+                    async with asyncio.timeout(MOTION_STEP):
+                        await stop.wait()
         except Exception as exc:  # the motion ends in Alert with the reason; the server goes on
             for member in vector.members:
                 member.on = False
@@ -201,11 +216,11 @@ class HandControls:
             member.value = 0.0
 
     async def close(self) -> None:
-        tasks = list(self._moving.values())
+        running = list(self._moving.values())
         self._moving.clear()
-        for task in tasks:
-            task.cancel()
-        await asyncio.gather(*tasks, return_exceptions=True)
+        for _, stop in running:
+            stop.set()
+        await asyncio.gather(*(task for task, _ in running), return_exceptions=True)
 
 
 async def _offset_by(telescope: IOffsetsRaDec, direction: str, degrees: float) -> None:

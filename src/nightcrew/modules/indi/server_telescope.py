@@ -242,17 +242,17 @@ class ServedTelescope(ServedDevice[ITelescope]):
             self.time_utc.message = "nightcrew keeps its own clock; the time sent is not applied"
             self._link.publish(self.time_utc)
         elif self.hand is not None and isinstance(telescope, IOffsetsRaDec):
-            self._hand_request(self.hand, telescope, vector, values)
+            await self._hand_request(self.hand, telescope, vector, values)
         else:
             raise InvalidArgumentError(f"{vector.where} cannot be set")
 
-    def _hand_request(
+    async def _hand_request(
         self, hand: HandControls, telescope: IOffsetsRaDec, vector: Property[Any], values: Values
     ) -> None:
         if vector in (hand.slew_rate, hand.guide_rate):
             hand.set_rate(vector, values)
         elif vector in (hand.motion_ns, hand.motion_we):
-            hand.motion(telescope, vector, values)
+            await hand.motion(telescope, vector, values)
         elif vector in (hand.guide_ns, hand.guide_we):
             self._start(vector, hand.pulse(telescope, vector, values))
         else:
