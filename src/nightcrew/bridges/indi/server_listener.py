@@ -194,7 +194,6 @@ class IndiListener:
             to finish each element it begins; then it is disconnected.
         max_element_bytes: Largest element a client may send (the server accepts no BLOBs).
         max_pending_bytes: Most a client may leave unread before it is disconnected.
-        on_disconnect: Called with each client whose connection ended, for whatever reason.
     """
 
     def __init__(
@@ -208,11 +207,9 @@ class IndiListener:
         idle_timeout: float = 30.0,
         max_element_bytes: int = 1 << 20,
         max_pending_bytes: int = 256 << 20,
-        on_disconnect: Callable[[IndiClient], None] | None = None,
     ) -> None:
         self._host, self._port = host, port
         self._handler = handler
-        self._on_disconnect = on_disconnect
         self._max_clients = max_clients
         self._max_per_address = max_clients_per_address
         self._idle_timeout = idle_timeout
@@ -290,8 +287,6 @@ class IndiListener:
             await asyncio.gather(writing, return_exceptions=True)
             self._clients.pop(client, None)
             log.info("INDI client %s disconnected", client.address)
-            if self._on_disconnect is not None:
-                self._on_disconnect(client)
 
     def _make_room(self, new: IndiClient) -> str | None:
         """Room for ``new`` within the limits (dropping silent connections), or why there is none."""

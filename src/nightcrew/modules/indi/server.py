@@ -153,10 +153,8 @@ class IndiServer(Module):
             max_clients=max_clients,
             max_clients_per_address=max_clients_per_address,
             idle_timeout=float(idle_timeout),
-            on_disconnect=self._on_disconnect,
         )
         self._manual: ManualMode | None = None
-        self._releases: set[asyncio.Task[None]] = set()
         if robotic is not None:
             if not isinstance(robotic, str) or not robotic.strip():
                 raise ConfigError(f"must be a module name, got {robotic!r}", key="robotic")
@@ -200,7 +198,6 @@ class IndiServer(Module):
             for device in self._devices.values():
                 await device.close()
             await self._listener.close()
-            await asyncio.gather(*self._releases, return_exceptions=True)
 
     # --- ServerLink ----------------------------------------------------------------------------
 
@@ -215,12 +212,6 @@ class IndiServer(Module):
 
     def _announce(self, text: str) -> None:
         self._listener.broadcast(_xml(message_element(None, text)), None, None)
-
-    def _on_disconnect(self, client: IndiClient) -> None:
-        if self._manual is not None and self.state not in (ModuleState.CLOSING, ModuleState.CLOSED):
-            task = asyncio.create_task(self._manual.release(client), name="INDI robotic mode back")
-            self._releases.add(task)
-            task.add_done_callback(self._releases.discard)
 
     def wake(self, device: str) -> None:
         if device in self._wakes:
@@ -292,7 +283,7 @@ class IndiServer(Module):
         try:
             values = parse_new(element, vector)
             if self._manual is not None:
-                await self._manual.take(client, client.address)
+                await self._manual.take(client.address)
             await served.request(vector, values)
         except NightcrewError as exc:
             log.info("INDI client %s: %s refused: %s", client.address, vector.where, exc)

@@ -1,13 +1,16 @@
 """Who drives: the robotic mode, or an INDI client (IndiServer's ``robotic`` option).
 
-The rule: the first request of an INDI client to a device (any ``new*Vector`` naming a served
-property) stops the robotic mode. The robotic module then does what it always does when stopped:
-it ends its task, closes the roof and parks. The request waits for that - until the robotic module
-reports no task and the served telescope and dome are parked - and then runs. From then on the
-clients drive. When the last client that sent a request disconnects, the robotic mode is started
-again (if it was running when the client took over). A robotic module that cannot be stopped, or
-does not hand over within ``handover_timeout`` wall seconds, refuses the request (Alert with the
-reason): nothing moves while two drivers could.
+The rule: a request of an INDI client to a device (any ``new*Vector`` naming a served property)
+while the robotic mode runs stops the robotic mode. The robotic module then does what it always
+does when stopped: it ends its task, closes the roof and parks. The request waits for that - until
+the robotic module reports ``stopped`` (not ``stopping``) without a task and the served telescope
+and dome are parked - and then runs.
+From then on the clients drive, one request or one connection after another (indi_setprop connects
+once per request), and the robotic mode stays off until an operator starts it again (the web
+console's *Start robotic mode*, or ``start`` of the mastermind over the comm); the next request of
+an INDI client then stops it again. A robotic module that cannot be stopped, or does not hand over
+within ``handover_timeout`` wall seconds, refuses the request (Alert with the reason): nothing
+moves while two drivers could.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import logging
 from collections.abc import Awaitable, Callable
 from typing import Any
 
-from nightcrew.errors import ModuleError, NightcrewError
+from nightcrew.errors import ModuleError
 from nightcrew.interfaces import IMotion, IRobotic, IStartStop, MotionStatus
 
 __all__ = ["ManualMode"]
@@ -29,7 +32,7 @@ _LOOK = 0.2
 
 
 class ManualMode:
-    """Hands the observatory from the robotic module to INDI clients and back.
+    """Hands the observatory from the robotic module to INDI clients.
 
     Args:
         robotic: Name of the IStartStop module (the mastermind).
@@ -52,42 +55,33 @@ class ManualMode:
         self._parked = parked
         self._timeout = handover_timeout
         self._announce = announce
-        self._drivers: set[object] = set()  # the connected clients that sent a request
-        self._resume = False  # whether robotic mode ran when the clients took over
         self._lock = asyncio.Lock()
 
-    @property
-    def manual(self) -> bool:
-        return bool(self._drivers)
-
-    async def take(self, client: object, who: str) -> None:
-        """Make ``client`` one of the drivers, stopping the robotic mode first if it runs.
+    async def take(self, who: str) -> None:
+        """Stop the robotic mode if it runs and wait until it has handed over; then clients drive.
 
         Raises:
-            ModuleError: the robotic module cannot be stopped or does not hand over in time.
+            NightcrewError: the robotic module cannot be reached or stopped, or does not hand over in time.
         """
-        async with self._lock:
-            if self._drivers:
-                self._drivers.add(client)
-                return
+        async with self._lock:  # one handover at a time; later requests find robotic mode off
             robotic = await self._proxy(self.robotic, IStartStop)
-            running = await robotic.is_running()
-            if running:
-                log.info("INDI client %s drives: stopping the robotic mode of %s", who, self.robotic)
-                self._announce(f"robotic mode of {self.robotic} stopped: an INDI client drives now")
-                await robotic.stop()
-                await self._wait_for_handover(robotic)
-            self._resume = self._resume or running
-            self._drivers.add(client)
+            if not await robotic.is_running():
+                return
+            log.info("INDI client %s drives: stopping the robotic mode of %s", who, self.robotic)
+            self._announce(f"robotic mode of {self.robotic} stopped: INDI clients drive now")
+            await robotic.stop()
+            await self._wait_for_handover(robotic)
+            log.info("the robotic mode of %s handed over to INDI clients", self.robotic)
 
     async def _wait_for_handover(self, robotic: Any) -> None:
         motions = [await self._proxy(name, IMotion) for name in self._parked]
         try:
             async with asyncio.timeout(self._timeout):
                 while True:
-                    idle = (
-                        not isinstance(robotic, IRobotic) or (await robotic.get_robotic_status()).task is None
-                    )
+                    idle = True
+                    if isinstance(robotic, IRobotic):  # "stopped": no task, and closed and parked since
+                        status = await robotic.get_robotic_status()
+                        idle = status.action == "stopped" and status.task is None
                     statuses = [await m.get_motion_status() for m in motions]
                     if idle and all(s is MotionStatus.PARKED for s in statuses):
                         return
@@ -97,21 +91,3 @@ class ManualMode:
                 f"the robotic mode of {self.robotic} did not hand over (end its task, park "
                 f"{', '.join(self._parked)}) within {self._timeout:g} s"
             ) from None
-
-    async def release(self, client: object) -> None:
-        """``client`` disconnected; the last driver gone, robotic mode starts again if it ran."""
-        async with self._lock:
-            if client not in self._drivers:
-                return
-            self._drivers.discard(client)
-            if self._drivers or not self._resume:
-                return
-            self._resume = False
-            try:
-                robotic = await self._proxy(self.robotic, IStartStop)
-                await robotic.start()
-                log.info(
-                    "the last INDI client that drove left: robotic mode of %s started again", self.robotic
-                )
-            except NightcrewError as exc:
-                log.error("cannot start the robotic mode of %s again: %s", self.robotic, exc)
