@@ -13,13 +13,18 @@ import contextlib
 
 import pytest
 
-from nightcrew.astro import altaz_to_radec
+from nightcrew.astro import altaz_to_radec, angular_separation, j2000_to_of_date
 from nightcrew.bridges.indi import IndiClient
+from nightcrew.clock import RealClock
 from nightcrew.interfaces import MotionStatus
+from nightcrew.modules.indi import IndiTelescope
+from nightcrew.modules.indi.server import IndiServer
 from nightcrew.modules.indi.server_guiding import SIDEREAL_DEG_PER_S
+from nightcrew.testing import Observatory
 from nightcrew.testing import wait_for as wait_until
+from nightcrew.testing.indi import IndiServer as IndiSimulators
 from tests.indi.served import SITE, Served
-from tests.indi.server_clients import PATIENCE, getprop, setprop, wait_for
+from tests.indi.server_clients import PATIENCE, getprop, require_clients, setprop, wait_for
 
 #: What Ekos sent or read in bench/ekos.py (see its output in docs/indi.md).
 EKOS_ASKED = {
@@ -241,3 +246,35 @@ async def test_cooling_focuser_steps_and_dome_parking(served: Served) -> None:
         lambda v: v["dome.DOME_PARK.PARK"] == "On" and v["dome.DOME_PARK._STATE"] == "Ok",
     )
     assert await served.dome.get_motion_status() is MotionStatus.PARKED
+
+
+async def test_sync_through_the_server_reaches_a_mount_that_can_sync(indi_server: IndiSimulators) -> None:
+    """ON_COORD_SET SYNC then EQUATORIAL_EOD_COORD: sync_radec() of the served telescope - here an
+    IndiTelescope on indi-bin's simulator, so the chain is Ekos-like client, IndiServer, nightcrew,
+    INDI driver."""
+    require_clients()
+    async with Observatory(clock=RealClock()) as obs:
+        telescope = await obs.start(
+            IndiTelescope,
+            "telescope",
+            host=indi_server.host,
+            port=indi_server.port,
+            device="Telescope Simulator",
+        )
+        server = await obs.start(IndiServer, "indi", port=0, telescope="telescope", poll_interval=0.2)
+        port = str(server.port)
+        await telescope.init()
+        ra, dec = await telescope.get_radec()
+        now = j2000_to_of_date(ra, dec + 0.5, obs.clock.time())
+        await setprop(port, "telescope.ON_COORD_SET.SYNC=On")
+        await setprop(port, f"telescope.EQUATORIAL_EOD_COORD.RA;DEC={now[0] / 15.0};{now[1]}")
+        await wait_for(
+            port,
+            ["telescope.EQUATORIAL_EOD_COORD.DEC", "telescope.EQUATORIAL_EOD_COORD._STATE"],
+            lambda v: (
+                v["telescope.EQUATORIAL_EOD_COORD._STATE"] == "Ok"
+                and abs(float(v["telescope.EQUATORIAL_EOD_COORD.DEC"]) - now[1]) < 1 / 60
+            ),
+        )
+        assert angular_separation(*await telescope.get_radec(), ra, dec + 0.5) < 1 / 60
+        assert await telescope.get_motion_status() is not MotionStatus.SLEWING  # synced, not slewed
