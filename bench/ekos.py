@@ -67,14 +67,19 @@ class AskedFor(logging.Handler):
         super().__init__(logging.DEBUG)
         self.get: set[str] = set()
         self.new: set[str] = set()
+        self.get_all = 0  # getProperties of every device at once
 
     def emit(self, record: logging.LogRecord) -> None:
         match = _ASKED.match(record.getMessage())
         if match is None:
             return
         kind, device, name = match.groups()
-        if device != "None":
-            (self.get if kind == "getProperties" else self.new).add(f"{device}.{name}")
+        if kind == "getProperties" and device == "None":
+            self.get_all += 1
+        elif kind == "getProperties":
+            self.get.add(f"{device}.{name}")
+        else:
+            self.new.add(f"{device}.{name}")
 
 
 class Steps:
@@ -302,7 +307,7 @@ async def run(out: Path, keep: bool) -> int:
     print("\nsteps (wall seconds):")
     for name, seconds in steps.times.items():
         print(f"  {seconds:7.1f}  {name}")
-    print("\nproperties Ekos asked for (getProperties):")
+    print(f"\nproperties Ekos asked for (getProperties): every device's {asked.get_all} time(s)")
     for name in sorted(asked.get):
         print(f"  {name}")
     print("properties Ekos set (new*Vector):")
