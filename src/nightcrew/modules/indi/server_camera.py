@@ -156,10 +156,8 @@ class ServedCamera(ServedDevice[ICamera]):
                 await camera.get_exposure_time_left(), 3
             )
         self._follow(self.exposure, busy=exposing, failed=status is ExposureStatus.ERROR)
-        if self.settings.temperature is not None:
-            await self.settings.update(camera, self.acting(self.settings.temperature))
-        else:
-            await self.settings.update(camera, False)
+        temperature = self.settings.temperature
+        await self.settings.update(camera, temperature is not None and self.acting(temperature))
         if self.frame is not None and isinstance(camera, IWindow):
             window = await camera.get_window()
             for key, value in (
