@@ -166,6 +166,9 @@ def test_the_example_server_config_checks(tmp_path: Path) -> None:
             "nothing to serve",
         ),
         ({"dome": "telescope"}, "key 'dome': module 'telescope' is already served as another device"),
+        ({"pixel_size": 200}, "key 'pixel_size': must be 0 .. 100 µm, got 200"),
+        ({"robotic": " "}, "key 'robotic': must be a module name, got ' '"),
+        ({"handover_timeout": 0}, "key 'handover_timeout': must be 1 .. 3600 seconds, got 0"),
     ],
 )
 def test_bad_server_options_are_named(change: dict[str, object], message: str) -> None:
