@@ -388,6 +388,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         return robotic_status(
             self.clock.now(),
             running=self._running,
+            safe=self._safe_since_stop,
             action=self._last_action,
             conditions=self._conditions,
             task=self._recorder.current,
