@@ -5,9 +5,9 @@ The night is cut into equal *slices* of ``step`` seconds; slice ``i`` covers
 and a constraint holds on a slice when it holds at both its edges (within 5 minutes altitude and
 separation change monotonically, so this is exact up to turning points).
 
-Sun, Moon and target altitudes come from :mod:`nightcrew.astro` (Moon to ~0.3°, geocentric; targets
-to about an arcminute), each in one array call over the edges (targets: over targets and edges,
-with one precession at mid-night).
+Sun, Moon and target altitudes come from :mod:`nightcrew.astro` (Sun and Moon seen from the site,
+topocentric; Moon to ~10", targets to about an arcminute), each in one array call over the edges
+(targets: over targets and edges, with one precession at mid-night).
 """
 
 from __future__ import annotations
@@ -92,8 +92,8 @@ class SkyGrid:
         edges = grid.edges
         self.edges = edges
         lat, lon = site.latitude, site.longitude
-        self.sun_altitude = sun_altitude(lat, lon, edges)
-        self.moon_ra, self.moon_dec = moon_radec(edges)
+        self.sun_altitude = sun_altitude(lat, lon, edges, site.elevation)
+        self.moon_ra, self.moon_dec = moon_radec(edges, site)  # seen from the site: up to 1° off
         self.moon_illumination = moon_illumination(edges)
         middle = grid.start + grid.step * grid.n_slices / 2
         positions = np.array([b.target.position_at(middle) for b in self.blocks]).reshape(-1, 2)
