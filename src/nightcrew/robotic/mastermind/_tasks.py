@@ -8,6 +8,7 @@ from datetime import datetime, timedelta
 from nightcrew.interfaces import FitsCard
 from nightcrew.robotic.mastermind._decide import Slot, SunLimits
 from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.scheduler.slew import SlewModel
 from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress, estimate_duration
 from nightcrew.robotic.tasks.visibility import observable_stretches
 from nightcrew.site import Site
@@ -20,6 +21,7 @@ __all__ = [
     "needs_sky",
     "observable_since",
     "planned_exposures",
+    "slew_before",
     "slot_for",
     "startable_from",
     "startable_now",
@@ -107,6 +109,19 @@ def startable_from(request: Request, site: Site, start: datetime, *, lookback: t
 def time_left(task: Task) -> timedelta:
     """How long ``task`` takes from its recorded progress on (the default overheads, set-up included)."""
     return timedelta(seconds=estimate_duration(task.request, progress=task.status.progress).total_s)
+
+
+def slew_before(
+    task: Task, model: SlewModel, site: Site, pointing: tuple[float, float], now: datetime
+) -> timedelta:
+    """The slew (the scheduler's model, :class:`~nightcrew.robotic.scheduler.slew.SlewModel`) from
+    where the telescope points to the task's first target; nothing for a task without one."""
+    configurations = task.request.configurations
+    target = configurations[0].target if configurations else None
+    if target is None:
+        return timedelta(0)
+    seconds = model.slew_s(site, pointing, (float(target.ra), float(target.dec)), now.timestamp())
+    return timedelta(seconds=float(seconds))
 
 
 def within_constraints(

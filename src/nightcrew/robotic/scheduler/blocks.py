@@ -100,6 +100,12 @@ class SchedulableBlock:
         constraints: Conditions that must hold during the whole block.
         windows: (start, end) intervals the block must lie within; empty: any time of the night.
         setup_s: Fixed overhead before the block (instrument set-up, acquisition), >= 0.
+        first_filter: The filter its first exposure uses ("" unknown): a slew model charges a
+            filter change when it differs from the block before's ``last_filter``.
+        last_filter: The filter its last exposure uses.
+        instrument: The instrument it uses ("" unknown): another one costs an instrument set-up.
+        early_start_weight: Value per hour of starting earlier (0: none; for time-critical
+            requests, which should start as early as their window and the telescope allow).
     """
 
     id: str
@@ -109,6 +115,10 @@ class SchedulableBlock:
     constraints: Constraints = field(default_factory=Constraints)
     windows: tuple[tuple[datetime, datetime], ...] = ()
     setup_s: float = 0.0
+    first_filter: str = ""
+    last_filter: str = ""
+    instrument: str = ""
+    early_start_weight: float = 0.0
 
     def __post_init__(self) -> None:
         owner = f"block {self.id!r}"
@@ -124,6 +134,10 @@ class SchedulableBlock:
             raise InvalidArgumentError(f"{owner}: target dec must be within -90..90, got {self.target.dec}")
         if not math.isfinite(self.target.ra):
             raise InvalidArgumentError(f"{owner}: target ra must be finite, got {self.target.ra}")
+        if not (math.isfinite(self.early_start_weight) and self.early_start_weight >= 0):
+            raise InvalidArgumentError(
+                f"{owner}: early_start_weight must be >= 0, got {self.early_start_weight}"
+            )
         self.constraints.check(owner)
         object.__setattr__(self, "windows", tuple(tuple(w) for w in self.windows))
         for start, end in self.windows:

@@ -27,12 +27,11 @@ three steps, each keeping a proven upper bound:
    ``kernel_size``, best bound first); when none was left out, HiGHS's dual bound
    (``OptimizeResult.mip_dual_bound``) holds for the whole problem.
 
-Pure: arrays in, arrays out; no clock, no I/O (wall time only to honour the time limit).
+Pure and deterministic: arrays in, arrays out; no clock, no I/O. Every limit counts work (steps,
+variables, nodes), so a busy machine gets the same plan later, not a different one.
 """
 
 from __future__ import annotations
-
-import time
 
 import numpy as np
 import numpy.typing as npt
@@ -56,39 +55,45 @@ def solve_time_indexed(
     lengths: IntArray,
     weights: FloatArray,
     *,
-    time_limit: float = 10.0,
+    node_limit: int = 2000,
     mip_rel_gap: float = 5e-3,
     kernel_size: int = 4000,
     lp_max_entries: int = 1_000_000,
 ) -> Placement:
     """Choose start slices maximising the weight of the placed blocks without overlaps.
 
+    The work is limited by counts (subgradient steps, kernel variables, branch-and-bound nodes),
+    never by the clock: the same arrays give the same schedule on a quiet and on a busy machine.
+
     Args:
         can_start: (n_blocks, n_slices): where each block may start.
-        lengths: Slices each block occupies once started (>= 1).
-        weights: Value of placing each block (> 0).
-        time_limit: Seconds to spend in all; the best schedule found so far is returned then.
+        lengths: Slices each block occupies once started (>= 1): per block (n_blocks,) or per block
+            and start (n_blocks, n_slices).
+        weights: Value of placing each block (> 0): per block (n_blocks,) or per block and start
+            (n_blocks, n_slices), e.g. with an early-start term.
+        node_limit: Most branch-and-bound nodes HiGHS explores (step 3 above).
         mip_rel_gap: Stop when (bound - objective) / bound is below this.
         kernel_size: Most variables handed to the MIP (step 3 above).
         lp_max_entries: Largest no-overlap matrix (non-zero entries) whose LP gives the first
             prices (step 1 above).
     """
-    deadline = time.perf_counter() + time_limit
     n_blocks, n_slices = can_start.shape
     block_of, start_of = np.nonzero(can_start)
     starts = np.full(n_blocks, -1, dtype=np.int64)
     if len(block_of) == 0:
         return Placement(starts, 0.0, 0.0, "optimal")
+    spans = np.broadcast_to(lengths.reshape(n_blocks, -1), (n_blocks, n_slices))
+    values = np.broadcast_to(weights.reshape(n_blocks, -1), (n_blocks, n_slices))
     variables = IntervalVariables(
-        block_of, start_of, lengths[block_of], weights[block_of], n_blocks, n_slices
+        block_of, start_of, spans[block_of, start_of], values[block_of, start_of], n_blocks, n_slices
     )
-    chosen, objective, bound, status = _solve(variables, kernel_size, deadline, mip_rel_gap, lp_max_entries)
+    chosen, objective, bound, status = _solve(variables, kernel_size, node_limit, mip_rel_gap, lp_max_entries)
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)
 
 
 def _solve(
-    variables: IntervalVariables, kernel_size: int, deadline: float, mip_rel_gap: float, lp_max_entries: int
+    variables: IntervalVariables, kernel_size: int, node_limit: int, mip_rel_gap: float, lp_max_entries: int
 ) -> tuple[IntArray, float, float, str]:
     """Chosen variables, their value, a proven upper bound and a status (steps 1-3 of the module)."""
     costs = variables.value_of
@@ -112,10 +117,8 @@ def _solve(
     through = bounds_through(variables, lagrangian.prices)
     useful = np.flatnonzero(through >= incumbent - 1e-9)
     kernel = useful[np.argsort(-through[useful], kind="stable")[:kernel_size]]
-    if deadline - time.perf_counter() < 0.2:
-        return best, incumbent, upper, "limit reached"
     chosen, objective, kernel_bound, status = _solve_mip(
-        _constraint_matrix(variables, kernel), costs[kernel], deadline - time.perf_counter(), mip_rel_gap
+        _constraint_matrix(variables, kernel), costs[kernel], node_limit, mip_rel_gap
     )
     if objective > incumbent:
         best, incumbent = kernel[chosen], objective
@@ -125,7 +128,7 @@ def _solve(
 
 
 def _solve_mip(
-    matrix: csr_array, costs: FloatArray, time_limit: float, mip_rel_gap: float
+    matrix: csr_array, costs: FloatArray, node_limit: int, mip_rel_gap: float
 ) -> tuple[IntArray, float, float, str]:
     """Chosen variables, objective, HiGHS's dual bound and status of max costs.x, matrix.x <= 1."""
     result = milp(
@@ -133,7 +136,7 @@ def _solve_mip(
         integrality=np.ones(len(costs)),
         bounds=(0, 1),
         constraints=LinearConstraint(matrix, -np.inf, 1.0),
-        options={"time_limit": max(0.1, time_limit), "mip_rel_gap": float(mip_rel_gap), "presolve": True},
+        options={"node_limit": int(node_limit), "mip_rel_gap": float(mip_rel_gap), "presolve": True},
     )
     status = _STATUS.get(int(result.status), f"status {result.status}")
     bound = float(-result.mip_dual_bound) if result.mip_dual_bound is not None else float(costs.sum())
