@@ -50,7 +50,8 @@ class Scheduler:
             again), added to every block whose target may cross the meridian in it; 0: no flips.
         time_limit_s: Accepted for configuration files written for earlier versions; it decides
             nothing: the MIP's work is limited by ``node_limit`` (deterministic, not wall time).
-        node_limit: Most branch-and-bound nodes the MIP explores on its kernel.
+        node_limit: Most branch-and-bound nodes HiGHS explores on the kernel of useful variables;
+            0 (the default): the Lagrangian schedule and its proven bound, without HiGHS's search.
         mip_rel_gap: The MIP stops once within this fraction of its proven bound.
         constraints: Constraint callables; by default those the blocks' Constraints and windows ask for.
     """
@@ -63,7 +64,7 @@ class Scheduler:
         slew_overhead_s: float = 100.0,
         meridian_flip_s: float = 0.0,
         time_limit_s: float = 10.0,
-        node_limit: int = 2000,
+        node_limit: int = 0,
         mip_rel_gap: float = 5e-3,
         constraints: Sequence[Constraint] = DEFAULT_CONSTRAINTS,
         slew: SlewModel | None = None,
@@ -78,8 +79,8 @@ class Scheduler:
             raise InvalidArgumentError(f"meridian_flip_s must be >= 0, got {meridian_flip_s}")
         if not time_limit_s > 0:
             raise InvalidArgumentError(f"time_limit_s must be > 0, got {time_limit_s}")
-        if not node_limit >= 1:
-            raise InvalidArgumentError(f"node_limit must be >= 1, got {node_limit}")
+        if not node_limit >= 0:
+            raise InvalidArgumentError(f"node_limit must be >= 0, got {node_limit}")
         if not 0 <= mip_rel_gap < 1:
             raise InvalidArgumentError(f"mip_rel_gap must be within 0..1, got {mip_rel_gap}")
         self.solver: SolverName = solver
