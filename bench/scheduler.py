@@ -145,39 +145,62 @@ def _lost(
     blocks: Sequence[SchedulableBlock], slots: Sequence[PlannedSlot], scheduler: Scheduler
 ) -> tuple[int, int]:
     """Windowed requests that fit alone (the refined model, with their least transition) but are not
-    placed; and of those, how many fit a gap of the plan with the transitions on both sides."""
+    placed; and of those, how many fit a gap of the plan, its slew in the window too, with the
+    transitions on both sides and nothing else moved."""
     problem = Scheduler(step_s=scheduler.step_s, slew=MOUNT).problem(blocks, NIGHT)
     placed = {s.task_id for s in slots}
     by_id = {b.id: b for b in blocks}
+    edges = problem.grid.edges
+    visible_before = np.zeros((len(problem.blocks), problem.grid.n_slices + 1), dtype=np.int64)
+    np.cumsum(problem.visible, axis=1, out=visible_before[:, 1:])
     lost = free = 0
     for row, block in enumerate(problem.blocks):
         if not block.windows or block.id in placed or not problem.can_start[row].any():
             continue
         lost += 1
-        edges = problem.grid.edges[np.flatnonzero(problem.can_start[row])]
-        for start in edges:
-            end = start + block.setup_s + block.duration_s
-            before = [s for s in slots if s.end.timestamp() <= start]
-            after = [s for s in slots if s.start.timestamp() >= end]
-            clash = [s for s in slots if s.start.timestamp() < end and s.end.timestamp() > start]
-            if clash:
-                continue
-            into = (
-                MOUNT.transition_s(SITE, pointing_of(by_id[before[-1].task_id]), pointing_of(block), start)
-                if before
-                else 0.0
-            )
-            out = (
-                MOUNT.transition_s(SITE, pointing_of(block), pointing_of(by_id[after[0].task_id]), end)
-                if after
-                else 0.0
-            )
-            gap_start = before[-1].end.timestamp() if before else NIGHT.start.timestamp()
-            gap_end = after[0].start.timestamp() if after else NIGHT.end.timestamp()
-            if gap_start + into <= start and end + out <= gap_end:
+        for index in range(len(slots) + 1):
+            before = slots[index - 1] if index > 0 else None
+            after = slots[index] if index < len(slots) else None
+            gap_start = before.end.timestamp() if before else NIGHT.start.timestamp()
+            gap_end = after.start.timestamp() if after else NIGHT.end.timestamp()
+            starts = edges[np.flatnonzero(problem.can_start[row])]
+            if _fits_gap(block, row, before, after, gap_start, gap_end, starts, by_id, edges, visible_before):
                 free += 1
                 break
     return lost, free
+
+
+def _fits_gap(
+    block: SchedulableBlock,
+    row: int,
+    before: PlannedSlot | None,
+    after: PlannedSlot | None,
+    gap_start: float,
+    gap_end: float,
+    starts: np.ndarray,  # type: ignore[type-arg]
+    by_id: dict[str, SchedulableBlock],
+    edges: np.ndarray,  # type: ignore[type-arg]
+    visible_before: np.ndarray,  # type: ignore[type-arg]
+) -> bool:
+    for start in (gap_start, *starts[(starts > gap_start) & (starts < gap_end)]):
+        into = (
+            MOUNT.transition_s(SITE, pointing_of(by_id[before.task_id]), pointing_of(block), start)
+            if before
+            else 0
+        )
+        end = start + into + block.setup_s + block.duration_s
+        out = (
+            MOUNT.transition_s(SITE, pointing_of(block), pointing_of(by_id[after.task_id]), end)
+            if after
+            else 0
+        )
+        first = max(0, int(np.searchsorted(edges, start, side="right")) - 1)
+        last = int(np.searchsorted(edges, end, side="left"))
+        seen = visible_before[row, min(last, len(edges) - 1)] - visible_before[row, first] == last - first
+        inside = any(a.timestamp() <= start and end <= b.timestamp() for a, b in block.windows)
+        if seen and inside and end + out <= gap_end:
+            return True
+    return False
 
 
 def _solve(scheduler: Scheduler, blocks: list[SchedulableBlock]) -> tuple[Schedule, float]:

@@ -152,10 +152,16 @@ def _insert(
 ) -> list[SequencedSlot] | None:
     """Block ``row`` in the gap after ``before`` (at its end or at one of ``later_starts``), and
     ``after`` with its new transition, if ``after`` still ends by its old end; else None."""
-    for start in (gap_start, *later_starts):
-        end = start + transition(before.row if before else None, row, start) + fixed[row]
+    origin = before.row if before else None
+    for edge in (gap_start, *later_starts):
+        # Slew early so that the block itself begins at the edge (where the solver found it fits).
+        start = max(gap_start, float(edge) - transition(origin, row, float(edge)))
+        end = start + transition(origin, row, start) + fixed[row]
         if not checker.fits(row, start, end):
-            continue
+            start = float(edge)
+            end = start + transition(origin, row, start) + fixed[row]
+            if not checker.fits(row, start, end):
+                continue
         if after is None:
             return [SequencedSlot(row, start, end)]
         next_start = max(end, after.start)
@@ -186,8 +192,7 @@ def _fill(
             gap_start = before.end if before else problem.grid.start
             gap_end = after.start if after else problem.grid.end
             room = (after.end - fixed[after.row] if after else problem.grid.end) - gap_start
-            near = (own_starts >= gap_start - problem.grid.step) & (own_starts < gap_end)
-            if fixed[row] > room or not near.any():  # cheap refusals first: most gaps are too short
+            if fixed[row] > room:  # the cheap refusal first: most gaps are too short
                 continue
             later = own_starts[(own_starts > gap_start) & (own_starts < gap_end)]
             inserted = _insert(row, gap_start, later, before, after, fixed, transition, checker)
