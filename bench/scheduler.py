@@ -177,10 +177,10 @@ def _fits_gap(
     after: PlannedSlot | None,
     gap_start: float,
     gap_end: float,
-    starts: np.ndarray,  # type: ignore[type-arg]
+    starts: np.ndarray,
     by_id: dict[str, SchedulableBlock],
-    edges: np.ndarray,  # type: ignore[type-arg]
-    visible_before: np.ndarray,  # type: ignore[type-arg]
+    edges: np.ndarray,
+    visible_before: np.ndarray,
 ) -> bool:
     for start in (gap_start, *starts[(starts > gap_start) & (starts < gap_end)]):
         into = (
