@@ -80,3 +80,15 @@ def test_a_plan_pays_every_transition_keeps_a_valid_bound_and_beats_the_flat_pad
     assert longest > 30.0  # real slews, not a flat pad
     flat = Scheduler(step_s=300.0, slew_overhead_s=100.0).schedule(blocks, NIGHT)
     assert schedule.objective >= flat.objective
+
+
+def test_the_documented_slew_section_gives_a_model() -> None:
+    import re
+    from pathlib import Path
+
+    import yaml
+
+    text = (Path(__file__).parents[2] / "docs" / "scheduler.md").read_text(encoding="utf-8")
+    (block,) = re.findall(r"```yaml\n(slew:.*?)```", text, flags=re.DOTALL)
+    model = SlewModel.from_config(yaml.safe_load(block)["slew"])
+    assert model.dome == AxisMotion(4.0) and model.axis1 == AxisMotion(3.0, 1.0) and model.settle_s == 5.0
