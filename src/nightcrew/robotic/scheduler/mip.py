@@ -15,7 +15,7 @@ variables without a good schedule (scipy cannot hand it a starting solution). So
 three steps, each keeping a proven upper bound:
 
 1. the LP relaxation gives prices on the "each block once" rows and the LP bound. On fine grids
-   (more than ``lp_max_entries`` matrix entries: 5 M at 60-s slices and 500 blocks) the LP takes
+   (more than ``lp_max_entries`` matrix entries, or ``lp_max_iterations`` simplex steps) the LP takes
    longer than the whole time limit; then the prices start at zero, which costs the next step a
    few more iterations but gives the same bound to 0.1 %;
 2. :func:`~nightcrew.robotic.scheduler.lagrangian.lagrangian_schedule` turns the prices into a good
@@ -58,7 +58,8 @@ def solve_time_indexed(
     node_limit: int = 0,
     mip_rel_gap: float = 5e-3,
     kernel_size: int = 4000,
-    lp_max_entries: int = 1_000_000,
+    lp_max_entries: int = 800_000,
+    lp_max_iterations: int = 20_000,
 ) -> Placement:
     """Choose start slices maximising the weight of the placed blocks without overlaps.
 
@@ -79,6 +80,8 @@ def solve_time_indexed(
         kernel_size: Most variables handed to the MIP (step 3 above).
         lp_max_entries: Largest no-overlap matrix (non-zero entries) whose LP gives the first
             prices (step 1 above).
+        lp_max_iterations: Most simplex iterations of that LP (a count, not a time); an LP that
+            needs more leaves the prices at zero, as a too large one does.
     """
     n_blocks, n_slices = can_start.shape
     block_of, start_of = np.nonzero(can_start)
@@ -90,13 +93,20 @@ def solve_time_indexed(
     variables = IntervalVariables(
         block_of, start_of, spans[block_of, start_of], values[block_of, start_of], n_blocks, n_slices
     )
-    chosen, objective, bound, status = _solve(variables, kernel_size, node_limit, mip_rel_gap, lp_max_entries)
+    chosen, objective, bound, status = _solve(
+        variables, kernel_size, node_limit, mip_rel_gap, lp_max_entries, lp_max_iterations
+    )
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)
 
 
 def _solve(
-    variables: IntervalVariables, kernel_size: int, node_limit: int, mip_rel_gap: float, lp_max_entries: int
+    variables: IntervalVariables,
+    kernel_size: int,
+    node_limit: int,
+    mip_rel_gap: float,
+    lp_max_entries: int,
+    lp_max_iterations: int,
 ) -> tuple[IntArray, float, float, str]:
     """Chosen variables, their value, a proven upper bound and a status (steps 1-3 of the module)."""
     costs = variables.value_of
@@ -104,7 +114,14 @@ def _solve(
     if int(variables.length_of.sum()) <= lp_max_entries:
         matrix = _constraint_matrix(variables, np.arange(len(costs)))
         ones = np.ones(matrix.shape[0])
-        relaxation = linprog(-costs, A_ub=matrix, b_ub=ones, bounds=(0, 1), method="highs")
+        relaxation = linprog(
+            -costs,
+            A_ub=matrix,
+            b_ub=ones,
+            bounds=(0, 1),
+            method="highs",
+            options={"maxiter": lp_max_iterations},
+        )
         if relaxation.status == 0:  # else (never seen) the prices stay at zero
             row_prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
             reduced = matrix.T @ row_prices - costs
