@@ -10,13 +10,13 @@ Model (all on the slice grid of :mod:`~nightcrew.robotic.scheduler.sky`):
   needed only at slices where some variable starts;
 * objective: maximise ``sum weights[b] * x[b, t]`` (the caller passes priority x observed hours).
 
-Solving it plainly, HiGHS often spends its whole time limit in root cuts on a few thousand
+Solving it plainly, HiGHS often spends many seconds in root cuts on a few thousand
 variables without a good schedule (scipy cannot hand it a starting solution). So the search runs in
 three steps, each keeping a proven upper bound:
 
 1. the LP relaxation gives prices on the "each block once" rows and the LP bound. On fine grids
    (more than ``lp_max_entries`` matrix entries, or ``lp_max_iterations`` simplex steps) the LP takes
-   longer than the whole time limit; then the prices start at zero, which costs the next step a
+   too long; then the prices start at zero, which costs the next step a
    few more iterations but gives the same bound to 0.1 %;
 2. :func:`~nightcrew.robotic.scheduler.lagrangian.lagrangian_schedule` turns the prices into a good
    schedule (``incumbent``, typically > 99 % of the bound), a Lagrangian bound and its prices
