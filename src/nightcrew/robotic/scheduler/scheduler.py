@@ -22,7 +22,7 @@ from nightcrew.robotic.scheduler.blocks import Night, SchedulableBlock, Schedule
 from nightcrew.robotic.scheduler.constraints import DEFAULT_CONSTRAINTS, Constraint
 from nightcrew.robotic.scheduler.mip import solve_time_indexed
 from nightcrew.robotic.scheduler.problem import Placement, SchedulingProblem, build_problem, check_placement
-from nightcrew.robotic.scheduler.sequence import TYPICAL_QUANTILE, least_transitions, sequence
+from nightcrew.robotic.scheduler.sequence import TYPICAL_QUANTILES, least_transitions, sequence
 from nightcrew.robotic.scheduler.slew import Pointing, SlewModel
 from nightcrew.robotic.scheduler.why import NIGHT_OVER, unplanned_reasons
 
@@ -169,21 +169,18 @@ class Scheduler:
         placement = self.solve(problem)
         slots, objective = _slots(problem, placement), placement.objective
         if self.slew is not None:
-            typical = self.problem(candidates, night, start=start, quantile=TYPICAL_QUANTILE)
-            second = solve_time_indexed(
-                typical.can_start,
-                typical.spans,
-                typical.start_values(),
-                node_limit=self.node_limit,
-                lp_max_entries=0,
-            )
-            slots, objective = max(
-                (
-                    _sequenced(problem, placement, self.slew, begin_at),
-                    _sequenced(typical, second, self.slew, begin_at),
-                ),
-                key=lambda plan: plan[1],
-            )
+            plans = [_sequenced(problem, placement, self.slew, begin_at)]
+            for quantile in TYPICAL_QUANTILES:
+                typical = self.problem(candidates, night, start=start, quantile=quantile)
+                placed = solve_time_indexed(
+                    typical.can_start,
+                    typical.spans,
+                    typical.start_values(),
+                    node_limit=self.node_limit,
+                    lp_max_entries=0,
+                )
+                plans.append(_sequenced(typical, placed, self.slew, begin_at))
+            slots, objective = max(plans, key=lambda plan: plan[1])  # the first of equals
         return Schedule(
             slots=kept + slots,
             objective=objective,

@@ -9,7 +9,7 @@ the gaps where they delay nothing after them. The result keeps every constraint 
 transition exactly; its value over the solver's bound is the proven quality.
 
 Least transitions are optimistic, so the first plan loses blocks to the real ones; the scheduler
-also solves once with a typical allowance (:data:`TYPICAL_QUANTILE` of the transitions into each
+also solves with typical allowances (the :data:`TYPICAL_QUANTILES` of the transitions into each
 block, no bound) and keeps whichever sequenced plan is worth more.
 """
 
@@ -26,10 +26,10 @@ from nightcrew.robotic.scheduler.problem import SchedulingProblem
 from nightcrew.robotic.scheduler.slew import Pointing, SlewModel
 from nightcrew.site import Site
 
-__all__ = ["TYPICAL_QUANTILE", "SequencedSlot", "least_transitions", "pointing_of", "sequence"]
+__all__ = ["TYPICAL_QUANTILES", "SequencedSlot", "least_transitions", "pointing_of", "sequence"]
 
-#: The solver's second plan allows each block this quantile of the transitions into it.
-TYPICAL_QUANTILE = 0.5
+#: The solver's further plans allow each block these quantiles of the transitions into it.
+TYPICAL_QUANTILES = (0.5, 0.9)
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
