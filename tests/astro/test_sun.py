@@ -53,7 +53,7 @@ def test_sun_altitude_is_within_two_hundredths_of_a_degree_of_astropy(unix_time:
 def test_the_site_forms_agree() -> None:
     t = TIMES[0]
     alt, az = sun_altaz(SITE, t)
-    assert alt == sun_altitude(SITE.latitude, SITE.longitude, t) == sun_altitude_at(SITE)(t)
+    assert alt == sun_altitude(SITE.latitude, SITE.longitude, t, SITE.elevation) == sun_altitude_at(SITE)(t)
     assert 0.0 <= az < 360.0
 
 

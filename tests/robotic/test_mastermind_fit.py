@@ -74,3 +74,18 @@ def test_at_dusk_a_task_fits_from_the_first_moment_the_sun_is_low_enough() -> No
     length = timedelta(minutes=30, seconds=50)  # a grid counted back from its end starts at 16:59:59
     assert not within_constraints(request, SITE, dusk - timedelta(seconds=5), length)
     assert within_constraints(request, SITE, dusk + timedelta(seconds=5), length)
+
+
+def test_the_slew_to_the_task_counts_with_the_schedulers_model() -> None:
+    from nightcrew.robotic.mastermind import slew_before
+    from nightcrew.robotic.scheduler.slew import AxisMotion, SlewModel
+
+    model = SlewModel(AxisMotion(1.0), AxisMotion(1.0), settle_s=10.0)  # a slow mount: 1°/s
+    task = _task([DAWN])
+    now = NOW + timedelta(hours=7, minutes=30)  # 05:30; the task ends at 05:58 with 28 min
+    there = slew_before(task, model, SITE, (210.0, 40.0), now)
+    assert there == timedelta(0)  # already on target
+    far = slew_before(task, model, SITE, (210.0, -20.0), now)  # 60° away in declination
+    assert far == timedelta(seconds=70.0)
+    assert within_constraints(task.request, SITE, now, timedelta(minutes=27) + there)
+    assert not within_constraints(task.request, SITE, now, timedelta(minutes=27) + far)

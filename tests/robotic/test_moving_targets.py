@@ -137,7 +137,7 @@ def test_the_scheduler_follows_a_body_along_its_ephemeris() -> None:
     block = block_of(tasks[2], site=SITE)  # Jupiter
     assert block is not None and isinstance(block.target, EphemerisTarget)
     start = datetime(2026, 11, 10, 17, 0, tzinfo=UTC).timestamp()
-    sky = SkyGrid(TimeGrid(start, 3600.0, 12), SITE, [block])
+    sky = SkyGrid(TimeGrid.covering(start, start + 12 * 3600.0, 3600.0), SITE, [block])
     # Jupiter rises near 22:45 UTC and is at about 52° at 06:00 (DE421, skyfield).
     assert sky.altitude[0, 0] < -20 and sky.altitude[0, -1] > 45
     track = block.target.track(sky.edges)
@@ -151,7 +151,7 @@ def test_a_satellite_pass_counts_in_the_slice_it_rises_in() -> None:
     block = block_of(tasks_of_group(group, "g", ["1", "2", "3", "4"])[3], site=SITE)
     assert block is not None and isinstance(block.target, EphemerisTarget)
     start = datetime(2026, 11, 10, 18, 14, tzinfo=UTC).timestamp()
-    sky = SkyGrid(TimeGrid(start, 300.0, 12), SITE, [block])
+    sky = SkyGrid(TimeGrid.covering(start, start + 12 * 300.0, 300.0), SITE, [block])
     # The pass rises above the horizon at about 18:34 and culminates near 68° at 18:39.
     high = [index for index, alt in enumerate(sky.altitude[0]) if alt > 30]
     assert high == [4, 5]  # the edges of the slice 18:34 - 18:39

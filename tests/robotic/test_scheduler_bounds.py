@@ -69,9 +69,9 @@ def test_bounds_through_bound_every_schedule_using_a_variable(seed: int) -> None
 
 def test_without_the_lp_the_solver_keeps_a_valid_bound() -> None:
     problem = Scheduler().problem(synthetic_blocks(NIGHT, 60, seed=11), NIGHT)
-    arrays = (problem.can_start, problem.lengths, problem.weights)
-    with_lp = solve_time_indexed(*arrays, time_limit=QUICK)
-    without = solve_time_indexed(*arrays, time_limit=QUICK, lp_max_entries=0)
+    arrays = (problem.can_start, problem.spans, problem.weights)
+    with_lp = solve_time_indexed(*arrays)
+    without = solve_time_indexed(*arrays, lp_max_entries=0)
     check_placement(problem, without.starts)
     assert with_lp.bound is not None and without.bound is not None
     assert without.objective <= with_lp.bound + 1e-6
@@ -92,10 +92,10 @@ def test_the_density_bound_of_one_block_visible_all_night() -> None:
 def test_the_density_bound_bounds_both_solvers(step: float) -> None:
     blocks = synthetic_blocks(NIGHT, 150, seed=12)
     upper = density_bound(Scheduler(step_s=60.0, slew_overhead_s=0.0).problem(blocks, NIGHT))
-    mip = Scheduler(step_s=step, time_limit_s=QUICK)
-    problem = mip.problem(blocks, NIGHT)
-    optimal = mip.solve(problem)
-    greedy = Scheduler(solver="priority", step_s=step).solve(problem)
+    mip = Scheduler(step_s=step)
+    optimal = mip.solve(mip.problem(blocks, NIGHT))
+    plain = Scheduler(solver="priority", step_s=step)
+    greedy = plain.solve(plain.problem(blocks, NIGHT))
     assert optimal.objective <= upper
     assert greedy.objective <= upper
     assert optimal.objective >= greedy.objective - 1e-9

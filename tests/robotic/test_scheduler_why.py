@@ -61,7 +61,7 @@ def test_longer_than_any_usable_gap() -> None:
     window = (hours(1), hours(2))
     reasons = why([block("long", duration_s=2 * 3600.0, windows=(window,))])
     assert reasons == {
-        "long": "longer (125 min with set-up and slew) than any usable gap (the longest: 60 min)"
+        "long": "longer (122 min with set-up and slew) than any usable gap (the longest: 60 min)"
     }
 
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from nightcrew.astro._math import DEG, Real, elementary
 from nightcrew.astro.coords import ecliptic_to_equatorial, from_unit_vector, precess, radec_to_altaz
+from nightcrew.astro.parallax import topocentric_radec
 from nightcrew.astro.time import J2000, julian_date
 from nightcrew.site import Site
 
@@ -35,31 +36,39 @@ __all__ = [
 ASTRONOMICAL_TWILIGHT = -18.0
 
 
-def sun_radec(unix_time: Real) -> tuple[Real, Real]:
-    """Geocentric J2000 (ra, dec) of the Sun to ~0.01°, at one time or an array."""
+def sun_radec(unix_time: Real, site: Site | None = None) -> tuple[Real, Real]:
+    """J2000 (ra, dec) of the Sun to ~0.01°, seen from ``site`` (None: from the Earth's centre; the
+    difference, the Sun's parallax, is 8.8" at most), at one time or an array."""
     xp = elementary(unix_time)
     n = julian_date(unix_time) - J2000
     mean_longitude = 280.460 + 0.9856474 * n
     mean_anomaly = (357.528 + 0.9856003 * n) * DEG
     ecliptic_longitude = mean_longitude + 1.915 * xp.sin(mean_anomaly) + 0.020 * xp.sin(2.0 * mean_anomaly)
     of_date = ecliptic_to_equatorial(ecliptic_longitude, 0.0, 23.439 - 0.0000004 * n, xp)
-    return from_unit_vector(precess(of_date, unix_time, xp, inverse=True), xp)
+    ra, dec = from_unit_vector(precess(of_date, unix_time, xp, inverse=True), xp)
+    if site is None:
+        return ra, dec
+    distance_au = 1.00014 - 0.01671 * xp.cos(mean_anomaly) - 0.00014 * xp.cos(2.0 * mean_anomaly)
+    return topocentric_radec(ra, dec, distance_au, site, unix_time)
 
 
-def sun_altitude(latitude: float, longitude: float, unix_time: Real) -> Real:
-    """Altitude of the Sun's centre seen from the site (no refraction), at one time or an array."""
-    alt, _ = radec_to_altaz(*sun_radec(unix_time), latitude, longitude, unix_time)
+def sun_altitude(latitude: float, longitude: float, unix_time: Real, elevation: float = 0.0) -> Real:
+    """Altitude of the Sun's centre seen from the site (topocentric, no refraction), at one time or
+    an array."""
+    site = Site(latitude, longitude, elevation)
+    alt, _ = radec_to_altaz(*sun_radec(unix_time, site), latitude, longitude, unix_time)
     return alt
 
 
 def sun_altaz(site: Site, unix_time: Real) -> tuple[Real, Real]:
-    """(altitude, azimuth) of the Sun in degrees at ``unix_time``, azimuth east of north."""
-    return radec_to_altaz(*sun_radec(unix_time), site.latitude, site.longitude, unix_time)
+    """(altitude, azimuth) of the Sun in degrees at ``unix_time`` seen from ``site``, azimuth east of
+    north."""
+    return radec_to_altaz(*sun_radec(unix_time, site), site.latitude, site.longitude, unix_time)
 
 
 def sun_altitude_at(site: Site) -> Callable[[float], float]:
     """The Sun's altitude at ``site`` as a function of Unix time (what the twilight planner takes)."""
-    return lambda unix_time: sun_altitude(site.latitude, site.longitude, unix_time)
+    return lambda unix_time: sun_altitude(site.latitude, site.longitude, unix_time, site.elevation)
 
 
 def local_noon(night: date, longitude: float) -> float:

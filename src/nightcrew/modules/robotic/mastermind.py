@@ -74,7 +74,7 @@ from dataclasses import replace
 from datetime import datetime, timedelta
 from typing import Any, ClassVar
 
-from nightcrew.errors import ConfigError
+from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError
 from nightcrew.events import (
     BadWeatherEvent,
     GoodWeatherEvent,
@@ -123,12 +123,14 @@ from nightcrew.robotic.mastermind import (
     focus_now,
     preemption_cause,
     robotic_status,
+    slew_before,
     task_cards,
     time_left,
     within_constraints,
     without_refocus,
 )
 from nightcrew.robotic.runner import TaskRunner
+from nightcrew.robotic.scheduler.slew import SlewModel
 from nightcrew.robotic.scripts.focus_fields import catalogue_rules
 from nightcrew.robotic.tasks import Task, target_radec
 
@@ -173,6 +175,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             back and READY before the task is given up.
         device_retries: How often a task is restarted in one run after a device came back.
         autostart: Start robotic mode when the module opens.
+        slew: The mount's slew model, as the scheduler's ``slew`` (``slew_rate`` or ``axis_rates``,
+            ``acceleration``, ``settle_time``, ``mount``, ``dome_rate``, ...): a task is started only
+            if the slew from where the telescope points and what it has left end before its
+            constraints do. None: the slew is not counted.
         **kwargs: Module options (``site`` is required: the Sun decides a lot).
     """
 
@@ -208,6 +214,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         device_wait: float = 60.0,
         device_retries: int = 2,
         autostart: bool = True,
+        slew: dict[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -215,6 +222,11 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         if site is None:
             raise ConfigError("the mastermind needs the observatory's site (for the Sun)", key="site")
         self._sky_site = site  # checked above (the base class keeps it optional)
+        try:
+            self._slew = None if slew is None else SlewModel.from_config(slew)
+        except InvalidArgumentError as exc:
+            raise ConfigError(str(exc), key="slew") from None
+        self._telescope_name = telescope
         for key, value in (
             ("poll_interval", poll_interval),
             ("abort_timeout", abort_timeout),
@@ -428,6 +440,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
         slots = without_refocus(slots, tasks, focused=keeper is not None and keeper.focused)
+        pointing = await self._pointing() if self._slew is not None else None
         while True:  # ends: each round takes one slot out
             # Marked again after a slot is taken out: with a due task that may not start, the
             # next one may start early at once, not only once a new plan leaves the first out.
@@ -439,7 +452,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 focus_below=focus_below,
                 early_start=self._early.early_start,
             )
-            unfit = self._unfit_slot(action, tasks, conditions.now)
+            unfit = self._unfit_slot(action, tasks, conditions.now, pointing)
             if unfit is None:
                 break
             # Not now (asked again at the next step, no failure): decide as if it were not there.
@@ -466,7 +479,17 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             return max(0.0, min(self._poll, (action.until - conditions.now).total_seconds()))
         return self._poll
 
-    def _unfit_slot(self, action: Action, tasks: dict[str, Task], now: datetime) -> Slot | None:
+    async def _pointing(self) -> tuple[float, float] | None:
+        """Where the telescope points (for the slew to the next task); None if it does not say."""
+        try:
+            return await (await self.proxy(self._telescope_name, ITelescope)).get_radec()
+        except NightcrewError as exc:
+            log.debug("%s: telescope position unknown: %s", self.name, exc)
+            return None
+
+    def _unfit_slot(
+        self, action: Action, tasks: dict[str, Task], now: datetime, pointing: tuple[float, float] | None
+    ) -> Slot | None:
         """The slot of ``action`` if it starts a sky task that would outlast its constraints.
 
         Only a task about to start (due or early), with what it has left (its recorded progress):
@@ -481,6 +504,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             return None
         task = tasks[slot.task_id]
         left = time_left(task)
+        if self._slew is not None and pointing is not None:  # the scheduler's slew model
+            left += slew_before(task, self._slew, self._sky_site, pointing, now)
         if within_constraints(task.request, self._sky_site, now, left, max_sun_altitude=slot.sun.high):
             return None
         if (task.id, slot.start) not in self._unfit_logged:

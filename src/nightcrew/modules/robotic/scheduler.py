@@ -49,6 +49,7 @@ from nightcrew.robotic.scheduler.ports import (
 )
 from nightcrew.robotic.scheduler.scheduler import SolverName
 from nightcrew.robotic.scheduler.sky import GridFit
+from nightcrew.robotic.scheduler.slew import SlewModel
 
 __all__ = ["SchedulerModule"]
 
@@ -73,7 +74,13 @@ class SchedulerModule(Module, IRoboticScheduler):
         slew_overhead_s: Worst-case slew and settling added to every block, seconds.
         meridian_flip_s: Time a meridian flip takes on a German-equatorial mount, seconds, added to
             every block whose target may cross the meridian in it (docs/mounts.md); 0: no flips.
-        time_limit_s: Time the MIP may take, wall seconds.
+        time_limit_s: Kept for older configuration files; decides nothing (the MIP stops at a
+            node limit, so the plan does not depend on the machine's load).
+        slew: The mount's slew model (``slew_rate`` or ``axis_rates``, ``acceleration``,
+            ``settle_time``, ``mount``, ``dome_rate``, ``filter_change_s``,
+            ``instrument_setup_s``; :class:`~nightcrew.robotic.scheduler.slew.SlewModel`): every
+            transition is then priced exactly and ``slew_overhead_s`` is not used. Give the
+            mastermind the same, so it judges fits with the same slews.
         poll_interval_s: How often to look for changed blocks, clock seconds.
         max_sun_altitude: The night is while the Sun is below this altitude (degrees).
         device_fault_backoff_s: After a device failed under a task, it is planned again no earlier
@@ -98,9 +105,14 @@ class SchedulerModule(Module, IRoboticScheduler):
         max_sun_altitude: Altitude = -12.0,
         device_fault_backoff_s: float = 300.0,
         max_device_faults: int = 3,
+        slew: dict[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
+        try:
+            slew_model = None if slew is None else SlewModel.from_config(slew)
+        except InvalidArgumentError as exc:
+            raise ConfigError(str(exc), key="slew") from None
         # Archives of nightcrew.robotic.archives are wrapped by the adapters; opened with us.
         self._archive_option = built_option(archive, object, "archive", self)
         default_store = self._archive_option.archive
@@ -118,6 +130,7 @@ class SchedulerModule(Module, IRoboticScheduler):
                 slew_overhead_s=slew_overhead_s,
                 meridian_flip_s=meridian_flip_s,
                 time_limit_s=time_limit_s,
+                slew=slew_model,
             )
         except InvalidArgumentError as exc:
             raise ConfigError(str(exc), key=str(exc).split()[0]) from exc

@@ -9,7 +9,15 @@ from nightcrew.focus.refocus import FocusState, RefocusTriggers, refocus_cause
 from nightcrew.interfaces import FitsCard
 from nightcrew.robotic.mastermind._decide import Slot, SunLimits
 from nightcrew.robotic.planning import PlannedSlot
-from nightcrew.robotic.tasks import ConfigurationType, Request, Task, TaskProgress, estimate_duration
+from nightcrew.robotic.scheduler.slew import SlewModel
+from nightcrew.robotic.tasks import (
+    ConfigurationType,
+    Request,
+    Task,
+    TaskProgress,
+    estimate_duration,
+    target_radec,
+)
 from nightcrew.robotic.tasks.visibility import observable_stretches
 from nightcrew.site import Site
 
@@ -21,6 +29,7 @@ __all__ = [
     "needs_sky",
     "observable_since",
     "planned_exposures",
+    "slew_before",
     "slot_for",
     "startable_from",
     "startable_now",
@@ -108,6 +117,20 @@ def startable_from(request: Request, site: Site, start: datetime, *, lookback: t
 def time_left(task: Task) -> timedelta:
     """How long ``task`` takes from its recorded progress on (the default overheads, set-up included)."""
     return timedelta(seconds=estimate_duration(task.request, progress=task.status.progress).total_s)
+
+
+def slew_before(
+    task: Task, model: SlewModel, site: Site, pointing: tuple[float, float], now: datetime
+) -> timedelta:
+    """The slew (the scheduler's model, :class:`~nightcrew.robotic.scheduler.slew.SlewModel`) from
+    where the telescope points to the task's first target (a moving one where it is now); nothing for
+    a task without one."""
+    configurations = task.request.configurations
+    target = configurations[0].target if configurations else None
+    if target is None:
+        return timedelta(0)
+    seconds = model.slew_s(site, pointing, target_radec(target, site, now.timestamp()), now.timestamp())
+    return timedelta(seconds=float(seconds))
 
 
 def within_constraints(

@@ -100,6 +100,10 @@ class SchedulableBlock:
         constraints: Conditions that must hold during the whole block.
         windows: (start, end) intervals the block must lie within; empty: any time of the night.
         setup_s: Fixed overhead before the block (instrument set-up, acquisition), >= 0.
+        first_filter: The filter its first exposure uses ("" unknown): a slew model charges a
+            filter change when it differs from the block before's ``last_filter``.
+        last_filter: The filter its last exposure uses.
+        instrument: The instrument it uses ("" unknown): another one costs an instrument set-up.
         early_start_weight: 0..1: how much an early start is worth, as a fraction of the block's
             value gained by starting at the night's first moment rather than its last (for
             time-critical requests); 0: the start time does not matter.
@@ -112,6 +116,9 @@ class SchedulableBlock:
     constraints: Constraints = field(default_factory=Constraints)
     windows: tuple[tuple[datetime, datetime], ...] = ()
     setup_s: float = 0.0
+    first_filter: str = ""
+    last_filter: str = ""
+    instrument: str = ""
     early_start_weight: float = 0.0
 
     def __post_init__(self) -> None:

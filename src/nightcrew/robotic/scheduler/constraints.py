@@ -138,20 +138,22 @@ def visibility(sky: SkyGrid, constraints: Sequence[Constraint] = DEFAULT_CONSTRA
 
 
 def startable(visible: BoolArray, lengths: npt.NDArray[np.int64]) -> BoolArray:
-    """Where each block can start so that all of its ``lengths[b]`` slices are visible.
+    """Where each block can start so that all of the slices it occupies are visible.
 
     Args:
         visible: Visibility (n_blocks, n_slices).
-        lengths: Slices each block occupies (>= 1).
+        lengths: Slices each block occupies: one number per block (n_blocks,), or one per block
+            and start slice (n_blocks, n_slices); 0 never fits.
     """
     n_blocks, n_slices = visible.shape
     # visible_count[b, t] = visible slices before t; a start t fits when the next length slices all are.
     visible_count = np.zeros((n_blocks, n_slices + 1), dtype=np.int64)
     np.cumsum(visible, axis=1, out=visible_count[:, 1:])
     starts = np.arange(n_slices)[np.newaxis, :]
-    ends = starts + lengths.reshape(-1, 1)
-    fits = ends <= n_slices
+    spans = np.broadcast_to(lengths.reshape(n_blocks, -1), (n_blocks, n_slices))
+    ends = starts + spans
+    fits = (ends <= n_slices) & (spans >= 1)
     clipped = np.minimum(ends, n_slices)
     rows = np.arange(n_blocks)[:, np.newaxis]
-    full = visible_count[rows, clipped] - visible_count[rows, starts] == lengths.reshape(-1, 1)
+    full = visible_count[rows, clipped] - visible_count[rows, starts] == spans
     return np.asarray(fits & full, dtype=np.bool_)

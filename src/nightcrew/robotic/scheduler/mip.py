@@ -10,13 +10,13 @@ Model (all on the slice grid of :mod:`~nightcrew.robotic.scheduler.sky`):
   needed only at slices where some variable starts;
 * objective: maximise ``sum weights[b] * x[b, t]`` (the caller passes priority x observed hours).
 
-Solving it plainly, HiGHS often spends its whole time limit in root cuts on a few thousand
+Solving it plainly, HiGHS often spends many seconds in root cuts on a few thousand
 variables without a good schedule (scipy cannot hand it a starting solution). So the search runs in
 three steps, each keeping a proven upper bound:
 
 1. the LP relaxation gives prices on the "each block once" rows and the LP bound. On fine grids
-   (more than ``lp_max_entries`` matrix entries: 5 M at 60-s slices and 500 blocks) the LP takes
-   longer than the whole time limit; then the prices start at zero, which costs the next step a
+   (more than ``lp_max_entries`` matrix entries, or ``lp_max_iterations`` simplex steps) the LP takes
+   too long; then the prices start at zero, which costs the next step a
    few more iterations but gives the same bound to 0.1 %;
 2. :func:`~nightcrew.robotic.scheduler.lagrangian.lagrangian_schedule` turns the prices into a good
    schedule (``incumbent``, typically > 99 % of the bound), a Lagrangian bound and its prices
@@ -27,12 +27,11 @@ three steps, each keeping a proven upper bound:
    ``kernel_size``, best bound first); when none was left out, HiGHS's dual bound
    (``OptimizeResult.mip_dual_bound``) holds for the whole problem.
 
-Pure: arrays in, arrays out; no clock, no I/O (wall time only to honour the time limit).
+Pure and deterministic: arrays in, arrays out; no clock, no I/O. Every limit counts work (steps,
+variables, nodes), so a busy machine gets the same plan later, not a different one.
 """
 
 from __future__ import annotations
-
-import time
 
 import numpy as np
 import numpy.typing as npt
@@ -56,43 +55,58 @@ def solve_time_indexed(
     lengths: IntArray,
     weights: FloatArray,
     *,
-    time_limit: float = 10.0,
+    node_limit: int = 0,
     mip_rel_gap: float = 5e-3,
     kernel_size: int = 4000,
-    lp_max_entries: int = 1_000_000,
-    early_start: FloatArray | None = None,
+    lp_max_entries: int = 800_000,
+    lp_max_iterations: int = 20_000,
 ) -> Placement:
     """Choose start slices maximising the weight of the placed blocks without overlaps.
 
+    The work is limited by counts (subgradient steps, kernel variables, branch-and-bound nodes),
+    never by the clock: the same arrays give the same schedule on a quiet and on a busy machine.
+
     Args:
         can_start: (n_blocks, n_slices): where each block may start.
-        lengths: Slices each block occupies once started (>= 1).
-        weights: Value of placing each block (> 0).
-        time_limit: Seconds to spend in all; the best schedule found so far is returned then.
+        lengths: Slices each block occupies once started (>= 1): per block (n_blocks,) or per block
+            and start (n_blocks, n_slices).
+        weights: Value of placing each block (> 0): per block (n_blocks,) or per block and start
+            (n_blocks, n_slices), e.g. with an early-start term.
+        node_limit: Most branch-and-bound nodes HiGHS explores (step 3 above); 0 leaves step 3 out.
+            Even one node costs HiGHS its root LP and cuts on the kernel (5 s on 4,000 variables
+            on a busy machine), which rarely beats step 2 by more than its gap: the scheduler
+            leaves it out by default.
         mip_rel_gap: Stop when (bound - objective) / bound is below this.
         kernel_size: Most variables handed to the MIP (step 3 above).
         lp_max_entries: Largest no-overlap matrix (non-zero entries) whose LP gives the first
             prices (step 1 above).
-        early_start: Per block, 0..1: the fraction of its weight added for starting at the first
-            slice, falling linearly to nothing at the last (time-critical blocks start early).
+        lp_max_iterations: Most simplex iterations of that LP (a count, not a time); an LP that
+            needs more leaves the prices at zero, as a too large one does.
     """
-    deadline = time.perf_counter() + time_limit
     n_blocks, n_slices = can_start.shape
     block_of, start_of = np.nonzero(can_start)
     starts = np.full(n_blocks, -1, dtype=np.int64)
     if len(block_of) == 0:
         return Placement(starts, 0.0, 0.0, "optimal")
-    values = weights[block_of]
-    if early_start is not None:
-        values = values * (1.0 + early_start[block_of] * (1.0 - start_of / max(1, n_slices)))
-    variables = IntervalVariables(block_of, start_of, lengths[block_of], values, n_blocks, n_slices)
-    chosen, objective, bound, status = _solve(variables, kernel_size, deadline, mip_rel_gap, lp_max_entries)
+    spans = np.broadcast_to(lengths.reshape(n_blocks, -1), (n_blocks, n_slices))
+    values = np.broadcast_to(weights.reshape(n_blocks, -1), (n_blocks, n_slices))
+    variables = IntervalVariables(
+        block_of, start_of, spans[block_of, start_of], values[block_of, start_of], n_blocks, n_slices
+    )
+    chosen, objective, bound, status = _solve(
+        variables, kernel_size, node_limit, mip_rel_gap, lp_max_entries, lp_max_iterations
+    )
     starts[block_of[chosen]] = start_of[chosen]
     return Placement(starts, objective, max(objective, bound), status)
 
 
 def _solve(
-    variables: IntervalVariables, kernel_size: int, deadline: float, mip_rel_gap: float, lp_max_entries: int
+    variables: IntervalVariables,
+    kernel_size: int,
+    node_limit: int,
+    mip_rel_gap: float,
+    lp_max_entries: int,
+    lp_max_iterations: int,
 ) -> tuple[IntArray, float, float, str]:
     """Chosen variables, their value, a proven upper bound and a status (steps 1-3 of the module)."""
     costs = variables.value_of
@@ -100,7 +114,14 @@ def _solve(
     if int(variables.length_of.sum()) <= lp_max_entries:
         matrix = _constraint_matrix(variables, np.arange(len(costs)))
         ones = np.ones(matrix.shape[0])
-        relaxation = linprog(-costs, A_ub=matrix, b_ub=ones, bounds=(0, 1), method="highs")
+        relaxation = linprog(
+            -costs,
+            A_ub=matrix,
+            b_ub=ones,
+            bounds=(0, 1),
+            method="highs",
+            options={"maxiter": lp_max_iterations},
+        )
         if relaxation.status == 0:  # else (never seen) the prices stay at zero
             row_prices = np.maximum(0.0, -np.asarray(relaxation.ineqlin.marginals))
             reduced = matrix.T @ row_prices - costs
@@ -113,13 +134,13 @@ def _solve(
     if upper - incumbent <= mip_rel_gap * upper:
         return best, incumbent, upper, "optimal"
 
+    if node_limit <= 0:  # no branch and bound: the Lagrangian schedule and the bound as they are
+        return best, incumbent, upper, "work limit reached"
     through = bounds_through(variables, lagrangian.prices)
     useful = np.flatnonzero(through >= incumbent - 1e-9)
     kernel = useful[np.argsort(-through[useful], kind="stable")[:kernel_size]]
-    if deadline - time.perf_counter() < 0.2:
-        return best, incumbent, upper, "limit reached"
     chosen, objective, kernel_bound, status = _solve_mip(
-        _constraint_matrix(variables, kernel), costs[kernel], deadline - time.perf_counter(), mip_rel_gap
+        _constraint_matrix(variables, kernel), costs[kernel], node_limit, mip_rel_gap
     )
     if objective > incumbent:
         best, incumbent = kernel[chosen], objective
@@ -129,7 +150,7 @@ def _solve(
 
 
 def _solve_mip(
-    matrix: csr_array, costs: FloatArray, time_limit: float, mip_rel_gap: float
+    matrix: csr_array, costs: FloatArray, node_limit: int, mip_rel_gap: float
 ) -> tuple[IntArray, float, float, str]:
     """Chosen variables, objective, HiGHS's dual bound and status of max costs.x, matrix.x <= 1."""
     result = milp(
@@ -137,7 +158,7 @@ def _solve_mip(
         integrality=np.ones(len(costs)),
         bounds=(0, 1),
         constraints=LinearConstraint(matrix, -np.inf, 1.0),
-        options={"time_limit": max(0.1, time_limit), "mip_rel_gap": float(mip_rel_gap), "presolve": True},
+        options={"node_limit": int(node_limit), "mip_rel_gap": float(mip_rel_gap), "presolve": True},
     )
     status = _STATUS.get(int(result.status), f"status {result.status}")
     bound = float(-result.mip_dual_bound) if result.mip_dual_bound is not None else float(costs.sum())

@@ -1,20 +1,20 @@
 """The night on a time grid: Sun, Moon and target altitudes at every grid edge, as arrays.
 
-The night is cut into equal *slices* of ``step`` seconds; slice ``i`` covers
-``[start + i*step, start + (i+1)*step]``. Sky quantities are sampled at the ``n + 1`` slice edges,
-and a constraint holds on a slice when it holds at both its edges (within 5 minutes altitude and
-separation change monotonically, so this is exact up to turning points).
+The night is cut into *slices* of at most ``step`` seconds; slice ``i`` covers
+``[edges[i], edges[i + 1]]`` (equal slices, or refined around windows: :class:`TimeGrid`). Sky
+quantities are sampled at the ``n + 1`` slice edges, and a constraint holds on a slice when it
+holds at both its edges (within 5 minutes altitude and separation change monotonically, so this is
+exact up to turning points).
 
-Sun, Moon and target altitudes come from :mod:`nightcrew.astro` (Moon to ~0.3°, geocentric; targets
-to about an arcminute), each in one array call over the edges (targets: over targets and edges,
-with one precession at mid-night).
+Sun, Moon and target altitudes come from :mod:`nightcrew.astro` (Sun and Moon seen from the site,
+topocentric; Moon to ~10", targets to about an arcminute), each in one array call over the edges
+(targets: over targets and edges, with one precession at mid-night).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -30,29 +30,71 @@ __all__ = ["GridFit", "SkyGrid", "TimeGrid"]
 FloatArray = npt.NDArray[np.float64]
 
 
-@dataclass(frozen=True)
 class TimeGrid:
-    """``n_slices`` equal slices of ``step`` seconds from ``start`` (Unix seconds)."""
+    """The night cut into slices between increasing ``edges`` (Unix seconds).
 
-    start: float
-    step: float
-    n_slices: int
+    A plain grid (:meth:`covering`) has equal slices of ``step`` seconds; a refined one
+    (:meth:`refined`) adds edges where something happens between them (a window opens or closes, a
+    block placed at a window's opening ends), so that a block can start, and the next one follow,
+    exactly there. ``step`` stays the coarse slice length.
+    """
+
+    def __init__(self, edges: npt.ArrayLike, step: float) -> None:
+        self.edges: FloatArray = np.asarray(edges, dtype=np.float64).reshape(-1)
+        """Unix times of the ``n_slices + 1`` slice edges."""
+        self.step = step
+        if not step > 0:
+            raise InvalidArgumentError(f"time step must be > 0 s, got {step}")
+        if self.edges.size == 0 or np.any(np.diff(self.edges) <= 0):
+            raise InvalidArgumentError("time grid edges must be given and strictly increasing")
 
     @classmethod
     def covering(cls, start: float, end: float, step: float) -> TimeGrid:
-        """The slices that fit whole into ``[start, end]``."""
+        """The slices of ``step`` seconds that fit whole into ``[start, end]``."""
         if not step > 0:
             raise InvalidArgumentError(f"time step must be > 0 s, got {step}")
-        return cls(start, step, max(0, math.floor((end - start) / step + 1e-9)))
+        n_slices = max(0, math.floor((end - start) / step + 1e-9))
+        return cls(start + step * np.arange(n_slices + 1, dtype=np.float64), step)
+
+    @classmethod
+    def refined(cls, start: float, end: float, step: float, times: npt.ArrayLike) -> TimeGrid:
+        """The slices of :meth:`covering`, cut further at ``times`` within ``[start, end]`` (exactly
+        there: a window's end is an edge, not a millisecond off it)."""
+        coarse = cls.covering(start, end, step).edges
+        extra = np.asarray(times, dtype=np.float64).reshape(-1)
+        extra = extra[(extra > start) & (extra <= end)]
+        return cls(np.unique(np.concatenate([coarse, extra])), step)
 
     @property
-    def edges(self) -> FloatArray:
-        """Unix times of the ``n_slices + 1`` slice edges."""
-        return self.start + self.step * np.arange(self.n_slices + 1, dtype=np.float64)
+    def start(self) -> float:
+        return float(self.edges[0])
+
+    @property
+    def end(self) -> float:
+        return float(self.edges[-1])
+
+    @property
+    def n_slices(self) -> int:
+        return len(self.edges) - 1
+
+    @property
+    def durations(self) -> FloatArray:
+        """Length of every slice, seconds."""
+        return np.diff(self.edges)
 
     def slices_for(self, seconds: float) -> int:
-        """Whole slices needed to hold ``seconds`` (rounded up)."""
+        """Whole coarse slices needed to hold ``seconds`` (rounded up)."""
         return max(1, math.ceil(seconds / self.step - 1e-9))
+
+    def index_at(self, unix_time: float) -> int:
+        """Index of the slice holding ``unix_time`` (-1 before the grid, n_slices - 1 after it)."""
+        return min(self.n_slices - 1, int(np.searchsorted(self.edges, unix_time, side="right")) - 1)
+
+    def index_of(self, unix_time: npt.ArrayLike) -> npt.NDArray[np.int64]:
+        """Index of the edge at each time (within 1 ms), -1 where there is none."""
+        times = np.asarray(unix_time, dtype=np.float64)
+        index = np.clip(np.searchsorted(self.edges, times - 1e-3), 0, self.n_slices)
+        return np.where(np.abs(self.edges[index] - times) <= 1e-3, index, -1).astype(np.int64)
 
 
 class GridFit:
@@ -93,10 +135,10 @@ class SkyGrid:
         edges = grid.edges
         self.edges = edges
         lat, lon = site.latitude, site.longitude
-        self.sun_altitude = sun_altitude(lat, lon, edges)
-        self.moon_ra, self.moon_dec = moon_radec(edges)
+        self.sun_altitude = sun_altitude(lat, lon, edges, site.elevation)
+        self.moon_ra, self.moon_dec = moon_radec(edges, site)  # seen from the site: up to 1° off
         self.moon_illumination = moon_illumination(edges)
-        middle = grid.start + grid.step * grid.n_slices / 2
+        middle = (grid.start + grid.end) / 2
         positions = np.array([b.target.position_at(middle) for b in self.blocks]).reshape(-1, 2)
         self.target_ra, self.target_dec = positions[:, 0], positions[:, 1]
         self.altitude = altitudes(self.target_ra, self.target_dec, lat, lon, edges)

@@ -85,7 +85,7 @@ def unplanned_reasons(
     sky = SkyGrid(grid, problem.site, [problem.blocks[row] for row in rows])
     alone = [(constraint, constraint(sky)) for constraint in constraints]
     can_start = problem.can_start
-    span = f"{_time(grid.start):%Y-%m-%d %H:%M} - {_time(grid.start + grid.step * grid.n_slices):%H:%M} UTC"
+    span = f"{_time(grid.start):%Y-%m-%d %H:%M} - {_time(grid.end):%H:%M} UTC"
     every_priority = {**(priorities or {}), **{b.id: b.priority for b in problem.blocks}}
     reasons: dict[str, str] = {}
     for index, row in enumerate(rows):
@@ -96,8 +96,8 @@ def unplanned_reasons(
         elif not problem.visible[row].any():
             reasons[block.id] = "its constraints never hold at the same time in the night"
         elif not can_start[row].any():
-            longest = _longest_run(problem.visible[row]) * grid.step / 60.0
-            needed = int(problem.lengths[row]) * grid.step / 60.0
+            longest = _longest_run(problem.visible[row], grid.durations) / 60.0
+            needed = float(problem.occupancy_s[row]) / 60.0
             reasons[block.id] = (
                 f"longer ({needed:.0f} min with set-up and slew) than any usable gap"
                 f" (the longest: {longest:.0f} min)"
@@ -110,9 +110,8 @@ def unplanned_reasons(
 
 def _displacing(problem: SchedulingProblem, row: int, slots: Sequence[PlannedSlot]) -> list[str]:
     """Ids of the planned blocks that overlap any start the block could have had, by start."""
-    grid = problem.grid
-    starts = grid.start + grid.step * np.flatnonzero(problem.can_start[row])
-    ends = starts + grid.step * float(problem.lengths[row])
+    starts = problem.grid.edges[np.flatnonzero(problem.can_start[row])]
+    ends = starts + float(problem.occupancy_s[row])
     found = []
     for slot in slots:
         begin, end = slot.start.timestamp(), slot.end.timestamp()
@@ -128,7 +127,7 @@ def _displaced(
     names: Mapping[str, str],
 ) -> str:
     if not blockers:
-        return "left out by the solver (no better plan found in its time limit)"
+        return "left out by the solver (no better plan found within its work limit)"
     named = ", ".join(names.get(blocker, blocker) for blocker in blockers)
     higher = all((priority_of(b) or 0.0) > block.priority for b in blockers)
     if higher:
@@ -136,10 +135,12 @@ def _displaced(
     return f"displaced by tasks {named} (the plan is worth more with them)"
 
 
-def _longest_run(row: BoolArray) -> int:
+def _longest_run(row: BoolArray, durations: npt.NDArray[np.float64]) -> float:
+    """Seconds of the longest run of True slices."""
     padded = np.concatenate(([0], row.astype(np.int8), [0]))
     edges = np.flatnonzero(np.diff(padded))
-    return int((edges[1::2] - edges[::2]).max(initial=0))
+    seconds = np.concatenate(([0.0], np.cumsum(durations)))
+    return float((seconds[edges[1::2]] - seconds[edges[::2]]).max(initial=0.0))
 
 
 def _time(unix_time: float) -> datetime:
