@@ -124,7 +124,10 @@ class Request(TaskModel):
     @model_validator(mode="after")
     def _check_elements_epochs(self) -> Self:
         targets = [(f"configurations[{i}].target", c.target) for i, c in enumerate(self.configurations)]
-        raise_problems(epoch_problems(targets, self.first_start, self.last_end))
+        if self.windows:
+            raise_problems(epoch_problems(targets, self.first_start, self.last_end))
+        elif self.cadence is not None:  # not expanded yet: its visits lie within its span
+            raise_problems(epoch_problems(targets, self.cadence.start, self.cadence.end))
         return self
 
     @property
