@@ -1,6 +1,6 @@
 """``nightcrew sim --nights 2 --weather random``: two nights on the one engine and the season's report.
 
-Each night is one clock hour of dark time (``--start 21:00 --hours 1``) so the test stays short;
+Each night is an hour and a half of clock time (``--start 21:00 --hours 1.5``) so the test stays short;
 the numbers are checked against each night's own records.
 """
 
@@ -32,7 +32,9 @@ def season(tmp_path_factory: pytest.TempPathFactory) -> tuple[int, Path, str]:
             "--start",
             "21:00",
             "--hours",
-            "1",
+            # Astronomical night begins at ~21:14; the time-critical Algol light curve (45 min of
+            # cycling, planned first) must be able to end before the run does, or no task is done.
+            "1.5",
         ]
     )
     return code, out, (out / "season.md").read_text(encoding="utf-8")
@@ -64,7 +66,7 @@ def test_the_season_report_holds_each_nights_numbers_and_the_totals(season: tupl
         assert tuple(row["roof_close_delays_s"]) == again.roof_close_delays_s
         assert row["tasks_done"] == again.tasks_done and row["tasks_failed"] == again.tasks_failed
         # The first quarter hour the weather is not yet known to be good.
-        assert 0.5 * 3600 < row["good_dark_s"] <= 3600 or row["bad_weather_onsets"] > 0
+        assert 0.5 * 3600 < row["good_dark_s"] <= 1.5 * 3600 or row["bad_weather_onsets"] > 0
         assert row["objective"] is not None and row["objective"] <= row["bound"] + 1e-9
     assert summary["tasks_done"] == sum(row["tasks_done"] for row in rows) > 0
     assert summary["good_dark_h"] == pytest.approx(sum(row["good_dark_s"] for row in rows) / 3600)
