@@ -101,7 +101,7 @@ class IndiCoverCalibrator(IndiModule, BaseCoverCalibrator):
     async def _hw_halt_cover(self) -> None:
         if not self._indi.has(_CAP_ABORT):
             raise NotSupportedError(f"{self._indi.where} cannot halt its cover (no {_CAP_ABORT})")
-        self._halted = True
+        self._halted = self._indi.is_busy(_CAP)  # a cover at rest stays where it is known to be
         await self._indi.abort(_CAP_ABORT)
 
     # --- light ---------------------------------------------------------------------------------
