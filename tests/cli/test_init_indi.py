@@ -39,7 +39,8 @@ def test_init_writes_the_indi_simulators_by_role(
     assert main(["init", str(directory), "--non-interactive", "--indi", server, *site]) == 0
     out = capsys.readouterr().out
     written = out.splitlines()[0].removeprefix(f"wrote {directory}: ").split(", ")
-    assert written[:7] == ["telescope", "camera", "dome", "focuser", "filters", "rotator", "conditions"]
+    roles = ["telescope", "camera", "dome", "focuser", "filters", "rotator", "conditions", "cover"]
+    assert written[:8] == roles
     expected = {
         "telescope": "Telescope Simulator",
         "camera": "CCD Simulator",
@@ -48,6 +49,7 @@ def test_init_writes_the_indi_simulators_by_role(
         "filters": "Filter Simulator",
         "rotator": "Rotator Simulator",
         "conditions": "Weather Simulator",
+        "cover": "Light Panel Simulator",
     }
     for name, device in expected.items():
         config = load_config(directory / f"{name}.yaml")

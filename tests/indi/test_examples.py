@@ -25,6 +25,7 @@ def test_there_is_an_example_for_every_indi_module() -> None:
         "IndiDome",
         "IndiWeather",
         "IndiRotator",
+        "IndiCoverCalibrator",
     }
     assert {load_config(path)["device"] for path in CLIENT_EXAMPLES} == set(SIMULATORS.values())
 

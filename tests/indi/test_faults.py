@@ -14,6 +14,7 @@ from nightcrew.errors import GrabImageError, ModuleError, MoveError
 from nightcrew.interfaces import ModuleState, MotionStatus
 from nightcrew.modules.indi import (
     IndiCamera,
+    IndiCoverCalibrator,
     IndiDome,
     IndiFilterWheel,
     IndiFocuser,
@@ -35,6 +36,7 @@ MODULES: dict[str, tuple[type[Module], dict[str, Any]]] = {
     "indi_simulator_dome": (IndiDome, {}),
     "indi_simulator_weather": (IndiWeather, {"interval": 1.0}),
     "indi_simulator_rotator": (IndiRotator, {}),
+    "indi_simulator_lightpanel": (IndiCoverCalibrator, {}),
 }
 
 
@@ -87,6 +89,10 @@ async def test_modules_recover_when_indiserver_is_restarted(
         assert isinstance(weather, IndiWeather)
         await weather.read_now()
         assert (await weather.get_current_weather()).sensors["temperature"] is not None
+        panel = modules["indi_simulator_lightpanel"]
+        assert isinstance(panel, IndiCoverCalibrator)
+        await panel.calibrator_on(1)
+        await panel.calibrator_off()
 
 
 async def test_indiserver_killed_mid_exposure_and_mid_slew(

@@ -1,5 +1,5 @@
-"""The INDI rotator and weather modules pass their device contract suites against the indi-bin
-simulators."""
+"""The INDI rotator, weather and cover-calibrator modules pass their device contract suites
+against the indi-bin simulators."""
 
 from __future__ import annotations
 
@@ -10,11 +10,12 @@ import pytest
 
 from nightcrew.clock import RealClock
 from nightcrew.interfaces import WeatherSensor
-from nightcrew.modules.indi import IndiRotator, IndiWeather
+from nightcrew.modules.indi import IndiCoverCalibrator, IndiRotator, IndiWeather
 from nightcrew.modules.module import Module
 from nightcrew.testing import (
     ContractProbe,
     ContractSetup,
+    CoverCalibratorContract,
     Observatory,
     RotatorContract,
     WeatherStationContract,
@@ -50,4 +51,13 @@ class TestIndiWeatherContract(WeatherStationContract):
     @pytest.fixture
     async def contract(self, indi_server: IndiServer) -> AsyncIterator[ContractSetup[Any]]:
         async for setup in _setup(indi_server, IndiWeather, "indi_simulator_weather", interval=1.0):
+            yield setup
+
+
+class TestIndiLightPanelContract(CoverCalibratorContract):
+    """indi_simulator_lightpanel: a light without a cover."""
+
+    @pytest.fixture
+    async def contract(self, indi_server: IndiServer) -> AsyncIterator[ContractSetup[Any]]:
+        async for setup in _setup(indi_server, IndiCoverCalibrator, "indi_simulator_lightpanel"):
             yield setup

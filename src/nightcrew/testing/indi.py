@@ -54,6 +54,7 @@ SIMULATORS: dict[str, str] = {
     "indi_simulator_dome": "Dome Simulator",
     "indi_simulator_weather": "Weather Simulator",
     "indi_simulator_rotator": "Rotator Simulator",
+    "indi_simulator_lightpanel": "Light Panel Simulator",
 }
 
 _READY_TIMEOUT = 30.0  # wall seconds; indiserver and its drivers start within ~1 s on an idle machine

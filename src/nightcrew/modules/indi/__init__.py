@@ -1,5 +1,6 @@
 """INDI devices as nightcrew modules (on the device bases), and nightcrew devices served over INDI."""
 
+from nightcrew.modules.indi.calibrator import IndiCoverCalibrator
 from nightcrew.modules.indi.camera import IndiCamera
 from nightcrew.modules.indi.dome import IndiDome
 from nightcrew.modules.indi.filters import IndiFilterWheel
@@ -13,6 +14,7 @@ from nightcrew.modules.indi.weather import IndiWeather
 
 __all__ = [
     "IndiCamera",
+    "IndiCoverCalibrator",
     "IndiDome",
     "IndiFilterWheel",
     "IndiFocuser",

@@ -1,9 +1,10 @@
 """INDI devices for ``nightcrew init``: ``getProperties`` on one indiserver, each device by role.
 
 A driver says what it is in ``DRIVER_INFO.DRIVER_INTERFACE`` (a bit mask: 1 telescope, 2 CCD,
-8 focuser, 16 filter wheel, 32 dome, 128 weather, 4096 rotator, ...). One device may set several
-bits (a CCD with a built-in wheel); it takes the first role of :data:`_BITS` it has, so a camera
-stays a camera. A DOME device is a ``dome`` (IndiDome: shutter and azimuth), or a ``roof``
+8 focuser, 16 filter wheel, 32 dome, 128 weather, 512 dust cap, 1024 light box, 4096 rotator,
+...). One device may set several bits (a CCD with a built-in wheel); it takes the first role of
+:data:`_BITS` it has, so a camera stays a camera; a light box or dust cap is a ``cover``.
+A DOME device is a ``dome`` (IndiDome: shutter and azimuth), or a ``roof``
 (IndiRoof: opened by unparking) when its driver calls itself a roll-off or a roof in
 ``DRIVER_EXEC`` or ``DRIVER_NAME``: before a client connects the device, that name is all a
 driver says to tell the two apart (``indi_rolloff_dome``: "RollOff Simulator").
@@ -39,6 +40,8 @@ _BITS: tuple[tuple[int, str, str], ...] = (
     (16, "filters", "nightcrew.modules.indi.IndiFilterWheel"),
     (4096, "rotator", "nightcrew.modules.indi.IndiRotator"),
     (128, "conditions", "nightcrew.modules.indi.IndiWeather"),
+    (1024, "cover", "nightcrew.modules.indi.IndiCoverCalibrator"),  # light box (flat panel)
+    (512, "cover", "nightcrew.modules.indi.IndiCoverCalibrator"),  # dust cap
 )
 
 

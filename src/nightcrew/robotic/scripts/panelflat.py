@@ -6,7 +6,8 @@ brings the frame's median to the target level: test frames (not announced, not c
 once measured) scaled
 linearly towards it, :data:`MAX_TEST_FRAMES` at most, between ``min_exposure`` and
 ``max_exposure``. Then it takes the config's ``exposure_count`` flats (image type ``domeflat``).
-Whatever happens - done, failed, cancelled - the light goes off and the cover opens again.
+Whatever happens - done, failed, cancelled - the light goes off and the cover opens again. A panel
+without a cover (NOT_PRESENT, e.g. on the dome wall) is only switched on and off.
 
 The level is ``extra_params.level`` of the configuration, else the script's ``level`` (ADU,
 bias included, below saturation); the instrument config's ``exposure_time`` is the first guess.
@@ -23,7 +24,7 @@ import numpy as np
 from nightcrew.errors import ConfigError, NightcrewError, NotSupportedError
 from nightcrew.flatfield.fit import FlatSample, target_exposure_time
 from nightcrew.images import Image
-from nightcrew.interfaces import ICamera, ICoverCalibrator, IFilters, ImageType
+from nightcrew.interfaces import CoverState, ICamera, ICoverCalibrator, IFilters, ImageType
 from nightcrew.robotic.runner import (
     ProgressCallback,
     ProgressReporter,
@@ -104,8 +105,10 @@ class PanelFlatScript(Script):
             return
         instrument = await Instrument.connect(self, self._camera, self._filters)
         panel = await self.proxy(self._calibrator, ICoverCalibrator)
+        cover = await step("read the cover", panel.get_cover_state()) is not CoverState.NOT_PRESENT
         try:
-            await step("close the cover", panel.close_cover())
+            if cover:
+                await step("close the cover", panel.close_cover())
             brightness = self._brightness
             if brightness is None:
                 brightness = await step("read the maximum brightness", panel.get_max_brightness())
@@ -123,7 +126,7 @@ class PanelFlatScript(Script):
                     await reporter.add(index)
         finally:
             # Shielded: a cancelled task still leaves the light off and the telescope open.
-            await asyncio.shield(self._restore(panel))
+            await asyncio.shield(self._restore(panel, cover))
 
     async def _find_exposure(
         self, instrument: Instrument, config: InstrumentConfig, level: float, bias: float
@@ -173,6 +176,7 @@ class PanelFlatScript(Script):
         return float(await asyncio.to_thread(np.median, image.data))
 
     @staticmethod
-    async def _restore(panel: ICoverCalibrator) -> None:
+    async def _restore(panel: ICoverCalibrator, cover: bool) -> None:
         await quietly("switch the light off", panel.calibrator_off)
-        await quietly("open the cover", panel.open_cover)
+        if cover:
+            await quietly("open the cover", panel.open_cover)
