@@ -106,7 +106,11 @@ def test_an_xmpp_observatory_for_the_alpaca_simulators(
             "class": "nightcrew.robotic.archives.SqliteTaskArchive",
             "path": "tasks.sqlite",
         }
-    assert load_config(directory / "mastermind.yaml")["roof"] == "dome"  # the simulator's dome turns
+    mastermind = load_config(directory / "mastermind.yaml")
+    assert mastermind["roof"] == "dome"  # the simulator's dome turns
+    # The simulators' flip-flat: PANEL_FLAT tasks take their flats on it.
+    panel = mastermind["runner"]["scripts"]["PANEL_FLAT"]
+    assert (panel["class"], panel["calibrator"]) == ("nightcrew.robotic.scripts.PanelFlatScript", "cover")
     # As the guide does: the server's accounts and certificate, then the check (which finds the files).
     server_init(directory, monkeypatch)
     check(directory, monkeypatch, but=("scheduler.yaml",))

@@ -126,7 +126,15 @@ def robotic_modules(options: InitOptions, devices: dict[str, FoundDevice]) -> tu
         modules["mastermind"] = (
             "Runs the planned task due now whenever weather, roof and Sun allow; opens and closes the "
             "roof, parks the telescope, focuses when the temperature changed.",
-            _mastermind(telescope, camera, enclosure, filters, "focus" in modules, "flatfield" in modules),
+            _mastermind(
+                telescope,
+                camera,
+                enclosure,
+                filters,
+                "focus" in modules,
+                "flatfield" in modules,
+                first_of(devices, "cover"),
+            ),
             {},
         )
         watch = {"weather": 120, "mastermind": 300}
@@ -216,7 +224,13 @@ def _weather(stations: dict[str, FoundDevice], good_after: float) -> dict[str, A
 
 
 def _mastermind(
-    telescope: str, camera: str, roof: str, filters: str | None, focus: bool, flats: bool
+    telescope: str,
+    camera: str,
+    roof: str,
+    filters: str | None,
+    focus: bool,
+    flats: bool,
+    panel: str | None,
 ) -> dict[str, Any]:
     imaging = {
         "class": "nightcrew.robotic.scripts.ImagingScript",
@@ -238,6 +252,13 @@ def _mastermind(
             "class": "nightcrew.robotic.scripts.SkyFlatScript",
             "flatfield": "flatfield",
             "functions": Include("shared/flat-functions.yaml"),
+        }
+    if panel:  # a flat panel (or a flip-flat) found: PANEL_FLAT tasks take their flats on it
+        scripts["PANEL_FLAT"] = {
+            "class": "nightcrew.robotic.scripts.PanelFlatScript",
+            "camera": camera,
+            "filters": filters,
+            "calibrator": panel,
         }
     return {
         "class": "nightcrew.modules.robotic.mastermind.Mastermind",
