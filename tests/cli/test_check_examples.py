@@ -4,6 +4,7 @@ variables to set; ``check`` tells module files, task files, policies and fragmen
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -23,14 +24,22 @@ SECRETS = (
 )
 
 
-@pytest.mark.usefixtures("bundled_xmpp_files")  # certificate, policy and SIM_XMPP_SECRETS
+@pytest.fixture(scope="module")
+def passwords(tmp_path_factory: pytest.TempPathFactory) -> str:
+    """The examples' accounts' passwords, made once as `nightcrew server init` makes them: their folder."""
+    folder = str(tmp_path_factory.mktemp("examples") / "secrets")
+    create_missing_passwords(EXAMPLES.rglob("*.yaml"), environ={**os.environ, "SIM_XMPP_SECRETS": folder})
+    return folder
+
+
+@pytest.mark.usefixtures("bundled_xmpp_files")  # the certificate and policy `server init` writes
 @pytest.mark.parametrize("directory", DIRECTORIES)
 def test_an_example_directory_passes_or_names_the_variables_to_set(
-    directory: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    directory: str, passwords: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     for name in SECRETS:
         monkeypatch.delenv(name, raising=False)
-    create_missing_passwords(EXAMPLES.rglob("*.yaml"))  # as `server init` makes them, in SIM_XMPP_SECRETS
+    monkeypatch.setenv("SIM_XMPP_SECRETS", passwords)
     code = main(["check", str(EXAMPLES / directory)])
     captured = capsys.readouterr()
     if code != 0:

@@ -17,6 +17,7 @@ The test process reaches Prosody over a link of its own to "dome" and drives the
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -45,6 +46,7 @@ EXAMPLES = REPOSITORY / "examples"
 DOMAIN = "observatory.test"
 PASSWORD = "secret-for-tests"
 ROOM = "nightcrew"
+SECRETS = "secrets"
 XMPP_PORT, SSH_PORT, SMB_PORT, CACHE_PORT = 5222, 22, 445, 37081
 CLOCK_START = "2026-11-10T17:50:00"
 CLOCK_SPEED = 20.0
@@ -55,7 +57,7 @@ SILENCE_LIMIT = 400
 OFFICE_PINGS = "  ping_interval: 2\n  ping_timeout: 4\n"
 _COMM = (
     f"comm:\n  <<: !include {EXAMPLES}/sim-processes/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
-    "  password: !include secrets/{name}.password\n"  # the host's own secrets/ (SIM_XMPP_SECRETS)
+    "  password: !include ${{SIM_XMPP_SECRETS}}/{name}.password\n"  # as the examples name theirs
 )
 _CLOCK = f"clock: !include {EXAMPLES}/sim-processes/clock.yaml\n"
 _OVERLAY = _COMM + _CLOCK
@@ -161,18 +163,27 @@ def start(directory: Path) -> Observatory:
     )
     try:
         environments = _environments(observatory)
-        # docs/operations.md, step 2: one random password per module account (each host keeps its
-        # own modules' secrets/, which its SIM_XMPP_SECRETS names), made and read as `nightcrew
-        # server init` does; the operator (this test) is a person with a password of its own.
-        accounts = [Account("operator", DOMAIN, PASSWORD, person=True)]
+        paths = []
         for host, modules in MODULE_FILES.items():
             files = directory / f"{host}-modules"
-            files.mkdir()
+            (files / SECRETS).mkdir(parents=True)
             for name, text in modules.items():
                 (files / f"{name}.yaml").write_text(text)
-            paths = [files / f"{name}.yaml" for name in modules]
-            create_missing_passwords(paths, environ=environments[host])
-            accounts += accounts_from_configs(paths, environ=environments[host])
+                paths.append(files / f"{name}.yaml")
+        # docs/operations.md, step 2 on the dome: one random password per module account, made and
+        # read as `nightcrew server init xmpp examples/sim-processes/*.yaml examples/multi-host/*.yaml`
+        # (and the test's own files) does; each host gets only its own modules' password files, in
+        # the folder its SIM_XMPP_SECRETS names. The operator (this test) is a person of its own.
+        on_dome = {"SIM_XMPP_SECRETS": str(directory / SECRETS)}
+        examples = sorted([*EXAMPLES.glob("sim-processes/*.yaml"), *EXAMPLES.glob("multi-host/*.yaml")])
+        create_missing_passwords([*examples, *paths], environ={**environments["dome"], **on_dome})
+        accounts = [Account("operator", DOMAIN, PASSWORD, person=True)]
+        for host, modules in MODULE_FILES.items():
+            own = [directory / f"{host}-modules" / f"{name}.yaml" for name in modules]
+            accounts += accounts_from_configs(own, environ={**environments[host], **on_dome})
+            for name in modules:
+                password = f"{name}.password"
+                shutil.copy2(directory / SECRETS / password, directory / f"{host}-modules" / SECRETS)
         init_server(observatory.xmpp_directory, accounts, host="0.0.0.0", port=XMPP_PORT, domains=[DOMAIN])
         # The starting policy, as `nightcrew server init` writes it for these accounts.
         (directory / "access.policy").write_text(yaml.safe_dump(policy_for_accounts(accounts)))
@@ -240,7 +251,7 @@ def _environments(observatory: Observatory) -> dict[str, dict[str, str]]:
         "office": office,
     }
     for host, environment in environments.items():  # each host its own modules' passwords
-        environment["SIM_XMPP_SECRETS"] = str(directory / f"{host}-modules" / "secrets")
+        environment["SIM_XMPP_SECRETS"] = str(directory / f"{host}-modules" / SECRETS)
     return environments
 
 
