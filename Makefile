@@ -13,7 +13,7 @@ SYSTEM_PACKAGES += $(if $(shell command -v npm),,npm)
 # The JavaScript client's npm packages, exactly as clients/js/package-lock.json pins them.
 JS_STAMP := clients/js/node_modules/.installed
 
-.PHONY: setup system-deps sky-deps js-deps catalogue lint test sim example bench clean
+.PHONY: setup system-deps sky-deps js-deps catalogue lint test sim example bench bench-ekos clean
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -78,6 +78,14 @@ bench: setup
 	$(PY) bench/rpc.py
 	$(PY) bench/console.py
 	$(PY) bench/archive.py
+
+# KStars/Ekos against nightcrew's IndiServer under Xvfb and a private D-Bus session (bench/ekos.py);
+# these packages are the bench's only, not the test suite's (tests/indi/test_ekos_properties.py
+# checks with indi-bin what Ekos asked for here).
+EKOS_PACKAGES := kstars xvfb xauth dbus-daemon libglib2.0-bin
+bench-ekos: setup
+	bash scripts/install-system-deps.sh $(EKOS_PACKAGES)
+	$(PY) bench/ekos.py
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache .ruff_cache clients/js/node_modules

@@ -47,6 +47,16 @@ def alpaca_simulator(
         simulator.stop()
 
 
+@pytest.fixture(scope="session")
+def more_devices_url(tmp_path_factory: pytest.TempPathFactory, alpaca_star_table: Path) -> Iterator[str]:
+    """A private simulator whose cover-calibrators have a light (the default one's has none), with
+    a dome and a flat panel (:mod:`.more_devices`); one for the session."""
+    from .more_devices import start_with_more_devices
+
+    with start_with_more_devices(tmp_path_factory.mktemp("alpaca-more"), alpaca_star_table) as simulator:
+        yield simulator.url
+
+
 @pytest.fixture
 def start_alpaca_simulator(
     tmp_path: Path, alpaca_star_table: Path

@@ -3,8 +3,7 @@ nightcrew's device contract suites against alpaca-simulators (real time)."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Iterator
-from pathlib import Path
+from collections.abc import AsyncIterator
 from typing import Any
 
 import pytest
@@ -30,20 +29,13 @@ from nightcrew.testing import (
 )
 from nightcrew.testing.alpaca import AlpacaSimulator
 
-from .more_devices import FLIP_FLAT, PANEL, start_with_more_devices
+from .more_devices import FLIP_FLAT, PANEL
 
 
 async def _started(module_class: type[Any], url: str, **options: Any) -> AsyncIterator[ContractSetup[Any]]:
     async with Observatory(clock=RealClock()) as obs:
         probe = await obs.start(ContractProbe, "probe")
         yield ContractSetup(await obs.start(module_class, "device", server=url, **options), probe)
-
-
-@pytest.fixture(scope="module")
-def more_devices_url(tmp_path_factory: pytest.TempPathFactory, alpaca_star_table: Path) -> Iterator[str]:
-    """A private simulator whose cover-calibrators have a light (the default one's has none)."""
-    with start_with_more_devices(tmp_path_factory.mktemp("alpaca-more"), alpaca_star_table) as simulator:
-        yield simulator.url
 
 
 class TestAlpacaRotator(RotatorContract):

@@ -105,3 +105,19 @@ async def test_unknown_frames_and_bad_ids_are_named(client: Client) -> None:
     assert status == 400 and "frame_ids must list at least one frame id" in body["detail"]
     status, body = await client.get("/frames/1/thumbnail/", size=5000)
     assert status == 400 and "size must be within 16..1024, got 5000" in body["detail"]
+
+
+async def test_a_raw_frame_shows_the_wcs_of_its_reduced_frame_once_solved(client: Client) -> None:
+    raw = await upload(client, "ngc1.fits", OBJECT="NGC 1", seed=6)
+
+    async def raw_header() -> dict[str, object]:
+        status, body = await client.get(f"/frames/{raw['id']}/headers/")
+        assert status == 200
+        return body["data"]  # type: ignore[no-any-return]
+
+    assert "CTYPE1" not in await raw_header()  # not solved yet
+    solution = {"CTYPE1": "RA---TAN", "CTYPE2": "DEC--TAN", "CRVAL1": 1.84, "CRVAL2": 27.7, "CDELT1": -3e-4}
+    await upload(client, "ngc1_red.fits", RAWFILE="ngc1.fits", seed=7, **solution)
+    header = await raw_header()
+    assert {key: header[key] for key in solution} == solution
+    assert header["OBJECT"] == "NGC 1"  # its own cards stay

@@ -45,7 +45,8 @@ HARDWARE_EVENTS: list[Event] = [
 ]
 POLICY = """\
 roles: {operator: ["*"], observer: ["*.get_*"], safety: []}
-accounts: {operator: [operator], observer: [observer], weather: [safety], watchdog: [safety]}
+accounts: {operator: [operator], observer: [observer], weather: [safety], watchdog: [safety],
+           "observer:duty": [safety]}
 safety_roles: [safety]
 """
 EVENTS = "events:\n" + "".join(f"  {name}: [safety]\n" for name in hardware_event_names())
@@ -138,6 +139,11 @@ async def test_every_hardware_event_is_refused_from_a_non_sender_over_prosody(
     forbidden = [(r.caller, r.module, r.method, r.outcome) for r in read_audit(audit, outcome="forbidden")]
     assert forbidden == [("observer", "roof", type(e).__name__, "forbidden") for e in HARDWARE_EVENTS]
     assert audit.stat().st_mode & 0o777 == 0o600  # the trail is its owner's alone
+
+    # Sent for a person (as the console sends for an operator): trusted as that identity.
+    with observer.comm.acting_as("duty"):
+        await _send(observer, [RapidResponseEvent(ids=("2",))], heard)
+    assert [event.ids for event in pre_emptions] == [("2",)]
 
     # The watchdog's alarm latches; a forged all-clear does not unlatch it, the watchdog's does.
     await watchdog.comm.send_event(SafetyAlarmEvent(reason="weather silent"))

@@ -155,3 +155,22 @@ async def test_who_and_how_a_module_is_answers_while_it_is_starting() -> None:
         await asyncio.wait_for(opening, 5)
         await starting.close()
         await caller.close()
+
+
+async def test_who_and_how_a_module_is_answers_in_error_state_too() -> None:
+    network = LocalNetwork()
+    failing = Module(comm=LocalComm("failing", network=network), label="Failing")
+    caller = Module(comm=LocalComm("caller", network=network))
+    await failing.open()
+    await caller.open()
+    try:
+        failing.set_error("the device went away")
+        module = await caller.comm.proxy("failing", IModule)
+        assert await module.get_state() is ModuleState.ERROR
+        assert await module.get_label() == "Failing"
+        assert await module.get_version() == __version__
+        assert await module.get_error_string() == "the device went away"
+        assert not await modules_ready(caller, ["failing"])
+    finally:
+        await failing.close()
+        await caller.close()

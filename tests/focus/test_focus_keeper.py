@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import asyncio
+import logging
 from typing import Any
 
+import pytest
+
 from nightcrew.focus import FocusSeriesError
+from nightcrew.focus.sources import TemperatureSource
 from nightcrew.interfaces import IAutoFocus
 from nightcrew.modules import Module
+from nightcrew.modules.sim import SimFocuser
 from nightcrew.robotic.mastermind import FocusKeeper
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.testing import SITE, Observatory
@@ -48,8 +53,6 @@ async def test_a_failed_focus_is_retried_after_the_interval_and_not_before(obser
         roof="roof",
         telescope="telescope",
         weather=None,
-        temperatures=None,
-        temperature_sensor="t",
     )
     keeper = FocusKeeper(
         focuser,
@@ -75,3 +78,26 @@ async def test_a_failed_focus_is_retried_after_the_interval_and_not_before(obser
     await focus()
     assert await keeper.focus_below() is None  # focused now (no temperature: not due again)
     assert len(focuser.runs) == 2 and focuser.runs[1] - failed_at >= RETRY_S
+
+
+async def test_the_refocus_temperature_is_the_configured_sensor_and_a_wrong_one_is_said_once(
+    observatory: Observatory, caplog: pytest.LogCaptureFixture
+) -> None:
+    host = await observatory.start(SimFocuser, "focuser", temperature=7.5)
+
+    def control(sensor: str) -> ObservatoryControl:
+        source = TemperatureSource("focuser", sensor=sensor)
+        return ObservatoryControl(
+            host, SITE, roof="roof", telescope="telescope", weather=None, temperature=source
+        )
+
+    assert await control("ambient").temperature() == 7.5
+    wrong = control("temperature")  # the old default: no module had it, and nobody was told
+    with caplog.at_level(logging.WARNING):
+        assert await wrong.temperature() is None
+        assert await wrong.temperature() is None
+    said = [r.getMessage() for r in caplog.records if "no temperature" in r.getMessage()]
+    assert said == [
+        "focuser: no temperature for refocusing: "
+        "focuser: temperature temperature: no such sensor (it has: ambient)"
+    ]

@@ -149,7 +149,10 @@ async def test_missing_temperature_leaves_the_focuser_alone(
     focuser, _ = await start_night(observatory)
     options = {**MODEL, "temperatures": {"temp": {"module": "focuser", "sensor": "mirror"}}}
     model = await observatory.start(FocusModel, "focusmodel", **options)
-    with pytest.raises(ModuleError, match=r"no value for temp \(focuser: temperature mirror\)"):
+    with pytest.raises(
+        ModuleError,
+        match=r"no value for temp \(focuser: temperature mirror: no such sensor \(it has: ambient\)\)",
+    ):
         await model.set_optimal_focus()
     assert await focuser.get_focus() == 24.0
     with caplog.at_level(logging.WARNING):

@@ -8,12 +8,13 @@ the tests skip, except under CI=true, where they fail.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import AsyncIterator, Callable, Iterator
 from pathlib import Path
 
 import pytest
 
 from nightcrew.testing.indi import SIMULATORS, IndiServer, indi_missing
+from tests.indi.served import Served, serve
 
 
 def _require_indi() -> None:
@@ -55,3 +56,10 @@ def own_indi_server(tmp_path: Path) -> Iterator[Callable[..., IndiServer]]:
     finally:
         for server in servers:
             server.stop()
+
+
+@pytest.fixture
+async def served() -> AsyncIterator[Served]:
+    """The simulated observatory served by IndiServer (see tests/indi/served.py)."""
+    async with serve() as result:
+        yield result

@@ -14,8 +14,9 @@ from nightcrew.bridges.indi import IndiClient
 from nightcrew.clock import RealClock
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.events import BadWeatherEvent, GoodWeatherEvent, MotionStatusChangedEvent
-from nightcrew.interfaces import ImageType, ModuleState, MotionStatus, PierSide, WeatherSensor
+from nightcrew.interfaces import ImageType, ISyncRaDec, ModuleState, MotionStatus, PierSide, WeatherSensor
 from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME
+from nightcrew.modules import Module
 from nightcrew.modules.indi import IndiCamera, IndiFocuser, IndiRotator, IndiTelescope, IndiWeather
 from nightcrew.modules.weather import ModuleStation, Weather
 from nightcrew.testing import EventRecorder, Observatory, wait_for
@@ -172,8 +173,10 @@ async def test_telescope_speaks_jnow_to_indi_and_j2000_to_nightcrew(indi_server:
         assert await telescope.get_pier_side() is PierSide.WEST
         assert (await telescope.get_fits_header_before())["PIERSIDE"][0] == "WEST"
         assert await telescope.get_destination_pier_side(ra, dec) is PierSide.UNKNOWN
-        # Sync: the mount now believes it points 0.5 degrees further north.
-        await telescope.sync_radec(ra, dec + 0.5)
+        # Sync, called as any module would (ISyncRaDec over the comm, as docs/indi.md promises): the
+        # mount now believes it points 0.5 degrees further north.
+        caller = await obs.start(Module, "caller")
+        await (await caller.proxy("telescope", ISyncRaDec)).sync_radec(ra, dec + 0.5)
         assert angular_separation(*await telescope.get_radec(), ra, dec + 0.5) < 1.0 / 60.0
         await telescope.set_tracking(False)
         assert await telescope.get_motion_status() is MotionStatus.IDLE

@@ -9,103 +9,23 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-from collections.abc import AsyncIterator
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import pytest
 from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.astro import altaz_to_radec, j2000_to_of_date
-from nightcrew.clock import AcceleratedClock
-from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.events import MoveRaDecEvent
+from nightcrew.comm.local import LocalComm
 from nightcrew.interfaces import MotionStatus
-from nightcrew.modules import Module
 from nightcrew.modules.indi.server import IndiServer
-from nightcrew.modules.sim import SimCamera, SimDome, SimFilterWheel, SimFocuser, SimTelescope
-from nightcrew.site import Site
-from nightcrew.vfs import MemoryFile, VirtualFileSystem
-from tests.indi.server_clients import PATIENCE, getprop, require_clients, run, setprop, wait_for
-
-#: A winter night at a mid-northern site, the Sun well down.
-EPOCH = "2024-01-15T22:00:00+00:00"
-SITE = Site(latitude=51.56, longitude=9.94, elevation=201.0, name="Göttingen")
-
-
-@dataclass
-class Served:
-    server: IndiServer
-    telescope: SimTelescope
-    camera: SimCamera
-    focuser: SimFocuser
-    filters: SimFilterWheel
-    dome: SimDome
-    clock: AcceleratedClock
-    network: LocalNetwork
-    moves: asyncio.Queue[MoveRaDecEvent] = field(default_factory=asyncio.Queue)
-
-    @property
-    def port(self) -> str:
-        return str(self.server.port)
-
-
-@pytest.fixture
-async def served() -> AsyncIterator[Served]:
-    require_clients()
-    clock = AcceleratedClock(EPOCH, speed=20.0)
-    network = LocalNetwork()
-    vfs = VirtualFileSystem({"cache": MemoryFile()})
-
-    def context(name: str) -> dict[str, Any]:
-        return {"comm": LocalComm(name, network=network), "clock": clock, "site": SITE, "vfs": vfs}
-
-    modules: list[Module] = []
-    try:
-        telescope = SimTelescope(**context("telescope"))
-        camera = SimCamera(
-            roof=None,
-            weather=None,
-            detector={"chip_width": 64, "chip_height": 48},
-            readout_time=0.5,
-            **context("camera"),
-        )
-        focuser = SimFocuser(**context("focuser"))
-        filters = SimFilterWheel(filters=["B", "V", "R"], **context("filters"))
-        dome = SimDome(**context("dome"))
-        watcher = Module(**context("watcher"))
-        for module in (telescope, camera, focuser, filters, dome, watcher):
-            modules.append(module)
-            await module.open()
-        server = IndiServer(
-            port=0,
-            telescope="telescope",
-            camera="camera",
-            focuser="focuser",
-            filters="filters",
-            dome="dome",
-            poll_interval=0.2,
-            **context("indi"),
-        )
-        modules.append(server)
-        await server.open()
-        result = Served(server, telescope, camera, focuser, filters, dome, clock, network)
-
-        async def on_move(event: MoveRaDecEvent, sender: str) -> None:
-            await result.moves.put(event)
-
-        await watcher.comm.register_event(MoveRaDecEvent, on_move)
-        # Served once every device is attached (each defines DRIVER_INFO then).
-        await wait_for(result.port, [f"{d}.DRIVER_INFO.DRIVER_NAME" for d in server.devices], lambda v: True)
-        yield result
-    finally:
-        for module in reversed(modules):
-            await module.close()
+from nightcrew.vfs import VirtualFileSystem
+from tests.indi.served import SITE, Served
+from tests.indi.server_clients import PATIENCE, getprop, run, setprop, wait_for
 
 
 async def test_getprop_lists_the_simulated_observatory_with_the_telescope_position(served: Served) -> None:
-    kinds = {"telescope": "1", "camera": "2", "focuser": "8", "filters": "16", "dome": "32"}
+    # The telescope is also a guider (4): it takes timed guide pulses.
+    kinds = {"telescope": "5", "camera": "2", "focuser": "8", "filters": "16", "dome": "32"}
     values = await getprop(served.port, *(f"{d}.DRIVER_INFO.DRIVER_INTERFACE" for d in kinds))
     assert values == {f"{d}.DRIVER_INFO.DRIVER_INTERFACE": bits for d, bits in kinds.items()}
 

@@ -5,15 +5,18 @@ from __future__ import annotations
 import asyncio
 import os
 import re
+import signal
 import socket
 import subprocess
 import sys
+from datetime import datetime
 from pathlib import Path
 
 import pytest
 
+from nightcrew.astro import altaz_to_radec, j2000_to_of_date
 from nightcrew.server import create_missing_passwords
-from tests.indi.server_clients import PATIENCE, getprop, require_clients
+from tests.indi.server_clients import PATIENCE, getprop, require_clients, setprop, wait_for
 from tests.modules.sim_processes import secrets_folder, starting_policy_file
 
 REPOSITORY = Path(__file__).resolve().parents[2]
@@ -74,6 +77,59 @@ async def test_sim_serves_its_devices_over_indi_while_the_night_runs(tmp_path: P
     )
 
 
+async def test_an_indi_client_takes_the_observatory_from_the_robotic_night(tmp_path: Path) -> None:
+    """docs/indi.md, "Who drives": a client's first request stops the robotic mode, which parks
+    first; then the client's unpark and slew stand (nobody parks the telescope again)."""
+    require_clients()
+    port = str(free_port())
+    night = await asyncio.create_subprocess_exec(
+        *NIGHTCREW,
+        "sim",
+        "--quick",
+        "--targets=1",
+        "--filters=V",
+        "--calibration-frames=0",
+        "--hours=0.5",
+        f"--indi={port}",
+        f"--out={tmp_path / 'night'}",
+        stdout=asyncio.subprocess.PIPE,
+        stderr=asyncio.subprocess.PIPE,
+    )
+    try:
+        where = [
+            "telescope.TIME_UTC.UTC",
+            "telescope.GEOGRAPHIC_COORD.LAT",
+            "telescope.GEOGRAPHIC_COORD.LONG",
+        ]
+        await wait_for(port, where, lambda v: True)
+        await setprop(port, "telescope.TELESCOPE_PARK.UNPARK=On")
+        unparked = {"telescope.TELESCOPE_PARK.UNPARK": "On", "telescope.TELESCOPE_PARK._STATE": "Ok"}
+        await wait_for(port, list(unparked), lambda v: all(v[k] == want for k, want in unparked.items()))
+        # 70 degrees high in the south at the server's time (TIME_UTC), in INDI's JNow.
+        values = await getprop(port, *where)
+        moment = datetime.fromisoformat(values["telescope.TIME_UTC.UTC"] + "+00:00").timestamp()
+        latitude, longitude = (float(values[k]) for k in where[1:])
+        ra, dec = j2000_to_of_date(*altaz_to_radec(70.0, 180.0, latitude, longitude, moment), moment)
+        await setprop(port, f"telescope.EQUATORIAL_EOD_COORD.RA;DEC={ra / 15.0};{dec}")
+        arrived = ["telescope.EQUATORIAL_EOD_COORD.DEC", "telescope.EQUATORIAL_EOD_COORD._STATE"]
+        await wait_for(
+            port,
+            [*arrived, "telescope.TELESCOPE_PARK.PARK"],
+            lambda v: (
+                abs(float(v[arrived[0]]) - dec) < 0.1
+                and v[arrived[1]] == "Ok"
+                and v["telescope.TELESCOPE_PARK.PARK"] == "Off"
+            ),
+        )
+        night.send_signal(signal.SIGINT)  # Ctrl-C: the night ends at once, parked and closed
+        _, err = await asyncio.wait_for(night.communicate(), 10 * PATIENCE)
+    finally:
+        if night.returncode is None:
+            night.kill()
+            await night.wait()
+    assert night.returncode == 130, err.decode()[-2000:]  # ended by Ctrl-C, as asked
+
+
 def test_sim_refuses_a_port_that_is_no_port() -> None:
     result = subprocess.run(
         [*NIGHTCREW, "sim", "--quick", "--indi=70000"],
@@ -112,6 +168,9 @@ def test_the_example_server_config_checks(tmp_path: Path) -> None:
             "nothing to serve",
         ),
         ({"dome": "telescope"}, "key 'dome': module 'telescope' is already served as another device"),
+        ({"pixel_size": 200}, "key 'pixel_size': must be 0 .. 100 µm, got 200"),
+        ({"robotic": " "}, "key 'robotic': must be a module name, got ' '"),
+        ({"handover_timeout": 0}, "key 'handover_timeout': must be 1 .. 3600 seconds, got 0"),
     ],
 )
 def test_bad_server_options_are_named(change: dict[str, object], message: str) -> None:

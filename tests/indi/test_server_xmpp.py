@@ -65,4 +65,4 @@ async def test_a_telescope_on_xmpp_is_listed_and_slewed_by_indi_clients(network:
     assert float(values["telescope.EQUATORIAL_EOD_COORD.DEC"]) == pytest.approx(dec_date, abs=1e-5)
     assert await telescope.get_motion_status() is MotionStatus.TRACKING
     listed = await getprop(port, "telescope.DRIVER_INFO.DRIVER_INTERFACE")
-    assert listed == {"telescope.DRIVER_INFO.DRIVER_INTERFACE": "1"}
+    assert listed == {"telescope.DRIVER_INFO.DRIVER_INTERFACE": "5"}  # telescope and guider

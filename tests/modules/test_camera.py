@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import time
+from datetime import datetime
 
 import pytest
 
@@ -133,6 +134,8 @@ async def test_file_holds_own_and_peer_headers_and_the_event_tells_others(observ
     assert header["FILTER"] == "V/2" and header["OBJECT"] == "M 42" and header["AFTERKEY"] is True
     assert header["SITELAT"] == 51.56 and header["ORIGIN"] == "nightcrew"
     assert header["DATE-OBS"].startswith("2024-01-15T22:00:") and header["MJD-OBS"] > 60324
+    start, end = (datetime.fromisoformat(header[key]) for key in ("DATE-OBS", "DATE-END"))
+    assert (end - start).total_seconds() == pytest.approx(2.5, abs=0.002)  # start + EXPTIME
     assert (header["NAXIS1"], header["NAXIS2"]) == (16, 8)
     await asyncio.wait_for(listener.arrived.wait(), 5)
     event, sender = listener.images[0]

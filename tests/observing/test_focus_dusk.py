@@ -14,17 +14,35 @@ from itertools import pairwise
 
 import pytest
 
+from nightcrew.astro import altaz_to_radec
+from nightcrew.astro.star_fields import StarFieldRules, choose_star_fields
 from nightcrew.events import FocusFoundEvent
 from nightcrew.modules.focus.series import AutoFocusSeries
 from nightcrew.modules.sim import SimFilterWheel, SimFocuser
-from nightcrew.robotic.mastermind import FocusField
+from nightcrew.robotic.mastermind import catalogue_stars
 from nightcrew.testing import SITE, Observatory
 from tests.modules.sim_observatory import start_observatory
 
 #: The Sun at -10°: right after the sky flats, when the mastermind focuses.
 DUSK = "2026-11-10T16:42:00+00:00"
-#: Where the mastermind focuses then, tracked: its default field, 75° high on the meridian (Cygnus).
-FIELD = FocusField(75.0, 180.0).radec(SITE, datetime.fromisoformat(DUSK).timestamp())
+_DUSK_UNIX = datetime.fromisoformat(DUSK).timestamp()
+
+
+def dusk_field() -> tuple[float, float]:
+    """Where the mastermind focuses then, tracked: the field its default rules choose from the
+    catalogue nearest to where the flat-field pointing left the telescope (80° high in the east)."""
+    (field,) = choose_star_fields(
+        catalogue_stars(),
+        altaz_to_radec(80.0, 90.0, SITE.latitude, SITE.longitude, _DUSK_UNIX),
+        StarFieldRules(),
+        latitude=SITE.latitude,
+        longitude=SITE.longitude,
+        unix_time=_DUSK_UNIX,
+        limit=1,
+    )
+    return field.ra, field.dec
+
+
 TOLERANCE_MM = 0.05
 
 
@@ -40,7 +58,7 @@ async def dusk() -> AsyncIterator[Observatory]:
 async def test_a_dusk_series_finds_the_true_focus(dusk: Observatory) -> None:
     await start_observatory(
         dusk,
-        target=FIELD,
+        target=dusk_field(),
         # The sim night's camera: full 1k chip with hot pixels and cosmic rays, its optics and stars.
         detector={"chip_width": 1024, "chip_height": 1024},
         optics={"optics_fwhm_arcsec": 0.8, "defocus_arcsec_per_unit": 15.0},

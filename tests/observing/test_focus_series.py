@@ -15,9 +15,10 @@ from nightcrew.focus.series import (
     FocusSeriesError,
     fit_focus_hyperbola,
     projection_width,
+    series_positions,
 )
 from nightcrew.modules.focus.series import AutoFocusSeries, ProjectionFocusMeasure
-from nightcrew.modules.sim import SimCamera, SimFocuser
+from nightcrew.modules.sim import SimCamera, SimFocuser, SimRoof
 from nightcrew.testing import Observatory
 from tests.modules.sim_observatory import start_observatory
 
@@ -84,6 +85,31 @@ def test_projection_width_follows_the_star_width_of_a_field() -> None:
 # --- on the simulated observatory ------------------------------------------------------------------
 
 
+def test_a_series_near_an_end_of_the_range_is_shifted_inside_it_whole() -> None:
+    assert series_positions(25.0, 5, 0.1) == pytest.approx([24.8, 24.9, 25.0, 25.1, 25.2])
+    assert series_positions(25.0, 5, 0.1, (0.0, 50.0)) == pytest.approx([24.8, 24.9, 25.0, 25.1, 25.2])
+    top = series_positions(50.0, 7, 0.05, (0.0, 50.0))
+    assert top == pytest.approx([49.7, 49.75, 49.8, 49.85, 49.9, 49.95, 50.0]) and max(top) <= 50.0
+    assert series_positions(0.05, 3, 0.1, (0.0, 50.0)) == pytest.approx([0.0, 0.1, 0.2])
+    with pytest.raises(FocusSeriesError, match=r"spans 0\.8 mm, more than the focuser's range 0\.\.0\.5 mm"):
+        series_positions(0.25, 9, 0.1, (0.0, 0.5))
+
+
+async def test_a_focuser_resting_at_its_end_gets_a_full_series_and_the_focus(
+    observatory_at: ObservatoryFactory,
+) -> None:
+    async with observatory_at() as obs:
+        camera = await start_observatory(obs, focuser="edge")
+        await camera.set_window(256, 256, 512, 512)
+        # A focuser that stops 0.1 mm past best focus and rests there: the series shifts down whole.
+        edge = await obs.start(SimFocuser, "edge", focus=25.1, best_focus=25.0, max_focus=25.1)
+        autofocus = await obs.start(AutoFocusSeries, "autofocus", camera="camera", focuser="edge")
+        focus, _ = await autofocus.auto_focus(9, 0.04, 2.0)
+        positions = [position for position, _ in (await autofocus.auto_focus_status())["measurements"]]
+        assert positions == pytest.approx([24.78 + 0.04 * i for i in range(9)]) and max(positions) <= 25.1
+        assert focus == pytest.approx(await edge.get_best_focus(), abs=0.02 * 0.32)
+
+
 async def test_nine_frames_find_the_true_focus_within_two_percent_of_the_range(
     observatory_at: ObservatoryFactory,
 ) -> None:
@@ -137,6 +163,21 @@ async def test_a_series_beside_focus_is_refused_and_the_focus_restored(
         with pytest.raises(FocusOutsideSeriesError, match=r"outside the series 25\.2200\.\.25\.3[0-8]00"):
             await autofocus.auto_focus(9, 0.02, 1.0)
         assert await focuser.get_focus() == pytest.approx(25.3)
+
+
+async def test_a_series_without_stars_ends_early_and_says_why_its_frames_gave_no_width(
+    observatory_at: ObservatoryFactory,
+) -> None:
+    async with observatory_at() as obs:
+        _, focuser = await focus_setup(obs, 25.0)
+        await obs.module("roof", SimRoof).close_roof()  # dark frames: nothing to measure
+        autofocus = obs.module("autofocus", AutoFocusSeries)
+        # 4 of 7 frames without a width leave fewer than the fit's 4: the last 3 are not taken.
+        reason = r"4 of 4 frames gave no width: fewer than 4 of 7 can \(frames without a width: 4 x .*stars"
+        with pytest.raises(FocusSeriesError, match=reason):
+            await autofocus.auto_focus(7, 0.05, 1.0)
+        assert (await autofocus.auto_focus_status())["done"] == 4
+        assert await focuser.get_focus() == pytest.approx(25.0)
 
 
 async def test_abort_ends_the_series_and_restores_the_focus(observatory_at: ObservatoryFactory) -> None:

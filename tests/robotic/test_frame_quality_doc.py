@@ -56,11 +56,16 @@ def test_the_documented_keys_in_the_bundled_mastermind_pass_check(
         ({"filter_focus_offsets": {"R": 0.1}}, r"key 'focuser': filter focus offsets need the focuser"),
         (
             {"refocus_triggers": {"temperature_change": 1.0}},
-            r"key 'refocus_triggers.temperature_change': temperature_change needs the script's temperatures",
+            r"key 'refocus_triggers.temperature_change': temperature_change needs the script's "
+            r"focus_temperature",
         ),
         (
             {"refocus_triggers": {"fwhm_rise": 0.2}},
             r"key 'refocus_triggers.fwhm_rise': a FWHM rise is measured",
+        ),
+        (
+            {"focus_temperature": {"module": "weather"}},
+            r"key 'focus_temperature': give exactly one of 'sensor' \(ITemperatures\) or 'weather_sensor'",
         ),
     ],
 )

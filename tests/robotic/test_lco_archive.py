@@ -25,7 +25,7 @@ from nightcrew.robotic.archives import (
     TaskChange,
 )
 from nightcrew.robotic.planning import PlannedSlot
-from nightcrew.robotic.tasks import ConfigurationType, TaskNotFoundError, TaskProgress, TaskState
+from nightcrew.robotic.tasks import ConfigurationType, Target, TaskNotFoundError, TaskProgress, TaskState
 from tests.robotic.test_archives_sqlite import NIGHT, ManualClock
 
 TOKEN = "0123456789abcdef"
@@ -245,7 +245,7 @@ async def test_schedulable_requests_become_tasks(portal: tuple[ReplayPortal, str
     )
     expose, bias = task.request.configurations
     assert expose.type is ConfigurationType.EXPOSE and bias.type is ConfigurationType.BIAS
-    assert expose.target is not None and expose.target.proper_motion_ra == -27.108
+    assert isinstance(expose.target, Target) and expose.target.proper_motion_ra == -27.108
     assert expose.instrument_configs[0].binning == 2 and expose.instrument_configs[0].extra_params == {
         "defocus": 0
     }

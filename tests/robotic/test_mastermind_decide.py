@@ -407,7 +407,15 @@ def test_task_cards_name_the_task() -> None:
         "TASK-REQ": 0,
         "PROPOSAL": "tests",
         "TASK-PRI": 1.0,
+        "OBJECT": "M31",
     }
+
+
+def test_object_names_the_target_of_the_configuration_being_taken() -> None:
+    task = _task([DARK, EXPOSE])
+    assert task_cards(task)["OBJECT"][0] == "DARK"
+    half = TaskProgress(exposures_done=((5,), (1, 0)))
+    assert task_cards(task, half)["OBJECT"][0] == "M31"  # the darks are done
 
 
 @pytest.mark.parametrize(
@@ -451,6 +459,12 @@ def test_the_roof_state_follows_the_motion_status() -> None:
     assert RoofState.of_motion(MotionStatus.PARKING) is RoofState.CLOSING
     assert RoofState.of_motion(MotionStatus.MOVING) is RoofState.OPENING
     assert RoofState.of_motion(MotionStatus.ERROR) is RoofState.UNKNOWN
+
+
+def test_panel_flats_need_neither_the_sky_nor_a_focus() -> None:
+    panel = {"type": "PANEL_FLAT", "instrument_configs": [{"exposure_time": 1, "exposure_count": 3}]}
+    task = _task([panel])
+    assert not needs_sky(task) and not needs_focus(task)
 
 
 def test_focus_is_due_again_after_the_refocus_interval_when_one_is_set() -> None:

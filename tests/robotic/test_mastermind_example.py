@@ -36,15 +36,18 @@ def test_a_mastermind_without_site_or_schedule_is_refused(tmp_path: Path) -> Non
 @pytest.mark.parametrize(
     ("key", "value", "message"),
     [
-        ("focus_altitude", 0, r"must be within \(0, 90\] degrees, got 0"),
-        ("focus_altitude", 91, r"91 is out of range \(must be <= 90.0 deg\)"),
-        ("focus_azimuth", 360, r"must be within \[0, 360\) degrees, got 360"),
+        ("focus_field.magnitudes", {"magnitudes": [10, 6]}, r"must be \[bright, faint\], got \(10.0, 6.0\)"),
+        ("focus_field.min_altitude", {"min_altitude": 95}, r"must be within \[0, 90\) degrees, got 95"),
+        ("focus_field", {"height": 5}, r"unknown keys \['height'\]"),
+        ("focus_field.magnitudes", {"magnitudes": [11, 14]}, r"the catalogue holds stars to G 10"),
+        ("focus_temperature", {"module": "telescope"}, r"give exactly one of 'sensor'"),
+        ("focus_attempts", 0, r"must be an integer >= 1, got 0"),
         ("focus_retry_interval", 0, r"0 is out of range \(must be >= 0.01 s\)"),
     ],
 )
 def test_bad_focus_options_are_refused_naming_the_key(
-    tmp_path: Path, key: str, value: float, message: str
+    tmp_path: Path, key: str, value: object, message: str
 ) -> None:
     config = load_config(EXAMPLE, environ={"NIGHTCREW_TASKS_DB": str(tmp_path / "tasks.sqlite")})
     with pytest.raises(ConfigError, match=rf"key '{key}': {message}"):
-        build_object({**config, "name": "mastermind", key: value}, Module)
+        build_object({**config, "name": "mastermind", key.split(".")[0]: value}, Module)

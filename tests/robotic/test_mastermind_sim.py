@@ -123,6 +123,9 @@ async def test_a_night_with_rain_runs_every_task_and_never_exposes_with_the_roof
     ids = [h["TASK-ID"] for h in headers]
     assert ids == sorted(ids, key=[a.id, b.id, c.id].index) and set(ids) == {a.id, b.id, c.id}
     assert all(h["PROPOSAL"] == "tests" and h["TASK-NAM"].endswith(" in V") for h in headers)
+    targets = {t.id: t.request.configurations[0].target for t in (a, b, c)}
+    assert all(h["OBJECT"] == getattr(targets[h["TASK-ID"]], "name", None) for h in headers)
+    assert all(h["DATE-END"] > h["DATE-OBS"] for h in headers)
     open_intervals = _open_intervals(rec)
     for header in headers:
         begin = datetime.fromisoformat(header["DATE-OBS"]).replace(tzinfo=now.tzinfo).timestamp()

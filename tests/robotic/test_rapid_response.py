@@ -1,5 +1,6 @@
 """Rapid-response requests: the choice of the task that pre-empts, the right to send it, and a
-simulated night in which one stops a running task (its frame kept) that comes back afterwards."""
+simulated night in which one stops a running task (its frame kept) that comes back afterwards; the
+rapid-response task does not wait for a due refocus (the first focus of the night it does)."""
 
 from __future__ import annotations
 
@@ -63,7 +64,8 @@ async def test_a_rapid_response_task_pre_empts_a_running_task_that_comes_back(pa
     await site.archive.write_schedule(
         [PlannedSlot(normal.id, now, now + timedelta(hours=1))], replace_from=now
     )
-    await start_mastermind(site)
+    # A refocus is due every minute: before the rapid-response task it is skipped.
+    await start_mastermind(site, autofocus="recorder", refocus_interval=60.0)
     rec, clock = site.recorder, site.obs.clock
 
     async def frames_of(task_id: str) -> int:
@@ -101,6 +103,9 @@ async def test_a_rapid_response_task_pre_empts_a_running_task_that_comes_back(pa
     )
     assert said is not None, failed.reason
     assert [e.id for e in rec.of(TaskFinishedEvent)] == [rapid.id, normal.id]
+    rapid_end = next(t for t, e in rec.events if isinstance(e, TaskFinishedEvent) and e.id == rapid.id)
+    first, *again = rec.focus_runs  # the night's first focus; a refocus only for the pre-empted task
+    assert first < started[0][0] and again and all(t > rapid_end for t in again), rec.focus_runs
     headers = await site.headers()
     (cut,) = [h for h in headers if h.get("CUTSHORT")]
     assert cut["TASK-ID"] == normal.id and cut["EXPTIME"] < cut["EXPREQ"]

@@ -10,7 +10,7 @@ import yaml
 
 from nightcrew.astro import local_sidereal_time, sun_altitude
 from nightcrew.robotic.samples import load_samples, sample_paths
-from nightcrew.robotic.tasks import ConfigurationType, Request, estimate_duration
+from nightcrew.robotic.tasks import ConfigurationType, Request, Target, estimate_duration
 from nightcrew.site import Site
 
 SITE_FILE = Path(__file__).parents[2] / "src/nightcrew/night/observatory/shared/site.yaml"
@@ -42,7 +42,7 @@ def _observable_minutes(site: Site, request: Request) -> int:
                 sun = sun_altitude(site.latitude, site.longitude, unix)
                 good &= sun <= limits.max_sun_altitude
                 good &= limits.min_sun_altitude is None or sun >= limits.min_sun_altitude
-                if configuration.target is not None:
+                if isinstance(configuration.target, Target):
                     altitude = _altitude(site, configuration.target.ra, configuration.target.dec, unix)
                     good &= altitude > 0 and 1 / math.sin(math.radians(altitude)) <= limits.max_airmass
             run = run + 1 if good else 0
@@ -55,7 +55,8 @@ def test_about_ten_valid_samples_with_the_promised_mix() -> None:
     samples = load_samples()
     assert len(sample_paths()) == len(samples) == 10
     types = {c.type for g in samples.values() for r in g.requests for c in r.configurations}
-    assert types == set(ConfigurationType) - {ConfigurationType.SCRIPT}
+    # PANEL_FLAT needs a flat panel, which the bundled observatory has not (docs/tasks.md).
+    assert types == set(ConfigurationType) - {ConfigurationType.SCRIPT, ConfigurationType.PANEL_FLAT}
 
 
 def test_every_sample_request_fits_its_window_on_the_simulated_night() -> None:

@@ -16,7 +16,7 @@ from nightcrew.astro import radec_to_altaz, sun_altitude
 from nightcrew.night.plan import SAMPLE_NIGHT, night_span, samples_for_night, shifted_group
 from nightcrew.robotic.samples import load_samples
 from nightcrew.robotic.scheduler.constraints import altitude_for_airmass
-from nightcrew.robotic.tasks import ConfigurationType, Request, estimate_duration, parse_request_group
+from nightcrew.robotic.tasks import ConfigurationType, Request, Target, estimate_duration, parse_request_group
 from nightcrew.robotic.tasks.visibility import fit_to_night
 from nightcrew.site import Site
 
@@ -35,7 +35,7 @@ def observable_at(request: Request, when: datetime) -> bool:
             return False
         if limits.min_sun_altitude is not None and sun < limits.min_sun_altitude - TOLERANCE:
             return False
-        if configuration.target is not None:
+        if isinstance(configuration.target, Target):
             altitude, _ = radec_to_altaz(
                 configuration.target.ra, configuration.target.dec, SITE.latitude, SITE.longitude, t
             )

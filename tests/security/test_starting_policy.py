@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from nightcrew.events import hardware_event_names
+from nightcrew.events import RapidResponseEvent, hardware_event_names
 from nightcrew.security import parse_policy, starting_policy
 
 MODULES = ["roof", "camera", "focus", "focusmodel", "weather", "watchdog"]
@@ -21,8 +21,11 @@ def test_observers_read_and_change_nothing() -> None:
 def test_hardware_events_from_the_safety_modules_focus_results_from_modules_only() -> None:
     for name in hardware_event_names():
         assert POLICY.accepts_event("watchdog", name, moves_hardware=True)
-        assert not POLICY.accepts_event("camera", name, moves_hardware=True)
-        assert not POLICY.accepts_event("operator", name, moves_hardware=True)
+        # The right to pre-empt (a rapid-response request) is the modules' and the operators' too.
+        rapid = name == RapidResponseEvent.event_name()
+        assert POLICY.accepts_event("camera", name, moves_hardware=True) is rapid
+        assert POLICY.accepts_event("operator", name, moves_hardware=True) is rapid
+        assert not POLICY.accepts_event("observer", name, moves_hardware=True)
     assert POLICY.accepts_event("focus", "FocusFoundEvent")
     assert not POLICY.accepts_event("observer", "FocusFoundEvent")
     assert not POLICY.accepts_event("operator", "FocusFoundEvent")

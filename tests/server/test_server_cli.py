@@ -5,15 +5,17 @@ from __future__ import annotations
 import os
 import shutil
 import socket
+import stat
 from pathlib import Path
 
 import pytest
 
 from nightcrew.cli.main import main
 from nightcrew.comm.xmpp import XmppComm
-from nightcrew.errors import ConfigError
+from nightcrew.errors import ConfigError, ForbiddenError
+from nightcrew.interfaces import IModule, ModuleState
 from nightcrew.modules import Module
-from nightcrew.server import Account, accounts_from_configs
+from nightcrew.server import Account, accounts_from_configs, read_password
 
 pytestmark = pytest.mark.xmpp
 
@@ -119,3 +121,68 @@ def test_every_account_is_on_the_shared_roster_and_may_make_pubsub_nodes(tmp_pat
     assert f'groups_file = "{(directory / "groups-obs.local.txt").resolve()}"' in config
     assert 'Component "pubsub.obs.local" "pubsub"' in config
     assert 'admins = { "camera@obs.local"; "dome@obs.local" }' in config
+
+
+async def test_a_client_account_without_a_module_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--account webpage``: a client (a JavaScript page, pyobs) gets its own random password in
+    secrets/, and the starting policy lets it in as an observer: it reads, it changes nothing."""
+    if shutil.which("prosody") is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("prosody is not installed")
+        pytest.skip("prosody is not installed")
+    camera = _config(tmp_path / "camera.yaml", "camera@obs.local", "pw1")
+    directory, port = tmp_path / "server", _free_port()
+    assert (
+        main(["server", "init", str(directory), "--port", str(port), "--account", "webpage", str(camera)])
+        == 0
+    )
+    secret = directory / "secrets" / "webpage.password"
+    assert f"account webpage@obs.local: its password is in {secret} (mode 0600)" in capsys.readouterr().out
+    assert stat.S_IMODE(secret.stat().st_mode) == 0o600
+    password = read_password(secret)
+    assert (
+        main(["server", "init", str(directory), "--port", str(port), "--account", "webpage", str(camera)])
+        == 0
+    )
+    assert read_password(secret) == password  # kept: the client's copy stays valid
+
+    def comm(jid: str, password: str) -> XmppComm:
+        return XmppComm(
+            jid, password, server=f"127.0.0.1:{port}", ca_file=str(directory / "certs" / "obs.local.crt"),
+            policy=str(directory / "access.policy"),
+        )  # fmt: skip
+
+    module, client = (
+        Module(comm=comm("camera@obs.local", "pw1")),
+        Module(comm=comm("webpage@obs.local", password)),
+    )
+    assert main(["server", "start", str(directory)]) == 0
+    try:
+        await module.open()
+        await client.open()  # admitted to the members-only room by the policy
+        camera_proxy = await client.comm.proxy("camera", IModule)
+        assert await camera_proxy.get_state() is ModuleState.READY
+        with pytest.raises(ForbiddenError):
+            await camera_proxy.reset_error()
+        await client.close()
+        await module.close()
+    finally:
+        main(["server", "stop", str(directory)])
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [
+        ("camera", "a module or person file already has this account\n"),
+        ("we b", "a name of letters, digits, '.', '_' or '-'\n"),
+    ],
+)
+def test_a_bad_client_account_is_one_error(
+    tmp_path: Path, name: str, message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    camera = _config(tmp_path / "camera.yaml", "camera@obs.local", "pw1")
+    assert main(["server", "init", str(tmp_path / "server"), "--account", name, str(camera)]) == 2
+    assert capsys.readouterr().err == f"nightcrew: error: --account {name!r}: {message}"
+    assert not (tmp_path / "server").exists()

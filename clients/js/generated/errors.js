@@ -56,6 +56,12 @@ export class DeviceBusyError extends NightcrewError {
 }
 
 /**
+ * No star field near the pointing meets the rules.
+ */
+export class FocusFieldError extends NightcrewError {
+}
+
+/**
  * Taking an image failed.
  */
 export class GrabImageError extends NightcrewError {
@@ -326,4 +332,4 @@ export class UnknownRootError extends VfsPathError {
 }
 
 /** Every error class, by the name a fault's `errorClass` carries. */
-export const ERRORS = {AbortedError, AcquisitionFailedError, AlpacaActionNotImplementedError, AlpacaConnectionError, AlpacaInvalidOperationError, AlpacaNotConnectedError, AlpacaReplyError, AlpacaValueNotSetError, AstrometryError, CacheFullError, CalibrationError, CalibratorError, CodecError, ConfigError, DeviceBusyError, ExpressionError, FocusOutsideSeriesError, FocusSeriesError, ForbiddenError, GrabImageError, ImageDataError, ImageError, ImageFormatError, InitError, InterfaceError, InvalidArgumentError, InvalidTaskError, InvalidTransitionError, MissingWcsError, ModuleError, MotionError, MoveError, NightcrewError, NoSolutionError, NoStarsError, NotSupportedError, NoticeError, ParkError, PortalError, RemoteError, RemoteTimeoutError, ScriptError, SolverUnavailableError, SupervisorError, TaskError, TaskNotFoundError, TooLargeError, UnknownRootError, VfsError, VfsFileNotFoundError, VfsFormatError, VfsPathError, XmppAuthError};
+export const ERRORS = {AbortedError, AcquisitionFailedError, AlpacaActionNotImplementedError, AlpacaConnectionError, AlpacaInvalidOperationError, AlpacaNotConnectedError, AlpacaReplyError, AlpacaValueNotSetError, AstrometryError, CacheFullError, CalibrationError, CalibratorError, CodecError, ConfigError, DeviceBusyError, ExpressionError, FocusFieldError, FocusOutsideSeriesError, FocusSeriesError, ForbiddenError, GrabImageError, ImageDataError, ImageError, ImageFormatError, InitError, InterfaceError, InvalidArgumentError, InvalidTaskError, InvalidTransitionError, MissingWcsError, ModuleError, MotionError, MoveError, NightcrewError, NoSolutionError, NoStarsError, NotSupportedError, NoticeError, ParkError, PortalError, RemoteError, RemoteTimeoutError, ScriptError, SolverUnavailableError, SupervisorError, TaskError, TaskNotFoundError, TooLargeError, UnknownRootError, VfsError, VfsFileNotFoundError, VfsFormatError, VfsPathError, XmppAuthError};

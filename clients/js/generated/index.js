@@ -19,11 +19,13 @@ import { IFitsHeaderAfter } from "./interfaces/IFitsHeaderAfter.js";
 import { IFitsHeaderBefore } from "./interfaces/IFitsHeaderBefore.js";
 import { IFlatField } from "./interfaces/IFlatField.js";
 import { IFocusModel } from "./interfaces/IFocusModel.js";
+import { IFocusRange } from "./interfaces/IFocusRange.js";
 import { IFocuser } from "./interfaces/IFocuser.js";
 import { IGain } from "./interfaces/IGain.js";
 import { IImageType } from "./interfaces/IImageType.js";
 import { IModule } from "./interfaces/IModule.js";
 import { IMotion } from "./interfaces/IMotion.js";
+import { INonSidereal } from "./interfaces/INonSidereal.js";
 import { IOffsetsAltAz } from "./interfaces/IOffsetsAltAz.js";
 import { IOffsetsRaDec } from "./interfaces/IOffsetsRaDec.js";
 import { IPierSide } from "./interfaces/IPierSide.js";
@@ -54,8 +56,8 @@ import { IWindow } from "./interfaces/IWindow.js";
 export * from "./events.js";
 export * from "./errors.js";
 
-export { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocuser, IGain, IImageType, IModule, IMotion, IOffsetsAltAz, IOffsetsRaDec, IPierSide, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, IStoppableExposure, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
+export { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocusRange, IFocuser, IGain, IImageType, IModule, IMotion, INonSidereal, IOffsetsAltAz, IOffsetsRaDec, IPierSide, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, IStoppableExposure, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
 /** Every interface class, by the name in its disco#info feature. */
-export const INTERFACES = { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocuser, IGain, IImageType, IModule, IMotion, IOffsetsAltAz, IOffsetsRaDec, IPierSide, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, IStoppableExposure, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
+export const INTERFACES = { IAbortable, IAcquisition, IAutoFocus, IAutoGuiding, IAutonomous, IBinning, ICamera, IConfig, ICooling, ICoverCalibrator, IData, IDome, IExposure, IExposureTime, IFilters, IFitsHeaderAfter, IFitsHeaderBefore, IFlatField, IFocusModel, IFocusRange, IFocuser, IGain, IImageType, IModule, IMotion, INonSidereal, IOffsetsAltAz, IOffsetsRaDec, IPierSide, IPointingAltAz, IPointingRaDec, IPointingSeries, IReady, IRobotic, IRoboticScheduler, IRoof, IRotator, IRunnable, IRunning, IScriptRunner, ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth, ISpectrograph, IStartStop, IStoppableExposure, ISwitch, ISyncRaDec, ITelescope, ITemperatures, IVideo, IWeather, IWindow };
 /** Calls without an announcement may take this many clock seconds. */
 export const DEFAULT_TIMEOUT = 10.0;

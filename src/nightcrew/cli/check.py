@@ -16,13 +16,9 @@ for every invalid one (a problem in a fragment once, naming the files that inclu
 none of these kinds is listed as ``SKIP FILE`` with the reason. The variables the files need and
 the environment lacks are named on one line, with the files that read them. Across the files: a
 camera's field the index files cannot solve, a cooling schedule's set point below what its
-    for dither in _dither_problems(task_files, files):  # a dither that leaves the field
-        print(f"nightcrew: error: {dither}", file=sys.stderr)
-        all_valid = False
-    from nightcrew.modules.pointing.acquisition import target_pixel_problems
-
-    for outside in target_pixel_problems(files):  # an acquisition's target pixel beyond its camera's chip
-        print(f"nightcrew: error: {outside}", file=sys.stderr)
+camera declares it can reach, a task's dither amplitude larger than the camera's field, an
+acquisition's target pixel beyond its camera's chip, and a focus temperature source naming a module
+that no file provides (or one without that kind of reading). Exits 0 when all are valid, else 2.
 """
 
 from __future__ import annotations
@@ -155,6 +151,11 @@ def run_check(args: argparse.Namespace) -> int:
 
     for outside in target_pixel_problems(files):  # an acquisition's target pixel beyond its camera's chip
         print(f"nightcrew: error: {outside}", file=sys.stderr)
+        all_valid = False
+    from nightcrew.modules.focus.checks import temperature_source_problems
+
+    for source in temperature_source_problems(files):  # a refocus temperature no module provides
+        print(f"nightcrew: error: {source}", file=sys.stderr)
         all_valid = False
     return 0 if all_valid else 2
 

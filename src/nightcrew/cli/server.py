@@ -6,7 +6,9 @@ configuration, a self-signed certificate (``DIR/certs/<domain>.crt``, for the mo
 (``${VAR}`` resolved from the environment) and per person (a comm file alone, as operator.yaml).
 A password a file includes from a ``secrets/`` folder (``password: !include
 secrets/roof.password``) that does not exist yet is made: random, one per account, mode 0600.
-Module accounts own the room; people are members. Unless it exists, or every module's comm names a
+``--account NAME`` registers a client that has no module file (a JavaScript page, pyobs) as a
+person, its random password in ``DIR/secrets/NAME.password``. Module accounts own the room; people
+are members. Unless it exists, or every module's comm names a
 policy file that exists (as ``nightcrew init`` writes them), it writes the starting access policy
 ``DIR/access.policy`` (docs/security.md) for the modules' comms to name: the modules may call each
 other, the ``--operator`` people everything, other people only what reads.
@@ -18,17 +20,22 @@ ejabberd instead: see docs/xmpp-servers.md.
 from __future__ import annotations
 
 import argparse
+import re
 from pathlib import Path
 from typing import Any
 
+from nightcrew.errors import ConfigError
 from nightcrew.night.init import module_text
 from nightcrew.server import (
+    Account,
     ServerSettings,
     accounts_from_configs,
+    client_password,
     create_missing_passwords,
     init_server,
     policies_named,
     policy_for_accounts,
+    read_password,
     server_status,
     start_server,
     stop_server,
@@ -41,6 +48,9 @@ _POLICY_HEADER = (
     "every module's comm names it. Modules may call each other, operators everything, observers "
     "only what reads; weather verdicts and safety alarms are trusted only from the safety modules."
 )
+
+#: An account name a client may be given (the local part of its JID, and a file name).
+_ACCOUNT_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,62}")
 
 __all__ = ["add_parser"]
 
@@ -85,6 +95,14 @@ def _init_options() -> argparse.ArgumentParser:
     )
     parser.add_argument("--require-tls", action="store_true", help="require TLS on loopback too")
     parser.add_argument(
+        "--account",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="register a client without a module file (a person: an observer unless --operator "
+        "names it); its random password goes to DIR/secrets/NAME.password",
+    )
+    parser.add_argument(
         "--operator",
         action="append",
         default=[],
@@ -99,6 +117,7 @@ def _init(args: argparse.Namespace) -> int:
     for made in create_missing_passwords(options.configs):
         print(f"made a random password in {made} (mode 0600)")
     accounts = accounts_from_configs(options.configs)
+    accounts += _client_accounts(args.directory, options.account, options.domain, accounts)
     modules = [a for a in accounts if not a.person]
     # Module accounts own the room; with any, it is members-only (docs/security.md). People are
     # members, admitted by the modules from the policy.
@@ -120,16 +139,51 @@ def _init(args: argparse.Namespace) -> int:
     named = policies_named(options.configs)
     if policy.exists():
         print(f"kept the access policy {policy}")
+        _tell_to_list(options.account, [policy])
     elif named and all(p is not None and p.is_file() for p in named):
         # Every module names a policy that exists (`nightcrew init` writes access.policy beside
         # them): one more here would be named by nobody.
-        files = ", ".join(sorted({str(p) for p in named}))
-        print(f"the modules name their access policy ({files}); none written")
+        files = sorted({p for p in named if p is not None})
+        print(f"the modules name their access policy ({', '.join(map(str, files))}); none written")
+        _tell_to_list(options.account, files)
     elif accounts:
         body = policy_for_accounts(accounts, options.operator or ["operator"])
         policy.write_text(module_text(_POLICY_HEADER, body))
         print(f"wrote the access policy {policy}")
     return 0
+
+
+def _client_accounts(
+    directory: str, names: list[str], domains: list[str], accounts: list[Account]
+) -> list[Account]:
+    """The ``--account`` clients: people on the observatory's domain, each with its own password."""
+    if not names:
+        return []
+    known = {a.user for a in accounts}
+    domain = domains[0] if domains else next((a.domain for a in accounts), None)
+    if domain is None:
+        raise ConfigError("--account needs a domain: give --domain or the modules' files")
+    for name in names:  # every name checked before any file is made
+        if not _ACCOUNT_NAME.fullmatch(name):
+            raise ConfigError(f"--account {name!r}: a name of letters, digits, '.', '_' or '-'")
+        if name in known:
+            raise ConfigError(f"--account {name!r}: a module or person file already has this account")
+        known.add(name)
+    made = []
+    for name in names:
+        path = client_password(directory, name)
+        made.append(Account(name, domain, read_password(path), person=True))
+        print(f"account {name}@{domain}: its password is in {path} (mode 0600)")
+    return made
+
+
+def _tell_to_list(names: list[str], policies: list[Path]) -> None:
+    """An existing policy is the user's file: say what to add rather than edit it."""
+    for name in names:
+        print(
+            f"add {name} to the accounts of {', '.join(map(str, policies))} (as observer or operator) "
+            "to let it in"
+        )
 
 
 def _start(args: argparse.Namespace) -> int:

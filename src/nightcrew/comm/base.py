@@ -151,8 +151,9 @@ class Comm(ABC):
         """Send a call; report announcement, result or fault through ``call`` (now or later)."""
 
     @abstractmethod
-    async def _publish_event(self, name: str, payload: dict[str, Any]) -> None:
-        """Send an event (wire fields) to every other module subscribed to ``name``."""
+    async def _publish_event(self, name: str, payload: dict[str, Any], acting: str | None = None) -> None:
+        """Send an event (wire fields) to every other module subscribed to ``name``, sent in the
+        identity ``acting`` (see :meth:`acting_as`) if given."""
 
     @abstractmethod
     async def _subscribe_events(self, name: str) -> None:
@@ -259,12 +260,15 @@ class Comm(ABC):
     @staticmethod
     @contextlib.contextmanager
     def acting_as(identity: str) -> Iterator[None]:
-        """Make the calls inside ``with comm.acting_as("viewer"):`` in a narrower identity.
+        """Make the calls (and send the events) inside ``with comm.acting_as("viewer"):`` in a
+        narrower identity.
 
         A module acting for people (the console's viewers and operators) calls as
         ``account:identity`` (``console:viewer``), which the callee checks against the policy
-        like any account: an identity the policy does not list may call nothing. An account can
-        only name sub-identities of itself, never another account.
+        like any account: an identity the policy does not list may call nothing. An event sent so
+        is trusted as from ``account:identity`` (the policy's ``events``), so a right to send it
+        follows the person, not the module. An account can only name sub-identities of itself,
+        never another account.
         """
         if not _IDENTITY.fullmatch(identity):
             raise ValueError(f"not an identity name (letters, digits, _ . -): {identity!r}")
@@ -425,15 +429,18 @@ class Comm(ABC):
 
     async def send_event(self, event: Event) -> None:
         """Send ``event`` to every other module that registered for its type."""
-        await self._publish_event(event.event_name(), event.to_dict())
+        await self._publish_event(event.event_name(), event.to_dict(), _acting_as.get())
 
-    def _deliver_event(self, name: str, payload: dict[str, Any], sender: str) -> None:
-        """Hand an incoming event to this module's handlers, each in its own task."""
+    def _deliver_event(
+        self, name: str, payload: dict[str, Any], sender: str, acting: str | None = None
+    ) -> None:
+        """Hand an incoming event (sent in the identity ``acting``, if given) to this module's
+        handlers, each in its own task."""
         handlers = self._handlers.get(name)
         if not handlers:
             return
         event_type = event_by_name(name) or handlers[0][0]
-        if not self._trusts_event(event_type, payload, sender):
+        if not self._trusts_event(event_type, payload, sender, acting):
             return
         try:
             event = event_type.from_dict(payload)
@@ -443,7 +450,9 @@ class Comm(ABC):
         for _, handler in handlers:
             self._spawn(self._run_handler(handler, event, sender), f"{name} handler")
 
-    def _trusts_event(self, event_type: type[Event], payload: dict[str, Any], sender: str) -> bool:
+    def _trusts_event(
+        self, event_type: type[Event], payload: dict[str, Any], sender: str, acting: str | None = None
+    ) -> bool:
         """Whether an event from ``sender`` may reach the handlers; a refused one is logged and audited.
 
         A forged verdict or alarm (a SafetyClearedEvent from an observer) must not move hardware:
@@ -452,6 +461,8 @@ class Comm(ABC):
         `policy: open` from anyone, as the operator chose.
         """
         name, account = event_type.event_name(), self._sender_account(sender)
+        if acting is not None:  # as for calls: a malformed identity is one no policy lists
+            account = f"{account}:{acting if _IDENTITY.fullmatch(acting) else '?'}"
         if self._policy is None:  # in-process, or `policy: open` (warned at every start)
             return True
         trusted = self._policy.accepts_event(account, name, moves_hardware=event_type.moves_hardware)

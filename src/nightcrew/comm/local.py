@@ -77,11 +77,11 @@ class LocalNetwork:
     def subscribe(self, name: str, event: str) -> None:
         self._subscribers.setdefault(event, {})[name] = None
 
-    def publish(self, sender: str, event: str, payload: dict[str, Any]) -> None:
+    def publish(self, sender: str, event: str, payload: dict[str, Any], acting: str | None = None) -> None:
         for name in self._subscribers.get(event, ()):
             receiver = self._comms.get(name)
             if receiver is not None and name != sender:
-                receiver._deliver_event(event, payload, sender)
+                receiver._deliver_event(event, payload, sender, acting)
 
 
 class LocalComm(Comm):
@@ -134,8 +134,8 @@ class LocalComm(Comm):
         else:
             call.set_result(result)
 
-    async def _publish_event(self, name: str, payload: dict[str, Any]) -> None:
-        self._network.publish(self._name, name, payload)
+    async def _publish_event(self, name: str, payload: dict[str, Any], acting: str | None = None) -> None:
+        self._network.publish(self._name, name, payload, acting)
 
     async def _subscribe_events(self, name: str) -> None:
         self._network.subscribe(self._name, name)

@@ -44,6 +44,7 @@ __all__ = [
     "photometry_width",
     "point_defects",
     "projection_width",
+    "series_positions",
 ]
 
 FloatArray = npt.NDArray[np.float64]
@@ -184,6 +185,26 @@ def photometry_width(
 
 
 # --- the series --------------------------------------------------------------------------------
+
+
+def series_positions(
+    centre: float, count: int, step: float, reachable: tuple[float, float] | None = None
+) -> list[float]:
+    """Focus positions of a series: ``count`` of them ``step`` apart, centred on ``centre``, but
+    shifted as a whole into ``reachable`` (low, high) where the centre is too close to an end (a
+    focuser resting at its end still gets a full series). FocusSeriesError when the series is
+    longer than the reachable range."""
+    half = (count - 1) / 2.0 * step
+    if reachable is None:
+        return [centre - half + i * step for i in range(count)]
+    low, high = reachable
+    if 2.0 * half > high - low:
+        raise FocusSeriesError(
+            f"a series of {count} frames {step:g} mm apart spans {2.0 * half:g} mm, more than the "
+            f"focuser's range {low:g}..{high:g} mm"
+        )
+    start = min(max(centre - half, low), high - 2.0 * half)
+    return [min(high, max(low, start + i * step)) for i in range(count)]  # no rounding past an end
 
 
 def fit_focus_hyperbola(

@@ -19,7 +19,7 @@ from typing import Any
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces.enums import WeatherSensor
 
-__all__ = ["TemperatureSource", "sources_from_config"]
+__all__ = ["TemperatureSource", "source_from_config", "sources_from_config"]
 
 _KEYS = {"module", "sensor", "weather_sensor", "station"}
 
@@ -41,34 +41,34 @@ class TemperatureSource:
 
 def sources_from_config(config: Mapping[str, Any], key: str) -> dict[str, TemperatureSource]:
     """Variable → source; ConfigError naming ``key.<variable>`` for the first bad entry."""
-    sources: dict[str, TemperatureSource] = {}
-    for variable, entry in config.items():
-        where = f"{key}.{variable}"
-        if not isinstance(entry, Mapping):
-            raise ConfigError(
-                f"expected a mapping like {{module: NAME, sensor: NAME}}, got {entry!r}", key=where
-            )
-        unknown = sorted(set(entry) - _KEYS)
-        if unknown:
-            raise ConfigError(f"unknown keys {unknown}; known: {', '.join(sorted(_KEYS))}", key=where)
-        module = entry.get("module")
-        if not isinstance(module, str) or not module:
-            raise ConfigError("needs 'module': the name of the module to read from", key=where)
-        sensor, weather = entry.get("sensor"), entry.get("weather_sensor")
-        if (sensor is None) == (weather is None):
-            raise ConfigError("give exactly one of 'sensor' (ITemperatures) or 'weather_sensor'", key=where)
-        if weather is not None:
-            try:
-                kind = WeatherSensor(weather)
-            except ValueError:
-                known = ", ".join(s.value for s in WeatherSensor)
-                raise ConfigError(f"unknown weather sensor {weather!r}; known: {known}", key=where) from None
-            station = entry.get("station")
-            sources[str(variable)] = TemperatureSource(
-                module, weather_sensor=kind, station=None if station is None else str(station)
-            )
-        else:
-            if "station" in entry:
-                raise ConfigError("'station' belongs to a 'weather_sensor' source", key=where)
-            sources[str(variable)] = TemperatureSource(module, sensor=str(sensor))
-    return sources
+    return {
+        str(variable): source_from_config(entry, f"{key}.{variable}") for variable, entry in config.items()
+    }
+
+
+def source_from_config(entry: object, where: str) -> TemperatureSource:
+    """One source from its mapping; ConfigError naming ``where`` when it is bad."""
+    if not isinstance(entry, Mapping):
+        raise ConfigError(f"expected a mapping like {{module: NAME, sensor: NAME}}, got {entry!r}", key=where)
+    unknown = sorted(set(entry) - _KEYS)
+    if unknown:
+        raise ConfigError(f"unknown keys {unknown}; known: {', '.join(sorted(_KEYS))}", key=where)
+    module = entry.get("module")
+    if not isinstance(module, str) or not module:
+        raise ConfigError("needs 'module': the name of the module to read from", key=where)
+    sensor, weather = entry.get("sensor"), entry.get("weather_sensor")
+    if (sensor is None) == (weather is None):
+        raise ConfigError("give exactly one of 'sensor' (ITemperatures) or 'weather_sensor'", key=where)
+    if weather is not None:
+        try:
+            kind = WeatherSensor(weather)
+        except ValueError:
+            known = ", ".join(s.value for s in WeatherSensor)
+            raise ConfigError(f"unknown weather sensor {weather!r}; known: {known}", key=where) from None
+        station = entry.get("station")
+        return TemperatureSource(
+            module, weather_sensor=kind, station=None if station is None else str(station)
+        )
+    if "station" in entry:
+        raise ConfigError("'station' belongs to a 'weather_sensor' source", key=where)
+    return TemperatureSource(module, sensor=str(sensor))

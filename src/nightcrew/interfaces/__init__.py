@@ -35,7 +35,7 @@ from nightcrew.interfaces.enums import (
 )
 from nightcrew.interfaces.filters import IFilters
 from nightcrew.interfaces.fits import FitsCard, FitsValue, IFitsHeaderAfter, IFitsHeaderBefore
-from nightcrew.interfaces.focus import IAutoFocus, IFocuser, IFocusModel
+from nightcrew.interfaces.focus import IAutoFocus, IFocuser, IFocusModel, IFocusRange
 from nightcrew.interfaces.module import IConfig, IModule
 from nightcrew.interfaces.motion import IMotion
 from nightcrew.interfaces.pointing import (
@@ -63,6 +63,7 @@ from nightcrew.interfaces.rotator import IRotator
 from nightcrew.interfaces.sensors import ITemperatures
 from nightcrew.interfaces.spectrograph import ISpectrograph
 from nightcrew.interfaces.switch import ISwitch, SwitchInfo
+from nightcrew.interfaces.tracking import INonSidereal
 from nightcrew.interfaces.weather import IWeather, SensorValue, WeatherReport
 
 __all__ = [
@@ -92,11 +93,13 @@ __all__ = [
     "IFitsHeaderBefore",
     "IFlatField",
     "IFocusModel",
+    "IFocusRange",
     "IFocuser",
     "IGain",
     "IImageType",
     "IModule",
     "IMotion",
+    "INonSidereal",
     "IOffsetsAltAz",
     "IOffsetsRaDec",
     "IPierSide",

@@ -11,7 +11,7 @@ from nightcrew.interfaces.motion import IMotion
 from nightcrew.interfaces.quantities import ExposureTime, FocusCount, FocusStep
 from nightcrew.timeout import timeout
 
-__all__ = ["IAutoFocus", "IFocusModel", "IFocuser"]
+__all__ = ["IAutoFocus", "IFocusModel", "IFocusRange", "IFocuser"]
 
 
 class IFocuser(IMotion):
@@ -34,6 +34,14 @@ class IFocuser(IMotion):
     @abstractmethod
     async def get_focus_offset(self) -> float:
         """Offset in mm added to the base position."""
+
+
+class IFocusRange(Interface):
+    """The positions a focuser can reach (a focus series keeps within them)."""
+
+    @abstractmethod
+    async def get_focus_range(self) -> tuple[float, float]:
+        """Lowest and highest reachable position (base + offset) in mm."""
 
 
 class IFocusModel(Interface):

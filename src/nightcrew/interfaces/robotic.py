@@ -56,9 +56,10 @@ class RoboticTask:
 class RoboticStatus:
     """What a robotic module (the mastermind) is doing now, and why.
 
-    ``action`` is one of ``run_task``, ``open_up``, ``focus``, ``close_and_park``, ``wait`` or
-    ``stopped``; ``waiting_for`` says why it waits (None unless ``wait``). The conditions are those
-    of its last look at the world (None before the first).
+    ``action`` is one of ``run_task``, ``open_up``, ``focus``, ``close_and_park``, ``wait``,
+    ``stopping`` (robotic mode is off and the roof not yet closed or the telescope not yet parked
+    since) or ``stopped``; ``waiting_for`` says why it waits (None unless ``wait``). The conditions
+    are those of its last look at the world (None before the first).
     """
 
     time: datetime

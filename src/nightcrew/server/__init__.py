@@ -15,16 +15,18 @@ from nightcrew.server._prosody import (
     start_server,
     stop_server,
 )
-from nightcrew.server._secrets import create_missing_passwords
+from nightcrew.server._secrets import client_password, create_missing_passwords, read_password
 
 __all__ = [
     "Account",
     "ServerSettings",
     "accounts_from_configs",
+    "client_password",
     "create_missing_passwords",
     "init_server",
     "policies_named",
     "policy_for_accounts",
+    "read_password",
     "register_account",
     "server_status",
     "start_server",

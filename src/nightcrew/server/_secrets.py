@@ -20,7 +20,7 @@ from nightcrew.config._env import EnvSubstitutionError, substitute_env
 from nightcrew.config._yaml import compose_yaml, read_limited_text
 from nightcrew.errors import ConfigError
 
-__all__ = ["SECRETS_FOLDER", "create_missing_passwords"]
+__all__ = ["SECRETS_FOLDER", "client_password", "create_missing_passwords", "read_password"]
 
 #: The folder name that marks an included file as a secret ``server init`` may create.
 SECRETS_FOLDER = "secrets"
@@ -54,6 +54,26 @@ def create_missing_passwords(
                 _write_private(target, secrets.token_urlsafe(_PASSWORD_BYTES))
                 written.append(target)
     return written
+
+
+def client_password(directory: str | os.PathLike[str], name: str) -> Path:
+    """The password file of the client account ``name`` (``DIR/secrets/NAME.password``), made at
+    random (mode 0600) unless it exists: for a client that has no module file (a JavaScript page,
+    pyobs), so registering it needs no YAML."""
+    target = Path(directory) / SECRETS_FOLDER / f"{name}{_SUFFIX}"
+    if not target.exists():
+        _write_private(target, secrets.token_urlsafe(_PASSWORD_BYTES))
+    return target
+
+
+def read_password(path: Path) -> str:
+    """The password a file made by :func:`client_password` (or by hand, as YAML) keeps."""
+    import yaml  # the file is a YAML scalar, as the `!include` that reads it expects
+
+    value = yaml.safe_load(path.read_text())
+    if not isinstance(value, str) or not value:
+        raise ConfigError("must hold one non-empty string, the password", file=str(path))
+    return value
 
 
 def _password_includes(node: Node | None) -> Iterable[tuple[str, int]]:

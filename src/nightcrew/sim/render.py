@@ -102,6 +102,9 @@ class Conditions:
     transmission: float = 1.0
     """Cloud transmission of starlight, 0..1 (the sky background is not dimmed)."""
     roof_open: bool = True
+    panel_e_per_s: float = 0.0
+    """Light of a flat panel in front of the optics, electrons per unbinned pixel and second
+    before the filter (0: no panel lit)."""
 
 
 @dataclass(frozen=True)
@@ -197,6 +200,11 @@ def render_frame(
         electrons, truth, sky_e = _light(
             stars, pointing, geometry, fwhm_px, shape_unbinned, camera, optics, conditions, exposure
         )
+    if conditions.panel_e_per_s > 0 and exposure.shutter_open and t > 0:
+        # An even panel: only the optics' vignetting shapes it (what a flat field records).
+        flat = vignetting_flat(camera.chip_width, camera.chip_height, window, camera.vignetting)
+        panel = np.float32(conditions.panel_e_per_s * exposure.filter_throughput * t)
+        electrons += panel * flat[: shape_unbinned[0], : shape_unbinned[1]]
     electrons += np.float32(camera.dark_e_per_s * t)
     _add_hot_pixels(electrons, camera, window, t)
     window_fraction = (shape_unbinned[0] * shape_unbinned[1]) / (camera.chip_width * camera.chip_height)

@@ -28,6 +28,7 @@ import shutil
 import signal
 import socket
 import subprocess
+import tempfile
 import time
 from collections.abc import Iterable, Sequence
 from pathlib import Path
@@ -143,6 +144,7 @@ class IndiServer:
         self.port = port
         self._log_dir = log_dir
         self._process: subprocess.Popen[bytes] | None = None
+        self._home: str | None = None
 
     @property
     def host(self) -> str:
@@ -166,6 +168,11 @@ class IndiServer:
             return
         if not self.network.started:
             self.network.start()
+        if self._home is None:
+            # The drivers keep park data and configuration in $HOME/.indi: a home of this server's
+            # own (kept across restarts) so that no test meets what another one (or a developer's
+            # KStars) left there, nor a file half-written by a server running beside it.
+            self._home = tempfile.mkdtemp(prefix="nightcrew-indi-home-")
         output: IO[bytes] | int = subprocess.DEVNULL
         if self._log_dir is not None:
             self._log_dir.mkdir(parents=True, exist_ok=True)
@@ -176,6 +183,7 @@ class IndiServer:
                 stdin=subprocess.DEVNULL,
                 stdout=output,
                 stderr=output,
+                env={**os.environ, "HOME": self._home},
             )
         finally:
             if not isinstance(output, int):
@@ -228,6 +236,9 @@ class IndiServer:
         self.kill()
         if self._own_network:
             self.network.stop()
+        home, self._home = self._home, None
+        if home is not None:
+            shutil.rmtree(home, ignore_errors=True)
 
 
 def _undefined_devices(host: str, port: int, devices: list[str], deadline: float) -> set[str]:

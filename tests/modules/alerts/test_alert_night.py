@@ -1,4 +1,5 @@
-"""A VOEvent in a simulated night: published to the broker, on the sky within a minute.
+"""A VOEvent in a simulated night: published to the broker, on the sky within a minute; retracted
+while it is observed, it stops (the frame in flight kept) and is cancelled.
 
 The night runs on virtual time; while the notice travels through the broker (real processes) the
 clock is held, as for any work outside the observatory, so the figure is the observatory's own:
@@ -14,16 +15,17 @@ from datetime import datetime, timedelta
 from pathlib import Path
 
 from nightcrew.clock import Clock
-from nightcrew.events import NewImageEvent, RapidResponseEvent, TaskFailedEvent
+from nightcrew.events import NewImageEvent, RapidResponseEvent, TaskFailedEvent, TasksChangedEvent
 from nightcrew.modules.alerts import AlertListener
 from nightcrew.robotic.archives import SqliteTaskArchive
 from nightcrew.robotic.planning import PlannedSlot
+from nightcrew.robotic.tasks import TaskState
 from nightcrew.testing import Observatory
 from nightcrew.testing.comet import CometBroker
 from nightcrew.vfs import MemoryFile
 from tests.robotic.mastermind_night import PLEIADES, group, start_mastermind, start_night
 
-from .voevents import notice
+from .voevents import STREAM, notice
 
 RULES = {
     "field_of_view": 0.5,
@@ -43,7 +45,7 @@ async def outside(clock: Clock, condition: Callable[[], bool], what: str) -> Non
             await loop.run_in_executor(None, time.sleep, 0.02)
 
 
-async def test_a_published_notice_has_the_shutter_open_within_a_minute(
+async def test_a_published_notice_has_the_shutter_open_within_a_minute_and_its_retraction_stops_it(
     comet: CometBroker, tmp_path: Path
 ) -> None:
     obs = Observatory()
@@ -72,6 +74,13 @@ async def test_a_published_notice_has_the_shutter_open_within_a_minute(
             heard.append(event)
 
         await rec.comm.register_event(RapidResponseEvent, on_rapid)
+        heard_changes: list[TasksChangedEvent] = []
+
+        async def on_change(event: TasksChangedEvent, sender: str) -> None:
+            if event.change == "cancelled":
+                heard_changes.append(event)
+
+        await rec.comm.register_event(TasksChangedEvent, on_change)
         (normal,) = site.tasks
         now = clock.now()
         await archive.write_schedule(
@@ -98,6 +107,22 @@ async def test_a_published_notice_has_the_shutter_open_within_a_minute(
         assert 0 < opened - published <= 60.0
         (failed,) = rec.of(TaskFailedEvent)
         assert failed.id == normal.id and failed.retryable
+
+        # Retracted while its second frame is exposed: stopped at once, the frame kept, cancelled.
+        retraction = notice("grb1-retr", ra=None, retraction=True, cites=(("retraction", f"{STREAM}#grb1"),))
+        async with clock.work("simulate"):
+            assert await comet.publish(retraction) == "ack"
+        await outside(clock, lambda: len(heard_changes) == 1, "the retraction cancelled nothing")
+        for _ in range(30):  # bounded: the frame in flight is stopped and read out
+            if len(rec.of(TaskFailedEvent)) == 2:
+                break
+            await clock.sleep(1.0)
+        stopped = rec.of(TaskFailedEvent)[1]
+        assert stopped.id == rapid_id and not stopped.retryable
+        assert "retracted by" in stopped.reason and "cut short" in stopped.reason
+        assert (await archive.get_task(rapid_id)).state is TaskState.CANCELED
+        (cut,) = [h for h in await site.headers() if h["TASK-ID"] == rapid_id and h.get("CUTSHORT")]
+        assert cut["EXPTIME"] < cut["EXPREQ"] == 10.0
     finally:
         await obs.close()
         await archive.close()

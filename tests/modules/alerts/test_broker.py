@@ -1,5 +1,6 @@
 """The alerts module against a real VOEvent broker (Comet): notices published by the tests become
-rapid-response requests; updates move them, retractions cancel them, bad notices change nothing."""
+rapid-response requests; updates move them (also after a restart of the listener), retractions
+cancel them, bad notices change nothing."""
 
 from __future__ import annotations
 
@@ -89,14 +90,30 @@ async def test_notices_become_requests_updates_move_them_and_retractions_cancel(
             target = new.request.configurations[0].target
             assert target is not None and target.ra == 56.80 and new.state is TaskState.PENDING
 
-            # The same notice again changes nothing; a retraction cancels the request.
+            # Restarted, the listener reads its events back from the archive (Comet itself refuses
+            # a notice it has seen, so no repeat is sent): a follow-up with a larger error box keeps
+            # the request, one with a smaller box moves it, a retraction of the first cancels it.
+            await listener.close()
+            listener = await obs.start(AlertListener, "alerts", **options)
+            await wait_for(lambda: listener.connected, 20, message="the listener did not reconnect")
+            assert "alerts: 2 earlier alert requests read back from the archive" in caplog.text
+            wider = notice("xrt1", error=0.05, cites=(("followup", f"{STREAM}#pos2"),))
+            assert await comet.publish(wider) == "ack"
+            await wait_for(lambda: "#xrt1: request" in caplog.text, 20, message="no word on the follow-up")
+            assert f"request {new.id} kept: error radius 0.05° is not smaller than its 0.01°" in caplog.text
+            narrower = notice("xrt2", ra=56.81, error=0.002, cites=(("followup", f"{STREAM}#pos2"),))
+            assert await comet.publish(narrower) == "ack"
+            await wait_for(lambda: len(heard.rapid) == 3, 20, message="the follow-up did not move it")
+            moved = (await tasks())[-1]
+            assert (await archive.get_task(new.id)).state is TaskState.CANCELED
+            assert moved.state is TaskState.PENDING
             assert (
                 await comet.publish(
                     notice("retr", ra=None, retraction=True, cites=(("retraction", f"{STREAM}#pos1"),))
                 )
                 == "ack"
             )
-            await wait_for(lambda: ("cancelled", (new.id,)) in heard.changes, 20, message="not cancelled")
-            assert (await archive.get_task(new.id)).state is TaskState.CANCELED
-            assert len(await tasks()) == 2 and len(heard.rapid) == 2
+            await wait_for(lambda: ("cancelled", (moved.id,)) in heard.changes, 20, message="not cancelled")
+            assert (await archive.get_task(moved.id)).state is TaskState.CANCELED
+            assert len(await tasks()) == 3 and len(heard.rapid) == 3
         await archive.close()

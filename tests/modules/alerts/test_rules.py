@@ -7,7 +7,7 @@ from datetime import UTC, datetime
 import pytest
 
 from nightcrew.modules.alerts import AlertRules, NoticeError, Rejected, parse_notice, request_for
-from nightcrew.robotic.tasks import ObservationType
+from nightcrew.robotic.tasks import ObservationType, Target
 from nightcrew.site import Site
 
 from .voevents import STREAM, notice
@@ -53,7 +53,7 @@ def test_a_notice_becomes_a_rapid_response_request_at_its_position() -> None:
     assert group.observation_type is ObservationType.RAPID_RESPONSE and group.priority == 80.0
     (request,) = group.requests
     target = request.configurations[0].target
-    assert target is not None and (target.ra, target.dec) == (56.75, 24.12)
+    assert isinstance(target, Target) and (target.ra, target.dec) == (56.75, 24.12)
     assert request.windows[0].start == EVENING
 
 

@@ -5,9 +5,10 @@ import { RemoteInterface } from "../../src/remote.js";
 /**
  * What a robotic module (the mastermind) is doing now, and why.
  *
- * ``action`` is one of ``run_task``, ``open_up``, ``focus``, ``close_and_park``, ``wait`` or
- * ``stopped``; ``waiting_for`` says why it waits (None unless ``wait``). The conditions are those
- * of its last look at the world (None before the first).
+ * ``action`` is one of ``run_task``, ``open_up``, ``focus``, ``close_and_park``, ``wait``,
+ * ``stopping`` (robotic mode is off and the roof not yet closed or the telescope not yet parked
+ * since) or ``stopped``; ``waiting_for`` says why it waits (None unless ``wait``). The conditions
+ * are those of its last look at the world (None before the first).
  * @typedef {{action: string, description: string, roof?: string|null, running: boolean, sun_altitude?: number|null, task?: RoboticTask|null, telescope_ready?: boolean|null, time: Date|string, waiting_for?: string|null, waiting_until?: Date|string|null, weather_good?: boolean|null}} RoboticStatus
  */
 /**
@@ -44,7 +45,7 @@ IRobotic.spec = {
   "name": "IRobotic",
   "schemas": {
     "RoboticStatus": {
-      "description": "What a robotic module (the mastermind) is doing now, and why.\n\n``action`` is one of ``run_task``, ``open_up``, ``focus``, ``close_and_park``, ``wait`` or\n``stopped``; ``waiting_for`` says why it waits (None unless ``wait``). The conditions are those\nof its last look at the world (None before the first).",
+      "description": "What a robotic module (the mastermind) is doing now, and why.\n\n``action`` is one of ``run_task``, ``open_up``, ``focus``, ``close_and_park``, ``wait``,\n``stopping`` (robotic mode is off and the roof not yet closed or the telescope not yet parked\nsince) or ``stopped``; ``waiting_for`` says why it waits (None unless ``wait``). The conditions\nare those of its last look at the world (None before the first).",
       "properties": {
         "action": {
           "title": "Action",

@@ -172,7 +172,9 @@ class IndiClient(asyncio.Protocol):
             self._wake.clear()
             while self._outgoing and not self._closed:
                 await self._writable.wait()
-                if self._closed or self._transport is None:
+                # A failed send closes the transport before connection_lost runs: write no more
+                # (asyncio warns "socket.send() raised exception." for each write after it).
+                if self._closed or self._transport is None or self._transport.is_closing():
                     return
                 data = self._outgoing.popleft()
                 self._pending -= len(data)

@@ -228,9 +228,9 @@ class XmppComm(Comm):
         jid = self._require_room().jid_of(client)
         self._require_rpc().call(jid, client, method, args, call)
 
-    async def _publish_event(self, name: str, payload: dict[str, Any]) -> None:
+    async def _publish_event(self, name: str, payload: dict[str, Any], acting: str | None = None) -> None:
         try:
-            self._require_room().publish(name, payload)
+            self._require_room().publish(name, payload, acting)
             if self._pyobs is not None:
                 self._pyobs.publish(name, payload)
         except RemoteError:

@@ -63,7 +63,7 @@ class Room:
         *,
         on_online: Callable[[str], None],
         on_offline: Callable[[str], None],
-        on_event: Callable[[str, dict[str, Any], str], None],
+        on_event: Callable[[str, dict[str, Any], str, str | None], None],
         domain: str | None = None,
         members: list[str] | None = None,
     ) -> None:
@@ -420,9 +420,12 @@ class Room:
 
     # --- events --------------------------------------------------------------------------------
 
-    def publish(self, name: str, payload: dict[str, Any]) -> None:
-        """Send event ``name`` with wire fields ``payload`` to the room."""
+    def publish(self, name: str, payload: dict[str, Any], acting: str | None = None) -> None:
+        """Send event ``name`` with wire fields ``payload`` to the room (sent in the identity
+        ``acting``, the ``acting`` attribute, if given)."""
         element = ET.Element(f"{{{NS_EVENT}}}event", name=name)
+        if acting is not None:
+            element.set("acting", acting)
         element.text = json.dumps(payload, default=_json_value, separators=(",", ":"))
         if len(element.text) > MAX_EVENT_CHARS:  # every receiver would refuse it
             raise CodecError(f"{name} is larger than {MAX_EVENT_CHARS} characters of JSON")
@@ -450,7 +453,7 @@ class Room:
             log.warning("dropped %s from %s: its payload is %s", shorten(name), nick, exc.message)
             return True
         if isinstance(payload, dict) and name:
-            self._on_event(name, payload, nick)
+            self._on_event(name, payload, nick, element.get("acting"))
         return True
 
 

@@ -22,7 +22,7 @@ from nightcrew.images.astrometry._coverage import (
     observatory_coverage_problems,
 )
 from nightcrew.images.astrometry._errors import AstrometryError, NoSolutionError, SolverUnavailableError
-from nightcrew.images.astrometry._image_wcs import AstrometryResult, with_wcs
+from nightcrew.images.astrometry._image_wcs import AstrometryResult, is_wcs_keyword, with_wcs
 from nightcrew.images.astrometry._match import CatalogMatch, CatalogMatcher
 from nightcrew.images.astrometry._processors import (
     CatalogAstrometry,
@@ -55,6 +55,7 @@ __all__ = [
     "camera_fields_arcmin",
     "fit_tan_wcs",
     "index_coverage_problem",
+    "is_wcs_keyword",
     "observatory_coverage_problems",
     "sky_to_standard",
     "standard_to_sky",

@@ -20,6 +20,7 @@ __all__ = [
     "image_pixel_scale",
     "image_pointing",
     "image_stars",
+    "is_wcs_keyword",
     "require_pointing",
     "with_wcs",
 ]
@@ -31,6 +32,11 @@ _WCS_KEYWORD = re.compile(
     r"^(WCSAXES|WCSNAME|CTYPE\d|CUNIT\d|CRVAL\d|CRPIX\d|CD\d_\d|PC\d_\d|CDELT\d|CROTA\d|PV\d_\d+|"
     r"LONPOLE|LATPOLE|RADESYS|EQUINOX|[AB]P?_\d+_\d+|[AB]P?_ORDER|[AB]_DMAX)$"
 )
+
+
+def is_wcs_keyword(keyword: str) -> bool:
+    """Whether ``keyword`` belongs to a celestial WCS (CTYPE1, CRVAL2, CD1_1, SIP terms...)."""
+    return bool(_WCS_KEYWORD.match(keyword))
 
 
 @dataclass(frozen=True)

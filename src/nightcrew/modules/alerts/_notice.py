@@ -2,8 +2,9 @@
 
 Only what turning a notice into a request needs: its IVORN and role, its type (the ``Packet_Type``
 parameter GCN sets, else the IVORN's stream), the trigger id, the position and its error radius
-(``WhereWhen``), and the events it cites (``followup``, ``supersedes``, ``retraction``). Anything
-malformed is a :class:`NoticeError` naming what is wrong. Pure: bytes in, a value out.
+(``WhereWhen``), and the events it cites. A citation (``Citations/EventIVORN``) must say how it
+cites, ``followup``, ``supersedes`` or ``retraction`` (VOEvent 2.0, section 3.7.1: required, no
+default). Anything malformed is a :class:`NoticeError` naming what is wrong. Pure: bytes in, a value out.
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ from nightcrew.errors import InvalidArgumentError
 
 __all__ = ["Notice", "NoticeError", "parse_notice"]
 
+#: How a VOEvent 2.0 citation relates a notice to the cited one.
+CITE_KINDS = ("followup", "supersedes", "retraction")
 _VOEVENT_TAGS = (
     "{http://www.ivoa.net/xml/VOEvent/v2.0}VOEvent",
     "{http://www.ivoa.net/xml/VOEvent/v1.1}VOEvent",
@@ -36,11 +39,12 @@ class Notice:
         ivorn: Its identifier.
         role: ``observation``, ``test``, ``utility`` or ``prediction``.
         notice_type: GCN's ``Packet_Type`` (e.g. ``"61"``), else the IVORN's stream (``SWIFT``).
-        trigger: GCN's ``TrigID``, if given (the same burst in every notice about it).
+        trigger: GCN's ``TrigID``, if given (the same burst in every notice of its stream).
         ra, dec, error_radius: ICRS position and its error radius in degrees; None in a notice
             without a position (a retraction may have none).
         time: When the event happened (``ISOTime``), if given.
         cites: ``(cite, ivorn)`` of the events it refers to.
+        withdrawn: GCN's ``Retraction`` parameter is true: it withdraws its trigger's event.
     """
 
     ivorn: str
@@ -52,11 +56,22 @@ class Notice:
     error_radius: float | None = None
     time: datetime | None = None
     cites: tuple[tuple[str, str], ...] = ()
+    withdrawn: bool = False
 
     @property
     def retraction(self) -> bool:
         """Whether it withdraws an earlier notice (a ``retraction`` citation or GCN's ``Retraction``)."""
-        return any(cite == "retraction" for cite, _ in self.cites)
+        return self.withdrawn or self.cites_as("retraction")
+
+    def cites_as(self, kind: str) -> bool:
+        """Whether it cites an event as ``kind`` (one of :data:`CITE_KINDS`)."""
+        return any(cite == kind for cite, _ in self.cites)
+
+    @property
+    def stream(self) -> str:
+        """The stream it belongs to: its IVORN before ``#`` (GCN's trigger ids are unique only within
+        one stream, e.g. ``ivo://nasa.gsfc.gcn/SWIFT``)."""
+        return self.ivorn.split("#", 1)[0]
 
     @property
     def cited(self) -> tuple[str, ...]:
@@ -81,15 +96,11 @@ def parse_notice(payload: bytes) -> Notice:
     if not ivorn:
         raise NoticeError("a VOEvent without an ivorn")
     params = {p.get("name"): (p.get("value") or "").strip() for p in root.iterfind(".//What//Param")}
-    cites = tuple(
-        ((e.get("cite") or "followup").strip(), (e.text or "").strip())
-        for e in root.iterfind("Citations/EventIVORN")
-        if (e.text or "").strip()
-    )
-    if params.get("Retraction", "").lower() == "true" and not any(c == "retraction" for c, _ in cites):
-        cites = (*cites, ("retraction", ivorn))
+    cites = _citations(root, ivorn)
+    withdrawn = params.get("Retraction", "").lower() == "true"
     stream = ivorn.split("#", 1)[0].rsplit("/", 1)[-1]
-    ra, dec, radius = _position(root, ivorn, required=not any(c == "retraction" for c, _ in cites))
+    retraction = withdrawn or any(cite == "retraction" for cite, _ in cites)
+    ra, dec, radius = _position(root, ivorn, required=not retraction)
     return Notice(
         ivorn=ivorn,
         role=(root.get("role") or "observation").strip(),
@@ -100,7 +111,22 @@ def parse_notice(payload: bytes) -> Notice:
         error_radius=radius,
         time=_time(root),
         cites=cites,
+        withdrawn=withdrawn,
     )
+
+
+def _citations(root: etree._Element, ivorn: str) -> tuple[tuple[str, str], ...]:
+    cites = []
+    for element in root.iterfind("Citations/EventIVORN"):
+        cited, cite = (element.text or "").strip(), (element.get("cite") or "").strip()
+        if not cited:
+            raise NoticeError(f"{ivorn}: a citation (Citations/EventIVORN) without an IVORN")
+        if cite not in CITE_KINDS:
+            raise NoticeError(
+                f"{ivorn}: the citation of {cited} has cite={cite!r}; expected {', '.join(CITE_KINDS)}"
+            )
+        cites.append((cite, cited))
+    return tuple(cites)
 
 
 def _position(

@@ -69,8 +69,11 @@ class AlertRules(BaseModel):
         return self
 
 
-def request_for(notice: Notice, rules: AlertRules, site: Site, now: datetime) -> RequestGroup:
-    """The rapid-response request group for ``notice``, received at ``now``.
+def request_for(
+    notice: Notice, rules: AlertRules, site: Site, now: datetime, note: str | None = None
+) -> RequestGroup:
+    """The rapid-response request group for ``notice``, received at ``now``; ``note`` is its
+    request's ``observation_note`` (default: the notice's IVORN).
 
     Raises:
         Rejected: Its role or type is not taken, its error circle is larger than the rules allow,
@@ -87,7 +90,8 @@ def request_for(notice: Notice, rules: AlertRules, site: Site, now: datetime) ->
         raise Rejected(
             f"error radius {notice.error_radius:g}° is larger than {largest:g}° (of the field of view)"
         )
-    group = parse_request_group(_group_data(notice, rules, now, now + timedelta(hours=rules.window)))
+    end = now + timedelta(hours=rules.window)
+    group = parse_request_group(_group_data(notice, rules, now, end, note or f"from VOEvent {notice.ivorn}"))
     request = group.requests[0]
     needed = estimate_duration(request).total_s
     latest = now + timedelta(hours=rules.observable_within)
@@ -103,7 +107,9 @@ def request_for(notice: Notice, rules: AlertRules, site: Site, now: datetime) ->
     return group
 
 
-def _group_data(notice: Notice, rules: AlertRules, start: datetime, end: datetime) -> dict[str, Any]:
+def _group_data(
+    notice: Notice, rules: AlertRules, start: datetime, end: datetime, note: str
+) -> dict[str, Any]:
     name = (notice.ivorn.split("#", 1)[-1].strip() or notice.ivorn)[:100]
     return {
         "name": name,
@@ -114,7 +120,7 @@ def _group_data(notice: Notice, rules: AlertRules, start: datetime, end: datetim
             {
                 "location": {"telescope_class": rules.telescope_class},
                 "windows": [{"start": start.isoformat(), "end": end.isoformat()}],
-                "observation_note": f"from VOEvent {notice.ivorn}",
+                "observation_note": note,
                 "configurations": [
                     {
                         "type": "EXPOSE",

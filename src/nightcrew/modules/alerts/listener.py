@@ -4,14 +4,18 @@ For each VOEvent the broker sends (:class:`BrokerSubscription`, pygcn's client):
 
 * it is read (:func:`parse_notice`); a malformed one, or one with coordinates out of range, is one
   WARNING line and nothing else; the listener keeps listening;
-* a notice already seen (same IVORN) is ignored; notices about one event (citing it, or with the
-  same GCN ``TrigID``) share one request;
-* a retraction cancels the event's request;
+* a notice already seen (same IVORN) is ignored; notices about one event share one request (the
+  event's thread: its citations, or GCN's ``TrigID`` within its stream; see ``_threads``);
+* a retraction cancels the retracted event's request, stopping it if it runs;
 * otherwise the rules (:class:`AlertRules`) make a request group, or say in one INFO line why not
-  (role, type, error circle larger than the field allows, not observable soon). An update (a
-  refined position) cancels the event's earlier request and adds the new one: the request moves.
+  (role, type, error circle larger than the field allows, not observable soon). A notice that
+  supersedes an earlier one, or a follow-up with a smaller error radius, cancels the event's
+  earlier request and adds the new one: the request moves.
 * A new request is stored in the task archive, and a TasksChangedEvent (the scheduler plans again)
   and a RapidResponseEvent (the mastermind may pre-empt a running task) are sent at once.
+
+Each request names its notice and event in its ``observation_note``: at a start the listener reads
+them back from the archive, so after a restart an update still moves its event's request.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from nightcrew.events import RapidResponseEvent, TasksChangedEvent
 from nightcrew.modules.alerts._broker import BrokerSubscription
 from nightcrew.modules.alerts._notice import Notice, NoticeError, parse_notice
 from nightcrew.modules.alerts._rules import AlertRules, Rejected, request_for
+from nightcrew.modules.alerts._threads import EventRequest, Threads, request_note
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
 from nightcrew.robotic.archives import SqliteTaskArchive
@@ -33,6 +38,7 @@ from nightcrew.robotic.tasks import (
     FINAL_STATES,
     InvalidTaskError,
     InvalidTransitionError,
+    ObservationType,
     TaskNotFoundError,
     TaskState,
 )
@@ -43,7 +49,7 @@ __all__ = ["AlertListener"]
 log = logging.getLogger(__name__)
 
 #: Most notice IVORNs (and events with a request) remembered, the oldest forgotten first: a bounded
-#: memory for a long run.
+#: memory for a long run (and the most requests read back from the archive at a start).
 _REMEMBERED = 10_000
 
 
@@ -85,8 +91,7 @@ class AlertListener(Module):
         self._archive_option = built_option(archive, SqliteTaskArchive, "archive", self)
         self._archive: SqliteTaskArchive = self._archive_option.value
         self._broker = BrokerSubscription(host, int(port), ivorn, self._on_voevent)
-        self._event_of: dict[str, str] = {}  # notice IVORN -> the event it is about (its key)
-        self._task_of: dict[str, str] = {}  # event key -> id of its request's task
+        self._threads = Threads(_REMEMBERED)
 
     @property
     def connected(self) -> bool:
@@ -95,6 +100,7 @@ class AlertListener(Module):
 
     async def open(self) -> None:
         await self._archive_option.open()
+        await self._restore()
         await super().open()
         await self._broker.open()
 
@@ -109,28 +115,29 @@ class AlertListener(Module):
         except NoticeError as exc:
             log.warning("%s: ignored a notice: %s", self.name, exc)
             return
-        if notice.ivorn in self._event_of:
+        threads = self._threads
+        if threads.seen(notice.ivorn):
             log.info("%s: %s: seen already", self.name, notice.ivorn)
             return
-        key = self._remember(notice)
+        key = threads.key(notice)
+        threads.remember(notice.ivorn, key)
         if notice.retraction:
-            await self._cancel(key, f"retracted by {notice.ivorn}")
+            for retracted in threads.cited_keys(notice, "retraction"):
+                await self._cancel(retracted, f"retracted by {notice.ivorn}")
             return
         try:
-            group = request_for(notice, self._rules, self._site, self.clock.now())
+            group = request_for(notice, self._rules, self._site, self.clock.now(), request_note(notice, key))
         except Rejected as exc:
             log.info("%s: %s: not observed: %s", self.name, notice.ivorn, exc)
             return
         except InvalidTaskError as exc:  # e.g. an exposure plan the notice's target cannot take
             log.warning("%s: %s: no request: %s", self.name, notice.ivorn, exc)
             return
-        if not await self._cancel(key, f"superseded by {notice.ivorn}", update=True):
+        if not await self._replace_earlier(notice, key):
             return
         tasks = await self._archive.add_request_group(group)
         ids = tuple(task.id for task in tasks)
-        self._task_of[key] = ids[0]
-        if len(self._task_of) > _REMEMBERED:
-            self._task_of.pop(next(iter(self._task_of)))
+        threads.made(key, EventRequest(ids[0], notice.error_radius or 0.0))
         log.info(
             "%s: %s: rapid-response request %s at ra %.4f dec %.4f",
             self.name,
@@ -142,34 +149,66 @@ class AlertListener(Module):
         await self.comm.send_event(TasksChangedEvent(ids=ids, change="added"))
         await self.comm.send_event(RapidResponseEvent(ids=ids))
 
-    def _remember(self, notice: Notice) -> str:
-        """The key of the event ``notice`` is about (the first notice of it, or its trigger id)."""
-        trigger = f"trigger {notice.trigger}" if notice.trigger else None
-        key = next((self._event_of[i] for i in notice.cited if i in self._event_of), None)
-        key = key or trigger or next(iter(notice.cited), None) or notice.ivorn
-        self._event_of[notice.ivorn] = key
-        if len(self._event_of) > _REMEMBERED:
-            self._event_of.pop(next(iter(self._event_of)))
-        return key
+    async def _replace_earlier(self, notice: Notice, key: str) -> bool:
+        """Cancel the requests ``notice`` replaces; False: it makes no request (the event has a
+        request as good, or one that runs or ran already)."""
+        if notice.cites_as("supersedes"):  # all earlier information replaced (several: merged)
+            keys = self._threads.cited_keys(notice, "supersedes")
+            moved = [await self._cancel(k, f"superseded by {notice.ivorn}", update=True) for k in keys]
+            return all(moved)
+        earlier = self._threads.request(key)
+        if earlier is None:
+            return True
+        # A follow-up (or a later GCN notice of the trigger): a new measurement, the earlier still
+        # valid; the request moves only to a better position.
+        if notice.error_radius is not None and notice.error_radius >= earlier.error_radius:
+            log.info(
+                "%s: %s: request %s kept: error radius %g° is not smaller than its %g°",
+                self.name,
+                notice.ivorn,
+                earlier.task_id,
+                notice.error_radius,
+                earlier.error_radius,
+            )
+            return False
+        return await self._cancel(key, f"superseded by {notice.ivorn}", update=True)
 
     async def _cancel(self, key: str, reason: str, *, update: bool = False) -> bool:
-        """Cancel the request of event ``key``, if it has one still to do. False: an update comes
-        too late (its request is observed or being observed), so no new one is made."""
-        task_id = self._task_of.get(key)
-        if task_id is None:
+        """Cancel the request of event ``key``, if it has one still to do; a retraction stops it
+        while it runs (the mastermind keeps the frame in flight). False: an update comes too late
+        (its request is observed or being observed), so no new one is made."""
+        earlier = self._threads.request(key)
+        if earlier is None:
             if not update:
                 log.info("%s: %s: no request to cancel", self.name, reason)
             return True
+        task_id = earlier.task_id
         try:
             task = await self._archive.get_task(task_id)
-            if task.state in FINAL_STATES or task.state is TaskState.RUNNING:
+            if task.state in FINAL_STATES or (update and task.state is TaskState.RUNNING):
                 log.info("%s: %s: request %s is %s already", self.name, reason, task_id, task.state.value)
                 return not update
             await self._archive.cancel(task_id, reason)
         except (TaskNotFoundError, InvalidTransitionError) as exc:
             log.warning("%s: %s: could not cancel request %s: %s", self.name, reason, task_id, exc)
             return not update
-        del self._task_of[key]
-        log.warning("%s: request %s cancelled: %s", self.name, task_id, reason)
+        self._threads.dropped(key)
+        running = " while it ran" if task.state is TaskState.RUNNING else ""
+        log.warning("%s: request %s cancelled%s: %s", self.name, task_id, running, reason)
         await self.comm.send_event(TasksChangedEvent(ids=(task_id,), change="cancelled"))
         return True
+
+    async def _restore(self) -> None:
+        """Read back the events with a request from the archive (a restart keeps the threads)."""
+        rapid, proposal = ObservationType.RAPID_RESPONSE, self._rules.proposal
+        tasks = [
+            task
+            for task in await self._archive.list_tasks()
+            if task.proposal == proposal and task.observation_type is rapid
+        ]
+        tasks.sort(key=lambda task: (len(task.id), task.id))  # ids count up: oldest first
+        restored = self._threads.restore(
+            (task.id, task.request.observation_note) for task in tasks[-_REMEMBERED:]
+        )
+        if restored:
+            log.info("%s: %d earlier alert requests read back from the archive", self.name, restored)

@@ -39,6 +39,8 @@ log = logging.getLogger(__name__)
 TRACKING_RATES = {"sidereal": 0, "lunar": 1, "solar": 2, "king": 3}
 #: Alpaca EquatorialCoordinateType of a mount on the equator of date.
 _TOPOCENTRIC = 1
+#: SI seconds in a sidereal second.
+SIDEREAL_SECOND = 0.9972695663
 #: Alpaca PierSide values.
 PIER_SIDES = {-1: PierSide.UNKNOWN, 0: PierSide.EAST, 1: PierSide.WEST}
 
@@ -64,7 +66,10 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
         self._of_date = False  # the mount works on the equator of date (EquatorialSystem 1)
 
     async def _on_connected(self) -> None:
-        for capability in ("canpark", "canunpark", "cansettracking", "cansync", "canslewasync"):
+        for capability in (
+            *("canpark", "canunpark", "cansettracking", "cansync", "canslewasync"),
+            *("cansetrightascensionrate", "cansetdeclinationrate"),
+        ):
             self._can[capability] = bool(await self._get(capability))
         try:
             self._of_date = await self._get("equatorialsystem") == _TOPOCENTRIC
@@ -122,6 +127,15 @@ class AlpacaTelescope(AlpacaModule, BaseTelescope, ISyncRaDec):
         mount_ra, mount_dec = self._to_mount(ra, dec)
         await self._put("slewtocoordinatesasync", RightAscension=mount_ra / 15.0, Declination=mount_dec)
         await self._wait_slewing_done(f"slew to RA {ra:.4f}°, Dec {dec:.4f}°")
+
+    async def _hw_set_tracking_rates(self, ra_rate: float, dec_rate: float) -> bool:
+        if not (self._can.get("cansetrightascensionrate") and self._can.get("cansetdeclinationrate")):
+            return False
+        # ASCOM: RightAscensionRate in seconds of RA per sidereal second, DeclinationRate in arcsec
+        # per SI second.
+        await self._put("rightascensionrate", RightAscensionRate=ra_rate / 15.0 * SIDEREAL_SECOND)
+        await self._put("declinationrate", DeclinationRate=dec_rate)
+        return True
 
     async def _hw_move_altaz(self, alt: float, az: float) -> None:
         await self._set_tracking(False)

@@ -7,11 +7,13 @@ A driver implements :meth:`BaseCamera._hw_full_frame` (the chip), optionally
 unchanged when refused; an exposure uses a snapshot of them, so changing a setting while exposing
 affects only the next frame.
 
-FITS keywords written by every camera: DATE-OBS, MJD-OBS, EXPTIME, IMAGETYP, XBINNING, YBINNING,
+FITS keywords written by every camera: DATE-OBS, DATE-END (DATE-OBS + EXPTIME, the integration's
+end), MJD-OBS, EXPTIME, IMAGETYP, XBINNING, YBINNING,
 XORGSUBF, YORGSUBF (window origin in unbinned pixels), SITELAT,
 SITELONG, SITEELEV (when the site is known), ORIGIN, plus the ``fits_headers`` of the configuration
 (INSTRUME, TELESCOP, OBSERVER, ...) and whatever header providers add (telescope: RA, DEC,
-OBJCTRA, OBJCTDEC, AIRMASS, ...; filter wheel: FILTER; focuser: FOCUS).
+OBJCTRA, OBJCTDEC, AIRMASS, PIERSIDE, ...; filter wheel: FILTER; focuser: FOCUS; mastermind: OBJECT
+and the TASK-* cards).
 
 Cooling cards, read when the exposure starts: CCD-TEMP (when the driver knows the detector's
 temperature) and, while the cooler is on, SET-TEMP, COOLPOW (percent) and TEMP-OK (false when

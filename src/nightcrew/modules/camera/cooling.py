@@ -18,12 +18,12 @@ from pathlib import Path
 from typing import Any
 
 from nightcrew.astro import sun_crossing
-from nightcrew.config import load_config, to_plain
 from nightcrew.config._classes import ClassResolutionError, import_class
 from nightcrew.errors import ConfigError, NotSupportedError
 from nightcrew.interfaces import CoolingStatus, ICooling
 from nightcrew.modules.camera.base import BaseCamera
 from nightcrew.modules.module import Module
+from nightcrew.modules.observatory_files import module_configs
 from nightcrew.robotic.cooling import CoolerCommand, CoolingPhase, CoolingPlan, cooling_command
 
 __all__ = ["CoolingSchedule", "cooling_reach_problems"]
@@ -184,14 +184,7 @@ class CoolingSchedule(Module):
 def cooling_reach_problems(files: Iterable[Path]) -> list[str]:
     """For the module files of one observatory: a line per cooling schedule whose set point is
     below what its camera (a module file among ``files``, by name) says it can reach."""
-    modules: dict[str, tuple[Path, dict[str, Any]]] = {}
-    for path in files:
-        try:
-            config = to_plain(load_config(path))
-        except ConfigError:
-            continue  # reported by the file's own check
-        if isinstance(config, dict) and "class" in config:
-            modules[str(config.get("name") or path.stem)] = (path, config)
+    modules = module_configs(files)
     problems = []
     for path, config in modules.values():
         try:

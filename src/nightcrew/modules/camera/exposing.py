@@ -280,6 +280,8 @@ class ExposingModule(Module, IAbortable, IExposure):
             }
             cards.update(own_cards(frame))
             cards.update(self._cut_short_cards(exposure_time))
+            exposed = cards["EXPTIME"][0] if "EXPTIME" in cards else None
+            cards.update(_end_cards(self._exposure_start, exposed))
             filename = format_filename(self._filename_pattern, {k: v for k, (v, _) in cards.items()})
             await self._write(filename, frame.data, cards)
         finally:
@@ -339,6 +341,14 @@ class ExposingModule(Module, IAbortable, IExposure):
                 await self.vfs.write_bytes(filename, payload)
         except (NightcrewError, ValueError) as exc:
             raise GrabImageError(f"cannot write {filename}: {exc}") from exc
+
+
+def _end_cards(start: float, exposed: object) -> dict[str, FitsCard]:
+    """DATE-END: the start plus the seconds the frame really integrated (EXPTIME, cut short or not)."""
+    if not isinstance(exposed, int | float) or isinstance(exposed, bool):
+        return {}
+    end = datetime.fromtimestamp(start + float(exposed), UTC)
+    return {"DATE-END": (end.strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3], "UTC end of exposure")}
 
 
 def _time_cards(unix_time: float) -> dict[str, FitsCard]:

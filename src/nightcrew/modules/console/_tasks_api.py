@@ -1,7 +1,9 @@
 """The console's task routes (docs/console-api.md, "Tasks"): list, schema, add, cancel.
 
 Everyone logged in sees the tasks; only an operator adds or cancels (the archive is the console's
-own, so no access policy at a callee decides this).
+own, so no access policy at a callee decides this). A RAPID_RESPONSE group added is also announced
+by a RapidResponseEvent sent in the person's role (``console:operator``), so the mastermind
+pre-empts for it if the policy gives that role the right (docs/rapid-response.md).
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ from typing import TYPE_CHECKING
 
 from aiohttp import web
 
-from nightcrew.events import TasksChangedEvent
+from nightcrew.events import RapidResponseEvent, TasksChangedEvent
 from nightcrew.modules.console._http import ApiError, json_body, require_operator, require_session
 from nightcrew.modules.console._tasks import (
     BODY_TYPES,
@@ -24,6 +26,7 @@ from nightcrew.modules.console._tasks import (
 from nightcrew.robotic.tasks import (
     InvalidTaskError,
     InvalidTransitionError,
+    ObservationType,
     TaskNotFoundError,
     request_group_schema,
 )
@@ -86,6 +89,10 @@ class _TaskRoutes:
         ids = tuple(task.id for task in tasks)
         log.info("%s: %s added %r (tasks %s)", self.console.name, session.user, group.name, ", ".join(ids))
         await self.console.announce(TasksChangedEvent(ids=ids, change="added"))
+        if group.observation_type is ObservationType.RAPID_RESPONSE:
+            # Sent for the person: the right to pre-empt is the operator's, not the console's.
+            with self.console.comm.acting_as(session.role.value):
+                await self.console.announce(RapidResponseEvent(ids=ids))
         plan = PlanView(None, None, self.console.clock.now())
         return web.json_response({"group_id": tasks[0].group_id, "tasks": task_rows(tasks, plan)}, status=201)
 

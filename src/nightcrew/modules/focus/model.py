@@ -31,9 +31,10 @@ from nightcrew.focus import (
     records_to_plain,
 )
 from nightcrew.focus.sources import TemperatureSource, sources_from_config
-from nightcrew.interfaces import IFilters, IFocuser, IFocusModel, ITemperatures, IWeather, ModuleState
+from nightcrew.interfaces import IFilters, IFocuser, IFocusModel, ModuleState
 from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.module import Module
+from nightcrew.robotic.temperature_source import read_temperature
 
 __all__ = ["FocusModel"]
 
@@ -203,17 +204,10 @@ class FocusModel(Module, IFocusModel):
         return dict(zip(names, values, strict=True))
 
     async def _read(self, variable: str, source: TemperatureSource) -> float:
-        value: float | None
-        if source.weather_sensor is not None:
-            weather = await self.proxy(source.module, IWeather)
-            reading = await weather.get_sensor_value(source.station or source.module, source.weather_sensor)
-            value = reading.value
-        else:
-            thermometers = await self.proxy(source.module, ITemperatures)
-            value = (await thermometers.get_temperatures()).get(source.sensor or "")
-        if value is None or not math.isfinite(value):
-            raise ModuleError(f"no value for {variable} ({source.describe()})")
-        return float(value)
+        try:
+            return await read_temperature(self, source)
+        except ModuleError as exc:
+            raise ModuleError(f"no value for {variable} ({exc})") from None
 
     async def _current_filter(self) -> str | None:
         if self._filter_wheel is None:

@@ -1,13 +1,15 @@
 """Auto-focus: a series of exposures through focus, a width per frame, a hyperbola fit.
 
 ``auto_focus(count, step, exposure_time)`` takes ``count`` frames ``step`` mm apart, centred on the
-focus the focuser has when called, measures each frame's star width with a :class:`FocusMeasure`
-and fits :func:`nightcrew.focus.series.fit_focus_hyperbola`. On success the focuser goes to the
-fitted focus and a FocusFoundEvent is sent; on any failure (a minimum outside the series, too few
-stars, widths that form no clear V, an abort) the focuser goes back to where it was, so a failed
-series never leaves the telescope worse focused than before; a series that gave no best focus
-(not an abort) is announced by a FocusFailedEvent with the reason. The default measure leaves out
-the hot pixels and cosmic rays of the raw focus frames, which would count as (sharp) stars.
+focus the focuser has when called (shifted as a whole into an IFocusRange focuser's range near an
+end), measures each frame's star width with a :class:`FocusMeasure` and fits
+:func:`nightcrew.focus.series.fit_focus_hyperbola`; it ends early once too few frames are left to
+fit. On success the focuser goes to the fitted focus and a FocusFoundEvent is sent; on any failure
+(a minimum outside the series, too few stars, widths that form no clear V, an abort) the focuser
+goes back to where it was, so a failed series never leaves the telescope worse focused than before;
+a series that gave no best focus (not an abort) is announced by a FocusFailedEvent with the reason.
+The default measure leaves out the hot pixels and cosmic rays of the raw focus frames, which would
+count as (sharp) stars.
 
 Example (YAML)::
 
@@ -34,11 +36,20 @@ from nightcrew.focus.series import (
     photometry_width,
     point_defects,
     projection_width,
+    series_positions,
 )
 from nightcrew.images import Image
 from nightcrew.images.processors._shared import estimate_background, float_data, saturation_level
 from nightcrew.images.processors.detection import detect_sources_sep
-from nightcrew.interfaces import IAutoFocus, ICamera, IExposureTime, IFocuser, IImageType, ImageType
+from nightcrew.interfaces import (
+    IAutoFocus,
+    ICamera,
+    IExposureTime,
+    IFocuser,
+    IFocusRange,
+    IImageType,
+    ImageType,
+)
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
 from nightcrew.object import Object
@@ -160,8 +171,9 @@ class AutoFocusSeries(Module, IAutoFocus):
         focuser = await self.proxy(self._focuser, IFocuser)
         camera = await self.proxy(self._camera, ICamera)
         original = await (focuser.get_focus_offset() if self._use_offset else focuser.get_focus())
-        positions = [original + (i - (count - 1) / 2.0) * step for i in range(count)]
+        positions = series_positions(original, count, step, await self._reachable(focuser))
         widths: list[float] = []
+        frame_problems: dict[str, int] = {}  # why frames gave no width, and how many
         self._status = {"running": True, "count": count, "step": step, "done": 0, "measurements": []}
         found = False
         try:
@@ -180,19 +192,24 @@ class AutoFocusSeries(Module, IAutoFocus):
                         width = await self._measure(image)
                     except NightcrewError as exc:  # a frame without stars does not end the series
                         log.warning("%s: focus %.4f: no width (%s)", self.name, position, exc)
+                        frame_problems[str(exc)] = frame_problems.get(str(exc), 0) + 1
                         width = math.nan
                 widths.append(width)
                 log.info("%s: focus %.4f mm: width %.2f px", self.name, position, width)
                 self._status["done"] = len(widths)
                 self._status["measurements"].append((position, width))
+                _check_widths_can_fit(widths, count)
             fit = fit_focus_hyperbola(positions, widths)
             await self._move(focuser, fit.focus)
             found = True
         except FocusSeriesError as exc:
-            log.warning("%s: focus series failed: %s", self.name, exc)
-            self._status["failed"] = str(exc)
-            await self.comm.send_event(FocusFailedEvent(reason=str(exc), filter_name=filter_name))
-            raise
+            reason = _failure(exc, frame_problems)
+            log.warning("%s: focus series failed: %s", self.name, reason)
+            self._status["failed"] = reason
+            await self.comm.send_event(FocusFailedEvent(reason=reason, filter_name=filter_name))
+            if reason == str(exc):
+                raise
+            raise type(exc)(reason) from exc  # the same kind (e.g. outside the series), with the cause
         finally:
             self._status["running"] = False
             if not found:
@@ -205,6 +222,14 @@ class AutoFocusSeries(Module, IAutoFocus):
         await self.comm.send_event(FocusFoundEvent(focus=best, error=fit.error, filter_name=filter_name))
         return best, fit.error
 
+    async def _reachable(self, focuser: IFocuser) -> tuple[float, float] | None:
+        """The positions the series may use (offsets when it steps the offset), if the focuser says."""
+        if not isinstance(focuser, IFocusRange):
+            return None
+        low, high = await focuser.get_focus_range()
+        base = await focuser.get_focus() if self._use_offset else 0.0
+        return low - base, high - base
+
     async def _move(self, focuser: IFocuser, position: float) -> None:
         await (focuser.set_focus_offset(position) if self._use_offset else focuser.set_focus(position))
 
@@ -214,6 +239,24 @@ class AutoFocusSeries(Module, IAutoFocus):
             log.info("%s: focus restored to %.4f", self.name, original)
         except NightcrewError as exc:
             log.error("%s: could not restore the focus to %.4f: %s", self.name, original, exc)
+
+
+def _check_widths_can_fit(widths: list[float], count: int) -> None:
+    """End a series as soon as too many frames gave no width for the fit to work (e.g. a camera
+    showing no stars): the frames left would be taken in vain."""
+    missing = sum(1 for width in widths if not (math.isfinite(width) and width > 0))
+    if count - missing < MIN_FRAMES:
+        raise FocusSeriesError(
+            f"{missing} of {len(widths)} frames gave no width: fewer than {MIN_FRAMES} of {count} can"
+        )
+
+
+def _failure(exc: FocusSeriesError, frame_problems: dict[str, int]) -> str:
+    """The fit's reason, with why frames gave no width (the cause a user can act on)."""
+    if not frame_problems:
+        return str(exc)
+    causes = "; ".join(f"{count} x {problem}" for problem, count in frame_problems.items())
+    return f"{exc} (frames without a width: {causes})"
 
 
 def _filter_of(image: Image) -> str | None:

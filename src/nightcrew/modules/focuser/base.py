@@ -8,7 +8,7 @@ from abc import abstractmethod
 from typing import Any
 
 from nightcrew.errors import ConfigError, InvalidArgumentError
-from nightcrew.interfaces import FitsCard, IFitsHeaderBefore, IFocuser, MotionStatus
+from nightcrew.interfaces import FitsCard, IFitsHeaderBefore, IFocuser, IFocusRange, MotionStatus
 from nightcrew.modules.motion import BaseMotion
 from nightcrew.timeout import timeout
 
@@ -20,7 +20,7 @@ log = logging.getLogger(__name__)
 _SAME_POSITION_MM = 1e-3
 
 
-class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
+class BaseFocuser(BaseMotion, IFocuser, IFocusRange, IFitsHeaderBefore):
     """A focuser; a driver implements ``_hw_move_focus`` and ``_hw_stop``.
 
     A focuser has nothing to park: ``init()`` and ``park()`` leave it where it is.
@@ -103,6 +103,9 @@ class BaseFocuser(BaseMotion, IFocuser, IFitsHeaderBefore):
 
     async def get_focus(self) -> float:
         return self._focus
+
+    async def get_focus_range(self) -> tuple[float, float]:
+        return self._min_focus, self._max_focus
 
     @timeout(
         lambda self, offset, **_: self._announced_move_timeout(

@@ -47,6 +47,7 @@ from nightcrew.interfaces import ModuleState
 from nightcrew.interfaces.quantities import Period
 from nightcrew.modules.indi.server_camera import ServedCamera
 from nightcrew.modules.indi.server_device import ServedDevice
+from nightcrew.modules.indi.server_manual import ManualMode
 from nightcrew.modules.indi.server_motion import ServedDome, ServedFilterWheel, ServedFocuser
 from nightcrew.modules.indi.server_telescope import ServedTelescope
 from nightcrew.modules.module import Module
@@ -79,6 +80,11 @@ class IndiServer(Module):
         idle_timeout: Wall seconds a client may take to send its first complete element (every
             INDI client starts with ``getProperties``) and to finish each element it begins; then
             it is disconnected. A client that spoke may listen in silence.
+        pixel_size: The camera's pixel size in µm for CCD_INFO until a frame's XPIXSZ says (0:
+            unknown until then).
+        robotic: Name of the robotic module (IStartStop, the mastermind) that INDI clients take
+            the observatory from: see :mod:`.server_manual` for the rule.
+        handover_timeout: Wall seconds the robotic module gets to end its task and park.
         **kwargs: Module options (``site`` gives the telescope's GEOGRAPHIC_COORD).
     """
 
@@ -96,6 +102,9 @@ class IndiServer(Module):
         max_clients: int = 16,
         max_clients_per_address: int = 4,
         idle_timeout: float = 30.0,
+        pixel_size: float = 0.0,
+        robotic: str | None = None,
+        handover_timeout: float = 300.0,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -109,6 +118,11 @@ class IndiServer(Module):
             raise ConfigError(f"must be >= 1, got {max_clients_per_address}", key="max_clients_per_address")
         if not 0.1 <= idle_timeout <= 86400:
             raise ConfigError(f"must be 0.1 .. 86400 seconds, got {idle_timeout}", key="idle_timeout")
+        if not (isinstance(pixel_size, (int, float)) and 0.0 <= pixel_size <= 100.0):
+            raise ConfigError(f"must be 0 .. 100 µm, got {pixel_size!r}", key="pixel_size")
+        if not 1.0 <= handover_timeout <= 3600.0:
+            raise ConfigError(f"must be 1 .. 3600 seconds, got {handover_timeout}", key="handover_timeout")
+        self._pixel_size = float(pixel_size)
         kinds: dict[str, tuple[str | None, type[ServedDevice[Any]]]] = {
             "telescope": (telescope, ServedTelescope),
             "camera": (camera, ServedCamera),
@@ -140,6 +154,12 @@ class IndiServer(Module):
             max_clients_per_address=max_clients_per_address,
             idle_timeout=float(idle_timeout),
         )
+        self._manual: ManualMode | None = None
+        if robotic is not None:
+            if not isinstance(robotic, str) or not robotic.strip():
+                raise ConfigError(f"must be a module name, got {robotic!r}", key="robotic")
+            parked = [module for key, (module, _) in kinds.items() if module and key in ("telescope", "dome")]
+            self._manual = ManualMode(robotic, self.proxy, parked, float(handover_timeout), self._announce)
         for name in self._devices:
             self.add_background_task(functools.partial(self._serve_device, name), name=f"INDI device {name}")
 
@@ -147,6 +167,10 @@ class IndiServer(Module):
     def port(self) -> int:
         """The port clients connect to (the chosen one when configured as 0)."""
         return self._listener.port
+
+    @property
+    def pixel_size(self) -> float:
+        return self._pixel_size
 
     @property
     def devices(self) -> dict[str, ServedDevice[Any]]:
@@ -185,6 +209,9 @@ class IndiServer(Module):
         if self._listener.wanted(vector.device, vector.name, is_blob=True):  # encode only for someone
             message = blob_message(vector, member, data, fmt)
             self._listener.broadcast(message, vector.device, vector.name, is_blob=True)
+
+    def _announce(self, text: str) -> None:
+        self._listener.broadcast(_xml(message_element(None, text)), None, None)
 
     def wake(self, device: str) -> None:
         if device in self._wakes:
@@ -225,6 +252,10 @@ class IndiServer(Module):
 
     async def _on_element(self, client: IndiClient, element: ET.Element) -> None:
         tag = element.tag
+        if tag == "getProperties" or tag.startswith("new"):  # what clients ask for (bench/ekos.py)
+            log.debug(
+                "INDI client %s: %s %s.%s", client.address, tag, element.get("device"), element.get("name")
+            )
         if tag == "getProperties":
             self._define(client, element.get("device"), element.get("name"))
         elif tag.startswith("new") and tag.endswith("Vector"):
@@ -250,10 +281,17 @@ class IndiServer(Module):
             client.send(_xml(message_element(device_name if served is not None else None, text)))
             return
         try:
-            await served.request(vector, parse_new(element, vector))
+            values = parse_new(element, vector)
+            if self._manual is not None:
+                await self._manual.take(client.address)
+            await served.request(vector, values)
         except NightcrewError as exc:
             log.info("INDI client %s: %s refused: %s", client.address, vector.where, exc)
             vector.state, vector.message = PropertyState.ALERT, str(exc)
+            self.publish(vector)
+        except Exception as exc:  # a bug of ours: Alert with the reason, never the client's connection
+            log.exception("INDI client %s: %s failed", client.address, vector.where)
+            vector.state, vector.message = PropertyState.ALERT, f"{type(exc).__name__}: {exc}"
             self.publish(vector)
 
 

@@ -8,10 +8,12 @@ CCD_EXPOSURE                set_exposure_time(), grab_data(); Busy with the seco
 CCD_ABORT_EXPOSURE          abort()
 CCD1 (BLOB, ro)             the FITS file of the last exposure, format ``.fits``
 CCD_FRAME                   set_window() in unbinned pixels (cameras with IWindow)
-CCD_INFO (ro)               the full frame and 16 bits per pixel (cameras with IWindow)
+CCD_INFO (ro)               the full frame, pixel sizes (see below) and 16 bits per pixel (IWindow)
 CCD_BINNING                 set_binning() (cameras with IBinning)
 CCD_FRAME_TYPE              the image type given to grab_data(): LIGHT object, BIAS, DARK, FLAT skyflat
 ==========================  ======================================================================
+
+Cooling, gain, CFA, compression, upload mode and pixel sizes: :mod:`.server_camera_settings`.
 
 The camera writes the file through its own VFS, and the server reads it through its own: give the
 server the camera's root (e.g. ``images``), or the exposure ends in Alert naming the path.
@@ -40,6 +42,7 @@ from nightcrew.interfaces import (
     ImageType,
     IWindow,
 )
+from nightcrew.modules.indi.server_camera_settings import CameraSettings, pixel_info_members
 from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
 
 __all__ = ["ServedCamera"]
@@ -94,8 +97,16 @@ class ServedCamera(ServedDevice[ICamera]):
         )
         if not any(m.on for m in self.frame_type.members):
             switch_on(self.frame_type, "FRAME_LIGHT")
-        vectors: list[Property[Any]] = [self.exposure, self.abort, self.image, self.frame_type]
+        self.settings = CameraSettings(name, camera)
+        vectors: list[Property[Any]] = [
+            self.exposure,
+            self.abort,
+            self.image,
+            self.frame_type,
+            *self.settings.vectors,
+        ]
         self.frame: Property[NumberMember] | None = None
+        self.info: Property[NumberMember] | None = None
         self.binning: Property[NumberMember] | None = None
         if isinstance(camera, IWindow):
             full = await camera.get_full_frame()
@@ -111,20 +122,16 @@ class ServedCamera(ServedDevice[ICamera]):
                     NumberMember("HEIGHT", "Height", 0.0, 1.0, full.height, 1.0, "%4.0f"),
                 ],
             )
-            info = Property(
+            self.info = Property(
                 name,
                 "CCD_INFO",
                 "CCD Information",
                 "Image Info",
-                [
-                    NumberMember("CCD_MAX_X", "Max. Width", full.width, 1.0, 1e6, 1.0, "%4.0f"),
-                    NumberMember("CCD_MAX_Y", "Max. Height", full.height, 1.0, 1e6, 1.0, "%4.0f"),
-                    NumberMember("CCD_BITSPERPIXEL", "Bits per pixel", 16.0, 8.0, 64.0, 1.0, "%3.0f"),
-                ],
+                pixel_info_members(full.width, full.height, self._link.pixel_size),
                 perm=Permission.READ_ONLY,
                 state=PropertyState.OK,
             )
-            vectors += [self.frame, info]
+            vectors += [self.frame, self.info]
         if isinstance(camera, IBinning):
             binnings = await camera.list_binnings()
             self.binning = Property(
@@ -149,6 +156,8 @@ class ServedCamera(ServedDevice[ICamera]):
                 await camera.get_exposure_time_left(), 3
             )
         self._follow(self.exposure, busy=exposing, failed=status is ExposureStatus.ERROR)
+        temperature = self.settings.temperature
+        await self.settings.update(camera, temperature is not None and self.acting(temperature))
         if self.frame is not None and isinstance(camera, IWindow):
             window = await camera.get_window()
             for key, value in (
@@ -186,6 +195,17 @@ class ServedCamera(ServedDevice[ICamera]):
             x = round(float(values.get("HOR_BIN", vector.by_name["HOR_BIN"].value)))
             y = round(float(values.get("VER_BIN", vector.by_name["VER_BIN"].value)))
             self._start(vector, camera.set_binning(x, y))
+        elif self.settings.owns(vector):
+            action = await self.settings.request(camera, vector, values)
+            for key, value in values.items():  # the client's choice shows until the device says
+                member = vector.by_name[key]
+                if isinstance(member, SwitchMember):
+                    member.on = bool(value)
+            if action is None:
+                vector.state = PropertyState.OK
+                self._link.publish(vector)
+            else:
+                self._start(vector, action)
         else:
             raise InvalidArgumentError(f"{vector.where} cannot be set")
 
@@ -196,6 +216,8 @@ class ServedCamera(ServedDevice[ICamera]):
         kind = next(FRAME_TYPES[m.name] for m in self.frame_type.members if m.on)
         path = await camera.grab_data(image_type=kind)
         data = await self._link.vfs.read_bytes(path)
+        for vector in self.settings.read_frame(data, self.info):
+            self._link.publish(vector)
         self.exposure.by_name["CCD_EXPOSURE_VALUE"].value = 0.0
         self.image.state = PropertyState.OK
         self._link.publish_blob(self.image, "CCD1", data, ".fits")

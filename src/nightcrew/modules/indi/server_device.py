@@ -56,6 +56,10 @@ class ServerLink(Protocol):
     @property
     def site(self) -> Site | None: ...
 
+    @property
+    def pixel_size(self) -> float:
+        """The camera's pixel size in µm as configured (0: unknown until a frame says)."""
+
     def publish(self, vector: Property[Any]) -> None:
         """Send the vector's current values and state to every client."""
 
@@ -204,7 +208,7 @@ class ServedDevice(ABC, Generic[P]):
     async def _act(self, vector: Property[Any], action: Coroutine[Any, Any, object]) -> None:
         try:
             await action
-        except Exception as exc:
+        except Exception as exc:  # any failure ends in Alert with its reason; the server goes on
             state, message = PropertyState.ALERT, f"{type(exc).__name__}: {exc}"
             if isinstance(exc, NightcrewError):
                 log.info("INDI %s failed: %s", vector.where, exc)

@@ -4,11 +4,17 @@
 property                    nightcrew
 ==========================  ======================================================================
 ABS_FOCUS_POSITION          focuser get_focus()/set_focus(), in steps of 1 µm (nightcrew: mm)
+REL_FOCUS_POSITION          focuser set_focus(position -/+ steps), the direction FOCUS_MOTION's
+FOCUS_MOTION                FOCUS_INWARD (towards 0) or FOCUS_OUTWARD; a choice kept for moves
+FOCUS_MAX (ro)              the highest step offered (the focuser refuses what is beyond its range)
+FOCUS_TEMPERATURE (ro)      the first of the focuser's get_temperatures() (ITemperatures), °C
 FOCUS_ABORT_MOTION          focuser stop_motion()
 FILTER_SLOT                 filter wheel get_filter()/set_filter(), slots 1..N in list_filters() order
 FILTER_NAME (ro)            list_filters()
 DOME_SHUTTER                roof/dome open_roof() / close_roof(); Busy while it moves
 ABS_DOME_POSITION           dome get_azimuth()/move_azimuth(), degrees (IDome only)
+DOME_PARK                   PARK: park() (closes), UNPARK: init() (opens); PARK On while parked
+DOME_MOTION                 DOME_CW/DOME_CCW: move_azimuth() 90° that way; Off: stop_motion() (IDome)
 DOME_ABORT_MOTION           roof/dome stop_motion()
 ==========================  ======================================================================
 """
@@ -27,7 +33,7 @@ from nightcrew.bridges.indi.server_vectors import (
     TextMember,
 )
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.interfaces import IDome, IFilters, IFocuser, IRoof, MotionStatus
+from nightcrew.interfaces import IDome, IFilters, IFocuser, IRoof, ITemperatures, MotionStatus
 from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
 
 __all__ = ["ServedDome", "ServedFilterWheel", "ServedFocuser"]
@@ -36,6 +42,8 @@ __all__ = ["ServedDome", "ServedFilterWheel", "ServedFocuser"]
 STEPS_PER_MM = 1000.0
 #: Range offered to clients; the focuser refuses what lies outside its own range (Alert).
 _FOCUS_STEPS = 100_000.0
+#: Degrees a dome turns for one DOME_MOTION request (less than half a turn: the way is clear).
+_DOME_TURN = 90.0
 #: The dome's rotation, as nightcrew's BaseDome names it in get_motion_status(device).
 _AZIMUTH = "azimuth"
 
@@ -61,8 +69,51 @@ class ServedFocuser(ServedDevice[IFocuser]):
             [NumberMember("FOCUS_ABSOLUTE_POSITION", "Steps (µm)", 0.0, 0.0, _FOCUS_STEPS, 1.0, "%6.0f")],
             timeout=300.0,
         )
+        self.relative = Property(
+            self.name,
+            "REL_FOCUS_POSITION",
+            "Relative Position",
+            MAIN_GROUP,
+            [NumberMember("FOCUS_RELATIVE_POSITION", "Steps (µm)", 0.0, 0.0, _FOCUS_STEPS, 1.0, "%6.0f")],
+            timeout=300.0,
+        )
+        self.direction = Property(
+            self.name,
+            "FOCUS_MOTION",
+            "Direction",
+            MAIN_GROUP,
+            [SwitchMember("FOCUS_INWARD", "Focus In", True), SwitchMember("FOCUS_OUTWARD", "Focus Out")],
+            state=PropertyState.OK,
+        )
+        self.maximum = Property(
+            self.name,
+            "FOCUS_MAX",
+            "Max. Position",
+            MAIN_GROUP,
+            [NumberMember("FOCUS_MAX_VALUE", "Steps", _FOCUS_STEPS, 0.0, _FOCUS_STEPS, 1.0, "%6.0f")],
+            perm=Permission.READ_ONLY,
+            state=PropertyState.OK,
+        )
         self.abort = _abort_vector(self.name, "FOCUS_ABORT_MOTION")
-        return [self.position, self.abort]
+        vectors: list[Property[Any]] = [
+            self.position,
+            self.relative,
+            self.direction,
+            self.maximum,
+            self.abort,
+        ]
+        self.temperature: Property[NumberMember] | None = None
+        if isinstance(self.device, ITemperatures):
+            self.temperature = Property(
+                self.name,
+                "FOCUS_TEMPERATURE",
+                "Temperature",
+                MAIN_GROUP,
+                [NumberMember("TEMPERATURE", "Celsius", 0.0, -50.0, 70.0, 0.0, "%6.2f")],
+                perm=Permission.READ_ONLY,
+            )
+            vectors.append(self.temperature)
+        return vectors
 
     async def _update(self) -> None:
         focuser = self.device
@@ -71,11 +122,27 @@ class ServedFocuser(ServedDevice[IFocuser]):
             await focuser.get_focus() * STEPS_PER_MM, 3
         )
         self._follow(self.position, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
+        self._follow(self.relative, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
+        if self.temperature is not None and isinstance(focuser, ITemperatures):
+            temperatures = await focuser.get_temperatures()
+            if temperatures:
+                self.temperature.by_name["TEMPERATURE"].value = round(next(iter(temperatures.values())), 2)
+                self.temperature.state = PropertyState.OK
 
     async def _request(self, vector: Property[Any], values: Values) -> None:
         if vector is self.position:
             steps = float(values["FOCUS_ABSOLUTE_POSITION"])
             self._start(self.position, self.device.set_focus(steps / STEPS_PER_MM))
+        elif vector is self.relative:
+            steps = float(values["FOCUS_RELATIVE_POSITION"])
+            self.relative.by_name["FOCUS_RELATIVE_POSITION"].value = steps
+            inward = self.direction.by_name["FOCUS_INWARD"].on
+            target = self.position.by_name["FOCUS_ABSOLUTE_POSITION"].value + (-steps if inward else steps)
+            self._start(self.relative, self.device.set_focus(target / STEPS_PER_MM))
+        elif vector is self.direction:
+            switch_on(self.direction, "FOCUS_INWARD" if values.get("FOCUS_INWARD") else "FOCUS_OUTWARD")
+            self.direction.state = PropertyState.OK
+            self._link.publish(self.direction)
         elif vector is self.abort:
             if values.get("ABORT"):
                 self._start(self.abort, self.device.stop_motion())
@@ -148,10 +215,29 @@ class ServedDome(ServedDevice[IRoof]):
             [SwitchMember("SHUTTER_OPEN", "Open"), SwitchMember("SHUTTER_CLOSE", "Close", True)],
             timeout=300.0,
         )
+        self.park = Property(
+            self.name,
+            "DOME_PARK",
+            "Parking",
+            MAIN_GROUP,
+            [SwitchMember("PARK", "Park(ed)", True), SwitchMember("UNPARK", "UnPark(ed)")],
+            timeout=300.0,
+        )
         self.abort = _abort_vector(self.name, "DOME_ABORT_MOTION")
-        vectors: list[Property[Any]] = [self.shutter, self.abort]
+        vectors: list[Property[Any]] = [self.shutter, self.park, self.abort]
         self.azimuth: Property[NumberMember] | None = None
+        self.motion: Property[SwitchMember] | None = None
         if isinstance(self.device, IDome):
+            self.motion = Property(
+                self.name,
+                "DOME_MOTION",
+                "Motion",
+                MAIN_GROUP,
+                [SwitchMember("DOME_CW", "Dome CW"), SwitchMember("DOME_CCW", "Dome CCW")],
+                rule=SwitchRule.AT_MOST_ONE,
+                timeout=300.0,
+            )
+            vectors.append(self.motion)
             self.azimuth = Property(
                 self.name,
                 "ABS_DOME_POSITION",
@@ -170,10 +256,16 @@ class ServedDome(ServedDevice[IRoof]):
         switch_on(self.shutter, "SHUTTER_CLOSE" if closed else "SHUTTER_OPEN")
         moving = status in (MotionStatus.MOVING, MotionStatus.PARKING)
         self._follow(self.shutter, busy=moving, failed=status is MotionStatus.ERROR)
+        switch_on(self.park, "PARK" if status is MotionStatus.PARKED else "UNPARK")
+        self._follow(self.park, busy=moving, failed=status is MotionStatus.ERROR)
         if self.azimuth is not None and isinstance(roof, IDome):
             self.azimuth.by_name["DOME_ABSOLUTE_POSITION"].value = round(await roof.get_azimuth(), 6)
             turning = await roof.get_motion_status(_AZIMUTH) is MotionStatus.MOVING
             self._follow(self.azimuth, busy=turning)
+            if self.motion is not None and not turning and not self.acting(self.motion):
+                for member in self.motion.members:
+                    member.on = False
+                self._follow(self.motion, busy=False)
 
     async def _request(self, vector: Property[Any], values: Values) -> None:
         roof = self.device
@@ -181,6 +273,11 @@ class ServedDome(ServedDevice[IRoof]):
             opening = bool(values.get("SHUTTER_OPEN"))
             # Closing always wins (it pre-empts an opening roof); opening waits its turn.
             self._start(self.shutter, roof.open_roof() if opening else roof.close_roof(), replace=not opening)
+        elif vector is self.park:
+            parking = bool(values.get("PARK"))
+            self._start(self.park, roof.park() if parking else roof.init(), replace=parking)
+        elif vector is self.motion and isinstance(roof, IDome):
+            self._turn(roof, self.motion, values)
         elif vector is self.abort:
             if values.get("ABORT"):
                 self._start(self.abort, roof.stop_motion())
@@ -188,3 +285,15 @@ class ServedDome(ServedDevice[IRoof]):
             self._start(vector, roof.move_azimuth(float(values["DOME_ABSOLUTE_POSITION"]) % 360.0))
         else:
             raise InvalidArgumentError(f"{vector.where} cannot be set")
+
+    def _turn(self, dome: IDome, vector: Property[SwitchMember], values: Values) -> None:
+        """DOME_CW/CCW: turn a quarter that way (a new request replaces the turn); Off: stop."""
+        direction = next((name for name, on in values.items() if on), None)
+        for member in vector.members:
+            member.on = member.name == direction
+        if direction is None:
+            self._start(vector, dome.stop_motion(), replace=True)
+            return
+        sign = 1.0 if direction == "DOME_CW" else -1.0  # clockwise seen from above: azimuth grows
+        azimuth = self.azimuth.by_name["DOME_ABSOLUTE_POSITION"].value if self.azimuth is not None else 0.0
+        self._start(vector, dome.move_azimuth((azimuth + sign * _DOME_TURN) % 360.0), replace=True)

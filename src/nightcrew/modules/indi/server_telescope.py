@@ -9,7 +9,14 @@ property                    nightcrew
 ==========================  ======================================================================
 EQUATORIAL_EOD_COORD        get_radec(); a client's new RA/DEC: move_radec() (Busy until on target)
 HORIZONTAL_COORD (ro)       get_altaz()
-ON_COORD_SET                TRACK or SLEW: both move_radec() (a nightcrew telescope tracks after it)
+ON_COORD_SET                TRACK or SLEW: both move_radec() (a nightcrew telescope tracks after it);
+                            SYNC: sync_radec() (ISyncRaDec; else the request ends in Alert)
+TELESCOPE_PIER_SIDE (ro)    get_pier_side() (IPierSide): PIER_EAST/PIER_WEST, both Off if unknown
+TELESCOPE_INFO              apertures and focal lengths (mm) a client sets and reads; kept here
+TIME_UTC                    the server's clock (UTC, OFFSET 0); a client's time is answered Ok and
+                            not applied: nightcrew keeps its own clock
+motion, slew rates, guiding see :mod:`.server_guiding` (IOffsetsRaDec; GUIDER bit 4 of the
+                            driver interface)
 TELESCOPE_ABORT_MOTION      stop_motion()
 TELESCOPE_PARK              PARK: park(); UNPARK: init()
 TELESCOPE_TRACK_STATE       TRACK_ON while TRACKING; ON: move_radec() to where it points, OFF: stop
@@ -19,6 +26,7 @@ GEOGRAPHIC_COORD (ro)       the server's ``site`` (longitude 0..360 east), when 
 
 from __future__ import annotations
 
+from datetime import UTC, datetime
 from typing import Any
 
 from nightcrew.astro import j2000_to_of_date, of_date_to_j2000
@@ -29,10 +37,12 @@ from nightcrew.bridges.indi.server_vectors import (
     PropertyState,
     SwitchMember,
     SwitchRule,
+    TextMember,
 )
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.interfaces import ITelescope, MotionStatus
+from nightcrew.interfaces import IOffsetsRaDec, IPierSide, ISyncRaDec, ITelescope, MotionStatus, PierSide
 from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
+from nightcrew.modules.indi.server_guiding import HandControls
 
 __all__ = ["ServedTelescope"]
 
@@ -45,6 +55,8 @@ class ServedTelescope(ServedDevice[ITelescope]):
 
     interface = ITelescope
     driver_interface = 1
+    pier_side: Property[SwitchMember] | None = None
+    hand: HandControls | None = None
 
     async def _build(self) -> list[Property[Any]]:
         name = self.name
@@ -75,7 +87,11 @@ class ServedTelescope(ServedDevice[ITelescope]):
             "ON_COORD_SET",
             "On Set",
             MAIN_GROUP,
-            [SwitchMember("TRACK", "Track", True), SwitchMember("SLEW", "Slew")],
+            [
+                SwitchMember("TRACK", "Track", True),
+                SwitchMember("SLEW", "Slew"),
+                SwitchMember("SYNC", "Sync"),
+            ],
             state=PropertyState.OK,
         )
         self.abort = Property(
@@ -89,6 +105,30 @@ class ServedTelescope(ServedDevice[ITelescope]):
             MAIN_GROUP,
             [SwitchMember("PARK", "Park(ed)", True), SwitchMember("UNPARK", "UnPark(ed)")],
             timeout=300.0,
+        )
+        self.info = Property(
+            name,
+            "TELESCOPE_INFO",
+            "Scope Properties",
+            "Options",
+            [
+                NumberMember(key, label, 0.0, 0.0, 100000.0, 0.0, "%g")
+                for key, label in (
+                    ("TELESCOPE_APERTURE", "Aperture (mm)"),
+                    ("TELESCOPE_FOCAL_LENGTH", "Focal Length (mm)"),
+                    ("GUIDER_APERTURE", "Guider Aperture (mm)"),
+                    ("GUIDER_FOCAL_LENGTH", "Guider Focal Length (mm)"),
+                )
+            ],
+            state=PropertyState.OK,
+        )
+        self.time_utc = Property(
+            name,
+            "TIME_UTC",
+            "UTC",
+            "Site Management",
+            [TextMember("UTC", "UTC Time"), TextMember("OFFSET", "UTC Offset", "0.00")],
+            state=PropertyState.OK,
         )
         self.track = Property(
             name,
@@ -105,7 +145,29 @@ class ServedTelescope(ServedDevice[ITelescope]):
             self.abort,
             self.park,
             self.track,
+            self.info,
+            self.time_utc,
         ]
+        self.pier_side = None
+        if isinstance(self.device, IPierSide):
+            self.pier_side = Property(
+                name,
+                "TELESCOPE_PIER_SIDE",
+                "Pier Side",
+                MAIN_GROUP,
+                [
+                    SwitchMember("PIER_WEST", "West (pointing east)"),
+                    SwitchMember("PIER_EAST", "East (pointing west)"),
+                ],
+                perm=Permission.READ_ONLY,
+                rule=SwitchRule.AT_MOST_ONE,
+            )
+            vectors.append(self.pier_side)
+        self.hand = None
+        if isinstance(self.device, IOffsetsRaDec):
+            self.hand = HandControls(name, self._link)
+            vectors += self.hand.vectors
+            self.driver_info.by_name["DRIVER_INTERFACE"].value = str(self.driver_interface | 4)  # + GUIDER
         site = self._link.site
         if site is not None:
             vectors.append(
@@ -146,6 +208,13 @@ class ServedTelescope(ServedDevice[ITelescope]):
         )
         switch_on(self.track, "TRACK_ON" if status is MotionStatus.TRACKING else "TRACK_OFF")
         self._follow(self.track, busy=False, failed=failed)
+        now = datetime.fromtimestamp(self._link.clock.time(), UTC)
+        self.time_utc.by_name["UTC"].value = now.strftime("%Y-%m-%dT%H:%M:%S")
+        if self.pier_side is not None and isinstance(telescope, IPierSide):
+            side = await telescope.get_pier_side()
+            self.pier_side.by_name["PIER_EAST"].on = side is PierSide.EAST
+            self.pier_side.by_name["PIER_WEST"].on = side is PierSide.WEST
+            self.pier_side.state = PropertyState.OK if side is not PierSide.UNKNOWN else PropertyState.IDLE
 
     async def _request(self, vector: Property[Any], values: Values) -> None:
         telescope = self.device
@@ -163,14 +232,54 @@ class ServedTelescope(ServedDevice[ITelescope]):
             self._start(self.park, telescope.park() if values.get("PARK") else telescope.init(), replace=True)
         elif vector is self.track:
             self._start(self.track, self._track(bool(values.get("TRACK_ON"))))
+        elif vector is self.info:
+            for key, value in values.items():
+                self.info.by_name[key].value = float(value)
+            self.info.state = PropertyState.OK
+            self._link.publish(self.info)
+        elif vector is self.time_utc:
+            self.time_utc.state = PropertyState.OK
+            self.time_utc.message = "nightcrew keeps its own clock; the time sent is not applied"
+            self._link.publish(self.time_utc)
+        elif self.hand is not None and isinstance(telescope, IOffsetsRaDec):
+            await self._hand_request(self.hand, telescope, vector, values)
         else:
             raise InvalidArgumentError(f"{vector.where} cannot be set")
 
+    async def _hand_request(
+        self, hand: HandControls, telescope: IOffsetsRaDec, vector: Property[Any], values: Values
+    ) -> None:
+        if vector in (hand.slew_rate, hand.guide_rate):
+            hand.set_rate(vector, values)
+        elif vector in (hand.motion_ns, hand.motion_we):
+            await hand.motion(telescope, vector, values)
+        elif vector in (hand.guide_ns, hand.guide_we):
+            self._start(vector, hand.pulse(telescope, vector, values))
+        else:
+            raise InvalidArgumentError(f"{vector.where} cannot be set")
+
+    async def close(self) -> None:
+        if self.hand is not None:
+            await self.hand.close()
+        await super().close()
+
     async def _goto(self, values: Values) -> None:
-        """Slew to the client's JNow position; a new target replaces one still being slewed to."""
+        """Slew to (or with ON_COORD_SET SYNC: sync on) the client's JNow position.
+
+        A new target replaces one still being slewed to.
+        """
         ra_hours = float(values.get("RA", self.eod.by_name["RA"].value))
         dec = float(values.get("DEC", self.eod.by_name["DEC"].value))
         ra, dec = of_date_to_j2000((ra_hours * 15.0) % 360.0, dec, self._link.clock.time())
+        if self.coord_set.by_name["SYNC"].on:
+            telescope = self.device
+            if not isinstance(telescope, ISyncRaDec):
+                raise InvalidArgumentError(
+                    f"{self.eod.where}: ON_COORD_SET is SYNC, "
+                    f"but {self.name} cannot sync (it offers no ISyncRaDec)"
+                )
+            self._start(self.eod, telescope.sync_radec(ra % 360.0, dec))
+            return
         if self.acting(self.eod):
             await self.device.stop_motion()
         self._start(self.eod, self.device.move_radec(ra % 360.0, dec), replace=True)

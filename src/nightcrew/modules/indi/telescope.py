@@ -5,7 +5,11 @@ equator and equinox of date ("JNow"); nightcrew speaks ICRS/J2000 degrees. The c
 :func:`nightcrew.astro.j2000_to_of_date` and its inverse, at the clock's time. Moves use
 ``ON_COORD_SET`` TRACK (RA/Dec targets) or SLEW (Alt/Az positions, not tracking), ``SYNC`` for
 :meth:`IndiTelescope.sync_radec`; park and unpark ``TELESCOPE_PARK``; stop
-``TELESCOPE_ABORT_MOTION``; tracking ``TELESCOPE_TRACK_STATE``. A slew ends when the coordinate
+``TELESCOPE_ABORT_MOTION``; tracking ``TELESCOPE_TRACK_STATE``; a moving target's offset rates
+``TELESCOPE_TRACK_RATE`` with ``TELESCOPE_TRACK_MODE`` TRACK_CUSTOM (INDI's RA rate is the RA
+axis's: the sidereal rate less the body's motion in RA, and at most the sidereal rate, as a mount
+does not reverse its RA axis while tracking; the DE rate turns the declination axis, whose sense on
+the sky flips with the pier side, as the telescope simulator shows). A slew ends when the coordinate
 vector leaves Busy. Slews started by another INDI client are reported too (SLEWING, then TRACKING
 or IDLE). The pier side (IPierSide) is ``TELESCOPE_PIER_SIDE`` (PIER_EAST, PIER_WEST: ASCOM's sides) where
 the driver has it; INDI has no destination side, so that is UNKNOWN.
@@ -39,6 +43,8 @@ _COORD = "EQUATORIAL_EOD_COORD"
 _ON_TARGET = 0.01
 #: Slews towards one target before the mount's own idea of "there" is accepted.
 _APPROACHES = 3
+#: INDI's sidereal tracking rate in RA, arcsec/s.
+_SIDEREAL_RATE = 15.041067
 
 
 class IndiTelescope(IndiModule, BaseTelescope, ISyncRaDec):
@@ -139,6 +145,24 @@ class IndiTelescope(IndiModule, BaseTelescope, ISyncRaDec):
         if self._indi.has("TELESCOPE_TRACK_STATE") and not self._tracking():
             # ON_COORD_SET TRACK does not switch tracking back on everywhere (the simulator).
             await self._indi.switch("TELESCOPE_TRACK_STATE", "TRACK_ON", wait=self._indi.connect_timeout)
+
+    async def _hw_set_tracking_rates(self, ra_rate: float, dec_rate: float) -> bool:
+        indi = self._indi
+        if not (indi.has("TELESCOPE_TRACK_RATE") and indi.has("TELESCOPE_TRACK_MODE")):
+            return False
+        if "TRACK_CUSTOM" not in indi.vector("TELESCOPE_TRACK_MODE").members:
+            return False
+        if ra_rate == dec_rate == 0.0:
+            await indi.switch("TELESCOPE_TRACK_MODE", "TRACK_SIDEREAL", wait=indi.connect_timeout)
+            return True
+        axis_ra = _SIDEREAL_RATE - ra_rate
+        if axis_ra <= 0.0:
+            return False
+        axis_de = -dec_rate if await self._hw_get_pier_side() is PierSide.WEST else dec_rate
+        await indi.switch("TELESCOPE_TRACK_MODE", "TRACK_CUSTOM", wait=indi.connect_timeout)
+        rates: dict[str, float | bool | str] = {"TRACK_RATE_RA": axis_ra, "TRACK_RATE_DE": axis_de}
+        await indi.send("TELESCOPE_TRACK_RATE", rates, wait=indi.connect_timeout)
+        return True
 
     async def _hw_move_altaz(self, alt: float, az: float) -> None:
         await self._goto(*self._radec_of(alt, az), "SLEW")

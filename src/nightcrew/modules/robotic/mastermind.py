@@ -37,10 +37,11 @@ Decisions:
   since the last focus, or ``refocus_interval`` clock seconds after it (if set) - once the Sun
   is below ``focus_max_sun_altitude``, and already while
   waiting for that task with the roof open (at dusk: after the flats, before full darkness). The
-  telescope first slews to the sky at ``focus_altitude`` and ``focus_azimuth`` (default: 75° on the
-  meridian, on the equator's side), as the (ra, dec) there at that moment, and tracks it - left
-  where the flats pointed (alt/az, not tracking), the stars would trail. A failed series keeps the
-  focus as it was and is tried again ``focus_retry_interval`` clock seconds later.
+  telescope first slews to a star field chosen from the offline catalogue near where it points
+  (``focus_field``: enough stars of the right brightness, none too bright, high up) and tracks it -
+  left where the flats pointed (alt/az, not tracking), the stars would trail. A failed series is
+  tried on another field (``focus_attempts`` fields in all); then the focus is kept as it was and
+  tried again ``focus_retry_interval`` clock seconds later.
 * **Time left**: a sky task is started (or opened up and focused for) only when what it has left
   (its recorded progress, default overheads) ends inside its window and before its Sun (with the
   cap), airmass or Moon limit stops holding - the early start's minute grid. Otherwise it is passed
@@ -50,7 +51,11 @@ Decisions:
   names for it) the announced RAPID_RESPONSE tasks that fit now run at the next safe point: a
   running task of lower priority is stopped as for bad weather (its frame in flight stopped and
   kept, the task FAILED with its progress, planned again later) and the rapid-response task runs
-  in a slot from now, ahead of the plan (docs/rapid-response.md).
+  in a slot from now, ahead of the plan (docs/rapid-response.md). It does not wait for a due
+  refocus (only for the first focus since the start).
+* **Cancelled while running** (a retracted alert, an operator): on a TasksChangedEvent saying so,
+  the task the archive holds as CANCELED is stopped at once, its frame in flight kept; it stays
+  CANCELED.
 * **Early start**: when nothing is due, the next task may start up to ``early_start`` seconds
   before its slot if it can be observed from now on (a task that ended early leaves no gap).
 * **Progress** of a task is recorded in the archive in the background: the exposure loop does not
@@ -76,7 +81,9 @@ from nightcrew.events import (
     RapidResponseEvent,
     RoofClosingEvent,
     ScheduleChangedEvent,
+    TasksChangedEvent,
 )
+from nightcrew.focus.sources import source_from_config
 from nightcrew.interfaces import (
     FitsCard,
     IAutoFocus,
@@ -86,14 +93,13 @@ from nightcrew.interfaces import (
     IRoof,
     IStartStop,
     ITelescope,
-    ITemperatures,
     IWeather,
     RoboticStatus,
 )
-from nightcrew.interfaces.quantities import Altitude, Azimuth, ExposureTime, Period
+from nightcrew.interfaces.quantities import Altitude, ExposureTime, Period
 from nightcrew.modules.module import Module
 from nightcrew.modules.robotic._archive_option import built_option
-from nightcrew.modules.robotic.rapid_response import AnnouncedTasks
+from nightcrew.modules.robotic.rapid_response import AnnouncedTasks, Withdrawals
 from nightcrew.modules.robotic.task_runs import TaskRuns
 from nightcrew.robotic.archives import ScheduleStore, TaskArchive
 from nightcrew.robotic.mastermind import (
@@ -102,6 +108,7 @@ from nightcrew.robotic.mastermind import (
     Conditions,
     EarlyStarts,
     Focus,
+    FocusFields,
     FocusKeeper,
     ObservatoryControl,
     OpenUp,
@@ -113,16 +120,17 @@ from nightcrew.robotic.mastermind import (
     abort_cause,
     ahead_of_plan,
     decide,
-    focus_field,
     focus_now,
     preemption_cause,
     robotic_status,
     task_cards,
     time_left,
     within_constraints,
+    without_refocus,
 )
 from nightcrew.robotic.runner import TaskRunner
-from nightcrew.robotic.tasks import Task
+from nightcrew.robotic.scripts.focus_fields import catalogue_rules
+from nightcrew.robotic.tasks import Task, target_radec
 
 __all__ = ["Mastermind"]
 
@@ -140,8 +148,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         telescope: Module offering ITelescope.
         weather: Module offering IWeather; None: only weather events count (unknown is bad).
         autofocus: Module offering IAutoFocus; None: never focus.
-        temperatures: Module offering ITemperatures for refocusing; None: the weather's temperature.
-        temperature_sensor: The sensor of ``temperatures`` to use.
+        focus_temperature: Where the refocus temperature is read: ``{module: NAME, sensor: NAME}``
+            (ITemperatures) or ``{module: NAME, weather_sensor: temperature}`` (IWeather); None:
+            the ``weather`` module's temperature.
         max_sun_altitude: Highest Sun altitude for science tasks, degrees.
         twilight_max_sun_altitude: Highest Sun altitude for twilight (SKY_FLAT) tasks, degrees.
         keep_open: Clock seconds the roof stays open waiting to be used again (a sky task - the
@@ -155,10 +164,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             for time alone.
         focus_max_sun_altitude: Highest Sun altitude for focusing, degrees (stars must show).
         focus_count, focus_step, focus_exposure_time: Arguments of ``auto_focus``.
-        focus_altitude: Altitude of the focus field, degrees (0, 90]; the telescope tracks the
-            (ra, dec) there when a focus starts. None: focus wherever the telescope points.
-        focus_azimuth: Azimuth of the focus field, degrees east of north; None: the meridian on
-            the equator's side (180 at a northern site).
+        focus_field: Rules for the focus field (:class:`~nightcrew.astro.star_fields.StarFieldRules`:
+            ``radius``, ``magnitudes``, ``min_stars``, ``min_altitude``, ``max_distance``); None:
+            the defaults.
+        focus_attempts: Fields tried before a focus run counts as failed.
         focus_retry_interval: Clock seconds after a failed focus before it is tried again.
         device_wait: Clock seconds to wait for a device module that failed under a task to be
             back and READY before the task is given up.
@@ -180,8 +189,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         telescope: str | ITelescope = "telescope",
         weather: str | IWeather | None = "weather",
         autofocus: str | IAutoFocus | None = None,
-        temperatures: str | ITemperatures | None = None,
-        temperature_sensor: str = "temperature",
+        focus_temperature: dict[str, str] | None = None,
         max_sun_altitude: Altitude = -12.0,
         twilight_max_sun_altitude: Altitude = 0.0,
         keep_open: float = 900.0,
@@ -194,8 +202,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         focus_count: int = 7,
         focus_step: float = 0.05,
         focus_exposure_time: ExposureTime = 5.0,
-        focus_altitude: Altitude | None = 75.0,
-        focus_azimuth: Azimuth | None = None,
+        focus_field: dict[str, Any] | None = None,
+        focus_attempts: int = 2,
         focus_retry_interval: Period = 1800.0,
         device_wait: float = 60.0,
         device_retries: int = 2,
@@ -230,10 +238,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             roof=roof,
             telescope=telescope,
             weather=weather,
-            temperatures=temperatures,
-            temperature_sensor=temperature_sensor,
+            temperature=(
+                None
+                if focus_temperature is None
+                else source_from_config(focus_temperature, "focus_temperature")
+            ),
         )
-        field = focus_field(focus_altitude, focus_azimuth, site)  # checked even without autofocus
+        # Checked even without autofocus.
+        if not (isinstance(focus_attempts, int) and focus_attempts >= 1):
+            raise ConfigError(f"must be an integer >= 1, got {focus_attempts!r}", key="focus_attempts")
+        fields = FocusFields(catalogue_rules(focus_field or {}, "focus_field"), site)
         self._focus_keeper = (
             None
             if autofocus is None
@@ -246,7 +260,8 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 refocus_interval=refocus_interval,
                 arguments=(focus_count, focus_step, focus_exposure_time),
                 retry_interval=focus_retry_interval,
-                field=field,
+                fields=fields,
+                attempts=focus_attempts,
             )
         )
         if not early_start >= 0:
@@ -267,6 +282,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
                 site, max_sun_altitude=max_sun_altitude, twilight_max_sun_altitude=twilight_max_sun_altitude
             ),
         )
+        self._withdrawals = Withdrawals(self._archive)
         self._recorder = TaskRecorder(self, self._archive)
         self._poll, self._abort_timeout = float(poll_interval), float(abort_timeout)
         self._running = autostart
@@ -306,6 +322,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         await self.comm.register_event(RoofClosingEvent, self.on_roof_closing)
         await self.comm.register_event(ScheduleChangedEvent, self.on_schedule_changed)
         await self.comm.register_event(RapidResponseEvent, self.on_rapid_response)
+        await self.comm.register_event(TasksChangedEvent, self.on_tasks_changed)
 
     async def close(self) -> None:
         await super().close()
@@ -338,6 +355,10 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
         self._rapid.rapid.announce(event.ids)
         self._wake.set()
 
+    async def on_tasks_changed(self, event: TasksChangedEvent, sender: str) -> None:
+        if event.change == "cancelled" and await self._withdrawals.heard(event.ids, self._recorder.current):
+            self._wake.set()  # the running task was cancelled: stopped at once
+
     # --- IStartStop, IAutonomous, IFitsHeaderBefore --------------------------------------------
 
     async def start(self) -> None:
@@ -360,13 +381,14 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
 
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
         task = self._recorder.current
-        return task_cards(task) if task is not None else {}
+        return task_cards(task, self._recorder.progress) if task is not None else {}
 
     async def get_robotic_status(self) -> RoboticStatus:
         started, eta = self._task_runs.times or (None, None)
         return robotic_status(
             self.clock.now(),
             running=self._running,
+            safe=self._safe_since_stop,
             action=self._last_action,
             conditions=self._conditions,
             task=self._recorder.current,
@@ -405,6 +427,7 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             slots = ahead_of_plan(self._rapid.rapid.slot_now(rapid, conditions.now), slots, conditions.now)
         keeper = self._focus_keeper
         focus_below = await keeper.focus_below() if keeper is not None else None
+        slots = without_refocus(slots, tasks, focused=keeper is not None and keeper.focused)
         while True:  # ends: each round takes one slot out
             # Marked again after a slot is taken out: with a due task that may not start, the
             # next one may start early at once, not only once a new plan leaves the first out.
@@ -432,7 +455,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             await self._focus(action.slot)
             return 0.0
         if isinstance(action, OpenUp):
-            point_at = self._first_pointing(action.slot, tasks[action.slot.task_id], conditions, focus_below)
+            point_at = await self._first_pointing(
+                action.slot, tasks[action.slot.task_id], conditions, focus_below
+            )
             return 1.0 if await self._observatory.open_up(conditions, point_at) else self._poll
         if isinstance(action, CloseAndPark):
             await self._observatory.close_and_park(action.reason)
@@ -472,16 +497,16 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
             )
         return slot
 
-    def _first_pointing(
+    async def _first_pointing(
         self, slot: Slot, task: Task, conditions: Conditions, focus_below: float | None
     ) -> tuple[float, float] | None:
         """Where the telescope points first after opening up for ``slot``: the focus field if the
         focus comes first, else the task's first target (None: a task without one, e.g. flats)."""
         keeper = self._focus_keeper
         if keeper is not None and focus_now(slot, conditions, focus_below):
-            return keeper.field_radec()
+            return await keeper.first_field()
         target = task.request.configurations[0].target if task.request.configurations else None
-        return None if target is None else (target.ra, target.dec)
+        return None if target is None else target_radec(target, self.site, self.clock.time())
 
     async def _sleep(self, seconds: float) -> None:
         """Wait ``seconds`` of clock time or until woken by an event."""
@@ -494,8 +519,9 @@ class Mastermind(Module, IAutonomous, IStartStop, IFitsHeaderBefore, IRobotic):
     # --- running a task ------------------------------------------------------------------------
 
     async def _abort_cause(self, slot: Slot) -> str | None:
-        cause = self._stop_cause or abort_cause(await self._observatory.observe(), slot)
         running = self._recorder.current
+        cause = self._stop_cause or self._withdrawals.cause(running)
+        cause = cause or abort_cause(await self._observatory.observe(), slot)
         if cause is None and running is not None:  # a focus run is not pre-empted: it is short
             rapid = await self._rapid.to_run(running, self.clock.now())
             cause = None if rapid is None else preemption_cause(rapid)

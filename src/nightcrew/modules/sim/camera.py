@@ -39,8 +39,11 @@ from nightcrew.astro import julian_year
 from nightcrew.errors import ConfigError, InterfaceError, NightcrewError
 from nightcrew.interfaces import (
     Binning,
+    CalibratorState,
+    CoverState,
     ExposureStatus,
     FitsCard,
+    ICoverCalibrator,
     IFilters,
     IFocuser,
     IRoof,
@@ -75,6 +78,10 @@ class SimCamera(BaseCamera, IStoppableExposure):
         filters: Module offering IFilters (None: no filter, throughput 1).
         roof: Module offering IRoof; light passes only while it is open (None: no roof).
         weather: Module offering ISimWeatherTruth (None: clear sky).
+        calibrator: Module offering ICoverCalibrator (None: none): a closed cover keeps the sky
+            out, a lit light in front of the optics (cover closed, or no cover) is a flat panel.
+        panel_e_per_s: The panel's light at full brightness, electrons per pixel and second
+            before the filter.
         detector: Fields of :class:`~nightcrew.sim.render.CameraModel` (chip_width, chip_height,
             pixel_size_um, gain_e_per_adu, read_noise_e, bias_adu, dark_e_per_s, full_well_e, ...).
         optics: Fields of :class:`~nightcrew.sim.render.Optics` (focal_length_mm, zero_point_mag,
@@ -99,6 +106,8 @@ class SimCamera(BaseCamera, IStoppableExposure):
         filters: str | IFilters | None = "filters",
         roof: str | IRoof | None = "roof",
         weather: str | ISimWeatherTruth | None = "weather",
+        calibrator: str | ICoverCalibrator | None = None,
+        panel_e_per_s: float = 20000.0,
         detector: dict[str, float] | None = None,
         optics: dict[str, float] | None = None,
         seeing: float = 1.5,
@@ -122,6 +131,9 @@ class SimCamera(BaseCamera, IStoppableExposure):
         super().__init__(**kwargs)
         self._telescope, self._focuser, self._filters = telescope, focuser, filters
         self._roof, self._weather = roof, weather
+        if not (math.isfinite(panel_e_per_s) and panel_e_per_s >= 0):
+            raise ConfigError(f"must be >= 0 electrons per second, got {panel_e_per_s}", key="panel_e_per_s")
+        self._calibrator, self._panel_e_per_s = calibrator, float(panel_e_per_s)
         if not (seeing > 0 and extinction >= 0 and math.isfinite(dark_sky)):
             raise ConfigError(
                 f"need seeing > 0, extinction >= 0 and a finite dark_sky, "
@@ -233,15 +245,16 @@ class SimCamera(BaseCamera, IStoppableExposure):
 
     async def _look_around(self) -> Scene:
         """What the telescope, focuser, filter wheel, roof and weather say right now."""
-        radec, focus_error, filter_name, roof_open, clouds = await asyncio.gather(
+        radec, focus_error, filter_name, roof_open, clouds, (covered, panel) = await asyncio.gather(
             self._ask("telescope", self._telescope, ISimTelescopeTruth, _true_radec, None),
             self._ask("focuser", self._focuser, IFocuser, self._focus_error, 0.0),
             self._ask("filters", self._filters, IFilters, _filter_name, None),
             self._ask("roof", self._roof, IRoof, _roof_open, True),
             self._ask("weather", self._weather, ISimWeatherTruth, _cloud_cover, 0.0),
+            self._ask("calibrator", self._calibrator, ICoverCalibrator, _cover_and_panel, (False, 0.0)),
         )
         throughput = self._throughputs.get(filter_name, 1.0) if filter_name is not None else 1.0
-        return Scene(radec, focus_error, filter_name, throughput, roof_open, clouds)
+        return Scene(radec, focus_error, filter_name, throughput, roof_open, clouds, covered, panel)
 
     async def _ask(
         self,
@@ -276,7 +289,7 @@ class SimCamera(BaseCamera, IStoppableExposure):
     def _blocking_render(
         self, scene: Scene, settings: ExposureSettings, start: float, rng: np.random.Generator
     ) -> Frame:
-        conditions = conditions_at(scene, self.site, start, self._atmosphere)
+        conditions = conditions_at(scene, self.site, start, self._atmosphere, self._panel_e_per_s)
         binning = settings.binning.x
         window = settings.window
         exposure = render.Exposure(
@@ -338,6 +351,17 @@ async def _true_radec(telescope: ISimTelescopeTruth) -> tuple[float, float] | No
 
 async def _filter_name(filters: IFilters) -> str | None:
     return await filters.get_filter()
+
+
+async def _cover_and_panel(calibrator: ICoverCalibrator) -> tuple[bool, float]:
+    """Whether the cover keeps the sky out, and the lit panel's brightness (0..1) in front of the optics."""
+    cover = await calibrator.get_cover_state()
+    covered = cover not in (CoverState.OPEN, CoverState.NOT_PRESENT)
+    if cover not in (CoverState.CLOSED, CoverState.NOT_PRESENT):
+        return covered, 0.0  # the light shines on the cover's back, or past the optics
+    if await calibrator.get_calibrator_state() is not CalibratorState.READY:
+        return covered, 0.0
+    return covered, await calibrator.get_brightness() / await calibrator.get_max_brightness()
 
 
 async def _roof_open(roof: IRoof) -> bool:

@@ -41,6 +41,8 @@ class Scene:
         throughput: The filter's throughput, 0..1.
         roof_open: Whether light reaches the telescope.
         cloud_cover: Fraction of the sky covered, 0..1.
+        covered: Whether a closed cover keeps the sky out.
+        panel: Brightness of a lit flat panel in front of the optics, 0..1 of its maximum.
     """
 
     true_radec: tuple[float, float] | None
@@ -49,6 +51,8 @@ class Scene:
     throughput: float = 1.0
     roof_open: bool = True
     cloud_cover: float = 0.0
+    covered: bool = False
+    panel: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -60,14 +64,17 @@ class Atmosphere:
     dark_sky_mag: float = 21.0
 
 
-def conditions_at(scene: Scene, site: Site | None, unix_time: float, atmosphere: Atmosphere) -> Conditions:
+def conditions_at(
+    scene: Scene, site: Site | None, unix_time: float, atmosphere: Atmosphere, panel_e_per_s: float = 0.0
+) -> Conditions:
     """The renderer's conditions for ``scene`` seen from ``site`` at ``unix_time``.
 
     No light reaches the detector when the roof is closed, when there is no telescope (the pointing
     is unknown) or when it points below the horizon. Without a site the sky is a dark night at
-    airmass 1. Clouds dim starlight by the covered fraction (the sky background stays).
+    airmass 1. Clouds dim starlight by the covered fraction (the sky background stays). A closed
+    cover keeps the sky out; a lit panel gives ``panel_e_per_s`` at full brightness.
     """
-    light = scene.roof_open and scene.true_radec is not None
+    light = scene.roof_open and scene.true_radec is not None and not scene.covered
     mass, sun_alt, moon_alt, moon_lit = 1.0, -90.0, -90.0, 0.0
     if site is not None:
         sun_alt = sun_altitude(site.latitude, site.longitude, unix_time)
@@ -90,6 +97,7 @@ def conditions_at(scene: Scene, site: Site | None, unix_time: float, atmosphere:
         dark_sky_mag=atmosphere.dark_sky_mag,
         transmission=min(1.0, max(0.0, 1.0 - scene.cloud_cover)),
         roof_open=light,
+        panel_e_per_s=panel_e_per_s * min(1.0, max(0.0, scene.panel)),
     )
 
 

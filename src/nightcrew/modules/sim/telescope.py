@@ -110,17 +110,37 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         self._settled_at = 0.0
         # Tracking drift accumulates from the moment a new RA/Dec target settled, offsets included.
         self._drifting = False
+        # Offset rates (arcsec/s of RA and Dec) added to sidereal tracking since a clock time.
+        self._rates, self._rates_since = (0.0, 0.0), 0.0
 
     # --- where it points -----------------------------------------------------------------------
 
+    def _tracked(self) -> tuple[float, float] | None:
+        """The (ra, dec) tracked now: the target moved along the offset rates."""
+        if self._tracking is None:
+            return None
+        seconds = self.clock.time() - self._rates_since
+        ra, dec = self._tracking
+        ra_rate, dec_rate = self._rates
+        return (ra + ra_rate * seconds / 3600.0) % 360.0, max(
+            -90.0, min(90.0, dec + dec_rate * seconds / 3600.0)
+        )
+
     def _reported_altaz(self) -> tuple[float, float]:
-        return self._altaz_of(*self._tracking) if self._tracking is not None else self._fixed_altaz
+        tracked = self._tracked()
+        return self._altaz_of(*tracked) if tracked is not None else self._fixed_altaz
 
     async def _hw_get_radec(self) -> tuple[float, float]:
         self._note_collision()
-        if self._tracking is not None:
-            return self._tracking
+        tracked = self._tracked()
+        if tracked is not None:
+            return tracked
         return self._radec_of(*self._fixed_altaz)
+
+    async def _hw_set_tracking_rates(self, ra_rate: float, dec_rate: float) -> bool:
+        self._tracking = self._tracked()  # the rates so far brought it here
+        self._rates, self._rates_since = (ra_rate, dec_rate), self.clock.time()
+        return True
 
     async def _hw_get_altaz(self) -> tuple[float, float]:
         self._note_collision()
@@ -161,7 +181,7 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         log.error("%s: pier limit passed while tracking: %s", self.name, reason)
 
     def _start_tracking(self, ra: float, dec: float) -> None:
-        self._tracking = (ra, dec)
+        self._tracking, self._rates_since = (ra, dec), self.clock.time()
         if self._gem is not None:
             self._limit_at = self._limit_time(ra, dec)
 
@@ -263,6 +283,7 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
     async def _hw_move_radec(self, ra: float, dec: float) -> None:
         # Aim where the target will be when we arrive (close enough: where it is now), then track.
         await self._travel(*self._altaz_of(ra, dec))
+        self._rates = (0.0, 0.0)  # a new target: sidereal until told otherwise
         self._start_tracking(ra, dec)
         self._drifting = True
 
@@ -278,9 +299,11 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
 
     async def _hw_stop(self) -> None:
         self._note_collision()
-        if self._tracking is not None:
-            self._fixed_altaz = self._altaz_of(*self._tracking)
+        tracked = self._tracked()
+        if tracked is not None:
+            self._fixed_altaz = self._altaz_of(*tracked)
             self._tracking, self._limit_at = None, None
+        self._rates = (0.0, 0.0)
         self._drifting = False
 
     async def _hw_get_temperatures(self) -> dict[str, float]:

@@ -54,14 +54,13 @@ from nightcrew.interfaces import (
     IPierSide,
     IPointingAltAz,
     IPointingRaDec,
-    ITelescope,
     ITemperatures,
     ModuleState,
     MotionStatus,
     PierSide,
 )
 from nightcrew.interfaces.quantities import Altitude
-from nightcrew.modules.motion import BaseMotion
+from nightcrew.modules.telescope.following import FollowsEphemerides
 from nightcrew.modules.telescope.headers import pier_side_cards, pointing_cards
 from nightcrew.site import Site
 from nightcrew.timeout import timeout
@@ -74,7 +73,7 @@ _NEEDS_INIT = frozenset({MotionStatus.PARKED, MotionStatus.ERROR, MotionStatus.U
 
 
 class BaseTelescope(
-    BaseMotion, ITelescope, IOffsetsRaDec, IOffsetsAltAz, IPierSide, ITemperatures, IFitsHeaderBefore
+    FollowsEphemerides, IOffsetsRaDec, IOffsetsAltAz, IPierSide, ITemperatures, IFitsHeaderBefore
 ):
     """A telescope mount; a driver implements the ``_hw_*`` hooks.
 
@@ -83,7 +82,8 @@ class BaseTelescope(
         park_when_offline: Clock seconds without a connection to the other modules (the XMPP
             server) after which the telescope parks by itself; None: never.
         **kwargs: Module options (see BaseMotion; ``watchdog`` and ``park_when_watchdog_silent``
-            arm the dead-man's switch); ``site`` is required (coordinates need it).
+            arm the dead-man's switch); ``site`` is required (coordinates need it);
+            ``follow_error_limit`` bounds the error following a moving target (see .following).
     """
 
     initial_status = MotionStatus.PARKED
@@ -370,7 +370,7 @@ class BaseTelescope(
             site=self.observatory,
             unix_time=self.clock.time(),
         )
-        return cards | pier_side_cards(await self._hw_get_pier_side())
+        return cards | pier_side_cards(await self._hw_get_pier_side()) | self._following_cards()
 
     # --- safety --------------------------------------------------------------------------------
 

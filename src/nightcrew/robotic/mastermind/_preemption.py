@@ -6,11 +6,16 @@ flight stopped and kept, as for bad weather; the task comes back later, FAILED w
 and the rapid-response task runs in a slot made for it from now, ahead of the planned ones due now.
 It must be a RAPID_RESPONSE task, still to do, and fit now (window, Sun, airmass, Moon for the time
 it takes); otherwise it waits for the scheduler, which places it as early as it can.
+
+A RAPID_RESPONSE task does not wait for a due refocus (:func:`without_refocus`): an afterglow fades
+by the minute, and a focus a few degrees old blurs it far less than minutes lost. Only when there
+has been no focus at all yet (the focuser where it was left) is the focus run first.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import replace
 from datetime import datetime, timedelta
 
 from nightcrew.robotic.mastermind._decide import Slot
@@ -19,7 +24,7 @@ from nightcrew.robotic.planning import PlannedSlot
 from nightcrew.robotic.tasks import ObservationType, Task
 from nightcrew.site import Site
 
-__all__ = ["RapidResponse", "ahead_of_plan", "preempting_task", "preemption_cause"]
+__all__ = ["RapidResponse", "ahead_of_plan", "preempting_task", "preemption_cause", "without_refocus"]
 
 
 def preempting_task(
@@ -102,3 +107,12 @@ class RapidResponse:
 def ahead_of_plan(rapid: Slot, slots: Sequence[Slot], now: datetime) -> list[Slot]:
     """``slots`` with ``rapid`` first and the slots due now left out (read again after it ran)."""
     return [rapid, *(slot for slot in slots if slot.task_id != rapid.task_id and not slot.is_due(now))]
+
+
+def without_refocus(slots: Sequence[Slot], tasks: Mapping[str, Task], *, focused: bool) -> list[Slot]:
+    """``slots`` with the RAPID_RESPONSE tasks' focus left out once there has been a focus
+    (``focused``): they skip a due refocus; before the first focus they are focused for too."""
+    if not focused:
+        return list(slots)
+    rapid = {key for key, task in tasks.items() if task.observation_type is ObservationType.RAPID_RESPONSE}
+    return [replace(slot, needs_focus=False) if slot.task_id in rapid else slot for slot in slots]

@@ -11,7 +11,7 @@ from nightcrew.events import TaskFailedEvent, TaskFinishedEvent, TaskStartedEven
 from nightcrew.object import Object
 from nightcrew.robotic.archives import TaskArchive
 from nightcrew.robotic.mastermind._tasks import kept_progress
-from nightcrew.robotic.tasks import Task, TaskProgress
+from nightcrew.robotic.tasks import InvalidTransitionError, Task, TaskProgress
 
 __all__ = ["TaskRecorder"]
 
@@ -71,6 +71,9 @@ class TaskRecorder:
                 await self._archive.mark_finished(task.id, progress)
             else:
                 await self._archive.mark_failed(task.id, reason, progress)
+        except InvalidTransitionError as exc:  # cancelled while it ran: the cancellation stands
+            log.info("%s: task %s (%s) was cancelled while it ran: %s", name, task.id, task.name, exc)
+            retryable = False
         except Exception:
             log.exception("%s: could not record the end of task %s in the archive", name, task.id)
         if reason is None:

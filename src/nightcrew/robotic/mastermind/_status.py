@@ -32,6 +32,7 @@ def robotic_status(
     now: datetime,
     *,
     running: bool,
+    safe: bool = True,
     action: Action | None,
     conditions: Conditions | None,
     task: Task | None,
@@ -39,8 +40,11 @@ def robotic_status(
     task_started: datetime | None,
     task_eta: datetime | None,
 ) -> RoboticStatus:
-    """The status of a mastermind that last decided ``action`` under ``conditions``."""
-    if not running:
+    """The status of a mastermind that last decided ``action`` under ``conditions``; ``safe``: since
+    robotic mode stopped, the roof was closed and the telescope parked."""
+    if not running and not safe:
+        name, description = "stopping", "robotic mode is stopped; closing the roof and parking"
+    elif not running:
         name, description = "stopped", "robotic mode is stopped"
     elif action is None:
         name, description = "wait", "waiting: looking at the world for the first time"

@@ -32,13 +32,13 @@ __all__ = [
 ]
 
 #: Configuration types that work with the roof closed.
-_CLOSED_ROOF_TYPES = frozenset({ConfigurationType.BIAS, ConfigurationType.DARK})
+_CLOSED_ROOF_TYPES = frozenset({ConfigurationType.BIAS, ConfigurationType.DARK, ConfigurationType.PANEL_FLAT})
 #: Configuration types that do not need sharp stars.
 _UNFOCUSED_TYPES = _CLOSED_ROOF_TYPES | {ConfigurationType.SKY_FLAT}
 
 
 def needs_sky(task: Task) -> bool:
-    """Whether the task needs the roof open: any configuration but BIAS and DARK (SCRIPT too)."""
+    """Whether the task needs the roof open: any configuration but BIAS, DARK and PANEL_FLAT (SCRIPT too)."""
     return any(c.type not in _CLOSED_ROOF_TYPES for c in task.request.configurations)
 
 
@@ -191,9 +191,14 @@ def _seconds(value: float) -> str:
     return f"{value:.0f}" if value >= 9.95 else f"{value:.1f}".removesuffix(".0")
 
 
-def task_cards(task: Task) -> dict[str, FitsCard]:
-    """The FITS cards naming the task an image belongs to."""
-    return {
+def task_cards(task: Task, progress: TaskProgress | None = None) -> dict[str, FitsCard]:
+    """The FITS cards naming the task an image belongs to, and its target (OBJECT).
+
+    OBJECT names the target of the configuration being taken: the first one ``progress`` does not
+    have all exposures of (a task without progress: the first); a configuration without a target
+    (flats, darks) names its type, e.g. ``SKY_FLAT``.
+    """
+    cards: dict[str, FitsCard] = {
         "TASK-ID": (task.id, "Task archive id"),
         "TASK-NAM": (task.name, "Task (request group) name"),
         "TASK-GRP": (task.group_id, "Request group id"),
@@ -201,6 +206,20 @@ def task_cards(task: Task) -> dict[str, FitsCard]:
         "PROPOSAL": (task.proposal, "Proposal"),
         "TASK-PRI": (task.effective_priority, "Task priority x IPP"),
     }
+    configurations = task.request.configurations
+    if configurations:
+        done = progress.exposures_done if progress is not None else ()
+
+        def unfinished(index: int) -> bool:
+            if index >= len(done):
+                return True
+            counts = zip(done[index], configurations[index].instrument_configs, strict=False)
+            return any(n < ic.exposure_count for n, ic in counts)
+
+        running = next((c for index, c in enumerate(configurations) if unfinished(index)), configurations[-1])
+        name = running.target.name if running.target is not None else running.type.value
+        cards["OBJECT"] = (name, "Target name")
+    return cards
 
 
 def kept_progress(recorded: TaskProgress, this_run: TaskProgress) -> TaskProgress:

@@ -22,6 +22,7 @@ import numpy.typing as npt
 from nightcrew.astro import altitudes, moon_illumination, moon_radec, separation, sun_altitude
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.robotic.scheduler.blocks import SchedulableBlock
+from nightcrew.robotic.scheduler.moving import EphemerisTarget
 from nightcrew.site import Site
 
 __all__ = ["GridFit", "SkyGrid", "TimeGrid"]
@@ -100,12 +101,22 @@ class SkyGrid:
         self.target_ra, self.target_dec = positions[:, 0], positions[:, 1]
         self.altitude = altitudes(self.target_ra, self.target_dec, lat, lon, edges)
         """Altitude of every target at every edge, shape (n_blocks, n_slices + 1)."""
+        # Moving targets: the rows above are for their reference position; follow the ephemeris.
+        self._tracks: dict[int, tuple[FloatArray, FloatArray]] = {}
+        for row, block in enumerate(self.blocks):
+            if isinstance(block.target, EphemerisTarget):
+                track = block.target.track(edges)
+                self.altitude[row] = track.altitude
+                self._tracks[row] = (track.ra, track.dec)
 
     def moon_distance(self) -> FloatArray:
         """Separation of every target from the Moon at every edge, shape (n_blocks, n_slices + 1)."""
-        return separation(
+        distance = separation(
             self.target_ra[:, np.newaxis],
             self.target_dec[:, np.newaxis],
             self.moon_ra[np.newaxis, :],
             self.moon_dec[np.newaxis, :],
         )
+        for row, (ra, dec) in self._tracks.items():
+            distance[row] = separation(ra, dec, self.moon_ra, self.moon_dec)
+        return distance

@@ -7,6 +7,7 @@ ImagingScript          EXPOSE, REPEAT_EXPOSE  telescope, camera, filters; acquis
 CalibrationScript      BIAS, DARK             camera
 AutoFocusScript        AUTO_FOCUS             focus, telescope, filters (+ ``step`` in mm)
 SkyFlatScript          SKY_FLAT               flatfield
+PanelFlatScript        PANEL_FLAT             camera, filters, calibrator
 PointingSeriesScript   SCRIPT:<name>          pointing
 =====================  =====================  ================================================================
 
@@ -23,6 +24,7 @@ from nightcrew.robotic.scripts._dither import dither_field_problems
 from nightcrew.robotic.scripts.autofocus import AutoFocusScript, focus_step
 from nightcrew.robotic.scripts.calibration import CalibrationScript
 from nightcrew.robotic.scripts.imaging import ImagingScript
+from nightcrew.robotic.scripts.panelflat import PanelFlatScript
 from nightcrew.robotic.scripts.pointing import PointingSeriesScript
 from nightcrew.robotic.scripts.skyflat import SkyFlatScript
 
@@ -30,6 +32,7 @@ __all__ = [
     "AutoFocusScript",
     "CalibrationScript",
     "ImagingScript",
+    "PanelFlatScript",
     "PointingSeriesScript",
     "SkyFlatScript",
     "dither_field_problems",

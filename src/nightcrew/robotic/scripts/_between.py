@@ -27,6 +27,7 @@ from typing import Any
 
 from nightcrew.errors import NightcrewError
 from nightcrew.focus.refocus import FocusState, RefocusTriggers, refocus_cause
+from nightcrew.focus.sources import TemperatureSource
 from nightcrew.images import Image
 from nightcrew.images.grading import FrameGrade, FrameGrader, GradingPolicy
 from nightcrew.images.quality import measure_frame_quality
@@ -37,14 +38,14 @@ from nightcrew.interfaces import (
     IOffsetsRaDec,
     IPierSide,
     ITelescope,
-    ITemperatures,
 )
 from nightcrew.robotic.runner import Script
 from nightcrew.robotic.scripts._dither import dither_offset, dither_to_radec, dithers_before
 from nightcrew.robotic.scripts._flip import RefocusAfterFlip
 from nightcrew.robotic.scripts._instrument import FILTER_ELEMENT
 from nightcrew.robotic.scripts._steps import step
-from nightcrew.robotic.tasks import Configuration, DitherConfig, InstrumentConfig, Target
+from nightcrew.robotic.tasks import Configuration, DitherConfig, InstrumentConfig, MovingTarget, Target
+from nightcrew.robotic.temperature_source import read_temperature
 from nightcrew.vfs import VirtualFileSystem
 
 __all__ = ["Dithering", "Grading", "Pointing", "Refocusing", "focus_series", "setup_of"]
@@ -68,7 +69,7 @@ class Pointing:
 
     telescope: ITelescope
     pier: IPierSide | None
-    target: Target
+    target: Target | MovingTarget
     config: Configuration
     guider: IAutoGuiding | None
     offsets: IOffsetsRaDec | None
@@ -80,7 +81,7 @@ class Dithering:
     """The dither of one task run: the positions used so far and the step applied last."""
 
     config: DitherConfig
-    target: Target
+    target: Target | None  # None for a moving target: an offset would end the following
     seed: str  # the task: a resumed run dithers to the same random positions
     frames: int = 0  # frames kept since the run began
     position: int = 0  # index of the pattern position the telescope is at
@@ -97,10 +98,12 @@ class Dithering:
     def due(self) -> bool:
         """Whether the next frame is to be taken at another position than the last (never for a
         retake: no frame was kept since)."""
-        return dithers_before(self.config, self.frames) != self.position
+        return self.target is not None and dithers_before(self.config, self.frames) != self.position
 
     async def move(self, telescope: ITelescope, offsets: IOffsetsRaDec | None) -> None:
         """Move the telescope to the position the next frame is due at (guiding stopped first)."""
+        if self.target is None:
+            return  # never due for a moving target
         due = dithers_before(self.config, self.frames)
         self.position = due
         east, north = dither_offset(self.config, due, seed=self.seed)
@@ -170,8 +173,7 @@ class Refocusing:
     series: RefocusAfterFlip
     focuser: str | None = None
     filter_offsets: Mapping[str, float] = field(default_factory=dict)
-    temperatures: str | None = None  # the ITemperatures module, for the temperature trigger
-    temperature_sensor: str = "temperature"
+    temperature: TemperatureSource | None = None  # for the temperature trigger
     last: FocusState | None = None
 
     @classmethod
@@ -180,8 +182,7 @@ class Refocusing:
         options: Mapping[str, Any],
         focuser: str | None,
         offsets: Mapping[str, Any],
-        temperatures: str | None = None,
-        temperature_sensor: str = "temperature",
+        temperature: TemperatureSource | None = None,
     ) -> Refocusing:
         """From the script's ``refocus_triggers`` (trigger and series keys in one mapping)."""
         trigger_keys = {"fwhm_rise", "interval", "filter_change", "temperature_change"}
@@ -191,10 +192,10 @@ class Refocusing:
             raise ValueError(f"{unknown[0]} is not an option; known: {', '.join(sorted(known))}")
         series = RefocusAfterFlip.from_options({k: v for k, v in options.items() if k not in trigger_keys})
         triggers = RefocusTriggers(**{k: v for k, v in options.items() if k in trigger_keys})
-        if triggers.temperature_change is not None and temperatures is None:
-            raise ValueError("temperature_change needs the script's temperatures (an ITemperatures module)")
+        if triggers.temperature_change is not None and temperature is None:
+            raise ValueError("temperature_change needs the script's focus_temperature (module and sensor)")
         filter_offsets = {str(k): float(v) for k, v in offsets.items()}
-        return cls(triggers, series, focuser, filter_offsets, temperatures, temperature_sensor)
+        return cls(triggers, series, focuser, filter_offsets, temperature)
 
     async def refocus_if_due(self, script: Script, filter_name: str | None, grading: Grading | None) -> bool:
         """Run the focus series if a trigger fires before a frame in ``filter_name``; whether it ran."""
@@ -218,14 +219,13 @@ class Refocusing:
 
     async def _temperature(self, script: Script) -> float | None:
         """The sensor's temperature (°C) when the temperature trigger is on and it answers."""
-        if self.triggers.temperature_change is None or self.temperatures is None:
+        if self.triggers.temperature_change is None or self.temperature is None:
             return None
-        try:
-            sensors = await (await script.proxy_as(self.temperatures, ITemperatures)).get_temperatures()
+        try:  # a sensor the module lacks is said, with the ones it has (not a silent None)
+            return await read_temperature(script, self.temperature)
         except NightcrewError as exc:
             log.warning("no temperature for the refocus trigger: %s", exc)
             return None
-        return sensors.get(self.temperature_sensor)
 
     async def apply_filter_offset(self, script: Script, filter_name: str | None) -> None:
         """Move the focuser's offset to ``filter_name``'s (0 for a filter not listed)."""

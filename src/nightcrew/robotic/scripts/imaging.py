@@ -7,8 +7,10 @@ import logging
 from collections.abc import Mapping
 from typing import Any
 
+from nightcrew.astro.ephemeris import next_rise
 from nightcrew.astro.pier import hour_angle
-from nightcrew.errors import ConfigError, NotSupportedError
+from nightcrew.errors import ConfigError, MoveError, NotSupportedError
+from nightcrew.focus.sources import source_from_config
 from nightcrew.images.grading import GradingPolicy
 from nightcrew.interfaces import (
     IAcquisition,
@@ -16,11 +18,13 @@ from nightcrew.interfaces import (
     ICamera,
     IFilters,
     ImageType,
+    INonSidereal,
     IOffsetsRaDec,
     IPierSide,
     ITelescope,
 )
 from nightcrew.robotic.runner import ProgressCallback, ProgressReporter, Script, the_configuration
+from nightcrew.robotic.scheduler.constraints import altitude_for_airmass
 from nightcrew.robotic.scripts._between import (
     Dithering,
     Grading,
@@ -45,7 +49,11 @@ from nightcrew.robotic.tasks import (
     GuidingConfig,
     GuidingMode,
     InstrumentConfig,
+    MovingTarget,
+    SatelliteTarget,
+    Target,
     Task,
+    target_radec,
 )
 
 __all__ = ["ImagingScript"]
@@ -97,8 +105,9 @@ class ImagingScript(Script):
             ``refocus_after_flip``; None: never.
         focuser: Module offering IFocuser, for ``filter_focus_offsets``.
         filter_focus_offsets: Filter name to focuser offset (mm), set with the filter.
-        temperatures: Module offering ITemperatures, for ``temperature_change``.
-        temperature_sensor: Its sensor to read.
+        focus_temperature: Where ``temperature_change`` reads the temperature, as the
+            mastermind's key of that name: ``{module, sensor}`` (ITemperatures) or
+            ``{module, weather_sensor}`` (IWeather).
     """
 
     def __init__(
@@ -115,8 +124,7 @@ class ImagingScript(Script):
         refocus_triggers: Mapping[str, Any] | None = None,
         focuser: str | None = None,
         filter_focus_offsets: Mapping[str, float] | None = None,
-        temperatures: str | None = None,
-        temperature_sensor: str = "temperature",
+        focus_temperature: Mapping[str, Any] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -138,6 +146,9 @@ class ImagingScript(Script):
             raise ConfigError(
                 "a FWHM rise is measured on graded frames: set grading", key="refocus_triggers.fwhm_rise"
             )
+        temperature = (
+            None if focus_temperature is None else source_from_config(focus_temperature, "focus_temperature")
+        )
         self._refocusing = config_option(
             "refocus_triggers",
             lambda: (
@@ -147,8 +158,7 @@ class ImagingScript(Script):
                     refocus_triggers or {},
                     focuser,
                     filter_focus_offsets or {},
-                    temperatures,
-                    temperature_sensor,
+                    temperature,
                 )
             ),
         )
@@ -183,10 +193,10 @@ class ImagingScript(Script):
         instrument = await step(
             "connect to the camera", Instrument.connect(self, self._camera, self._filters)
         )
+        if isinstance(target, SatelliteTarget):
+            await step(f"wait for {target.name}'s pass", self._wait_for_pass(target, config))
         await step(
-            f"slew to {target.name}",
-            telescope.move_radec(target.ra, target.dec),
-            on_cancel=telescope.stop_motion,
+            f"slew to {target.name}", self._point_at(telescope, target), on_cancel=telescope.stop_motion
         )
         await self._acquire(config)
         pier = await self.optional_proxy(self._telescope, IPierSide)
@@ -197,7 +207,7 @@ class ImagingScript(Script):
             config,
             await self._start_guiding(config.guiding_config),
             await self.optional_proxy(self._telescope, IOffsetsRaDec),
-            Dithering(config.dither_config, target, seed=task.id),
+            Dithering(config.dither_config, target if isinstance(target, Target) else None, seed=task.id),
         )
         try:
             reporter = ProgressReporter(task, progress)
@@ -217,7 +227,7 @@ class ImagingScript(Script):
             return False
         side = await pointing.pier.get_pier_side()
         target = pointing.target
-        ha = hour_angle(target.ra, target.dec, site.longitude, self.clock.time())
+        ha = hour_angle(*target_radec(target, site, self.clock.time()), site.longitude, self.clock.time())
         wait = flip_wait(ha, seconds, side, self._flip_past_meridian)
         if wait is None:
             return False
@@ -231,7 +241,7 @@ class ImagingScript(Script):
         telescope = pointing.telescope
         await step(
             f"meridian flip to {target.name}",
-            telescope.move_radec(target.ra, target.dec),
+            self._point_at(telescope, target),
             on_cancel=telescope.stop_motion,
         )
         if await pointing.pier.get_pier_side() is side:
@@ -251,6 +261,36 @@ class ImagingScript(Script):
         await pointing.dithering.move(pointing.telescope, pointing.offsets)
         if pointing.guider is not None:
             pointing.guider = await self._start_guiding(pointing.config.guiding_config)
+
+    async def _wait_for_pass(self, target: SatelliteTarget, config: Configuration) -> None:
+        """Wait until the satellite has climbed above the configuration's airmass limit (the
+        scheduler plans a satellite into the slice in which its pass rises)."""
+        site = self.site
+        if site is None:
+            raise ConfigError("a satellite's pass needs the observatory's site", key="site")
+        lowest = altitude_for_airmass(config.constraints.max_airmass)
+        now = self.clock.time()
+        rises = next_rise(target.body(), site, now, lowest)
+        if rises is None:
+            raise MoveError(f"{target.name} does not rise above {lowest:.1f}° within 15 minutes")
+        if rises > now:
+            log.info("waiting %.0f s for %s to rise above %.1f°", rises - now, target.name, lowest)
+            await self.clock.sleep(rises - now)
+
+    async def _point_at(self, telescope: ITelescope, target: Target | MovingTarget) -> None:
+        """Slew to ``target``; a moving one is followed along its ephemeris where the mount can
+        (INonSidereal), else pointed at where it is now."""
+        if not isinstance(target, Target):
+            follower = await self.optional_proxy(self._telescope, INonSidereal)
+            if follower is not None:
+                await follower.move_ephemeris(target.model_dump(mode="json"))
+                return
+            log.warning(
+                "%s cannot follow a moving target: pointing at %s where it is now",
+                self._telescope,
+                target.name,
+            )
+        await telescope.move_radec(*target_radec(target, self.site, self.clock.time()))
 
     async def _refocus_after_flip(self) -> None:
         if self._refocus is not None:

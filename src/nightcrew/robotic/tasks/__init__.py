@@ -27,6 +27,7 @@ from nightcrew.robotic.tasks._cadence import MAX_CADENCE_VISITS, Cadence, cadenc
 from nightcrew.robotic.tasks._configuration import (
     AcquisitionConfig,
     AcquisitionMode,
+    AnyTarget,
     Configuration,
     ConfigurationType,
     Constraints,
@@ -50,6 +51,15 @@ from nightcrew.robotic.tasks._errors import (
     TaskError,
     TaskNotFoundError,
     TaskProblem,
+)
+from nightcrew.robotic.tasks._moving import (
+    MajorBodyTarget,
+    MovingTarget,
+    MpcElementsTarget,
+    OrbitalElementsScheme,
+    OrbitalElementsTarget,
+    SatelliteTarget,
+    target_radec,
 )
 from nightcrew.robotic.tasks._request import Location, ObservationType, Request, RequestGroup, Window
 from nightcrew.robotic.tasks._state import (
@@ -77,6 +87,7 @@ __all__ = [
     "SCHEDULABLE_STATES",
     "AcquisitionConfig",
     "AcquisitionMode",
+    "AnyTarget",
     "Cadence",
     "Configuration",
     "ConfigurationType",
@@ -91,10 +102,16 @@ __all__ = [
     "InvalidTaskError",
     "InvalidTransitionError",
     "Location",
+    "MajorBodyTarget",
+    "MovingTarget",
+    "MpcElementsTarget",
     "ObservationType",
+    "OrbitalElementsScheme",
+    "OrbitalElementsTarget",
     "OverheadModel",
     "Request",
     "RequestGroup",
+    "SatelliteTarget",
     "Target",
     "Task",
     "TaskError",
@@ -113,5 +130,6 @@ __all__ = [
     "load_request_group_file",
     "parse_request_group",
     "request_group_schema",
+    "target_radec",
     "tasks_of_group",
 ]

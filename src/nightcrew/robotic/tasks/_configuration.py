@@ -12,6 +12,7 @@ REPEAT_EXPOSE  needed  >= 1, exposure_time > 0      ``repeat_duration`` (s): the
 BIAS           -       >= 1, exposure_time == 0
 DARK           -       >= 1, exposure_time > 0
 SKY_FLAT       -       >= 1, exposure_time > 0      (a first guess; the flat-fielder adapts it)
+PANEL_FLAT     -       >= 1, exposure_time > 0      (a first guess); ``extra_params.level`` (ADU)
 AUTO_FOCUS     any     >= 1, exposure_time > 0
 SCRIPT         any     any, exposure_time > 0       ``extra_params.script`` (str), ``.duration`` (s)
 =============  ======  ===========================  =============================================
@@ -28,16 +29,24 @@ from collections.abc import Iterator
 from enum import StrEnum
 from typing import Annotated, Self
 
-from pydantic import Field, Strict, model_validator
+from pydantic import Discriminator, Field, Strict, Tag, model_validator
 
 from nightcrew.interfaces.quantities import MAX_EXPOSURE_TIME
 from nightcrew.robotic.tasks._base import ExtraParams, Integer, Number, TaskModel, raise_problems
+from nightcrew.robotic.tasks._moving import (
+    MajorBodyTarget,
+    MpcElementsTarget,
+    OrbitalElementsTarget,
+    SatelliteTarget,
+    target_kind,
+)
 
 __all__ = [
     "MAX_EXPOSURE_COUNT",
     "MAX_TASK_SECONDS",
     "AcquisitionConfig",
     "AcquisitionMode",
+    "AnyTarget",
     "Configuration",
     "ConfigurationType",
     "Constraints",
@@ -63,6 +72,7 @@ class ConfigurationType(StrEnum):
     BIAS = "BIAS"
     DARK = "DARK"
     SKY_FLAT = "SKY_FLAT"
+    PANEL_FLAT = "PANEL_FLAT"
     AUTO_FOCUS = "AUTO_FOCUS"
     SCRIPT = "SCRIPT"
 
@@ -132,6 +142,17 @@ class Target(TaskModel):
     parallax: Number = Field(default=0.0, ge=0.0)
 
 
+#: A configuration's target: sidereal (no ``type``) or one of the moving kinds of :mod:`._moving`.
+AnyTarget = Annotated[
+    Annotated[Target, Tag("SIDEREAL")]
+    | Annotated[OrbitalElementsTarget, Tag("ORBITAL_ELEMENTS")]
+    | Annotated[MpcElementsTarget, Tag("MPC_ELEMENTS")]
+    | Annotated[MajorBodyTarget, Tag("MAJOR_BODY")]
+    | Annotated[SatelliteTarget, Tag("SATELLITE")],
+    Discriminator(target_kind),
+]
+
+
 class Constraints(TaskModel):
     """Conditions the whole configuration must run under. A limit at its loosest value is no limit.
 
@@ -197,7 +218,7 @@ class Configuration(TaskModel):
     Args:
         type: What to do.
         instrument_type: The kind of instrument that must do it (free text, e.g. ``0M4-SIM-CAMERA``).
-        target: Where to point; needed for EXPOSE and REPEAT_EXPOSE.
+        target: Where to point (sidereal or moving); needed for EXPOSE and REPEAT_EXPOSE.
         constraints: Conditions to run under.
         acquisition_config: How to acquire the target.
         guiding_config: How to guide.
@@ -209,7 +230,7 @@ class Configuration(TaskModel):
 
     type: ConfigurationType
     instrument_type: str = ""
-    target: Target | None = None
+    target: AnyTarget | None = None
     constraints: Constraints = Field(default=Constraints())
     acquisition_config: AcquisitionConfig = Field(default=AcquisitionConfig())
     guiding_config: GuidingConfig = Field(default=GuidingConfig())
@@ -243,11 +264,27 @@ class Configuration(TaskModel):
             yield "dither_config.amplitude", "dithering is only for EXPOSE and REPEAT_EXPOSE configurations"
         if self.type is ConfigurationType.SCRIPT:
             yield from _script_problems(self.extra_params)
+        if self.type is ConfigurationType.PANEL_FLAT:
+            yield from _flat_level_problems(self.extra_params)
 
     @property
     def script_duration(self) -> float:
         """SCRIPT only: the seconds the script is expected to take (``extra_params.duration``)."""
         return float(self.extra_params["duration"])
+
+
+#: The highest level a frame can hold: cameras write 16-bit unsigned pixels.
+SATURATION_ADU = 65535
+
+
+def _flat_level_problems(extra_params: ExtraParams) -> Iterator[tuple[str, str]]:
+    level = extra_params.get("level")
+    if level is None:
+        return
+    if isinstance(level, bool) or not isinstance(level, int | float) or not level > 0:
+        yield "extra_params.level", f"must be a positive number of ADU, got {level!r}"
+    elif level >= SATURATION_ADU:
+        yield "extra_params.level", f"{level:g} ADU is at or above saturation ({SATURATION_ADU} ADU)"
 
 
 def _script_problems(extra_params: ExtraParams) -> Iterator[tuple[str, str]]:

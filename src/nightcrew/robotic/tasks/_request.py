@@ -19,6 +19,7 @@ from pydantic import Field, field_validator, model_validator
 from nightcrew.robotic.tasks._base import Number, TaskModel, UtcDatetime, raise_problems
 from nightcrew.robotic.tasks._cadence import Cadence
 from nightcrew.robotic.tasks._configuration import Configuration
+from nightcrew.robotic.tasks._moving import epoch_problems
 
 __all__ = ["Location", "ObservationType", "Request", "RequestGroup", "Window"]
 
@@ -119,6 +120,12 @@ class Request(TaskModel):
             self.model_copy(update={"windows": (Window(start=start, end=end),)})
             for start, end in self.cadence.windows()
         )
+
+    @model_validator(mode="after")
+    def _check_elements_epochs(self) -> Self:
+        targets = [(f"configurations[{i}].target", c.target) for i, c in enumerate(self.configurations)]
+        raise_problems(epoch_problems(targets, self.first_start, self.last_end))
+        return self
 
     @property
     def first_start(self) -> datetime:

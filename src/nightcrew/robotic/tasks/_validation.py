@@ -19,6 +19,7 @@ from nightcrew.config import load_data_file
 from nightcrew.errors import ConfigError
 from nightcrew.robotic.tasks._base import FieldError
 from nightcrew.robotic.tasks._errors import InvalidTaskError, TaskProblem
+from nightcrew.robotic.tasks._moving import TARGET_KINDS
 from nightcrew.robotic.tasks._request import RequestGroup
 
 __all__ = [
@@ -97,6 +98,8 @@ def problems_of(exc: ValidationError, *, prefix: str = "") -> Iterator[TaskProbl
         if error["type"] == "too_short" and _has_inner_errors(error, errors):
             continue  # pydantic counts only the valid entries: the inner errors say what is wrong
         base = _join(prefix, _location(error["loc"]))
+        if error["type"] == "union_tag_invalid":
+            base = _join(base, "type")
         cause = (error.get("ctx") or {}).get("error")
         if isinstance(cause, FieldError):
             for path, message in cause.problems:
@@ -113,6 +116,8 @@ def _has_inner_errors(error: ErrorDetails, errors: list[ErrorDetails]) -> bool:
 def _location(loc: Sequence[int | str]) -> str:
     path = ""
     for part in loc:
+        if part in TARGET_KINDS:
+            continue  # the tag pydantic puts after a target: the kind is the target's own 'type'
         path = _join(path, f"[{part}]" if isinstance(part, int) else str(part))
     return path
 
@@ -138,6 +143,7 @@ _MESSAGES = {
     "string_too_long": "must be at most {max_length} characters",
     "enum": "must be one of {expected}",
     "literal_error": "must be one of {expected}",
+    "union_tag_invalid": f"must be one of {', '.join(TARGET_KINDS[1:])} (absent: sidereal), got {{tag}}",
     "float_type": "expected a number",
     "int_type": "expected a whole number",
     "bool_type": "expected true or false",

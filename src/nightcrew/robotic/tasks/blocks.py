@@ -25,8 +25,10 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from nightcrew.robotic.scheduler import Constraints, SchedulableBlock, Target
+from nightcrew.robotic.scheduler.moving import EphemerisTarget
 from nightcrew.robotic.scheduler.sky import GridFit
 from nightcrew.robotic.tasks._duration import DEFAULT_OVERHEADS, OverheadModel, estimate_duration
+from nightcrew.robotic.tasks._moving import MovingTarget
 from nightcrew.robotic.tasks._request import ObservationType
 from nightcrew.robotic.tasks._task import Task
 from nightcrew.robotic.tasks.calibration import NOTHING_LEFT_S, calibration_block
@@ -43,25 +45,36 @@ EARLY_START_WEIGHTS = {
 }
 
 
-def block_of(task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS) -> SchedulableBlock | None:
-    """The block for ``task``, or None if none of its configurations has a target."""
+def block_of(
+    task: Task, overheads: OverheadModel = DEFAULT_OVERHEADS, *, site: Site | None = None
+) -> SchedulableBlock | None:
+    """The block for ``task``, or None if none of its configurations has a target (or its target
+    moves and no ``site`` is given: a moving target's position depends on where it is seen from)."""
     configurations = task.request.configurations
     target = next((c.target for c in configurations if c.target is not None), None)
     if target is None:
         return None
+    if isinstance(target, MovingTarget):
+        if site is None:
+            return None
+        first = task.request.windows[0]
+        reference = (first.start.timestamp() + first.end.timestamp()) / 2.0
+        scheduled: Target = EphemerisTarget.at(target.body(), site, reference)
+    else:
+        scheduled = Target(
+            ra=target.ra,
+            dec=target.dec,
+            pm_ra_cosdec=target.proper_motion_ra,
+            pm_dec=target.proper_motion_dec,
+            epoch=target.epoch,
+        )
     limits = [c.constraints for c in configurations]
     estimate = estimate_duration(task.request, overheads, progress=task.status.progress)
     return SchedulableBlock(
         id=task.id,
         priority=task.effective_priority,
         duration_s=max(sum(estimate.configurations_s), NOTHING_LEFT_S),
-        target=Target(
-            ra=target.ra,
-            dec=target.dec,
-            pm_ra_cosdec=target.proper_motion_ra,
-            pm_dec=target.proper_motion_dec,
-            epoch=target.epoch,
-        ),
+        target=scheduled,
         constraints=Constraints(
             max_airmass=min(c.max_airmass for c in limits),
             max_sun_altitude=min(c.max_sun_altitude for c in limits),
@@ -105,7 +118,7 @@ def every_block(
     """A block for every task of ``tasks`` (in order): by :func:`block_of`, else a calibration block."""
     blocks = []
     for task in tasks:
-        block = block_of(task, overheads)
+        block = block_of(task, overheads, site=site)
         if block is None:
             block = calibration_block(task, site, fit=fit, overheads=overheads)
         blocks.append(block)

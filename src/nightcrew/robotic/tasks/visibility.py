@@ -68,7 +68,7 @@ def observable_stretches(
     """
     grid = TimeGrid.covering(start.timestamp(), end.timestamp(), step)
     task = tasks_of_group(_alone(request), "visibility", ["0"])[0]
-    block = block_of(task)
+    block = block_of(task, site=site)
     sky = SkyGrid(grid, site, [] if block is None else [block])
     ok = _sun_allows(request, sky.sun_altitude)
     if block is not None:

@@ -3,7 +3,9 @@
 Frames are rows of ``frames`` (the searchable values), ``frame_headers`` (the whole header, JSON)
 and ``frame_links`` (the frames it was made from: raw frame and masters, by basename, or by the
 master's DATE-OBS as ``nightcrew reduce`` writes it today). Related frames are found both ways:
-the frames this one names, and the frames that name it.
+the frames this one names, and the frames that name it. A raw frame's record shows the WCS of the
+reduced frame made from it once one is archived (:meth:`FrameIndex.solved_wcs`), whichever came
+first.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import json
 from datetime import UTC, datetime
 from typing import Any
 
+from nightcrew.images.astrometry import is_wcs_keyword
 from nightcrew.services.archive._db import Database, Row
 from nightcrew.services.archive._fits import FrameFacts, iso_date_obs
 from nightcrew.services.archive._search import SearchQuery, unit_vector
@@ -72,6 +75,25 @@ class FrameIndex:
     async def cards(self, frame_id: int) -> list[list[Any]]:
         row = await self.database.fetch_one("SELECT cards FROM frame_headers WHERE frame_id = ?", [frame_id])
         return [] if row is None else list(json.loads(row["cards"]))
+
+    async def solved_wcs(self, frame: Row) -> list[list[Any]]:
+        """For a raw frame without a WCS: the WCS cards of the newest reduced frame made from it
+        that has one (its plate solution; reduction keeps the pixel grid), else none."""
+        if frame["rlevel"] != 0 or any(is_wcs_keyword(card[0]) for card in await self.cards(frame["id"])):
+            return []
+        reduced = await self.database.fetch(
+            "SELECT f.id, f.basename FROM frame_links l JOIN frames f ON f.id = l.frame_id "
+            "WHERE l.role = 'raw' AND l.basename = ? ORDER BY f.id DESC",
+            [frame["basename"]],
+        )
+        for row in reduced:
+            wcs = [card for card in await self.cards(row["id"]) if is_wcs_keyword(card[0])]
+            if any(card[0] == "CTYPE1" for card in wcs):
+                return [
+                    [key, value, f"{comment} (solved in {row['basename']})".strip()]
+                    for key, value, comment in wcs
+                ]
+        return []
 
     async def search(self, query: SearchQuery) -> tuple[int, list[Row]]:
         """The number of matching frames, and the page of them the query asks for."""

@@ -5,7 +5,7 @@ Routes (documented in docs/archive.md; they follow the LCO science archive's ``/
     GET  /frames/                      search: count, next, previous, results
     POST /frames/upload/?filename=F    a FITS file as the body; Authorization: Bearer TOKEN
     GET  /frames/{id}/                 one frame
-    GET  /frames/{id}/headers/         its whole header
+    GET  /frames/{id}/headers/         its whole header (a raw frame: with the WCS of its reduced frame)
     GET  /frames/{id}/related/         raw ↔ reduced, masters used / frames calibrated
     GET  /frames/{id}/download/        the FITS file
     GET  /frames/{id}/thumbnail/       a PNG (?size=16..1024, 256 by default)
@@ -150,7 +150,7 @@ class ArchiveServer:
 
     async def _headers(self, request: web.Request) -> web.StreamResponse:
         row = await self._frame_row(request)
-        cards = await self.index.cards(row["id"])
+        cards = await self.index.cards(row["id"]) + await self.index.solved_wcs(row)
         data = {key: value for key, value, _ in cards if key and key not in ("COMMENT", "HISTORY")}
         return web.json_response({"data": data, "cards": cards})
 

@@ -12,6 +12,7 @@ import numpy.typing as npt
 import sep  # type: ignore[import-not-found]
 from astropy.table import Table  # type: ignore[import-untyped]
 
+from nightcrew.images.errors import ImageDataError
 from nightcrew.images.image import Image
 from nightcrew.images.processor import ImageProcessor, require
 from nightcrew.images.processors._shared import estimate_background, float_data, saturation_level
@@ -138,9 +139,20 @@ def _extract(data: npt.NDArray[np.float64], threshold: float, **options: Any) ->
             return sep.extract(data, threshold, **options)
         except Exception as exc:  # SEP raises a bare Exception
             if "pixel buffer full" not in str(exc) or sep.get_extract_pixstack() >= data.size:
-                raise
+                raise _detection_error(exc) from exc
         with _pixstack_lock:
             sep.set_extract_pixstack(min(data.size, 2 * sep.get_extract_pixstack()))
+
+
+def _detection_error(exc: Exception) -> ImageDataError:
+    """SEP's bare exception as one line that names the cause, not SEP's tuning advice."""
+    text = str(exc)
+    if "deblending overflow" in text:
+        return ImageDataError(
+            "source detection failed: one blended object holds more sub-objects than SEP keeps "
+            "(a very bright star or a crowded field)"
+        )
+    return ImageDataError(f"source detection failed: {text.split(chr(10))[0]}")
 
 
 def gaussian_kernel(fwhm: float) -> npt.NDArray[np.float64]:
