@@ -36,10 +36,10 @@ from nightcrew.config._validator import is_secret_key
 from nightcrew.config._yaml import MAX_NODES, LimitedLoader, compose_yaml, read_limited_text
 from nightcrew.errors import ConfigError
 
-__all__ = ["LoadedFile", "load_file"]
+__all__ = ["MERGE_TAG", "LoadedFile", "load_file", "written_keys"]
 
 _INCLUDE_TAG = "!include"
-_MERGE_TAG = "tag:yaml.org,2002:merge"
+MERGE_TAG = "tag:yaml.org,2002:merge"
 _STR_TAG = "tag:yaml.org,2002:str"
 _MAP_TAG = "tag:yaml.org,2002:map"
 _SEQ_TAG = "tag:yaml.org,2002:seq"
@@ -75,6 +75,11 @@ def load_file(
     display = os.path.normpath(os.fspath(path))
     value = reader.read(Path(display), display, stack=(), key="", unread=frozenset(skip_keys))
     return LoadedFile(value, reader.included)
+
+
+def written_keys(node: MappingNode) -> set[str]:
+    """The keys a mapping writes itself (not its ``<<`` merges): they replace merged ones unread."""
+    return {str(k.value) for k, _ in node.value if isinstance(k, ScalarNode) and k.tag != MERGE_TAG}
 
 
 def _location(file: str, node: Node) -> Location:
@@ -140,11 +145,9 @@ class _FileReader:
         own = ConfigNode(location=_location(file, node))
         merge_sources: list[ConfigNode] = []
         # What the merged mappings need not read: the keys written here replace theirs.
-        written = unread | {
-            str(k.value) for k, _ in node.value if isinstance(k, ScalarNode) and k.tag != _MERGE_TAG
-        }
+        written = unread | written_keys(node)
         for key_node, value_node in node.value:
-            if key_node.tag == _MERGE_TAG:
+            if key_node.tag == MERGE_TAG:
                 merge_sources.extend(self._merge_sources(value_node, file, stack, key, written))
                 continue
             name = self._key(key_node, file, key)
