@@ -14,6 +14,7 @@ import yaml
 
 from nightcrew.night.build import bundled_observatory
 from nightcrew.security import starting_policy
+from nightcrew.server import create_missing_passwords
 from nightcrew.testing import Observatory
 from nightcrew.testing.solver import running_solver
 from nightcrew.vfs import MemoryFile
@@ -74,15 +75,26 @@ def solver_url() -> Iterator[str]:
         yield url
 
 
+@pytest.fixture(scope="session")
+def bundled_passwords(tmp_path_factory: pytest.TempPathFactory) -> str:
+    """The bundled observatory's accounts' passwords, made once as `nightcrew server init` makes
+    them (0600 in a 0700 folder): the folder, for SIM_XMPP_SECRETS."""
+    folder = str(tmp_path_factory.mktemp("bundled") / "secrets")
+    environ = {**os.environ, "SIM_XMPP_SECRETS": folder}
+    create_missing_passwords(bundled_observatory().rglob("*.yaml"), environ=environ)
+    return folder
+
+
 @pytest.fixture
-def bundled_xmpp_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """What `nightcrew server init xmpp` would give the bundled observatory's comm (password,
-    certificate, starting policy), so that `nightcrew check` reads its module files as `up` would."""
+def bundled_xmpp_files(tmp_path: Path, bundled_passwords: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """What `nightcrew server init xmpp` would give the bundled observatory's comm (a password per
+    account in SIM_XMPP_SECRETS, certificate, starting policy), so that `nightcrew check` reads its
+    module files as `up` would."""
     certificate = tmp_path / "observatory.local.crt"
     certificate.write_text("a certificate\n", encoding="utf-8")
     policy = tmp_path / "access.policy"
     modules = sorted(path.stem for path in bundled_observatory().rglob("*.yaml"))
     policy.write_text(yaml.safe_dump(starting_policy(modules, {"operator": "operator"})), encoding="utf-8")
-    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
+    monkeypatch.setenv("SIM_XMPP_SECRETS", bundled_passwords)
     monkeypatch.setenv("SIM_XMPP_CA_FILE", str(certificate))
     monkeypatch.setenv("SIM_XMPP_POLICY", str(policy))

@@ -1,20 +1,22 @@
-"""Every example directory passes ``nightcrew check`` as shipped, or says in one line which
-environment variables to set; ``check`` tells module files, task files, policies and fragments apart."""
+"""Every example directory passes ``nightcrew check`` as shipped (once ``nightcrew server init`` has
+made the accounts' passwords, certificate and policy), or says in one line which environment
+variables to set; ``check`` tells module files, task files, policies and fragments apart."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
 from nightcrew.cli.main import main
+from nightcrew.server import create_missing_passwords
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 EXAMPLES = REPOSITORY / "examples"
 DIRECTORIES = sorted(path.name for path in EXAMPLES.iterdir() if path.is_dir() and not path.is_symlink())
 #: The variables the examples read for secrets; a developer's shell may have some set.
 SECRETS = (
-    "SIM_XMPP_PASSWORD",
     "NC_FILECACHE_TOKEN",
     "NIGHTCREW_ARCHIVE_TOKEN",
     "TELEGRAM_TOKEN",
@@ -22,12 +24,22 @@ SECRETS = (
 )
 
 
+@pytest.fixture(scope="module")
+def passwords(tmp_path_factory: pytest.TempPathFactory) -> str:
+    """The examples' accounts' passwords, made once as `nightcrew server init` makes them: their folder."""
+    folder = str(tmp_path_factory.mktemp("examples") / "secrets")
+    create_missing_passwords(EXAMPLES.rglob("*.yaml"), environ={**os.environ, "SIM_XMPP_SECRETS": folder})
+    return folder
+
+
+@pytest.mark.usefixtures("bundled_xmpp_files")  # the certificate and policy `server init` writes
 @pytest.mark.parametrize("directory", DIRECTORIES)
 def test_an_example_directory_passes_or_names_the_variables_to_set(
-    directory: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    directory: str, passwords: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     for name in SECRETS:
         monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("SIM_XMPP_SECRETS", passwords)
     code = main(["check", str(EXAMPLES / directory)])
     captured = capsys.readouterr()
     if code != 0:

@@ -21,7 +21,7 @@ from nightcrew.timeout import DEFAULT_TIMEOUT
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
-from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes, starting_policy_file
+from tests.modules.sim_processes import CLOCK_SPEED, Processes, overlay_environment
 
 from .node import CLIENT, node_ready
 
@@ -38,20 +38,8 @@ def observatory(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[dict
     network: Network = request.getfixturevalue("prosody_network")
     server = network.server
     assert server is not None and server.ca_file is not None
-    for name in [*MODULES, "jsclient"]:
-        server.account(name)
-    env = {
-        **os.environ,
-        "SIM_XMPP_PASSWORD": PASSWORD,
-        "SIM_XMPP_SERVER": server.address,
-        "SIM_XMPP_DOMAIN": DOMAIN,
-        "SIM_XMPP_ROOM": network.room,
-        "SIM_XMPP_CA_FILE": server.ca_file,
-        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN, operators=("jsclient",)),
-        "SIM_CLOCK_START": CLOCK_START,
-        "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
-        "SIM_IMAGES": str(tmp_path / "images"),
-    }
+    server.account("jsclient")  # a person of the test's own, with a password of its own
+    env = overlay_environment(server, network.room, tmp_path, MODULES, operators=("jsclient",))
     processes = Processes(tmp_path)
     try:
         for name in MODULES:

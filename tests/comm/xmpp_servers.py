@@ -61,18 +61,18 @@ class XmppServer:
     port: int
     control: ServerControl
     ca_file: str | None
-    registered: set[str] = field(default_factory=set)
+    registered: dict[str, str] = field(default_factory=dict)  # account -> its password
 
     @property
     def address(self) -> str:
         return f"127.0.0.1:{self.port}"
 
     def account(self, name: str, password: str = PASSWORD) -> Account:
-        """The account for module ``name``, registered on first use."""
+        """The account for module ``name``, registered on first use (again for a new password)."""
         account = Account(name, DOMAIN, password)
-        if name not in self.registered:
+        if self.registered.get(name) != password:
             self.control.register(account)
-            self.registered.add(name)
+            self.registered[name] = password
         return account
 
     def comm(self, name: str, *, room: str = "nightcrew", **options: object) -> XmppComm:

@@ -128,6 +128,22 @@ def test_merge_include_keys_of_the_including_file_win(write: WriteFiles) -> None
     assert config.location_of("message") == Location("leaf.yaml", 3)
 
 
+def test_merged_keys_the_including_file_replaces_are_not_read(write: WriteFiles) -> None:
+    """An overlay's own comm replaces the bundled file's, whose password file need not exist."""
+    path = write(
+        {
+            "leaf.yaml": f"class: {S}.Leaf\n<<: !include base.yaml\nmessage: mine\n",
+            "base.yaml": "message: !include secrets/base.password\ninterval: 3\n",
+        }
+    )
+    assert load_config(path) == {"class": f"{S}.Leaf", "message": "mine", "interval": 3}
+
+
+def test_skipped_top_level_keys_are_not_read(write: WriteFiles) -> None:
+    path = write({"leaf.yaml": f"class: {S}.Leaf\nmessage: !include missing.yaml\ninterval: ${{UNSET_X}}\n"})
+    assert load_config(path, environ={}, skip_keys=("message", "interval")) == {"class": f"{S}.Leaf"}
+
+
 def test_merge_of_several_sources_earlier_wins_and_anchors_work(write: WriteFiles) -> None:
     path = write(
         {

@@ -17,6 +17,7 @@ The test process reaches Prosody over a link of its own to "dome" and drives the
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -27,7 +28,14 @@ from typing import Any
 
 import yaml
 
-from nightcrew.server import Account, init_server, policy_for_accounts, stop_server
+from nightcrew.server import (
+    Account,
+    accounts_from_configs,
+    create_missing_passwords,
+    init_server,
+    policy_for_accounts,
+    stop_server,
+)
 from nightcrew.supervisor import send_request
 from nightcrew.testing.hosts import OUTSIDE, Hosts
 from nightcrew.testing.samba import SambaServer
@@ -38,6 +46,7 @@ EXAMPLES = REPOSITORY / "examples"
 DOMAIN = "observatory.test"
 PASSWORD = "secret-for-tests"
 ROOM = "nightcrew"
+SECRETS = "secrets"
 XMPP_PORT, SSH_PORT, SMB_PORT, CACHE_PORT = 5222, 22, 445, 37081
 CLOCK_START = "2026-11-10T17:50:00"
 CLOCK_SPEED = 20.0
@@ -46,7 +55,10 @@ SILENCE_LIMIT = 400
 #: Wall seconds between the office's XMPP pings and a ping's time to answer (defaults 10 and 10):
 #: the office notices the cut link within 6 s, so a short cut outlasts every limit many times over.
 OFFICE_PINGS = "  ping_interval: 2\n  ping_timeout: 4\n"
-_COMM = f"comm:\n  <<: !include {EXAMPLES}/sim-processes/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
+_COMM = (
+    f"comm:\n  <<: !include {EXAMPLES}/sim-processes/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
+    "  password: !include ${{SIM_XMPP_SECRETS}}/{name}.password\n"  # as the examples name theirs
+)
 _CLOCK = f"clock: !include {EXAMPLES}/sim-processes/clock.yaml\n"
 _OVERLAY = _COMM + _CLOCK
 #: Host → module name → the module file's text (most include an example unchanged).
@@ -150,8 +162,28 @@ def start(directory: Path) -> Observatory:
         SambaServer(directory / "samba", host=dome.address("office"), port=SMB_PORT, wrap=dome.command),
     )
     try:
-        accounts = [Account(name, DOMAIN, PASSWORD) for name in MODULES]
-        accounts.append(Account("operator", DOMAIN, PASSWORD, person=True))
+        environments = _environments(observatory)
+        paths = []
+        for host, modules in MODULE_FILES.items():
+            files = directory / f"{host}-modules"
+            (files / SECRETS).mkdir(parents=True)
+            for name, text in modules.items():
+                (files / f"{name}.yaml").write_text(text)
+                paths.append(files / f"{name}.yaml")
+        # docs/operations.md, step 2 on the dome: one random password per module account, made and
+        # read as `nightcrew server init xmpp examples/sim-processes/*.yaml examples/multi-host/*.yaml`
+        # (and the test's own files) does; each host gets only its own modules' password files, in
+        # the folder its SIM_XMPP_SECRETS names. The operator (this test) is a person of its own.
+        on_dome = {"SIM_XMPP_SECRETS": str(directory / SECRETS)}
+        examples = sorted([*EXAMPLES.glob("sim-processes/*.yaml"), *EXAMPLES.glob("multi-host/*.yaml")])
+        create_missing_passwords([*examples, *paths], environ={**environments["dome"], **on_dome})
+        accounts = [Account("operator", DOMAIN, PASSWORD, person=True)]
+        for host, modules in MODULE_FILES.items():
+            own = [directory / f"{host}-modules" / f"{name}.yaml" for name in modules]
+            accounts += accounts_from_configs(own, environ={**environments[host], **on_dome})
+            for name in modules:
+                password = f"{name}.password"
+                shutil.copy2(directory / SECRETS / password, directory / f"{host}-modules" / SECRETS)
         init_server(observatory.xmpp_directory, accounts, host="0.0.0.0", port=XMPP_PORT, domains=[DOMAIN])
         # The starting policy, as `nightcrew server init` writes it for these accounts.
         (directory / "access.policy").write_text(yaml.safe_dump(policy_for_accounts(accounts)))
@@ -162,13 +194,9 @@ def start(directory: Path) -> Observatory:
         assert server.wait(timeout=60) == 0, (directory / "prosody-start.log").read_text()
         observatory.ssh.start()
         observatory.samba.start()
-        environments = _environments(observatory)
         sockets = Path(tempfile.mkdtemp(prefix="nc-hosts-"))
-        for host, modules in MODULE_FILES.items():
+        for host in MODULE_FILES:
             files = directory / f"{host}-modules"
-            files.mkdir()
-            for name, text in modules.items():
-                (files / f"{name}.yaml").write_text(text)
             socket = observatory.sockets[host] = sockets / f"{host}.sock"
             observatory.supervisors[host] = hosts[host].run(
                 [sys.executable, "-m", "nightcrew", "up", str(files), "--socket", str(socket),
@@ -187,7 +215,6 @@ def _environments(observatory: Observatory) -> dict[str, dict[str, str]]:
     common = {
         "PATH": "/usr/sbin:/usr/bin:/sbin:/bin",
         "HOME": str(directory),
-        "SIM_XMPP_PASSWORD": PASSWORD,
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": ROOM,
         "SIM_XMPP_CA_FILE": observatory.ca_file,
@@ -218,11 +245,14 @@ def _environments(observatory: Observatory) -> dict[str, dict[str, str]]:
         "NC_SMB_ROOT": "frames",
         "NC_WRITER_STATE_DIR": str(directory),
     }
-    return {
+    environments = {
         "dome": {**common, "SIM_XMPP_SERVER": f"127.0.0.1:{XMPP_PORT}"},
         "camera": {**common, "SIM_XMPP_SERVER": f"{dome.address('camera')}:{XMPP_PORT}"},
         "office": office,
     }
+    for host, environment in environments.items():  # each host its own modules' passwords
+        environment["SIM_XMPP_SECRETS"] = str(directory / f"{host}-modules" / SECRETS)
+    return environments
 
 
 def stop(observatory: Observatory) -> list[str]:

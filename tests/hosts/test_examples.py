@@ -8,12 +8,12 @@ import pytest
 
 from nightcrew.config import build_object, load_config, validate_config
 from nightcrew.modules import Module
+from nightcrew.server import create_missing_passwords
 from nightcrew.vfs import SMBFile, SSHFile
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 EXAMPLES = REPOSITORY / "examples" / "multi-host"
 ENVIRONMENT = {
-    "SIM_XMPP_PASSWORD": "pw",
     "SIM_XMPP_CA_FILE": str(REPOSITORY / "pyproject.toml"),  # any file: building checks it exists
     "SIM_XMPP_POLICY": str(REPOSITORY / "examples" / "notify" / "policy.yaml"),  # any policy
     "NC_FILECACHE_TOKEN": "cache-token",
@@ -25,6 +25,14 @@ ENVIRONMENT = {
     "NC_SMB_HOST": "dome.example",
     "NC_SMB_PASSWORD": "pw",
 }
+
+
+@pytest.fixture(autouse=True)
+def passwords(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accounts' passwords, as docs/operations.md's `nightcrew server init` (step 2) makes them."""
+    monkeypatch.setitem(ENVIRONMENT, "SIM_XMPP_SECRETS", str(tmp_path / "secrets"))
+    files = [*sorted((EXAMPLES.parent / "sim-processes").glob("*.yaml")), *sorted(EXAMPLES.glob("*.yaml"))]
+    create_missing_passwords(files, environ=ENVIRONMENT)
 
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.yaml")), ids=lambda p: p.name)

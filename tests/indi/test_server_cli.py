@@ -15,8 +15,9 @@ from pathlib import Path
 import pytest
 
 from nightcrew.astro import altaz_to_radec, j2000_to_of_date
+from nightcrew.server import create_missing_passwords
 from tests.indi.server_clients import PATIENCE, getprop, require_clients, setprop, wait_for
-from tests.modules.sim_processes import starting_policy_file
+from tests.modules.sim_processes import secrets_folder, starting_policy_file
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 NIGHTCREW = [sys.executable, "-m", "nightcrew"]
@@ -142,13 +143,14 @@ def test_sim_refuses_a_port_that_is_no_port() -> None:
 
 
 def test_the_example_server_config_checks(tmp_path: Path) -> None:
-    # The tutorial's accounts share one password; its certificate is what `nightcrew server init` writes.
+    # Its password, certificate and policy are what `nightcrew server init` makes.
     certificate = tmp_path / "observatory.local.crt"
     certificate.write_text("a certificate\n", encoding="utf-8")
     policy = starting_policy_file(tmp_path, "observatory.local")
-    env = {**os.environ, "SIM_XMPP_PASSWORD": "example", "SIM_XMPP_CA_FILE": str(certificate)}
+    env = {**os.environ, "SIM_XMPP_SECRETS": secrets_folder(tmp_path), "SIM_XMPP_CA_FILE": str(certificate)}
     env["SIM_XMPP_POLICY"] = policy
     path = REPOSITORY / "examples" / "indi" / "server.yaml"
+    create_missing_passwords([path], environ=env)
     result = subprocess.run(
         [*NIGHTCREW, "check", str(path)], capture_output=True, text=True, env=env, timeout=120, check=False
     )

@@ -2,9 +2,9 @@
 
 The files live in ``examples/observatory``; the package's ``nightcrew/night/observatory`` is a
 link to that directory (a built package holds a copy), so the examples and what ``nightcrew sim``
-runs are the same files. ``nightcrew sim`` reads them with :func:`files_environ` and replaces the
-``comm`` and ``clock`` they name for ``nightcrew up`` (tests/supervisor/test_observatory_up.py runs
-them that way).
+runs are the same files. ``nightcrew sim`` reads them with :func:`load_in_process` (without their
+``comm``) and replaces the ``comm`` and ``clock`` they name for ``nightcrew up``
+(tests/supervisor/test_observatory_up.py runs them that way).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import pytest
 from nightcrew.cli.main import main
 from nightcrew.config import build_object, config_files, load_config, validate_config
 from nightcrew.modules import Module
-from nightcrew.night.build import bundled_observatory, files_environ
+from nightcrew.night.build import bundled_observatory, files_environ, load_in_process
 from nightcrew.night.init import ALPACA_ROLES, FoundDevice, InitOptions, name_by_role, observatory_files
 
 REPOSITORY = Path(__file__).resolve().parents[2]
@@ -39,7 +39,7 @@ def test_examples_observatory_is_the_bundled_observatory() -> None:
 
 
 def test_there_is_an_example_for_every_sim_device() -> None:
-    classes = {load_config(path, environ=files_environ())["class"].rsplit(".", 1)[1] for path in EXAMPLES}
+    classes = {load_in_process(path)["class"].rsplit(".", 1)[1] for path in EXAMPLES}
     expected = {
         "SimTelescope",
         "SimFocuser",
@@ -58,7 +58,7 @@ def test_the_site_fragment_is_not_a_module_file() -> None:
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
 def test_example_validates_and_builds(path: Path) -> None:
-    config = load_config(path, environ=files_environ())
+    config = load_in_process(path)
     validate_config(config, Module)
     kept = {key: value for key, value in config.items() if key not in REPLACED}
     module = build_object({**kept, "name": path.stem}, Module)

@@ -9,7 +9,6 @@ the headers the *other* processes gave it over XMPP, and real stars in it.
 from __future__ import annotations
 
 import asyncio
-import os
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -37,8 +36,7 @@ from nightcrew.testing import modules_ready
 
 # The session's Prosody and a room per test, as tests/comm has them (imported to be found here).
 from tests.comm.conftest import Network, prosody_network, prosody_server  # noqa: F401
-from tests.comm.xmpp_servers import DOMAIN, PASSWORD
-from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes, starting_policy_file
+from tests.modules.sim_processes import CLOCK_SPEED, CLOCK_START, Processes, overlay_environment
 
 pytestmark = pytest.mark.xmpp
 MODULES = ["conditions", "roof", "telescope", "focuser", "filters", "camera"]
@@ -58,20 +56,7 @@ def observatory(network: Network, tmp_path: Path) -> Iterator[Processes]:
     """One ``nightcrew run`` process per module in the test's room; images go to tmp_path/images."""
     server = network.server
     assert server is not None and server.ca_file is not None
-    for name in MODULES:
-        server.account(name)
-    env = {
-        **os.environ,
-        "SIM_XMPP_PASSWORD": PASSWORD,
-        "SIM_XMPP_SERVER": server.address,
-        "SIM_XMPP_DOMAIN": DOMAIN,
-        "SIM_XMPP_ROOM": network.room,
-        "SIM_XMPP_CA_FILE": server.ca_file,
-        "SIM_XMPP_POLICY": starting_policy_file(tmp_path, DOMAIN),
-        "SIM_CLOCK_START": CLOCK_START,
-        "SIM_CLOCK_SPEED": str(CLOCK_SPEED),
-        "SIM_IMAGES": str(tmp_path / "images"),
-    }
+    env = overlay_environment(server, network.room, tmp_path, MODULES)
     processes = Processes(tmp_path)
     try:
         for name in MODULES:

@@ -30,8 +30,9 @@ from nightcrew.events import (
 )
 from nightcrew.interfaces import IMotion, IRoof, ITelescope, MotionStatus
 from nightcrew.modules import Module
+from nightcrew.server import accounts_from_configs, create_missing_passwords
 from nightcrew.testing import modules_ready, wait_for
-from tests.comm.xmpp_servers import DOMAIN, PASSWORD
+from tests.comm.xmpp_servers import DOMAIN
 from tests.modules.sim_processes import starting_policy_file
 from tests.supervisor.conftest import REPOSITORY, START_TIMEOUT, SupervisedDirectory
 
@@ -63,10 +64,9 @@ def policy_of(supervised: SupervisedDirectory) -> Path:
 def write_observatory(
     supervised: SupervisedDirectory, *, park_when_offline: float = 300, dead_mans_switch: bool = False
 ) -> None:
-    for name in MODULES:
-        supervised.prosody.account(name)
     comm = (
         f"comm:\n  <<: !include {OVERLAYS}/xmpp.yaml\n  jid: {{name}}@{DOMAIN}\n"
+        "  password: !include secrets/{name}.password\n"
         f"  policy: {policy_of(supervised)}\n"
     )
     for name in ("roof", "telescope"):
@@ -84,6 +84,10 @@ def write_observatory(
         + overlay.format(name="watchdog")
     )
     (supervised.directory / "xmpp.yaml").unlink()  # the overlays bring their own
+    files = [supervised.directory / f"{name}.yaml" for name in MODULES]
+    create_missing_passwords(files)  # what `nightcrew server init` makes, then registers
+    for account in accounts_from_configs(files):
+        supervised.prosody.account(account.user, account.password)
 
 
 @pytest.fixture
@@ -98,7 +102,6 @@ def sim_env(
     """What the overlays read, for the supervisor (and so its modules) started by the test."""
     prosody = supervised.prosody
     for key, value in {
-        "SIM_XMPP_PASSWORD": PASSWORD,
         "SIM_XMPP_SERVER": prosody.address,
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": supervised.room,

@@ -18,6 +18,7 @@ from nightcrew.cli.main import main
 from nightcrew.cli.run import build_modules
 from nightcrew.errors import ConfigError
 from nightcrew.night.build import bundled_observatory
+from nightcrew.server import create_missing_passwords
 
 OBSERVATORY = bundled_observatory()
 MUTATED_FILES = (
@@ -97,9 +98,10 @@ def _mutate(text: str, rng: random.Random) -> bytes:
 def test_mutated_configs_check_and_run_agree(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     shutil.copytree(OBSERVATORY, tmp_path / "obs")
     monkeypatch.chdir(tmp_path / "obs")
-    # What the files' comm needs (shared/comm.yaml): the password and the server's certificate.
+    # What the files' comm needs: the passwords `server init` makes (secrets/) and its certificate.
     (tmp_path / "ca.crt").write_text("a certificate\n")
-    monkeypatch.setenv("SIM_XMPP_PASSWORD", "change-me")
+    monkeypatch.delenv("SIM_XMPP_SECRETS", raising=False)
+    create_missing_passwords(Path(".").glob("*.yaml"))
     monkeypatch.setenv("SIM_XMPP_CA_FILE", str(tmp_path / "ca.crt"))
     rng = random.Random(20261124)
     originals = {name: Path(name).read_text() for name in MUTATED_FILES}

@@ -82,3 +82,21 @@ def test_server_init_writes_no_policy_beside_one_the_modules_name(
     (tmp_path / "access.policy").unlink()  # named, but not there: the starting policy is written
     assert main(["server", "init", str(tmp_path / "xmpp"), "--port", str(free_port()), str(roof)]) == 0
     assert (tmp_path / "xmpp" / "access.policy").exists()
+
+
+def test_a_one_line_overlay_gets_the_password_of_the_file_it_merges(tmp_path: Path) -> None:
+    """docs/operations.md, step 5: a host's file that merges an example makes that example's password
+    (beside the example); a file writing its own comm makes only its own."""
+    (tmp_path / "examples").mkdir()
+    bundled = _module(tmp_path / "examples", "roof")
+    overlay = tmp_path / "host" / "roof.yaml"
+    overlay.parent.mkdir()
+    overlay.write_text(f"<<: !include {bundled}\npark_on_close: true\n")
+    own = tmp_path / "host" / "camera.yaml"
+    own.write_text(f"<<: !include {bundled}\n" + COMM.format(name="camera", secret="secrets/camera.password"))
+    made = create_missing_passwords([overlay, own])
+    assert made == [
+        tmp_path / "examples" / "secrets" / "roof.password",
+        tmp_path / "host" / "secrets" / "camera.password",
+    ]
+    assert {a.user for a in accounts_from_configs([overlay, own])} == {"roof", "camera"}

@@ -38,16 +38,17 @@ class Prosody:
         self.directory = directory
         self.port = port
         self.ca_file = directory / "certs" / f"{DOMAIN}.crt"
-        self._registered: set[str] = set()
+        self._registered: dict[str, str] = {}  # account -> its password
 
     @property
     def address(self) -> str:
         return f"127.0.0.1:{self.port}"
 
-    def account(self, name: str) -> None:
-        if name not in self._registered:
-            register_account(self.directory, Account(name, DOMAIN, PASSWORD))
-            self._registered.add(name)
+    def account(self, name: str, password: str = PASSWORD) -> None:
+        """Register ``name`` on first use (again for a new password)."""
+        if self._registered.get(name) != password:
+            register_account(self.directory, Account(name, DOMAIN, password))
+            self._registered[name] = password
 
     def pid(self) -> int:
         return int((self.directory / "prosody.pid").read_text())

@@ -79,7 +79,7 @@ def environment(tmp_path: Path) -> Iterator[dict[str, str]]:
     port = _free_port()
     env = {
         **os.environ,
-        "SIM_XMPP_PASSWORD": "change-me",
+        "SIM_XMPP_SECRETS": str(tmp_path / "secrets"),  # `server init` makes a password per account there
         "SIM_XMPP_SERVER": f"127.0.0.1:{port}",
         "SIM_XMPP_CA_FILE": str(tmp_path / "xmpp" / "certs" / "observatory.local.crt"),
         "SIM_XMPP_POLICY": str(tmp_path / "xmpp" / "access.policy"),  # also by `server init`

@@ -23,7 +23,7 @@ from nightcrew.events import BadWeatherEvent, Event
 from nightcrew.modules import Module
 from nightcrew.testing import modules_ready, wait_for
 from tests.comm.xmpp_servers import DOMAIN, PASSWORD
-from tests.modules.sim_processes import starting_policy_file
+from tests.modules.sim_processes import overlay_passwords, secrets_folder, starting_policy_file
 
 from .conftest import REPOSITORY, START_TIMEOUT, Prosody
 
@@ -41,7 +41,7 @@ RAIN = "scenario: [{at: 0, rain: true, humidity: 97}]\n"
 def rainy_copy(tmp_path: Path) -> Path:
     """``examples/sim-processes`` beside ``examples/observatory`` in ``tmp_path``, the station raining."""
     for name in ("observatory", "sim-processes"):
-        ignore = shutil.ignore_patterns("frames", "xmpp", "logs", "*.sqlite*", "*.jsonl")
+        ignore = shutil.ignore_patterns("frames", "xmpp", "secrets", "logs", "*.sqlite*", "*.jsonl")
         shutil.copytree(REPOSITORY / "examples" / name, tmp_path / "examples" / name, ignore=ignore)
     overlay = tmp_path / "examples" / "sim-processes" / "conditions.yaml"
     overlay.write_text(overlay.read_text(encoding="utf-8") + RAIN, encoding="utf-8")
@@ -77,8 +77,9 @@ async def nightcrew(*args: str, env: dict[str, str]) -> tuple[int, str]:
 
 
 async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Module, tmp_path: Path) -> None:
+    passwords = overlay_passwords(tmp_path, DOMAIN)  # as `server init` makes them
     for name in MODULES:
-        prosody.account(name)
+        prosody.account(name, passwords[name])
     example = rainy_copy(tmp_path)
     bad_weather: list[str] = []
 
@@ -89,7 +90,7 @@ async def test_up_runs_the_simulated_observatory(prosody: Prosody, operator: Mod
     socket = Path(os.environ.get("TMPDIR", "/tmp")) / f"nc-sim-{os.getpid()}.sock"
     env = {
         **os.environ,
-        "SIM_XMPP_PASSWORD": PASSWORD,
+        "SIM_XMPP_SECRETS": secrets_folder(tmp_path),
         "SIM_XMPP_SERVER": prosody.address,
         "SIM_XMPP_DOMAIN": DOMAIN,
         "SIM_XMPP_ROOM": "simproc",

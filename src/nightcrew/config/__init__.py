@@ -27,7 +27,7 @@ Every problem is reported as one :class:`~nightcrew.errors.ConfigError` whose te
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from typing import Any
 
 from nightcrew.config._builder import build_object, to_plain
@@ -62,17 +62,23 @@ __all__ = [
 ]
 
 
-def load_config(path: str | os.PathLike[str], *, environ: Mapping[str, str] | None = None) -> ConfigNode:
+def load_config(
+    path: str | os.PathLike[str],
+    *,
+    environ: Mapping[str, str] | None = None,
+    skip_keys: Collection[str] = (),
+) -> ConfigNode:
     """Read the object description in the YAML file ``path``, resolving includes and placeholders.
 
     Args:
         path: The file.
         environ: Values for ``${NAME}`` placeholders; ``os.environ`` by default.
+        skip_keys: Top-level keys left out unread (for what the caller gives in their place).
 
     Raises:
         ConfigError: The file cannot be read or parsed, or is not a mapping.
     """
-    loaded = load_file(path, environ)
+    loaded = load_file(path, environ, skip_keys=skip_keys)
     if not isinstance(loaded.value, ConfigNode):
         got = "an empty file" if loaded.value is None else describe_value(loaded.value)
         raise ConfigError(

@@ -7,7 +7,9 @@ which resolves, on the way:
 * ``key: !include other.yaml`` — the content of ``other.yaml`` (path relative to the including
   file, may contain placeholders);
 * ``<<: !include base.yaml`` (or ``<<: *anchor``, or a list of either) — a shallow merge: keys
-  written in the including mapping win, and earlier merge sources win over later ones (YAML's rule);
+  written in the including mapping win (the merged values they replace are not read at all, so
+  their includes and placeholders need not resolve), and earlier merge sources win over later ones
+  (YAML's rule);
 * ``${NAME}`` / ``${NAME:-default}`` in scalar values (not in keys). When a plain (unquoted) scalar is
   exactly one placeholder, the substituted text is read again as a YAML scalar, so
   ``interval: ${INTERVAL:-10}`` is the int 10; a quoted scalar always stays a string.
@@ -19,7 +21,7 @@ and ``1e3`` is a float (YAML 1.1 would read it as a string).
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -34,10 +36,10 @@ from nightcrew.config._validator import is_secret_key
 from nightcrew.config._yaml import MAX_NODES, LimitedLoader, compose_yaml, read_limited_text
 from nightcrew.errors import ConfigError
 
-__all__ = ["LoadedFile", "load_file"]
+__all__ = ["MERGE_TAG", "LoadedFile", "load_file", "written_keys"]
 
 _INCLUDE_TAG = "!include"
-_MERGE_TAG = "tag:yaml.org,2002:merge"
+MERGE_TAG = "tag:yaml.org,2002:merge"
 _STR_TAG = "tag:yaml.org,2002:str"
 _MAP_TAG = "tag:yaml.org,2002:map"
 _SEQ_TAG = "tag:yaml.org,2002:seq"
@@ -57,16 +59,27 @@ class LoadedFile:
     included: set[Path] = field(default_factory=set)
 
 
-def load_file(path: str | os.PathLike[str], environ: Mapping[str, str] | None = None) -> LoadedFile:
-    """Read one YAML file with its includes.
+def load_file(
+    path: str | os.PathLike[str],
+    environ: Mapping[str, str] | None = None,
+    *,
+    skip_keys: Collection[str] = (),
+) -> LoadedFile:
+    """Read one YAML file with its includes; the top-level keys in ``skip_keys`` (merged ones too)
+    are left out unread, as keys a merge replaces are: their includes and placeholders need not resolve.
 
     Raises:
         ConfigError: Unreadable file, bad YAML, missing include, include cycle, unset variable, ...
     """
     reader = _FileReader(os.environ if environ is None else environ)
     display = os.path.normpath(os.fspath(path))
-    value = reader.read(Path(display), display, stack=(), key="")
+    value = reader.read(Path(display), display, stack=(), key="", unread=frozenset(skip_keys))
     return LoadedFile(value, reader.included)
+
+
+def written_keys(node: MappingNode) -> set[str]:
+    """The keys a mapping writes itself (not its ``<<`` merges): they replace merged ones unread."""
+    return {str(k.value) for k, _ in node.value if isinstance(k, ScalarNode) and k.tag != MERGE_TAG}
 
 
 def _location(file: str, node: Node) -> Location:
@@ -85,15 +98,25 @@ class _FileReader:
         # Aliases and includes are expanded here: count what they stand for (see _yaml.MAX_NODES).
         self._converted = 0
 
-    def read(self, path: Path, display: str, stack: tuple[Path, ...], key: str) -> Any:
+    def read(
+        self,
+        path: Path,
+        display: str,
+        stack: tuple[Path, ...],
+        key: str,
+        unread: frozenset[str] = frozenset(),
+    ) -> Any:
         root = compose_yaml(read_limited_text(path, display), display)
         if root is None:
             return None
-        return self._convert(root, display, (*stack, path.resolve()), key)
+        return self._convert(root, display, (*stack, path.resolve()), key, unread)
 
-    def _convert(self, node: Node, file: str, stack: tuple[Path, ...], key: str) -> Any:
+    def _convert(
+        self, node: Node, file: str, stack: tuple[Path, ...], key: str, unread: frozenset[str] = frozenset()
+    ) -> Any:
+        """``unread``: keys of a mapping to leave out (those that replace them are elsewhere)."""
         if node.tag == _INCLUDE_TAG:
-            return self._include(node, file, stack, key)
+            return self._include(node, file, stack, key, unread)
         # An alias is the same node object again; one inside itself would recurse forever.
         if id(node) in self._converting:
             raise ConfigError("recursive alias", file=file, line=node.start_mark.line + 1, key=key or None)
@@ -107,7 +130,7 @@ class _FileReader:
         self._converting.add(id(node))
         try:
             if isinstance(node, MappingNode):
-                return self._mapping(node, file, stack, key)
+                return self._mapping(node, file, stack, key, unread)
             if isinstance(node, SequenceNode):
                 return self._sequence(node, file, stack, key)
             assert isinstance(node, ScalarNode)
@@ -115,15 +138,21 @@ class _FileReader:
         finally:
             self._converting.discard(id(node))
 
-    def _mapping(self, node: MappingNode, file: str, stack: tuple[Path, ...], key: str) -> ConfigNode:
+    def _mapping(
+        self, node: MappingNode, file: str, stack: tuple[Path, ...], key: str, unread: frozenset[str]
+    ) -> ConfigNode:
         self._check_tag(node, _MAP_TAG, file, key)
         own = ConfigNode(location=_location(file, node))
         merge_sources: list[ConfigNode] = []
+        # What the merged mappings need not read: the keys written here replace theirs.
+        written = unread | written_keys(node)
         for key_node, value_node in node.value:
-            if key_node.tag == _MERGE_TAG:
-                merge_sources.extend(self._merge_sources(value_node, file, stack, key))
+            if key_node.tag == MERGE_TAG:
+                merge_sources.extend(self._merge_sources(value_node, file, stack, key, written))
                 continue
             name = self._key(key_node, file, key)
+            if name in unread:
+                continue
             if name in own:
                 first = own.location_of(name)
                 raise ConfigError(
@@ -146,11 +175,13 @@ class _FileReader:
             merged.set_located(name, value, own.location_of(name))
         return merged
 
-    def _merge_sources(self, node: Node, file: str, stack: tuple[Path, ...], key: str) -> list[ConfigNode]:
+    def _merge_sources(
+        self, node: Node, file: str, stack: tuple[Path, ...], key: str, unread: frozenset[str]
+    ) -> list[ConfigNode]:
         nodes = node.value if isinstance(node, SequenceNode) and node.tag == _SEQ_TAG else [node]
         sources: list[ConfigNode] = []
         for source_node in nodes:
-            value = self._convert(source_node, file, stack, key)
+            value = self._convert(source_node, file, stack, key, unread)
             if not isinstance(value, ConfigNode):
                 raise ConfigError(
                     f"'<<' merges a mapping (or an !include of one), got {describe_value(value)}",
@@ -208,7 +239,9 @@ class _FileReader:
                 key=key or None,
             ) from exc
 
-    def _include(self, node: Node, file: str, stack: tuple[Path, ...], key: str) -> Any:
+    def _include(
+        self, node: Node, file: str, stack: tuple[Path, ...], key: str, unread: frozenset[str]
+    ) -> Any:
         line = node.start_mark.line + 1
         if not isinstance(node, ScalarNode) or not node.value:
             raise ConfigError("!include needs a file name", file=file, line=line, key=key or None)
@@ -227,7 +260,7 @@ class _FileReader:
                 f"cannot include '{name}': file {display} not found", file=file, line=line, key=key or None
             )
         self.included.add(resolved)
-        return self.read(target, display, stack, key)
+        return self.read(target, display, stack, key, unread)
 
     def _check_tag(self, node: Node, expected: str | None, file: str, key: str) -> None:
         allowed = {expected} if expected else _SCALAR_TAGS

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from nightcrew.clock import AcceleratedClock
 from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.config import build_object, load_config, to_plain, validate_config
+from nightcrew.config import build_object, to_plain, validate_config
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ICoverCalibrator, IRotator, ISwitch
 from nightcrew.modules import Module
@@ -36,8 +36,8 @@ from nightcrew.night.build import (
     build_observatory,
     bundled_observatory,
     data_environ,
-    files_environ,
     images_vfs,
+    load_in_process,
     observatory_site,
     park_and_close,
 )
@@ -91,7 +91,7 @@ async def _serve(directory: Path, options: SimOptions, clock: AcceleratedClock) 
     devices.update(_more_devices(modules))
     verdict = directory / "robotic" / f"{VERDICT}.yaml"
     if verdict.is_file():
-        config = load_config(verdict, environ=environ)
+        config = load_in_process(verdict, environ)
         validate_config(config, Module)
         config.update({"comm": LocalComm(VERDICT, network=network), "clock": clock, "vfs": vfs})
         modules.append(build_object(config, Module))
@@ -142,7 +142,7 @@ def _more_devices(modules: list[Module]) -> dict[str, str | list[str]]:
 def _pixel_size(directory: Path) -> float:
     """The simulated camera's pixel size in µm (its detector's pixel_size_um)."""
     path = directory / f"{CAMERA}.yaml"
-    config = load_config(path, environ=files_environ()) if path.is_file() else {}
+    config = load_in_process(path) if path.is_file() else {}
     detector = to_plain(config.get("detector") or {})
     size = detector.get("pixel_size_um") if isinstance(detector, dict) else None
     return float(size) if isinstance(size, int | float) else CameraModel().pixel_size_um

@@ -18,7 +18,7 @@ from typing import Any
 
 from nightcrew.clock import Clock
 from nightcrew.comm.local import LocalComm, LocalNetwork
-from nightcrew.config import build_object, load_config, to_plain, validate_config
+from nightcrew.config import ConfigNode, build_object, load_config, to_plain, validate_config
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.interfaces import IRoof, ITelescope
 from nightcrew.modules import Module
@@ -29,12 +29,14 @@ __all__ = [
     "DATA_VARIABLE",
     "FRAMES",
     "IMAGES_ROOT",
+    "IN_PROCESS_KEYS",
     "SIM_RPC_GRACE",
     "build_observatory",
     "bundled_observatory",
     "data_environ",
     "files_environ",
     "images_vfs",
+    "load_in_process",
     "observatory_site",
     "options_directory",
     "park_and_close",
@@ -62,15 +64,22 @@ def bundled_observatory() -> Path:
     return Path(__file__).resolve().with_name("observatory")
 
 
-#: The variables the observatory's files need only for their ``comm`` (shared/comm.yaml, read by
-#: ``nightcrew up``): in one process every module gets the in-process comm instead, so a stand-in
-#: lets the files load where the variable is not set; it is never used.
-_COMM_ONLY = {"SIM_XMPP_PASSWORD": "unused-in-one-process"}
+#: What one process gives every module in place of its file's: the in-process comm. The files'
+#: ``comm`` (XMPP for ``nightcrew up``, with a password from ``secrets/`` that ``nightcrew server
+#: init`` makes) is not read at all, so the files load where no server was ever set up.
+IN_PROCESS_KEYS = ("comm",)
 
 
 def files_environ() -> dict[str, str]:
     """The environment the observatory's files are read in when their modules run in one process."""
-    return {**_COMM_ONLY, **os.environ}
+    return dict(os.environ)
+
+
+def load_in_process(path: Path, environ: Mapping[str, str] | None = None) -> ConfigNode:
+    """A module file as one process reads it: without the keys of :data:`IN_PROCESS_KEYS`;
+    ``environ``: the placeholders' values (default: :func:`files_environ`)."""
+    values = files_environ() if environ is None else environ
+    return load_config(path, environ=values, skip_keys=IN_PROCESS_KEYS)
 
 
 def data_environ(out: Path) -> dict[str, str]:
@@ -96,7 +105,7 @@ def observatory_site(directory: Path) -> Site:
     path = directory / "telescope.yaml"
     if not path.is_file():
         raise ConfigError(f"no telescope.yaml in {directory}: the night needs a telescope")
-    site = load_config(path, environ=files_environ()).get("site")
+    site = load_in_process(path).get("site")
     if not isinstance(site, dict):
         raise ConfigError("the telescope needs a site (latitude, longitude, elevation)", file=str(path))
     try:
@@ -129,7 +138,7 @@ def build_observatory(
     paths = sorted(p for p in directory.glob("*.yaml") if names is None or p.stem in names)
     if not paths:
         raise ConfigError(f"no module files (*.yaml) in {directory}")
-    configs = [load_config(path, environ=environ or files_environ()) for path in paths]
+    configs = [load_in_process(path, environ or None) for path in paths]
     for config in configs:
         validate_config(config, Module)
     modules = []

@@ -17,11 +17,11 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from nightcrew.clock import AcceleratedClock, Clock, VirtualClock
-from nightcrew.config import load_config
 from nightcrew.errors import ConfigError
 from nightcrew.night.build import (
     bundled_observatory,
     files_environ,
+    load_in_process,
     observatory_site,
 )
 from nightcrew.night.cadences import stored_cadences
@@ -142,7 +142,7 @@ def _quick_tasks(options: SimOptions, site: Site, start: datetime, end: datetime
     if not filters:
         raise ConfigError(f"--filters {options.filters!r}: name at least one filter")
     wheel = (options.configs or bundled_observatory()) / "filters.yaml"
-    config = load_config(wheel, environ=files_environ()) if wheel.is_file() else {}
+    config = load_in_process(wheel) if wheel.is_file() else {}
     known = [str(name) for name in config.get("filters", [])]
     unknown = [name for name in filters if known and name not in known]
     if unknown:

@@ -12,7 +12,8 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
-from nightcrew.config import load_config, to_plain
+from nightcrew.config import to_plain
+from nightcrew.night.build import load_in_process
 from nightcrew.robotic.tasks import RequestGroup
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.render import CameraModel, Optics
@@ -53,7 +54,7 @@ def build_night_sky_indexes(
     the file's).
     """
     path = directory / "camera.yaml"
-    camera = to_plain(load_config(path, environ=environ)) if path.is_file() else {}
+    camera = to_plain(load_in_process(path, environ)) if path.is_file() else {}
     if camera.get("class") != _SIM_CAMERA:
         return None
     detector = CameraModel(**{**to_plain(camera.get("detector") or {})})

@@ -4,7 +4,9 @@ A module or person file keeps its password out of itself by including it from a 
 folder (``password: !include secrets/roof.password``, as ``nightcrew init`` writes them).
 ``nightcrew server init`` makes every such file that does not exist yet: a fresh random password,
 the file mode 0600 in a folder of mode 0700, so no two accounts share a password and nobody but
-the owner reads one. Existing files are kept (so is a password given any other way).
+the owner reads one. Existing files are kept (so is a password given any other way). A file that
+merges another (``<<: !include roof.yaml``, a one-line overlay) has the password lines of the merged
+file too, unless it writes that key itself (the loader then never reads the merged one).
 """
 
 from __future__ import annotations
@@ -14,9 +16,10 @@ import secrets
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from yaml.nodes import MappingNode, Node, ScalarNode
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from nightcrew.config._env import EnvSubstitutionError, substitute_env
+from nightcrew.config._loader import MERGE_TAG, written_keys
 from nightcrew.config._yaml import compose_yaml, read_limited_text
 from nightcrew.errors import ConfigError
 
@@ -26,6 +29,9 @@ __all__ = ["SECRETS_FOLDER", "client_password", "create_missing_passwords", "rea
 SECRETS_FOLDER = "secrets"
 _SUFFIX = ".password"
 _PASSWORD_BYTES = 24  # 32 characters of URL-safe base64: 192 random bits
+_INCLUDE = "!include"
+#: Merged files followed into one another at most (the loader refuses a cycle on its own).
+_MAX_MERGE_DEPTH = 8
 
 
 def create_missing_passwords(
@@ -40,14 +46,9 @@ def create_missing_passwords(
     env = os.environ if environ is None else environ
     written = []
     for path in paths:
-        text = read_limited_text(path)
-        root = compose_yaml(text, os.fspath(path))
-        for included, line in _password_includes(root):
-            try:
-                name, _ = substitute_env(included, env)
-            except EnvSubstitutionError as exc:
-                raise ConfigError(str(exc), file=os.fspath(path), line=line, key="password") from None
-            target = Path(os.path.dirname(os.fspath(path))) / name
+        for file, included, line in _password_includes(Path(path), env):
+            name = _substituted(included, env, file, line, "password")
+            target = file.parent / name
             if target.parent.name != SECRETS_FOLDER or not target.name.endswith(_SUFFIX):
                 continue  # only the folder the docs name: never a file of the user's choosing
             if not target.exists():
@@ -76,16 +77,49 @@ def read_password(path: Path) -> str:
     return value
 
 
-def _password_includes(node: Node | None) -> Iterable[tuple[str, int]]:
-    """Every ``password: !include FILE`` in the tree: the file as written and its line."""
+def _password_includes(path: Path, env: Mapping[str, str]) -> Iterable[tuple[Path, str, int]]:
+    """Every ``password: !include FILE`` the file's description reads: the file it is written in,
+    the included file as written, and its line."""
+    yield from _in_node(compose_yaml(read_limited_text(path), os.fspath(path)), path, env, frozenset(), 0)
+
+
+def _in_node(
+    node: Node | None, path: Path, env: Mapping[str, str], unread: frozenset[str], depth: int
+) -> Iterable[tuple[Path, str, int]]:
+    """``unread``: keys of this mapping another one replaces (not read: no password of theirs)."""
     if not isinstance(node, MappingNode):
         return
+    written = unread | written_keys(node)
     for key, value in node.value:
-        if isinstance(key, ScalarNode) and key.value == "password":
-            if isinstance(value, ScalarNode) and value.tag == "!include":
-                yield value.value, value.start_mark.line + 1
+        if key.tag == MERGE_TAG:
+            for source in value.value if isinstance(value, SequenceNode) else [value]:
+                yield from _in_merged(source, path, env, written, depth)
+        elif not isinstance(key, ScalarNode) or key.value in unread:
+            continue
+        elif key.value == "password":
+            if isinstance(value, ScalarNode) and value.tag == _INCLUDE:
+                yield path, value.value, value.start_mark.line + 1
         else:
-            yield from _password_includes(value)
+            yield from _in_node(value, path, env, frozenset(), depth)
+
+
+def _in_merged(
+    source: Node, path: Path, env: Mapping[str, str], unread: frozenset[str], depth: int
+) -> Iterable[tuple[Path, str, int]]:
+    if not (isinstance(source, ScalarNode) and source.tag == _INCLUDE):
+        yield from _in_node(source, path, env, unread, depth)  # an anchor's mapping
+        return
+    merged = path.parent / _substituted(source.value, env, path, source.start_mark.line + 1, "<<")
+    if merged.is_file() and depth < _MAX_MERGE_DEPTH:  # a missing one: the loader says so
+        root = compose_yaml(read_limited_text(merged), os.fspath(merged))
+        yield from _in_node(root, merged, env, unread, depth + 1)
+
+
+def _substituted(text: str, env: Mapping[str, str], file: Path, line: int, key: str) -> str:
+    try:
+        return substitute_env(text, env)[0]
+    except EnvSubstitutionError as exc:
+        raise ConfigError(str(exc), file=os.fspath(file), line=line, key=key) from None
 
 
 def _write_private(target: Path, password: str) -> None:
