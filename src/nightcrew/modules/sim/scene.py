@@ -41,6 +41,8 @@ class Scene:
         throughput: The filter's throughput, 0..1.
         roof_open: Whether light reaches the telescope.
         cloud_cover: Fraction of the sky covered, 0..1.
+        field_rotation: Position angle of the detector's +y (degrees): 180 on the west side of a
+            German-equatorial mount's pier, where the field stands upside down after a flip.
     """
 
     true_radec: tuple[float, float] | None
@@ -49,6 +51,7 @@ class Scene:
     throughput: float = 1.0
     roof_open: bool = True
     cloud_cover: float = 0.0
+    field_rotation: float = 0.0
 
 
 @dataclass(frozen=True)
