@@ -31,7 +31,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import shutil
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -52,7 +52,7 @@ from nightcrew.report import (
 )
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # bench/season_craft.py
-from bench.season_craft import NightCraft, craft_summary, night_craft
+from bench.season_craft import CRAFT_JSON, NightCraft, craft_summary
 
 #: The goals of the season (issue 15).
 ROOF_CLOSE_GOAL_S, SHUTTER_GOAL = 60.0, 0.90
@@ -147,7 +147,13 @@ def _nights_one_by_one(args: argparse.Namespace, out: Path, jobs: int, crafts: l
             number = pending.pop(0)
             part = out / f"part-{number}"
             log = (out / f"part-{number}.log").open("w", encoding="utf-8")
-            command = [*_command(args, part, number, 1), "--frames"]
+            craft = [sys.executable, str(Path(__file__).with_name("season_craft.py")), str(part)]
+            # The numbers are taken in the night's own slot, so measuring overlaps the next nights.
+            command = [
+                "sh",
+                "-c",
+                f"{shlex.join([*_command(args, part, number, 1), '--frames'])} && {shlex.join(craft)}",
+            ]
             running.append((subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT), log, part))
         time.sleep(1.0)
         for entry in [e for e in running if e[0].poll() is not None]:
@@ -167,9 +173,7 @@ def _one_night(args: argparse.Namespace, part: Path, number: int) -> NightCraft:
     row = season_night(night, read_night(part), latitude=site.latitude, longitude=site.longitude)
     (part / f"night-{night}").mkdir(exist_ok=True)
     (part / f"night-{night}" / NIGHT_ROW).write_text(json.dumps(season_row(row), indent=1), encoding="utf-8")
-    craft = night_craft(part)
-    shutil.rmtree(part / "frames", ignore_errors=True)
-    shutil.rmtree(part / "thumbnails", ignore_errors=True)
+    craft = NightCraft(**json.loads((part / CRAFT_JSON).read_text(encoding="utf-8")))
     shown = vars(craft) | {"science_fwhm": len(craft.science_fwhm)}
     print(f"night {night}: shutter {100 * row.shutter_fraction:.1f} %, {shown}", file=sys.stderr, flush=True)
     return craft
