@@ -32,6 +32,7 @@ import argparse
 import json
 import os
 import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -174,6 +175,8 @@ def _one_night(args: argparse.Namespace, part: Path, number: int) -> NightCraft:
     (part / f"night-{night}").mkdir(exist_ok=True)
     (part / f"night-{night}" / NIGHT_ROW).write_text(json.dumps(season_row(row), indent=1), encoding="utf-8")
     craft = NightCraft(**json.loads((part / CRAFT_JSON).read_text(encoding="utf-8")))
+    shutil.rmtree(part / "frames", ignore_errors=True)
+    shutil.rmtree(part / "thumbnails", ignore_errors=True)
     shown = vars(craft) | {"science_fwhm": len(craft.science_fwhm)}
     print(f"night {night}: shutter {100 * row.shutter_fraction:.1f} %, {shown}", file=sys.stderr, flush=True)
     return craft

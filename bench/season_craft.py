@@ -14,7 +14,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import shutil
 import sys
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -151,13 +150,11 @@ def craft_summary(nights: list[NightCraft]) -> dict[str, float | int | None]:
 
 
 def main() -> int:
-    """``season_craft.py NIGHT``: the craft numbers of directory NIGHT into NIGHT/craft.json, then
-    its frames removed (bench/season.py runs it right after each night, in the night's process slot)."""
+    """``season_craft.py NIGHT``: the craft numbers of directory NIGHT into NIGHT/craft.json
+    (bench/season.py runs it right after each night, in the night's process slot, and removes the
+    frames once it has the night's row too)."""
     night = Path(sys.argv[1])
-    craft = night_craft(night)
-    (night / CRAFT_JSON).write_text(json.dumps(vars(craft)), encoding="utf-8")
-    shutil.rmtree(night / "frames", ignore_errors=True)
-    shutil.rmtree(night / "thumbnails", ignore_errors=True)
+    (night / CRAFT_JSON).write_text(json.dumps(vars(night_craft(night))), encoding="utf-8")
     return 0
 
 
