@@ -263,9 +263,8 @@ class ImagingScript(Script):
             await focus_series(self, self._refocus, "refocus after the flip")
 
     async def _acquire(self, config: Configuration, *, after_flip: bool = False) -> None:
-        if config.acquisition_config.mode is AcquisitionMode.OFF and not (
-            after_flip and self._centre_after_flip and self._acquisition is not None
-        ):
+        asked = config.acquisition_config.mode is not AcquisitionMode.OFF
+        if not asked and not (after_flip and self._centre_after_flip and self._acquisition is not None):
             return
         if self._acquisition is None:
             log.warning(
@@ -273,8 +272,16 @@ class ImagingScript(Script):
                 config.acquisition_config.mode,
             )
             return
-        acquisition = await step("connect to the acquisition", self.proxy(self._acquisition, IAcquisition))
-        result = await step("acquisition", acquisition.acquire_target(), on_cancel=acquisition.abort)
+        try:
+            acquisition = await step(
+                "connect to the acquisition", self.proxy(self._acquisition, IAcquisition)
+            )
+            result = await step("acquisition", acquisition.acquire_target(), on_cancel=acquisition.abort)
+        except Exception as exc:  # centring the task did not ask for must not end it
+            if asked:
+                raise
+            log.warning("centring after the flip failed, exposing without it: %s", exc)
+            return
         log.info("acquired: %s", result)
 
     async def _start_guiding(self, guiding: GuidingConfig) -> IAutoGuiding | None:
