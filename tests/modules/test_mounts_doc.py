@@ -47,3 +47,13 @@ def test_the_documented_flip_option_builds_the_runner_it_shows() -> None:
     assert isinstance(runner, TaskRunner)
     for script in runner.scripts.values():
         assert isinstance(script, ImagingScript) and script.flip_past_meridian == 5.0
+
+
+def test_the_documented_guider_after_a_flip_passes_check(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    config = _block("yaml", 2)
+    assert config.startswith("# guiding.yaml\n") and "pier_side: east" in config
+    Path("guiding.yaml").write_text(config, encoding="utf-8")
+    assert main(["check", "guiding.yaml"]) == 0, capsys.readouterr().err

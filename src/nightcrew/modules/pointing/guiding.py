@@ -11,6 +11,13 @@ A target change makes the old reference useless: a MoveRaDecEvent from the ``tel
 change of the header's OBJECT, or of the target position (RA/DEC minus the telescope's
 RAOFF/DECOFF) by more than ``retarget_distance`` restarts with a new reference.
 
+On a German-equatorial mount the field turns by 180° on the sky when the mount flips to the other
+side of its pier, so a guider that turns pixel offsets into sky directions by its configured
+``position_angle`` (frames without a WCS) would push the wrong way afterwards. With ``pier_side``
+(the side ``position_angle`` was measured on) every new reference reads the mount's side and
+turns the angle by 180° on the other side (:func:`position_angle_on_side`): the calibration
+follows the flip. Frames with a WCS need nothing: their offsets are on the sky already.
+
 State and quality are published: :meth:`get_loop_state`, the readable config value ``rms``
 (``get_config_value("rms")``, arcsec, over the last ``rms_frames`` frames), and the FITS cards
 ``GUIDING`` (loop state) and ``GUIDRMS`` (arcsec) given to every camera (IFitsHeaderBefore).
@@ -39,15 +46,25 @@ from nightcrew.interfaces import (
     IExposureTime,
     IFitsHeaderBefore,
     ImageType,
+    IPierSide,
     LoopState,
+    PierSide,
 )
 from nightcrew.interfaces.quantities import ExposureTime
 from nightcrew.modules.module import Module
 from nightcrew.modules.pointing.apply import ApplyOffsets, ApplyRaDecOffsets, SkyError, sky_error
 
-__all__ = ["AutoGuiding", "BaseGuiding", "ScienceFrameAutoGuiding"]
+__all__ = ["AutoGuiding", "BaseGuiding", "ScienceFrameAutoGuiding", "position_angle_on_side"]
 
 log = logging.getLogger(__name__)
+
+
+def position_angle_on_side(position_angle: float, calibrated_side: PierSide, side: PierSide) -> float:
+    """The detector's position angle (degrees, 0..360) with the mount on ``side``, when it is
+    ``position_angle`` on ``calibrated_side``: a flip to the other side of the pier turns the field
+    half round (east and north both reverse on the detector). A side that is unknown keeps it."""
+    flipped = PierSide.UNKNOWN not in (calibrated_side, side) and side is not calibrated_side
+    return (position_angle + (180.0 if flipped else 0.0)) % 360.0
 
 
 class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
@@ -66,6 +83,9 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         rms_frames: Number of recent frames the RMS is taken over.
         position_angle: Detector orientation for frames without a WCS (see pixel_error_to_sky).
         flip: East is +x on the detector.
+        pier_side: ``east`` or ``west``: the side of a German-equatorial mount's pier on which
+            ``position_angle`` holds; on the other side it is turned by 180°. None: the same on
+            either side (a mount without sides, or frames with a WCS).
         **kwargs: Module options.
     """
 
@@ -84,9 +104,12 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         rms_frames: int = 20,
         position_angle: float = 0.0,
         flip: bool = False,
+        pier_side: str | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
+        if pier_side is not None and pier_side not in (PierSide.EAST, PierSide.WEST):
+            raise ConfigError(f"must be east or west, got {pier_side!r}", key="pier_side")
         if not 0 < gain <= 1:
             raise ConfigError(f"must be within (0, 1], got {gain}", key="gain")
         if not (max_correction > 0 and max_error > 0 and retarget_distance > 0):
@@ -104,6 +127,8 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         )
         self._max_bad_frames, self._retarget_distance = max_bad_frames, float(retarget_distance)
         self._position_angle, self._flip = float(position_angle), flip
+        self._calibrated_side = None if pier_side is None else PierSide(pier_side)
+        self._angle_now = self._position_angle  # position_angle on the mount's side now
         self._errors: deque[float] = deque(maxlen=rms_frames)
         self._loop_state = LoopState.STOPPED
         self._bad_frames = 0
@@ -184,7 +209,20 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
         self._errors.clear()
         self._bad_frames, self._target = 0, None
         self._loop_state = LoopState.ACQUIRING
+        await self._follow_pier_side()
         log.info("%s: waiting for a new reference frame (%s)", self.name, reason)
+
+    async def _follow_pier_side(self) -> None:
+        """Turn the detector's angle to the mount's pier side now (``pier_side`` configured)."""
+        if self._calibrated_side is None:
+            return
+        telescope = await self.proxy(self._telescope, IPierSide)
+        angle = position_angle_on_side(
+            self._position_angle, self._calibrated_side, await telescope.get_pier_side()
+        )
+        if angle != self._angle_now:
+            log.info("%s: pier side changed, guiding with the field at %.1f°", self.name, angle)
+        self._angle_now = angle
 
     async def process_frame(self, image: Image) -> SkyError | None:
         """One step of the loop; returns the measured error, None for a reference or a skipped frame."""
@@ -205,7 +243,7 @@ class BaseGuiding(Module, IAutoGuiding, IFitsHeaderBefore):
             offsets = image.metadata.get(OFFSETS_KEY)
             if not isinstance(offsets, Offsets):
                 raise ConfigError("the guiding pipeline gave no offsets (end it with an offsets step)")
-            error = sky_error(offsets, image, position_angle=self._position_angle, flip=self._flip)
+            error = sky_error(offsets, image, position_angle=self._angle_now, flip=self._flip)
         except NightcrewError as exc:
             await self._bad_frame(f"frame not usable: {exc}")
             return None

@@ -2,11 +2,13 @@
 
 At the start of each exposure the camera asks, through the comm, where the telescope really points
 (ISimTelescopeTruth), how far the focuser is from best focus (IFocuser + ISimFocuserTruth), which
-filter is in the beam (IFilters), whether the roof is open (IRoof) and how cloudy it is
-(ISimWeatherTruth). It then waits the exposure time on the clock and renders the frame with
-:func:`~nightcrew.sim.render.render_frame` in a worker thread, so the event loop keeps serving
-calls. A device that is not configured (``None``) is simply absent; one that is configured but does
-not answer gives a warning (once) and a sensible default: no telescope means no light at all.
+filter is in the beam (IFilters), on which side of its pier a German-equatorial mount stands
+(IPierSide: the field stands upside down, turned 180°, on the west side), whether the roof is open
+(IRoof) and how cloudy it is (ISimWeatherTruth). It then waits the exposure time on the clock and
+renders the frame with :func:`~nightcrew.sim.render.render_frame` in a worker thread, so the event
+loop keeps serving calls. A device that is not configured (``None``) is simply absent; one that is
+configured but does not answer gives a warning (once) and a sensible default: no telescope means no
+light at all.
 
 Stopped early (IStoppableExposure: bad weather ends a science frame), the camera renders the
 frame anew for the seconds the shutter was open and keeps it.
@@ -46,9 +48,11 @@ from nightcrew.interfaces import (
     ICoverCalibrator,
     IFilters,
     IFocuser,
+    IPierSide,
     IRoof,
     IStoppableExposure,
     MotionStatus,
+    PierSide,
     Window,
 )
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
@@ -245,16 +249,35 @@ class SimCamera(BaseCamera, IStoppableExposure):
 
     async def _look_around(self) -> Scene:
         """What the telescope, focuser, filter wheel, roof and weather say right now."""
-        radec, focus_error, filter_name, roof_open, clouds, (covered, panel) = await asyncio.gather(
-            self._ask("telescope", self._telescope, ISimTelescopeTruth, _true_radec, None),
-            self._ask("focuser", self._focuser, IFocuser, self._focus_error, 0.0),
-            self._ask("filters", self._filters, IFilters, _filter_name, None),
-            self._ask("roof", self._roof, IRoof, _roof_open, True),
-            self._ask("weather", self._weather, ISimWeatherTruth, _cloud_cover, 0.0),
+        # The side is asked of a telescope module (by name); one given as an object has none.
+        pier = self._telescope if isinstance(self._telescope, str) else None
+        # Two gathers (asked at once all the same): typed gather stops at six awaitables.
+        (
+            (radec, rotation, focus_error, filter_name, roof_open, clouds),
+            (covered, panel),
+        ) = await asyncio.gather(
+            asyncio.gather(
+                self._ask("telescope", self._telescope, ISimTelescopeTruth, _true_radec, None),
+                self._ask("telescope", pier, IPierSide, _field_rotation, 0.0),
+                self._ask("focuser", self._focuser, IFocuser, self._focus_error, 0.0),
+                self._ask("filters", self._filters, IFilters, _filter_name, None),
+                self._ask("roof", self._roof, IRoof, _roof_open, True),
+                self._ask("weather", self._weather, ISimWeatherTruth, _cloud_cover, 0.0),
+            ),
             self._ask("calibrator", self._calibrator, ICoverCalibrator, _cover_and_panel, (False, 0.0)),
         )
         throughput = self._throughputs.get(filter_name, 1.0) if filter_name is not None else 1.0
-        return Scene(radec, focus_error, filter_name, throughput, roof_open, clouds, covered, panel)
+        return Scene(
+            radec,
+            focus_error,
+            filter_name,
+            throughput,
+            roof_open,
+            clouds,
+            covered=covered,
+            panel=panel,
+            field_rotation=rotation,
+        )
 
     async def _ask(
         self,
@@ -306,7 +329,7 @@ class SimCamera(BaseCamera, IStoppableExposure):
             jyear = julian_year(start)
             with self._stars_lock:
                 stars = self._stars.stars(*scene.true_radec, render.field_radius_deg(geometry), jyear)
-        pointing = projection.Pointing(*(scene.true_radec or (0.0, 0.0)))
+        pointing = projection.Pointing(*(scene.true_radec or (0.0, 0.0)), rotation_deg=scene.field_rotation)
         frame = render.render_frame(
             stars,
             pointing=pointing,
@@ -347,6 +370,12 @@ class SimCamera(BaseCamera, IStoppableExposure):
 async def _true_radec(telescope: ISimTelescopeTruth) -> tuple[float, float] | None:
     ra, dec = await telescope.get_true_radec()
     return float(ra), float(dec)
+
+
+async def _field_rotation(telescope: IPierSide) -> float:
+    # A GEM's flip turns the camera half round on the sky: north up on the east side (and on a
+    # mount without sides), north down on the west side.
+    return 180.0 if await telescope.get_pier_side() is PierSide.WEST else 0.0
 
 
 async def _filter_name(filters: IFilters) -> str | None:

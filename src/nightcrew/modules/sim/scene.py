@@ -43,6 +43,8 @@ class Scene:
         cloud_cover: Fraction of the sky covered, 0..1.
         covered: Whether a closed cover keeps the sky out.
         panel: Brightness of a lit flat panel in front of the optics, 0..1 of its maximum.
+        field_rotation: Position angle of the detector's +y (degrees): 180 on the west side of a
+            German-equatorial mount's pier, where the field stands upside down after a flip.
     """
 
     true_radec: tuple[float, float] | None
@@ -53,6 +55,7 @@ class Scene:
     cloud_cover: float = 0.0
     covered: bool = False
     panel: float = 0.0
+    field_rotation: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -77,8 +77,9 @@ class ImagingScript(Script):
     On a German-equatorial mount (one that reports its pier side) a frame that would end more than
     ``flip_past_meridian`` degrees past the meridian with the counterweight up is preceded by a
     meridian flip (see :mod:`nightcrew.robotic.scripts._flip`): wait for the meridian if need be,
-    stop guiding, slew to the target again (the mount changes sides), acquire again, refocus if
-    ``refocus_after_flip`` is set, restart guiding.
+    stop guiding, slew to the target again (the mount changes sides), centre it again by plate solve
+    (the acquisition module; with ``centre_after_flip`` also for a task that did not ask for
+    acquisition), refocus if ``refocus_after_flip`` is set, restart guiding.
 
     Between frames (see :mod:`nightcrew.robotic.scripts._between`) the script dithers as the
     configuration's ``dither_config`` asks, grades every frame with ``grading`` (a failed frame is
@@ -95,6 +96,9 @@ class ImagingScript(Script):
         autoguider: Module offering IAutoGuiding; None: never guide.
         flip_past_meridian: Degrees (0..90) a frame may end past the meridian with the
             counterweight up before the script flips first; keep it below the mount's own limit.
+        centre_after_flip: After a flip, centre the target by the acquisition module even when the
+            task did not ask for acquisition (the mount's pointing differs from side to side);
+            False: only when it asked.
         refocus_after_flip: Run a focus series after each flip: a mapping of ``focus`` (IAutoFocus
             module), ``count``, ``step`` (mm) and ``exposure_time`` (s); None: no refocus.
         grading: Grade every science frame against the night and take failed ones again: a
@@ -119,6 +123,7 @@ class ImagingScript(Script):
         acquisition: str | IAcquisition | None = None,
         autoguider: str | IAutoGuiding | None = None,
         flip_past_meridian: float = 0.0,
+        centre_after_flip: bool = True,
         refocus_after_flip: Mapping[str, Any] | None = None,
         grading: Mapping[str, Any] | None = None,
         refocus_triggers: Mapping[str, Any] | None = None,
@@ -133,6 +138,7 @@ class ImagingScript(Script):
                 f"must be within 0..90 degrees, got {flip_past_meridian}", key="flip_past_meridian"
             )
         self._flip_past_meridian = float(flip_past_meridian)
+        self._centre_after_flip = bool(centre_after_flip)
         self._refocus = config_option(
             "refocus_after_flip",
             lambda: None if refocus_after_flip is None else RefocusAfterFlip.from_options(refocus_after_flip),
@@ -247,7 +253,7 @@ class ImagingScript(Script):
         if await pointing.pier.get_pier_side() is side:
             log.warning("the mount stayed on the %s side of the pier after the flip", side)
         pointing.dithering.forget_offsets()
-        await self._acquire(pointing.config)
+        await self._acquire(pointing.config, after_flip=True)
         await self._refocus_after_flip()
         pointing.guider = await self._start_guiding(pointing.config.guiding_config)
         return True
@@ -296,8 +302,9 @@ class ImagingScript(Script):
         if self._refocus is not None:
             await focus_series(self, self._refocus, "refocus after the flip")
 
-    async def _acquire(self, config: Configuration) -> None:
-        if config.acquisition_config.mode is AcquisitionMode.OFF:
+    async def _acquire(self, config: Configuration, *, after_flip: bool = False) -> None:
+        asked = config.acquisition_config.mode is not AcquisitionMode.OFF
+        if not asked and not (after_flip and self._centre_after_flip and self._acquisition is not None):
             return
         if self._acquisition is None:
             log.warning(
@@ -305,8 +312,16 @@ class ImagingScript(Script):
                 config.acquisition_config.mode,
             )
             return
-        acquisition = await step("connect to the acquisition", self.proxy(self._acquisition, IAcquisition))
-        result = await step("acquisition", acquisition.acquire_target(), on_cancel=acquisition.abort)
+        try:
+            acquisition = await step(
+                "connect to the acquisition", self.proxy(self._acquisition, IAcquisition)
+            )
+            result = await step("acquisition", acquisition.acquire_target(), on_cancel=acquisition.abort)
+        except Exception as exc:  # centring the task did not ask for must not end it
+            if asked:
+                raise
+            log.warning("centring after the flip failed, exposing without it: %s", exc)
+            return
         log.info("acquired: %s", result)
 
     async def _start_guiding(self, guiding: GuidingConfig) -> IAutoGuiding | None:
@@ -394,8 +409,8 @@ class ImagingScript(Script):
             refocused = self._refocusing is not None and await self._refocusing.refocus_if_due(
                 self, instrument_config.optical_elements.get(FILTER_ELEMENT), self._grading
             )
-            if (flipped and self._refocus is not None) or refocused:
-                await self._set_up(instrument, instrument_config)  # the focus frames set their own
+            if flipped or refocused:  # the acquisition's and focus frames set their own exposure
+                await self._set_up(instrument, instrument_config)
             path = await instrument.expose(
                 ImageType.OBJECT, cut_short=_recorder(reporter, index, instrument_config)
             )
