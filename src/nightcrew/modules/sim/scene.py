@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -43,6 +44,8 @@ class Scene:
         cloud_cover: Fraction of the sky covered, 0..1.
         covered: Whether a closed cover keeps the sky out.
         panel: Brightness of a lit flat panel in front of the optics, 0..1 of its maximum.
+        rates: The mount's offset rates (arcsec/s of RA and Dec) on top of sidereal tracking.
+        followed: The moving target the mount follows (as a task gives it), if any.
     """
 
     true_radec: tuple[float, float] | None
@@ -53,6 +56,8 @@ class Scene:
     cloud_cover: float = 0.0
     covered: bool = False
     panel: float = 0.0
+    rates: tuple[float, float] = (0.0, 0.0)
+    followed: dict[str, Any] | None = None
 
 
 @dataclass(frozen=True)
