@@ -42,8 +42,8 @@ MAJOR_BODY_MAGNITUDES: dict[str, float] = {
 }
 #: Minor planets and comets (the elements carry no absolute magnitude): bright enough to measure.
 MINOR_BODY_MAGNITUDE = 14.0
-#: Earth satellites (sunlit, as a pass scheduled at night is seen).
-SATELLITE_MAGNITUDE = 4.0
+#: Earth satellites (a small sunlit one: a one-second frame of it does not saturate).
+SATELLITE_MAGNITUDE = 8.0
 
 
 def body_magnitude(body: Body) -> float:

@@ -82,8 +82,10 @@ def measure_moving_body(
     saying why there is none."""
     predicted = predicted_position(image.header)
     scale = image.pixel_scale
-    if predicted is None or image.wcs is None or scale is None:
-        return "no ephemeris cards or no WCS"
+    if predicted is None:
+        return f"no ephemeris: the frame lacks one of {', '.join(_EPHEMERIS_CARDS)}"
+    if image.wcs is None or scale is None:
+        return "no WCS: the field was not solved"
     ra0, dec0, mjd = predicted
     x0, y0 = (float(v) for v in image.sky_to_pixel(ra0, dec0))
     data = float_data(image)
