@@ -1,6 +1,6 @@
 """Moving bodies in the simulated sky: how bright each kind is drawn, and what moves during an
-exposure (:class:`~nightcrew.sim.render.Motion`) when the mount tracks at offset rates and a body
-is in the field.
+exposure (:class:`~nightcrew.sim.render.Motion`) when the mount follows a body or tracks at
+offset rates.
 
 The body is where its ephemeris (:func:`nightcrew.astro.ephemeris.positions`) says, at each
 sub-time: the simulator's truth is the same ephemeris a user's frames are compared with, so the
@@ -68,12 +68,17 @@ def exposure_motion(
 ) -> Motion | None:
     """What moves during an exposure; None when nothing does (sidereal tracking, no body).
 
+    A mount that follows ``body`` keeps on it: the axis moves with the body, from where it points
+    at the start (the follow loop keeps the real mount within its ``follow_error_limit`` by
+    updating its rates during the exposure; the simulator draws that following as exact). A mount
+    that tracks at offset ``rates`` without a body moves along them.
+
     Args:
         start: Unix time the shutter opens.
         exposure_time: Seconds it stays open.
         pointing: Where the axis points at the start, ICRS degrees.
         rates: The mount's offset rates, arcsec/s of RA (as an angle of right ascension) and Dec.
-        body: The body in the field (the one the mount follows), if any.
+        body: The body the mount follows, if any.
         site: Where the telescope stands.
         pixel_scale_arcsec: Unbinned pixel scale: the paths are sampled every quarter pixel.
     """
@@ -81,19 +86,18 @@ def exposure_motion(
         return None
     ra0, dec0 = pointing
     cos_dec = math.cos(math.radians(dec0))
-    mount_path = math.hypot(rates[0] * cos_dec, rates[1]) * exposure_time
-    path = mount_path
+    path = math.hypot(rates[0] * cos_dec, rates[1]) * exposure_time
     if body is not None:
         ends = positions(body, site, np.array([start, start + exposure_time]))
-        moved_ra = ((ends[0][1] - ends[0][0] + 180.0) % 360.0 - 180.0) * 3600.0 - rates[0] * exposure_time
-        moved_dec = (ends[1][1] - ends[1][0]) * 3600.0 - rates[1] * exposure_time
-        path = max(path, math.hypot(moved_ra * cos_dec, moved_dec))
-    fractions = sample_fractions(sample_count(path / pixel_scale_arcsec))
-    seconds = fractions * exposure_time
-    pointing_ra = (ra0 + rates[0] * seconds / 3600.0) % 360.0
-    pointing_dec = np.clip(dec0 + rates[1] * seconds / 3600.0, -90.0, 90.0)
-    bodies: tuple[MovingBody, ...] = ()
-    if body is not None:
-        ra, dec, _ = positions(body, site, start + seconds)
-        bodies = (MovingBody(ra=ra, dec=dec, mag=body_magnitude(body)),)
-    return Motion(pointing_ra=pointing_ra, pointing_dec=pointing_dec, bodies=bodies)
+        moved_ra = ((ends[0][1] - ends[0][0] + 180.0) % 360.0 - 180.0) * 3600.0
+        path = math.hypot(moved_ra * cos_dec, (ends[1][1] - ends[1][0]) * 3600.0)
+    seconds = sample_fractions(sample_count(path / pixel_scale_arcsec)) * exposure_time
+    if body is None:
+        pointing_ra = (ra0 + rates[0] * seconds / 3600.0) % 360.0
+        pointing_dec = np.clip(dec0 + rates[1] * seconds / 3600.0, -90.0, 90.0)
+        return Motion(pointing_ra=pointing_ra, pointing_dec=pointing_dec)
+    ra, dec, _ = positions(body, site, np.concatenate(([start], start + seconds)))
+    pointing_ra = (ra0 + ((ra[1:] - ra[0] + 180.0) % 360.0 - 180.0)) % 360.0
+    pointing_dec = np.clip(dec0 + dec[1:] - dec[0], -90.0, 90.0)
+    body_path = MovingBody(ra=ra[1:], dec=dec[1:], mag=body_magnitude(body))
+    return Motion(pointing_ra=pointing_ra, pointing_dec=pointing_dec, bodies=(body_path,))
