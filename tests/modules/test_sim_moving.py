@@ -5,16 +5,19 @@ on the example's night."""
 
 from __future__ import annotations
 
-from datetime import UTC, datetime
+import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+import yaml
 
+from nightcrew.config import build_object
 from nightcrew.images.image import Image
 from nightcrew.images.processors.detection import SepSourceDetection
 from nightcrew.images.processors.misc import moffat_fwhm
+from nightcrew.modules import Module
 from nightcrew.modules.image import Pipeline
 from nightcrew.modules.sim import SimCamera, SimRoof, SimTelescope
 from nightcrew.sim.catalog import STAR_DTYPE
@@ -73,10 +76,6 @@ def test_a_followed_body_is_a_point_among_trailed_stars() -> None:
     lit = np.flatnonzero(row > 0.5 * row.max())
     assert 43 <= lit.max() - lit.min() <= 47  # the star's trail, from where it was at the start
     assert min(abs(sx - lit.min()), abs(sx - lit.max())) < 2
-
-
-def when(text: str) -> float:
-    return datetime.fromisoformat(text).replace(tzinfo=UTC).timestamp()
 
 
 @pytest.mark.parametrize(
@@ -172,3 +171,10 @@ async def followed_frame(kind: str, epoch: str, seconds: float) -> Image:
         await camera.set_exposure_time(seconds)
         raw = await camera.grab_data()
         return Image.from_hdul(await observatory.vfs.read_fits(raw))
+
+
+def test_the_documented_pipeline_with_an_observatory_code_builds() -> None:
+    section = (Path(__file__).parents[2] / "docs/pipeline.md").read_text().split("### Moving bodies", 1)[1]
+    block = next(b for b in re.findall(r"```yaml\n(.*?)```", section, flags=re.S) if "observatory_code" in b)
+    pipeline = build_object({**yaml.safe_load(block), "name": "pipeline"}, Module)
+    assert isinstance(pipeline, Pipeline)
