@@ -160,8 +160,9 @@ async def measure(sidereal: Image, followed: Image) -> tuple[float, float, float
 async def frames_table(count: int = 5) -> None:
     columns = (
         ('rate ("/min)', 12),
-        ("drift (px)", 10),
+        ("body (px)", 9),
         ("star (px)", 9),
+        ("drift (px)", 10),
         ("FWHM ratio", 10),
         ('dRA (")', 8),
         ('dDec (")', 8),
