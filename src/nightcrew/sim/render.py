@@ -8,6 +8,11 @@ Pipeline of :func:`render_frame` (electrons until the last step):
    sum multiplied by the vignetting flat.
 2. Dark current (uniform rate plus the camera's fixed hot pixels) and cosmic rays (a Poisson
    number of hits with mean ``cosmic_rays_per_s * exposure * window fraction``).
+Motion (:class:`Motion`): when the pointing moves during the exposure (a mount following a moving
+body) the stars are trailed along the field centre's path (:mod:`~nightcrew.sim.trail`), and each
+moving body is drawn at its own positions at the same sub-times, so a followed body stays a point
+and one the mount does not follow leaves a trail.
+
 3. Charge binning, then photon + read noise (:func:`~nightcrew.sim.detector.sample_noise`), then
    gain, bias and clipping to [0, 65535] ADU.
 
@@ -17,7 +22,7 @@ Rendering happens at unbinned resolution over the readout window only.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -37,11 +42,14 @@ from nightcrew.sim.sky import (
     sky_electrons_per_pixel_per_second,
     star_electrons_per_second,
 )
+from nightcrew.sim.trail import trail
 
 __all__ = [
     "CameraModel",
     "Conditions",
     "Exposure",
+    "Motion",
+    "MovingBody",
     "Optics",
     "RenderedFrame",
     "StarTruth",
@@ -52,6 +60,8 @@ __all__ = [
 
 FloatArray = npt.NDArray[np.float64]
 ARCSEC_PER_RAD = 206264.806
+#: Sub-times at which moving paths are projected exactly (see ``_pixels_along``).
+_PATH_KNOTS = 65
 
 
 @dataclass(frozen=True)
@@ -135,6 +145,40 @@ class StarTruth:
 
 
 @dataclass(frozen=True)
+class MovingBody:
+    """A body that moves among the stars: ICRS (ra, dec) degrees at each of :class:`Motion`'s
+    sub-times, and its magnitude."""
+
+    ra: FloatArray
+    dec: FloatArray
+    mag: float
+
+
+@dataclass(frozen=True)
+class Motion:
+    """What moves during the exposure, sampled at the mid-times of equal parts of it.
+
+    Attributes:
+        pointing_ra: Where the axis points at each sub-time, degrees.
+        pointing_dec: The same, declination.
+        bodies: Moving bodies, sampled at the same sub-times.
+    """
+
+    pointing_ra: FloatArray
+    pointing_dec: FloatArray
+    bodies: tuple[MovingBody, ...] = ()
+
+    def __post_init__(self) -> None:
+        count = len(self.pointing_ra)
+        if count == 0 or len(self.pointing_dec) != count or any(len(b.ra) != count for b in self.bodies):
+            raise ValueError("a motion needs at least one sub-time and the same number for each path")
+
+
+def _no_truth() -> StarTruth:
+    return StarTruth(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
+
+
+@dataclass(frozen=True)
 class RenderedFrame:
     """The frame (uint16 ADU, rows x cols) and what went into it."""
 
@@ -145,6 +189,8 @@ class RenderedFrame:
     """Star FWHM in output (binned) pixels."""
     sky_e_per_pixel: float
     """Sky electrons per output pixel over the exposure, before the flat."""
+    bodies: StarTruth = field(default_factory=_no_truth)
+    """Moving bodies: mean output-pixel positions over the exposure, electrons, magnitudes."""
 
 
 def frame_geometry(camera: CameraModel, optics: Optics, exposure: Exposure) -> FrameGeometry:
@@ -168,8 +214,12 @@ def render_frame(
     conditions: Conditions,
     exposure: Exposure,
     rng: np.random.Generator,
+    motion: Motion | None = None,
 ) -> RenderedFrame:
     """Render one frame of ``stars`` (structured array with ``ra``, ``dec``, ``mag`` fields).
+
+    ``pointing`` is where the axis points at the start; ``motion`` (None: it stays there) moves it
+    during the exposure and adds moving bodies.
 
     ``stars`` should cover the field (e.g. a catalog cone of the frame's half diagonal); stars off
     the frame are ignored. Randomness (noise, cosmic rays) comes from ``rng`` only: the same seed
@@ -194,11 +244,11 @@ def render_frame(
     )
 
     electrons = np.zeros(shape_unbinned, dtype=np.float32)
-    truth = StarTruth(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
+    truth, bodies = _no_truth(), _no_truth()
     sky_e = 0.0
     if conditions.roof_open and exposure.shutter_open and t > 0:
-        electrons, truth, sky_e = _light(
-            stars, pointing, geometry, fwhm_px, shape_unbinned, camera, optics, conditions, exposure
+        electrons, truth, bodies, sky_e = _light(
+            stars, pointing, geometry, fwhm_px, shape_unbinned, camera, optics, conditions, exposure, motion
         )
     if conditions.panel_e_per_s > 0 and exposure.shutter_open and t > 0:
         # An even panel: only the optics' vignetting shapes it (what a flat field records).
@@ -216,7 +266,12 @@ def render_frame(
         noisy, gain_e_per_adu=camera.gain_e_per_adu, bias_adu=camera.bias_adu, full_well_e=camera.full_well_e
     )
     return RenderedFrame(
-        data=data, stars=truth, geometry=geometry, fwhm_px=fwhm_px / b, sky_e_per_pixel=sky_e * b * b
+        data=data,
+        stars=truth,
+        geometry=geometry,
+        fwhm_px=fwhm_px / b,
+        sky_e_per_pixel=sky_e * b * b,
+        bodies=bodies,
     )
 
 
@@ -230,8 +285,9 @@ def _light(
     optics: Optics,
     conditions: Conditions,
     exposure: Exposure,
-) -> tuple[npt.NDArray[np.float32], StarTruth, float]:
-    """Star and sky electrons (after the flat) over the window at unbinned resolution."""
+    motion: Motion | None,
+) -> tuple[npt.NDArray[np.float32], StarTruth, StarTruth, float]:
+    """Star, body and sky electrons (after the flat) over the window at unbinned resolution."""
     window = geometry.full_window
     t = exposure.exposure_time_s
     # Project on the unbinned full chip, then shift to the window's corner.
@@ -242,15 +298,37 @@ def _light(
     near = np.isfinite(x) & (x > -margin) & (x < shape_unbinned[1] + margin)
     near &= (y > -margin) & (y < shape_unbinned[0] + margin)
     mag = np.asarray(stars["mag"][near], dtype=np.float64)
-    flux = t * star_electrons_per_second(
-        mag,
-        zero_point_mag=optics.zero_point_mag,
-        throughput=exposure.filter_throughput,
-        airmass=conditions.airmass,
-        extinction_mag_per_airmass=conditions.extinction_mag_per_airmass,
-        transmission=conditions.transmission,
-    )
+
+    def electrons_of(mags: FloatArray) -> FloatArray:
+        return t * star_electrons_per_second(
+            mags,
+            zero_point_mag=optics.zero_point_mag,
+            throughput=exposure.filter_throughput,
+            airmass=conditions.airmass,
+            extinction_mag_per_airmass=conditions.extinction_mag_per_airmass,
+            transmission=conditions.transmission,
+        )
+
+    flux = electrons_of(mag)
     image = render_stars(shape_unbinned, x[near], y[near], flux, fwhm_px=fwhm_px, beta=optics.moffat_beta)
+    body_x, body_y, body_flux, body_mag = (np.zeros(0),) * 4
+    if motion is not None:
+        # The field centre's path in pixels moves every star alike (the field is small).
+        path = _pixels_along(pointing.ra_deg, pointing.dec_deg, motion, pointing.rotation_deg, chip)
+        still = sky_to_pixel(np.array([pointing.ra_deg]), np.array([pointing.dec_deg]), pointing, chip)
+        image = trail(image, path[0] - still[0][0], path[1] - still[1][0])
+        body_mag = np.array([body.mag for body in motion.bodies], dtype=np.float64)
+        body_flux = electrons_of(body_mag)
+        xs_all, ys_all = [], []
+        for body, total in zip(motion.bodies, body_flux, strict=True):
+            bu, bv = _pixels_along(body.ra, body.dec, motion, pointing.rotation_deg, chip)
+            share = np.full(len(bu), total / len(bu))
+            image += render_stars(
+                shape_unbinned, bu - window.x, bv - window.y, share, fwhm_px=fwhm_px, beta=optics.moffat_beta
+            )
+            xs_all.append(float(np.mean(bu)))
+            ys_all.append(float(np.mean(bv)))
+        body_x, body_y = geometry.unbinned_to_output(np.array(xs_all), np.array(ys_all))
     sky_mag = sky_brightness_mag(
         conditions.sun_altitude_deg,
         moon_altitude_deg=conditions.moon_altitude_deg,
@@ -273,7 +351,29 @@ def _light(
     star_flat = flat[np.rint(ys).astype(np.int64), np.rint(xs).astype(np.int64)]
     out_x, out_y = geometry.unbinned_to_output(xs + window.x, ys + window.y)
     truth = StarTruth(x=out_x, y=out_y, flux_e=flux[on_frame] * star_flat, mag=mag[on_frame])
-    return image, truth, sky_e
+    bodies = StarTruth(x=np.asarray(body_x), y=np.asarray(body_y), flux_e=body_flux, mag=body_mag)
+    return image, truth, bodies, sky_e
+
+
+def _pixels_along(
+    ra: float | FloatArray, dec: float | FloatArray, motion: Motion, rotation: float, chip: FrameGeometry
+) -> tuple[FloatArray, FloatArray]:
+    """Unbinned chip pixels of (``ra``, ``dec``) (one position, or one per sub-time) seen with the
+    pointing of each of ``motion``'s sub-times.
+
+    Projected exactly at up to :data:`_PATH_KNOTS` sub-times and interpolated between them: over
+    one exposure the paths are smooth, and a satellite's has thousands of sub-times.
+    """
+    count = len(motion.pointing_ra)
+    ras, decs = np.broadcast_to(ra, count), np.broadcast_to(dec, count)
+    knots = np.unique(np.linspace(0, count - 1, min(count, _PATH_KNOTS)).round().astype(np.int64))
+    u, v = np.empty(len(knots)), np.empty(len(knots))
+    for i, k in enumerate(knots):
+        here = Pointing(float(motion.pointing_ra[k]), float(motion.pointing_dec[k]), rotation)
+        uk, vk = sky_to_pixel(ras[k : k + 1], decs[k : k + 1], here, chip)
+        u[i], v[i] = uk[0], vk[0]
+    every = np.arange(count)
+    return np.interp(every, knots, u), np.interp(every, knots, v)
 
 
 def _add_hot_pixels(

@@ -74,6 +74,7 @@ async def test_a_new_object_frame_is_reduced_solved_and_written(
         ({"masters": "masters"}, "masters"),
         ({"solver_url": "localhost:8091"}, "solver_url"),
         ({"max_queue": 0}, "max_queue"),
+        ({"observatory_code": "Z9"}, "observatory_code"),
     ],
 )
 def test_a_bad_option_is_a_config_error_naming_its_key(change: dict[str, object], key: str) -> None:

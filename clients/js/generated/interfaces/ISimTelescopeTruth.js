@@ -34,6 +34,16 @@ export class ISimTelescopeTruth extends RemoteInterface {
     return this._invoke("get_pier_collisions", arguments);
   }
   /**
+   * The offset rates the mount tracks at now (arcsec/s of RA and Dec) and the moving target
+   * it follows (as given to move_ephemeris; None when it follows none).
+   *
+   * Timeout: 10 clock seconds (the default, not announced).
+   * @returns {Promise<[[number, number], object|null]>}
+   */
+  get_true_motion() {
+    return this._invoke("get_true_motion", arguments);
+  }
+  /**
    * True ICRS (ra, dec) in degrees; get_radec() gives what the mount reports.
    *
    * Timeout: 10 clock seconds (the default, not announced).
@@ -51,6 +61,44 @@ ISimTelescopeTruth.spec = {
         "items": {
           "$ref": "#/components/schemas/PierCollision"
         },
+        "type": "array"
+      },
+      "timeout": {
+        "announced": false,
+        "seconds": 10.0
+      }
+    },
+    "get_true_motion": {
+      "params": [],
+      "result": {
+        "maxItems": 2,
+        "minItems": 2,
+        "prefixItems": [
+          {
+            "maxItems": 2,
+            "minItems": 2,
+            "prefixItems": [
+              {
+                "type": "number"
+              },
+              {
+                "type": "number"
+              }
+            ],
+            "type": "array"
+          },
+          {
+            "anyOf": [
+              {
+                "additionalProperties": true,
+                "type": "object"
+              },
+              {
+                "type": "null"
+              }
+            ]
+          }
+        ],
         "type": "array"
       },
       "timeout": {

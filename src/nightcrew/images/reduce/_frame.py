@@ -1,5 +1,6 @@
 """One science frame reduced: calibrated with given masters, stars detected, plate-solved and
-measured, with the reduction headers set. ``nightcrew reduce`` and the online
+measured (and a followed moving body's position, :mod:`nightcrew.images.processors.moving`), with
+the reduction headers set. ``nightcrew reduce`` and the online
 :class:`~nightcrew.modules.image.pipeline.Pipeline` module both reduce through :func:`reduce_frame`.
 
 Headers of a reduced frame (LCO's convention): ``RLEVEL`` = 91 (raw frames are 0), ``RAWFILE`` =
@@ -28,6 +29,7 @@ from nightcrew.images.calibration import calibrate_image
 from nightcrew.images.image import Image
 from nightcrew.images.processor import ImageProcessor
 from nightcrew.images.processors.detection import SepSourceDetection
+from nightcrew.images.processors.moving import MeasureMovingBody
 from nightcrew.images.processors.photometry import SepPhotometry
 
 __all__ = ["REDUCED_LEVEL", "Master", "ReductionSteps", "StageTimes", "reduce_frame"]
@@ -56,11 +58,13 @@ class StageTimes:
 
 @dataclass(frozen=True)
 class ReductionSteps:
-    """Detection, plate solving (its failure is noted, not fatal) and aperture photometry."""
+    """Detection, plate solving (its failure is noted, not fatal), aperture photometry and the
+    moving body's position (on frames that carry its ephemeris; None: not measured)."""
 
     detection: ImageProcessor
     astrometry: ImageProcessor
     photometry: ImageProcessor
+    moving: ImageProcessor | None = None
 
     @classmethod
     def default(
@@ -98,6 +102,7 @@ class ReductionSteps:
             detection=SepSourceDetection(threshold=detection_threshold),
             astrometry=FirstSolution(solvers),
             photometry=SepPhotometry(radii=(3.0, 6.0)),
+            moving=MeasureMovingBody(),
         )
 
 
@@ -145,6 +150,12 @@ async def reduce_frame(
     started = time.perf_counter()
     image = await steps.photometry(image)
     times.add("photometry", started)
+    if steps.moving is not None:
+        started = time.perf_counter()
+        image = await steps.moving(image)
+        times.add("moving", started)
+        if "MOV-NOTE" in image.header:
+            notes.append(f"moving body: {image.header['MOV-NOTE']}")
     header = image.header.copy()
     cards: dict[str, Any] = {
         "RLEVEL": (REDUCED_LEVEL, "Reduction level (0 raw)"),

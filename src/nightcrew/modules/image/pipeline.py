@@ -7,7 +7,9 @@ catalog matcher, then the solve service at ``solver_url``, then optionally solve
 aperture photometry and writes ``<output>/<raw name>_red.fits`` with ``RLEVEL`` = 91, ``RAWFILE``
 and ``BIASFILE``/``DARKFILE``/``FLATFILE`` (see :func:`nightcrew.images.reduce.reduce_frame`, the
 code ``nightcrew reduce`` runs too). With an ArchiveFile root as ``output`` the reduced frames go
-to the archive. Frames wait in a queue and are reduced one at a time.
+to the archive. A frame taken while following a moving body also gets the body's measured position
+(``MOV-*`` cards) and, beside the reduced frame, ``<raw name>_red.mpc`` with its MPC 80-column line.
+Frames wait in a queue and are reduced one at a time.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from nightcrew.images.calibration import (
     select_master,
 )
 from nightcrew.images.image import Image
+from nightcrew.images.processors.moving import mpc_line_of
 from nightcrew.images.reduce import Master, ReductionSteps, StageTimes, reduce_frame
 from nightcrew.interfaces import ImageType, ModuleState
 from nightcrew.modules.module import Module
@@ -53,6 +56,8 @@ class Pipeline(Module):
         pixel_scale_arcsec: Unbinned pixel scale; None: from the headers.
         sources: Only frames from these modules (cameras); all by default.
         max_queue: Frames waiting at most; more are dropped with an error (the night goes on).
+        observatory_code: The site's MPC observatory code in the MPC lines of moving bodies
+            (``XXX`` until the MPC assigns one).
         **kwargs: Module options.
     """
 
@@ -67,6 +72,7 @@ class Pipeline(Module):
         pixel_scale_arcsec: float | None = None,
         sources: list[str] | None = None,
         max_queue: int = 100,
+        observatory_code: str = "XXX",
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -81,6 +87,9 @@ class Pipeline(Module):
             raise ConfigError("name at least one module, or leave sources out", key="sources")
         if max_queue < 1:
             raise ConfigError(f"must be >= 1, got {max_queue}", key="max_queue")
+        if not (isinstance(observatory_code, str) and len(observatory_code) == 3):
+            raise ConfigError(f"three characters, got {observatory_code!r}", key="observatory_code")
+        self._observatory_code = observatory_code
         self._masters = masters.rstrip("/")
         self._output = output.rstrip("/") or "/"
         self._sources = set(sources) if sources is not None else None
@@ -141,6 +150,9 @@ class Pipeline(Module):
         )
         target = posixpath.join(self._output, raw_name.split(".fit")[0] + "_red.fits")
         await image.to_vfs(self.vfs, target)
+        line = mpc_line_of(image.header, self._observatory_code)
+        if line is not None:
+            await self.vfs.write_bytes(target.removesuffix(".fits") + ".mpc", (line + "\n").encode())
         log.info("%s: reduced %s to %s%s", self.name, path, target, f" ({'; '.join(notes)})" if notes else "")
         return target
 

@@ -17,7 +17,9 @@ The frame carries the camera's own cards (gain, read noise, pixel size, focal le
 and a few ``SIM-*`` cards with the simulator's truth (true pointing, FWHM, cloud cover) for tests
 and tutorials, and the sky it shows (``SIM-SKY``: seed, depth and star sources, whose index files
 :mod:`nightcrew.sim.sky_index` builds; ``SIM-STAR``: the real star sources and their versions).
-It has no WCS: finding one is the plate solver's job.
+It has no WCS: finding one is the plate solver's job. While the mount tracks at offset rates the
+stars trail, and the body it follows (ISimTelescopeTruth.get_true_motion) is drawn where its
+ephemeris puts it during the exposure (:mod:`.bodies`).
 
 Its cooler follows :mod:`nightcrew.sim.thermal` (``cooler``: ambient, reach below ambient, time
 constant), on the clock: a set point below its reach is accepted, as a real camera's is, with a
@@ -56,8 +58,10 @@ from nightcrew.interfaces import (
     Window,
 )
 from nightcrew.modules.camera import BaseCamera, ExposureSettings, Frame
+from nightcrew.modules.sim.bodies import exposure_motion
 from nightcrew.modules.sim.interfaces import ISimFocuserTruth, ISimTelescopeTruth, ISimWeatherTruth
 from nightcrew.modules.sim.scene import Atmosphere, Scene, StarFieldCache, conditions_at
+from nightcrew.modules.telescope.following import parse_moving_target
 from nightcrew.sim import projection, render, sky_index
 from nightcrew.sim.catalog import StarCatalog
 from nightcrew.sim.real_stars import star_sources
@@ -251,10 +255,12 @@ class SimCamera(BaseCamera, IStoppableExposure):
         """What the telescope, focuser, filter wheel, roof and weather say right now."""
         # The side is asked of a telescope module (by name); one given as an object has none.
         pier = self._telescope if isinstance(self._telescope, str) else None
-        # Two gathers (asked at once all the same): typed gather stops at six awaitables.
+        no_motion: tuple[tuple[float, float], dict[str, Any] | None] = ((0.0, 0.0), None)
+        # Three gathers (asked at once all the same): typed gather stops at six awaitables.
         (
             (radec, rotation, focus_error, filter_name, roof_open, clouds),
             (covered, panel),
+            (rates, followed),
         ) = await asyncio.gather(
             asyncio.gather(
                 self._ask("telescope", self._telescope, ISimTelescopeTruth, _true_radec, None),
@@ -265,6 +271,7 @@ class SimCamera(BaseCamera, IStoppableExposure):
                 self._ask("weather", self._weather, ISimWeatherTruth, _cloud_cover, 0.0),
             ),
             self._ask("calibrator", self._calibrator, ICoverCalibrator, _cover_and_panel, (False, 0.0)),
+            self._ask("telescope", self._telescope, ISimTelescopeTruth, _true_motion, no_motion),
         )
         throughput = self._throughputs.get(filter_name, 1.0) if filter_name is not None else 1.0
         return Scene(
@@ -277,6 +284,8 @@ class SimCamera(BaseCamera, IStoppableExposure):
             covered=covered,
             panel=panel,
             field_rotation=rotation,
+            rates=rates,
+            followed=followed,
         )
 
     async def _ask(
@@ -330,6 +339,18 @@ class SimCamera(BaseCamera, IStoppableExposure):
             with self._stars_lock:
                 stars = self._stars.stars(*scene.true_radec, render.field_radius_deg(geometry), jyear)
         pointing = projection.Pointing(*(scene.true_radec or (0.0, 0.0)), rotation_deg=scene.field_rotation)
+        motion = None
+        if scene.true_radec is not None and self.site is not None:
+            # The mount's rates and the body it follows, from the start: the sky moves as they say.
+            motion = exposure_motion(
+                start=start,
+                exposure_time=settings.exposure_time,
+                pointing=scene.true_radec,
+                rates=scene.rates,
+                body=None if scene.followed is None else parse_moving_target(scene.followed)[0],
+                site=self.site,
+                pixel_scale_arcsec=geometry.pixel_scale_arcsec,
+            )
         frame = render.render_frame(
             stars,
             pointing=pointing,
@@ -339,6 +360,7 @@ class SimCamera(BaseCamera, IStoppableExposure):
             conditions=conditions,
             exposure=exposure,
             rng=rng,
+            motion=motion,
         )
         scale = geometry.pixel_scale_arcsec * binning
         cards: dict[str, FitsCard] = {
@@ -376,6 +398,11 @@ async def _field_rotation(telescope: IPierSide) -> float:
     # A GEM's flip turns the camera half round on the sky: north up on the east side (and on a
     # mount without sides), north down on the west side.
     return 180.0 if await telescope.get_pier_side() is PierSide.WEST else 0.0
+
+
+async def _true_motion(telescope: ISimTelescopeTruth) -> tuple[tuple[float, float], dict[str, Any] | None]:
+    (ra_rate, dec_rate), followed = await telescope.get_true_motion()
+    return (float(ra_rate), float(dec_rate)), followed
 
 
 async def _filter_name(filters: IFilters) -> str | None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from abc import abstractmethod
+from typing import Any
 
 from nightcrew.interfaces.base import Interface
 from nightcrew.sim.mount import PierCollision
@@ -16,6 +17,11 @@ class ISimTelescopeTruth(Interface):
     @abstractmethod
     async def get_true_radec(self) -> tuple[float, float]:
         """True ICRS (ra, dec) in degrees; get_radec() gives what the mount reports."""
+
+    @abstractmethod
+    async def get_true_motion(self) -> tuple[tuple[float, float], dict[str, Any] | None]:
+        """The offset rates the mount tracks at now (arcsec/s of RA and Dec) and the moving target
+        it follows (as given to move_ephemeris; None when it follows none)."""
 
     @abstractmethod
     async def get_pier_collisions(self) -> list[PierCollision]:

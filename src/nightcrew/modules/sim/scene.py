@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -45,6 +46,8 @@ class Scene:
         panel: Brightness of a lit flat panel in front of the optics, 0..1 of its maximum.
         field_rotation: Position angle of the detector's +y (degrees): 180 on the west side of a
             German-equatorial mount's pier, where the field stands upside down after a flip.
+        rates: The mount's offset rates (arcsec/s of RA and Dec) on top of sidereal tracking.
+        followed: The moving target the mount follows (as a task gives it), if any.
     """
 
     true_radec: tuple[float, float] | None
@@ -56,6 +59,8 @@ class Scene:
     covered: bool = False
     panel: float = 0.0
     field_rotation: float = 0.0
+    rates: tuple[float, float] = (0.0, 0.0)
+    followed: dict[str, Any] | None = None
 
 
 @dataclass(frozen=True)

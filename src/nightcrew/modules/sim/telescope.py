@@ -112,6 +112,7 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         self._drifting = False
         # Offset rates (arcsec/s of RA and Dec) added to sidereal tracking since a clock time.
         self._rates, self._rates_since = (0.0, 0.0), 0.0
+        self._followed_target: dict[str, Any] | None = None  # what move_ephemeris was given last
 
     # --- where it points -----------------------------------------------------------------------
 
@@ -152,6 +153,14 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         tracked = now - self._settled_at if self._drifting else 0.0
         east, north = self._errors.offset(self._slew_error, tracked, now)
         return apply_sky_offset(ra, dec, east, north)
+
+    async def move_ephemeris(self, target: dict[str, Any]) -> None:
+        await super().move_ephemeris(target)
+        self._followed_target = dict(target)
+
+    async def get_true_motion(self) -> tuple[tuple[float, float], dict[str, Any] | None]:
+        following = self._following is not None and self._tracking is not None
+        return self._rates, (self._followed_target if following else None)
 
     # --- German-equatorial mode ----------------------------------------------------------------
 
