@@ -126,10 +126,14 @@ async def test_series_fit_and_model_bring_the_pointing_error_to_arcseconds(
     after = await pointing_miss(telescope, *target)  # the telescope read the new file
     assert after < 5.0, (before, after)
     # get_radec says where it really points, and the frames carry the mount's own position.
-    header = await telescope.get_fits_header_before()
+    header = {
+        key: value
+        for key, (value, _) in (await telescope.get_fits_header_before()).items()
+        if isinstance(value, float)
+    }
     true_ra, true_dec = await telescope.get_true_radec()
-    assert angular_separation(header["RA"][0], header["DEC"][0], true_ra, true_dec) * 3600.0 < 5.0
-    assert angular_separation(header["MNT-RA"][0], header["MNT-DEC"][0], *target) * 3600.0 > 300.0
+    assert angular_separation(header["RA"], header["DEC"], true_ra, true_dec) * 3600.0 < 5.0
+    assert angular_separation(header["MNT-RA"], header["MNT-DEC"], *target) * 3600.0 > 300.0
     print(f'pointing model: miss before {before:.0f}", after {after:.1f}"')
 
 

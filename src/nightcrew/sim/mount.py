@@ -123,4 +123,3 @@ def pointing_terms_model(mount: str, latitude: float, terms: dict[str, float]) -
     """The injected pointing terms (arcsec, by TPoint name) as a model; PointingModelError for an
     unknown name."""
     return PointingModel(mount, latitude, {str(name): float(value) for name, value in terms.items()})
-
