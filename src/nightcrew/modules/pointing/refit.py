@@ -95,6 +95,10 @@ class PassivePointingRefit(Module):
         """Pairs kept now."""
         return len(self._pairs)
 
+    async def join(self) -> None:
+        """Return once every frame received so far has been measured (or skipped)."""
+        await self._queue.join()
+
     async def open(self) -> None:
         if self.state is not ModuleState.STARTING:
             return
