@@ -63,51 +63,43 @@ MOUNT = {"pointing_error": 2.0 / 60.0, "drift_rate": 0.0, "periodic_amplitude": 
 CAMERA = {"chip_width": 1024, "chip_height": 1024, "cosmic_rays_per_s": 0.0}
 
 
-class WideSkyIndexes(ImageProcessor):
-    """Builds the simulated sky's index files for up to 0.7 deg around the header position (the
+class SimulatedSkySolver(ImageProcessor):
+    """The catalog matcher within 15' of the header position on the simulated sky's index files for
+    that field; when it fails, solve-field within 1.2 deg on the files for up to 0.7 deg around (the
     true field may be that far off before a model exists; a real site installs the whole sky)."""
 
     def __init__(self) -> None:
         super().__init__()
         self._builder = SkyIndexBuilder(StarCatalog(seed=SEED, depth=DEPTH))
-        self.directory = str(self._builder.directory)
-
-    async def __call__(self, image: Image) -> Image:
-        ra, dec = float(image.header["RA"]), float(image.header["DEC"])
-        width = max(image.shape) * (image.pixel_scale or 1.16) / 60.0
-        step = 0.7
-        centres = [
-            (
-                (ra + i * step / max(math.cos(math.radians(dec)), 0.1)) % 360.0,
-                max(-89.9, min(89.9, dec + j * step)),
-            )
-            for i in (-1, 0, 1)
-            for j in (-1, 0, 1)
-        ]
-        await asyncio.to_thread(self._builder.blocking_build, centres, width_arcmin=[width])
-        return image
-
-
-class CatalogThenSolveField(ImageProcessor):
-    """The catalog matcher near the header position (15'), else solve-field within 1.2 deg."""
-
-    def __init__(self, index_dir: str) -> None:
-        super().__init__()
+        index_dir = str(self._builder.directory)
         self._near = CatalogAstrometry(index_dir=index_dir)
         self._wide = SolveFieldAstrometry(
             radius_deg=1.2, solver=SolveField(index_dir=index_dir, timeout_s=60.0)
         )
 
+    async def _build(self, image: Image, reach: int) -> None:
+        ra, dec = float(image.header["RA"]), float(image.header["DEC"])
+        width = max(image.shape) * (image.pixel_scale or 1.16) / 60.0
+        step, cos_dec = 0.7, max(math.cos(math.radians(dec)), 0.1)
+        around = range(-reach, reach + 1)
+        centres = [
+            ((ra + i * step / cos_dec) % 360.0, max(-89.9, min(89.9, dec + j * step)))
+            for i in around
+            for j in around
+        ]
+        await asyncio.to_thread(self._builder.blocking_build, centres, width_arcmin=[width])
+
     async def __call__(self, image: Image) -> Image:
+        await self._build(image, 0)
         try:
             return await self._near(image)
         except NightcrewError:
+            await self._build(image, 1)
             return await self._wide(image)
 
 
 def solver() -> Pipeline:
-    indexes = WideSkyIndexes()
-    return Pipeline([SepSourceDetection(), indexes, CatalogThenSolveField(indexes.directory)])
+    return Pipeline([SepSourceDetection(), SimulatedSkySolver()])
 
 
 async def devices(observatory: Observatory, model: Path) -> tuple[SimTelescope, SimCamera]:
