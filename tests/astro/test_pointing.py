@@ -125,6 +125,9 @@ def test_a_refit_replaces_the_model_only_by_the_rule() -> None:
     # The same sky again is no 25 % better: the model stays.
     again = refit_decision(measured_pairs(60, seed=4), first.model, rule, mount="m", latitude=LATITUDE)
     assert again.model is None and "not 25% better" in again.reason
+    # Twice the pairs pin the terms down better: the refit wins unless its RMS is worse.
+    doubled = refit_decision(measured_pairs(120, seed=6), first.model, rule, mount="m", latitude=LATITUDE)
+    assert doubled.model is not None and "120 pairs against 60" in doubled.reason
     # The mount changed (its polar axis was moved): the refit wins.
     moved = dict(TRUTH, MA=TRUTH["MA"] + 600.0)
     changed = measured_pairs(60, seed=5, truth=moved)

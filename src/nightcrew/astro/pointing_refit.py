@@ -6,7 +6,9 @@ asks :func:`refit_decision` whether the new model replaces the current one. It d
 
 * at least ``min_pairs`` pairs are kept after the rejection;
 * its RMS on those pairs is below ``max_rms`` arcsec and below the current model's RMS on the same
-  pairs times ``1 - min_improvement`` (no current model: any RMS below ``max_rms``);
+  pairs times ``1 - min_improvement`` (no current model: any RMS below ``max_rms``), or, resting on
+  at least ``grow`` times the pairs of the current model's fit, not above that model's RMS (more
+  pairs pin the terms down better);
 * every term is within ``max_term`` arcsec and known better than ``max_sigma`` arcsec (a term the
   pairs cannot pin down, e.g. all from one part of the sky, keeps the old model).
 """
@@ -38,6 +40,7 @@ class RefitRule:
     max_pairs: int = 500
     every: int = 10
     min_improvement: float = 0.25
+    grow: float = 2.0
     max_rms: float = 60.0
     max_term: float = 7200.0
     max_sigma: float = 60.0
@@ -51,6 +54,8 @@ class RefitRule:
             raise PointingModelError("need max_pairs >= min_pairs and every >= 1")
         if not 0.0 <= self.min_improvement < 1.0:
             raise PointingModelError(f"min_improvement must be within 0..1, got {self.min_improvement}")
+        if not self.grow > 1.0:
+            raise PointingModelError(f"grow must be > 1, got {self.grow}")
         if not (self.max_rms > 0 and self.max_term > 0 and self.max_sigma > 0 and self.clip > 1):
             raise PointingModelError("max_rms, max_term and max_sigma must be > 0 and clip > 1")
 
@@ -106,6 +111,12 @@ def refit_decision(
     if current is not None:
         kept = _kept_pairs(pairs, fitted, rule.clip)
         current_rms = model_rms(current, kept)
+        before = current.statistics.points if current.statistics is not None else None
+        grown = before is not None and statistics.points >= rule.grow * before
+        if grown and statistics.rms_after <= current_rms:
+            return RefitDecision(
+                fitted, fitted, f'{statistics.points} pairs against {before}: RMS {statistics.rms_after:.1f}"'
+            )
         if statistics.rms_after > current_rms * (1.0 - rule.min_improvement):
             return RefitDecision(
                 None,
