@@ -37,6 +37,7 @@ SUBCOMMANDS = [
     "solver",
     "tasks",
     "flats",
+    "pointing",
     "report",
     "alpaca",
     "init",

@@ -4,6 +4,9 @@ After every slew the mount misses its target by a random *pointing error* (Gauss
 while tracking it *drifts* linearly in a direction drawn per slew, and its worm gear adds a
 *periodic error* in RA that depends on absolute time (so it continues across slews, as in a real
 gear). Offsets are on-sky degrees (east, north); :func:`apply_sky_offset` turns them into RA/Dec.
+Injected *pointing terms* (:func:`pointing_terms_model`, the truth a fitted pointing model should
+recover) move where the mount really points as a function of the commanded hour angle and
+declination (:meth:`PointingModel.to_sky_icrs`).
 """
 
 from __future__ import annotations
@@ -13,9 +16,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nightcrew.astro.pointing import PointingModel
 from nightcrew.interfaces.enums import PierSide
 
-__all__ = ["MountErrorModel", "PierCollision", "SlewError", "apply_sky_offset", "axes_slew_time", "slew_time"]
+__all__ = [
+    "MountErrorModel",
+    "PierCollision",
+    "SlewError",
+    "apply_sky_offset",
+    "axes_slew_time",
+    "pointing_terms_model",
+    "slew_time",
+]
 
 
 def slew_time(distance: float, rate: float, settle_time: float = 0.0) -> float:
@@ -105,3 +117,9 @@ def apply_sky_offset(ra: float, dec: float, east: float, north: float) -> tuple[
     new_dec = max(-90.0, min(90.0, dec + north))
     cos_dec = max(math.cos(math.radians(new_dec)), 1e-6)
     return (ra + east / cos_dec) % 360.0, new_dec
+
+
+def pointing_terms_model(mount: str, latitude: float, terms: dict[str, float]) -> PointingModel:
+    """The injected pointing terms (arcsec, by TPoint name) as a model; PointingModelError for an
+    unknown name."""
+    return PointingModel(mount, latitude, {str(name): float(value) for name, value in terms.items()})

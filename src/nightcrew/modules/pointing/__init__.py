@@ -3,6 +3,7 @@
 from nightcrew.modules.pointing.acquisition import Acquisition, AcquisitionFailedError
 from nightcrew.modules.pointing.apply import ApplyAltAzOffsets, ApplyOffsets, ApplyRaDecOffsets
 from nightcrew.modules.pointing.guiding import AutoGuiding, BaseGuiding, ScienceFrameAutoGuiding
+from nightcrew.modules.pointing.refit import PassivePointingRefit
 from nightcrew.modules.pointing.series import PointingSeries as PointingSeries
 
 __all__ = [
@@ -13,5 +14,6 @@ __all__ = [
     "ApplyRaDecOffsets",
     "AutoGuiding",
     "BaseGuiding",
+    "PassivePointingRefit",
     "ScienceFrameAutoGuiding",
 ]

@@ -1,6 +1,8 @@
 """Pointing series: point at a grid across the sky, solve each image, write commanded vs solved as CSV.
 
-For each point of an alt/az grid (:func:`pointing_grid`) the telescope moves there (to the RA/Dec
+For each point of an alt/az grid (``pattern: grid``, :func:`pointing_grid`, rows and columns; or
+``pattern: sky``, :func:`sky_grid`, ``points`` spread evenly over the sky above ``min_altitude``)
+the telescope moves there (to the RA/Dec
 of that alt/az at that moment, tracking, or to the alt/az itself), the camera exposes, the
 ``solver`` pipeline plate-solves the frame (e.g. SEP detection + :class:`CatalogAstrometry`, or
 :class:`SolveFieldAstrometry`) and the solved centre is compared with the commanded position. The
@@ -10,7 +12,8 @@ CSV is rewritten after every point, so an aborted series keeps what it measured.
 ==================  =============================================================================
 time                start of the exposure (ISO, UTC; the FITS DATE-OBS)
 alt_cmd, az_cmd     the grid point
-ra_cmd, dec_cmd     commanded ICRS position (sent to the mount, or the grid point's at ``time``)
+ra_cmd, dec_cmd     commanded ICRS position (sent to the mount, or the grid point's at ``time``;
+                    the mount's own position MNT-RA/MNT-DEC when a pointing model corrects it)
 ra_solved, ...      solved ICRS centre of the frame, and its alt/az at ``time`` (``alt_solved``,
                     ``az_solved``)
 dra, ddec           offsets on the sky: (ra_solved - ra_cmd) * cos(dec), dec_solved - dec_cmd
@@ -18,6 +21,7 @@ dalt, daz           (alt_solved - alt_cmd), (az_solved - az_cmd) * cos(alt)
 stars, rms          stars the solution rests on and their residual RMS (arcsec), if known
 filename            VFS path of the frame
 error               why the point has no solution ("" when solved)
+latitude, longitude the site (``nightcrew pointing fit`` turns the rows into hour angles)
 ==================  =============================================================================
 
 Example (YAML)::
@@ -42,12 +46,13 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
-from collections.abc import Awaitable
+from collections.abc import Awaitable, Mapping, Sequence
 from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from typing import Any, Literal
 
 from nightcrew.astro import altaz_to_radec, radec_to_altaz
+from nightcrew.astro.pointing import PointingModelError, PointingPair, icrs_pair
 from nightcrew.errors import ConfigError, NightcrewError
 from nightcrew.images import Image, ImageProcessor, Pipeline
 from nightcrew.images.astrometry import AstrometryResult, CatalogAstrometry
@@ -56,34 +61,23 @@ from nightcrew.interfaces import IBinning, ICamera, IExposureTime, ImageType, IP
 from nightcrew.interfaces.quantities import Altitude, ExposureTime
 from nightcrew.modules.module import Module
 from nightcrew.modules.motion.runner import MotionRunner
+from nightcrew.modules.pointing.grids import pointing_grid, sky_grid
 
-__all__ = ["CSV_COLUMNS", "PointingRow", "PointingSeries", "pointing_grid", "pointing_row"]
+__all__ = [
+    "CSV_COLUMNS",
+    "PointingRow",
+    "PointingSeries",
+    "exposure_start",
+    "pointing_grid",
+    "pointing_pairs",
+    "pointing_row",
+    "sky_grid",
+    "solved_centre",
+]
 
 log = logging.getLogger(__name__)
 
 ARCSEC = 3600.0
-
-
-def pointing_grid(
-    alt_range: tuple[float, float], alt_steps: int, az_steps: int, min_altitude: float = 0.0
-) -> list[tuple[float, float]]:
-    """The (alt, az) points of a series, in the order to visit them (degrees).
-
-    ``alt_steps`` rows evenly from ``alt_range[0]`` to ``alt_range[1]`` (both included), each with
-    ``az_steps`` azimuths evenly around the horizon; every other row is shifted by half an azimuth
-    step (the rows interleave instead of lining up) and run backwards (shorter slews between rows).
-    Points below ``min_altitude`` are left out.
-    """
-    low, high = alt_range
-    alts = [low] if alt_steps == 1 else [low + (high - low) * i / (alt_steps - 1) for i in range(alt_steps)]
-    step = 360.0 / az_steps
-    points: list[tuple[float, float]] = []
-    for row, alt in enumerate(alts):
-        azimuths = [(step * (i + 0.5 * (row % 2))) % 360.0 for i in range(az_steps)]
-        if row % 2:
-            azimuths.reverse()
-        points.extend((alt, az) for az in azimuths if alt >= min_altitude)
-    return points
 
 
 @dataclass(frozen=True)
@@ -107,6 +101,8 @@ class PointingRow:
     rms: float | None = None
     filename: str = ""
     error: str = ""
+    latitude: float | None = None
+    longitude: float | None = None
 
     def csv(self) -> dict[str, object]:
         """The row for the CSV writer: rounded numbers, empty cells for missing values."""
@@ -163,9 +159,12 @@ class PointingSeries(Module, IPointingSeries):
         camera: Module offering ICamera (IExposureTime and IBinning used if offered).
         solver: Image processors that leave a WCS in the image; default SEP detection followed by
             :class:`CatalogAstrometry` with its defaults.
+        pattern: ``grid`` (rows and azimuths: ``alt_range``, ``alt_steps``, ``az_steps``) or ``sky``
+            (``points`` spread over the sky between ``min_altitude`` and ``alt_range``'s highest).
         alt_range: Altitudes of the lowest and highest row, degrees.
         alt_steps: Rows of the grid.
         az_steps: Azimuths per row.
+        points: Points of the ``sky`` pattern.
         min_altitude: Points below this altitude are left out, degrees.
         move: ``radec``: track the RA/Dec of each point at the moment of the move; ``altaz``: move
             to the alt/az itself (no tracking; keep exposures short).
@@ -183,6 +182,8 @@ class PointingSeries(Module, IPointingSeries):
         alt_range: tuple[float, float] = (30.0, 80.0),
         alt_steps: int = 3,
         az_steps: int = 8,
+        pattern: Literal["grid", "sky"] = "grid",
+        points: int = 40,
         min_altitude: Altitude = 20.0,
         move: Literal["radec", "altaz"] = "radec",
         exposure_time: ExposureTime = 2.0,
@@ -208,7 +209,19 @@ class PointingSeries(Module, IPointingSeries):
             raise ConfigError(f"must be >= 0 seconds, got {exposure_time}", key="exposure_time")
         if self.site is None:
             raise ConfigError("a pointing series needs the observatory site (alt/az to RA/Dec)", key="site")
-        self._points = pointing_grid((float(low), float(high)), alt_steps, az_steps, float(min_altitude))
+        if pattern not in ("grid", "sky"):
+            raise ConfigError(f"must be 'grid' or 'sky', got {pattern!r}", key="pattern")
+        if pattern == "sky" and not (points >= 1 and min_altitude < high):
+            raise ConfigError(
+                f"need at least one point below the highest altitude {high}, got {points} "
+                f"above {min_altitude}",
+                key="points",
+            )
+        self._points = (
+            sky_grid(points, float(min_altitude), float(high))
+            if pattern == "sky"
+            else pointing_grid((float(low), float(high)), alt_steps, az_steps, float(min_altitude))
+        )
         if not self._points:
             raise ConfigError(f"every point of the grid is below {min_altitude} degrees", key="min_altitude")
         self._telescope, self._camera, self._move = telescope, camera, move
@@ -269,18 +282,34 @@ class PointingSeries(Module, IPointingSeries):
                 await telescope.move_altaz(alt, az)
             filename = await camera.grab_data(False, ImageType.OBJECT)
         except NightcrewError as exc:
-            return PointingRow(_iso(self.clock.time()), alt, az, *radec, error=f"{type(exc).__name__}: {exc}")
+            return PointingRow(
+                _iso(self.clock.time()),
+                alt,
+                az,
+                *radec,
+                error=f"{type(exc).__name__}: {exc}",
+                latitude=lat,
+                longitude=lon,
+            )
         image = await Image.from_vfs(self.vfs, filename)
-        start = _exposure_start(image, self.clock.time())
+        start = exposure_start(image, self.clock.time())
         if self._move == "altaz":  # the grid point drifts across the sky: where it was when exposing
             radec = altaz_to_radec(alt, az, lat, lon, start)
+        elif "MNT-RA" in image.header:  # a pointing model moved the mount: the model's fit needs its position
+            radec = (float(image.header["MNT-RA"]), float(image.header["MNT-DEC"]))
         try:
             solved = await self._solver(image)
-            rows, cols = solved.shape
-            ra_s, dec_s = (float(v[0]) for v in solved.pixel_to_sky([(cols - 1) / 2.0], [(rows - 1) / 2.0]))
+            ra_s, dec_s = solved_centre(solved)
         except NightcrewError as exc:
             return PointingRow(
-                _iso(start), alt, az, *radec, filename=filename, error=f"{type(exc).__name__}: {exc}"
+                _iso(start),
+                alt,
+                az,
+                *radec,
+                filename=filename,
+                error=f"{type(exc).__name__}: {exc}",
+                latitude=lat,
+                longitude=lon,
             )
         result = solved.metadata.get("astrometry")
         return pointing_row(
@@ -292,10 +321,56 @@ class PointingSeries(Module, IPointingSeries):
             stars=result.matched if isinstance(result, AstrometryResult) else None,
             rms=result.rms_arcsec if isinstance(result, AstrometryResult) else None,
             filename=filename,
+            latitude=lat,
+            longitude=lon,
         )
 
 
-def _exposure_start(image: Image, default: float) -> float:
+def pointing_pairs(rows: Sequence[Mapping[str, str]]) -> tuple[list[PointingPair], float]:
+    """The pairs of the solved rows of a series' CSV and the site latitude (for the fit).
+
+    Raises PointingModelError naming the row and column of a value that is missing or not a number.
+    """
+    pairs: list[PointingPair] = []
+    latitude: float | None = None
+    for number, row in enumerate(rows, start=2):  # line 1 is the header
+        if row.get("error"):
+            continue
+        try:
+            values = {key: float(row[key]) for key in _PAIR_COLUMNS}
+            unix_time = datetime.fromisoformat(row["time"].replace("Z", "+00:00")).timestamp()
+        except KeyError as exc:
+            raise PointingModelError(
+                f"line {number}: no column {exc.args[0]!r} (a pointing series CSV?)"
+            ) from exc
+        except ValueError as exc:
+            raise PointingModelError(f"line {number}: {exc}") from exc
+        latitude = values["latitude"]
+        pairs.append(
+            icrs_pair(
+                (values["ra_cmd"], values["dec_cmd"]),
+                (values["ra_solved"], values["dec_solved"]),
+                values["longitude"],
+                unix_time,
+            )
+        )
+    if latitude is None:
+        raise PointingModelError("no solved point in the series")
+    return pairs, latitude
+
+
+_PAIR_COLUMNS = ("ra_cmd", "dec_cmd", "ra_solved", "dec_solved", "latitude", "longitude")
+
+
+def solved_centre(solved: Image) -> tuple[float, float]:
+    """ICRS (ra, dec) of the centre of a plate-solved frame, degrees."""
+    rows, cols = solved.shape
+    ra, dec = (float(v[0]) for v in solved.pixel_to_sky([(cols - 1) / 2.0], [(rows - 1) / 2.0]))
+    return ra, dec
+
+
+def exposure_start(image: Image, default: float) -> float:
+    """Unix time of the frame's DATE-OBS (``default`` without a readable one)."""
     value = image.header.get("DATE-OBS")
     if not isinstance(value, str):
         return default

@@ -26,6 +26,7 @@ from nightcrew.astro.pier import (
     limit_violation,
     mechanical_axes,
 )
+from nightcrew.astro.pointing import PointingModelError
 from nightcrew.errors import ConfigError, MoveError
 from nightcrew.interfaces import PierSide
 from nightcrew.interfaces.quantities import Altitude, Azimuth
@@ -37,6 +38,7 @@ from nightcrew.sim.mount import (
     SlewError,
     apply_sky_offset,
     axes_slew_time,
+    pointing_terms_model,
     slew_time,
 )
 
@@ -64,6 +66,9 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         seed: Seed of the random pointing errors (same seed, same night).
         gem: German-equatorial mode with these limits (keys of :class:`GemLimits`: ``east``,
             ``west`` hour angles and ``counterweight_up``, degrees); None: a mount without sides.
+        pointing_terms: Pointing errors as TPoint terms in arcsec (``{IH: 600, MA: -300}``; see
+            :mod:`nightcrew.astro.pointing`): the truth a pointing model fitted to this mount should
+            find. None: no systematic errors.
         **kwargs: Telescope options (``min_altitude``) and module options.
     """
 
@@ -81,6 +86,7 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         periodic_period: float = 480.0,
         seed: int = 0,
         gem: Mapping[str, float] | None = None,
+        pointing_terms: Mapping[str, float] | None = None,
         **kwargs: Any,
     ) -> None:
         super().__init__(**kwargs)
@@ -99,6 +105,14 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         )
         self._park = (float(park_alt), float(park_az) % 360.0)
         self._gem = _gem_limits(gem)
+        try:
+            self._terms = (
+                None
+                if pointing_terms is None
+                else pointing_terms_model(self.name, self.observatory.latitude, dict(pointing_terms))
+            )
+        except (PointingModelError, TypeError, ValueError) as exc:
+            raise ConfigError(str(exc), key="pointing_terms") from exc
         self._side: PierSide | None = None  # None: where the park position puts it
         self._limit_at: float | None = None  # clock time tracking passes a limit (GEM only)
         self._collisions: list[PierCollision] = []
@@ -152,6 +166,8 @@ class SimTelescope(BaseTelescope, ISimTelescopeTruth):
         now = self.clock.time()
         tracked = now - self._settled_at if self._drifting else 0.0
         east, north = self._errors.offset(self._slew_error, tracked, now)
+        if self._terms is not None:
+            ra, dec = self._terms.to_sky_icrs(ra, dec, self.observatory.longitude, now)
         return apply_sky_offset(ra, dec, east, north)
 
     async def move_ephemeris(self, target: dict[str, Any]) -> None:

@@ -12,6 +12,9 @@ Decisions (documented for drivers and callers):
   before the module is ready (drivers call ``_restore_pointing``): tracking its RA/Dec target,
   at its Alt/Az position (unparked first, as a mount comes back parked), or parked again when the
   module had parked it and the mount came back unparked.
+* Pointing model: with ``pointing_model: FILE`` RA/Dec moves and offsets go to the position the
+  model says the mount must be sent to, and the reported RA/Dec is where it really points (see
+  nightcrew.modules.telescope.pointing_model).
 * Pier side (IPierSide): German-equatorial drivers report the mount's side (ASCOM's SideOfPier)
   and the side a slew would end on; others report UNKNOWN. Frames get a PIERSIDE card (EAST or
   WEST) whenever the side is known.
@@ -31,6 +34,7 @@ from collections.abc import Awaitable, Callable
 from typing import Any
 
 from nightcrew.astro import altaz_to_radec, radec_to_altaz
+from nightcrew.config import DataPath
 from nightcrew.errors import (
     ConfigError,
     InitError,
@@ -62,6 +66,7 @@ from nightcrew.interfaces import (
 from nightcrew.interfaces.quantities import Altitude
 from nightcrew.modules.telescope.following import FollowsEphemerides
 from nightcrew.modules.telescope.headers import pier_side_cards, pointing_cards
+from nightcrew.modules.telescope.pointing_model import TelescopePointingModel
 from nightcrew.site import Site
 from nightcrew.timeout import timeout
 
@@ -81,6 +86,8 @@ class BaseTelescope(
         min_altitude: Lowest altitude in degrees the telescope may be sent to (0..90).
         park_when_offline: Clock seconds without a connection to the other modules (the XMPP
             server) after which the telescope parks by itself; None: never.
+        pointing_model: File of the mount's pointing model (see
+            nightcrew.modules.telescope.pointing_model); None: no model.
         **kwargs: Module options (see BaseMotion; ``watchdog`` and ``park_when_watchdog_silent``
             arm the dead-man's switch); ``site`` is required (coordinates need it);
             ``follow_error_limit`` bounds the error following a moving target (see .following).
@@ -89,7 +96,12 @@ class BaseTelescope(
     initial_status = MotionStatus.PARKED
 
     def __init__(
-        self, *, min_altitude: Altitude = 10.0, park_when_offline: float | None = 300.0, **kwargs: Any
+        self,
+        *,
+        min_altitude: Altitude = 10.0,
+        park_when_offline: float | None = 300.0,
+        pointing_model: DataPath | None = None,
+        **kwargs: Any,
     ) -> None:
         super().__init__(park_when_offline=park_when_offline, **kwargs)
         if not 0.0 <= min_altitude < 90.0:
@@ -104,6 +116,7 @@ class BaseTelescope(
         self._offsets_radec = (0.0, 0.0)
         self._offsets_altaz = (0.0, 0.0)
         self._parked_here = False  # parked by park(), not merely found parked at start-up
+        self._pointing_model = TelescopePointingModel(pointing_model, self.name, self.observatory)
 
     @property
     def observatory(self) -> Site:
@@ -196,7 +209,7 @@ class BaseTelescope(
             ra, dec = (radec[0] + dra) % 360.0, max(-90.0, min(90.0, radec[1] + ddec))
             log.warning("%s: the mount came back: tracking RA %.4f°, Dec %.4f° again", self.name, ra, dec)
             await self._hw_init()
-            await self._hw_move_radec(ra, dec)
+            await self._hw_move_radec(*self._pointing_model.to_mount(ra, dec, self.clock.time()))
         elif status is MotionStatus.IDLE and altaz is not None:
             dalt, daz = self._offsets_altaz
             alt, az = altaz[0] + dalt, (altaz[1] + daz) % 360.0
@@ -289,7 +302,8 @@ class BaseTelescope(
         self._target_radec, self._target_altaz = (ra, dec), None
         self._offsets_radec = self._offsets_altaz = (0.0, 0.0)
         await self.comm.send_event(MoveRaDecEvent(ra=ra, dec=dec))
-        await self._slew("move_radec", lambda: self._hw_move_radec(ra, dec), MotionStatus.TRACKING)
+        mount = self._pointing_model.to_mount(ra, dec, self.clock.time())
+        await self._slew("move_radec", lambda: self._hw_move_radec(*mount), MotionStatus.TRACKING)
 
     @timeout(
         lambda self, alt, az, **_: self._announced_move_timeout(
@@ -308,7 +322,7 @@ class BaseTelescope(
         await self._slew("move_altaz", lambda: self._hw_move_altaz(alt, az), MotionStatus.IDLE)
 
     async def get_radec(self) -> tuple[float, float]:
-        return await self._hw_get_radec()
+        return self._pointing_model.to_sky(*await self._hw_get_radec(), self.clock.time())
 
     async def get_altaz(self) -> tuple[float, float]:
         return await self._hw_get_altaz()
@@ -325,7 +339,8 @@ class BaseTelescope(
         self._check_altitude(self._altaz_of(ra, dec)[0], "offset position")
         self._offsets_radec = (dra, ddec)
         await self.comm.send_event(OffsetsRaDecEvent(dra=dra, ddec=ddec))
-        await self._slew("set_offsets_radec", lambda: self._hw_offset_radec(ra, dec), MotionStatus.TRACKING)
+        mount = self._pointing_model.to_mount(ra, dec, self.clock.time())
+        await self._slew("set_offsets_radec", lambda: self._hw_offset_radec(*mount), MotionStatus.TRACKING)
 
     async def get_offsets_radec(self) -> tuple[float, float]:
         return self._offsets_radec
@@ -360,7 +375,8 @@ class BaseTelescope(
         return await self._hw_get_temperatures()
 
     async def get_fits_header_before(self, namespaces: list[str] | None = None) -> dict[str, FitsCard]:
-        radec = await self._hw_get_radec()
+        mount_radec = await self._hw_get_radec()
+        radec = self._pointing_model.to_sky(*mount_radec, self.clock.time())
         cards = pointing_cards(
             radec=radec,
             altaz=await self._hw_get_altaz(),
@@ -370,7 +386,12 @@ class BaseTelescope(
             site=self.observatory,
             unix_time=self.clock.time(),
         )
-        return cards | pier_side_cards(await self._hw_get_pier_side()) | self._following_cards()
+        return (
+            cards
+            | pier_side_cards(await self._hw_get_pier_side())
+            | self._pointing_model.cards(mount_radec)
+            | self._following_cards()
+        )
 
     # --- safety --------------------------------------------------------------------------------
 
