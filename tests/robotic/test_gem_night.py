@@ -20,10 +20,10 @@ from astropy.io import fits  # type: ignore[import-untyped]
 
 from nightcrew.astro.pier import counterweight_up, hour_angle
 from nightcrew.cli.main import main
-from nightcrew.config import build_object, load_config
+from nightcrew.config import build_object
 from nightcrew.images import Image, Pipeline
 from nightcrew.interfaces import PierSide
-from nightcrew.night.build import bundled_observatory, files_environ
+from nightcrew.night.build import bundled_observatory, load_in_process
 
 from ..sim.solving import offset_arcsec
 
@@ -78,7 +78,7 @@ def test_the_mount_flips_once_between_two_frames_and_every_frame_is_on_its_side(
     gem_night: tuple[Path, list[fits.Header], list[str]],
 ) -> None:
     here, headers, errors = gem_night
-    telescope = load_config(here / "my-gem" / "telescope.yaml", environ=files_environ())
+    telescope = load_in_process(here / "my-gem" / "telescope.yaml")
     assert telescope["gem"]["counterweight_up"] == 15.0
     science = [h for h in headers if h["IMAGETYP"] == "object"]
     sides = [h["PIERSIDE"] for h in science]
@@ -103,7 +103,7 @@ async def test_the_first_frame_after_the_flip_is_centred_by_its_own_plate_soluti
     # night built), but on the science frame after the flip, not on the acquisition's own frames.
     here, headers, _ = gem_night
     first = next(h for h in headers if h["IMAGETYP"] == "object" and h["PIERSIDE"] == "EAST")
-    acquisition = load_config(here / "my-gem" / "robotic" / "acquisition.yaml", environ=files_environ())
+    acquisition = load_in_process(here / "my-gem" / "robotic" / "acquisition.yaml")
     pipeline = build_object(acquisition["pipeline"], Pipeline)
     path = next(
         p for p in (here / "gem-night" / "frames").glob("*-object-*.fits") if fits.getheader(p) == first
