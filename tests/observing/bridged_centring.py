@@ -45,6 +45,9 @@ class HiddenPointingError(BaseTelescope, ISimTelescopeTruth):
         ra, dec = standard_to_sky(east / 3600.0, north / 3600.0, *await self.get_radec())
         return float(ra), float(dec)
 
+    async def get_true_motion(self) -> tuple[tuple[float, float], dict[str, Any] | None]:
+        return (0.0, 0.0), None  # sidereal: these tests follow no moving target
+
     async def get_pier_collisions(self) -> list[PierCollision]:
         return []
 

@@ -243,3 +243,10 @@ def test_astroplan_places_blocks_back_to_back() -> None:
     greedy = Scheduler(solver="priority", slew_overhead_s=0.0).schedule(blocks, NIGHT)
     assert [(s.start, s.end) for s in greedy.slots] == [(hours(2.0), hours(3.0)), (hours(3.0), hours(4.0))]
     assert greedy.objective == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize("solver", ["mip", "priority"])
+def test_an_empty_archive_gives_an_empty_plan(solver: str) -> None:
+    # The first plan of a new observatory, before any task is added (the replan loop crashed here).
+    schedule = Scheduler(solver=solver).schedule([], NIGHT)  # type: ignore[arg-type]
+    assert schedule.slots == ()

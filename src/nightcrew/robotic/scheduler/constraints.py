@@ -146,6 +146,8 @@ def startable(visible: BoolArray, lengths: npt.NDArray[np.int64]) -> BoolArray:
             and start slice (n_blocks, n_slices); 0 never fits.
     """
     n_blocks, n_slices = visible.shape
+    if n_blocks == 0:  # nothing to plan (an empty archive): reshape(0, -1) has no meaning
+        return np.zeros((0, n_slices), dtype=np.bool_)
     # visible_count[b, t] = visible slices before t; a start t fits when the next length slices all are.
     visible_count = np.zeros((n_blocks, n_slices + 1), dtype=np.int64)
     np.cumsum(visible, axis=1, out=visible_count[:, 1:])
