@@ -30,7 +30,6 @@ from aiohttp import web
 
 from nightcrew.bridges.alpaca.discovery import DISCOVERY_PORT, DiscoveryResponder
 from nightcrew.bridges.alpaca.server_app import ServerDescription, build_app
-from nightcrew.bridges.alpaca.server_camera import ServedCamera
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_devices import (
     ServedDome,
@@ -44,6 +43,7 @@ from nightcrew.bridges.alpaca.server_telescope import ServedTelescope
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
+from nightcrew.modules.served.camera_alpaca import ServedCamera
 
 __all__ = ["SERVED_TYPES", "AlpacaServer"]
 
