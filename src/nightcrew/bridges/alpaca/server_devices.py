@@ -1,8 +1,5 @@
-"""Focusers, filter wheels, domes and roofs, and the weather verdict served as Alpaca devices.
+"""Filter wheels, domes and roofs, and the weather verdict served as Alpaca devices.
 
-* Focuser: nightcrew focus positions are millimetres, Alpaca's are whole steps; the server's
-  ``focuser_step`` (mm per step) converts, ``focuser_max_step`` is the largest position. The
-  position is the focuser's base focus (without the filter/model offset).
 * FilterWheel: positions are indices into the module's filter list; -1 while the wheel turns.
 * Dome: any IRoof module (a roll-off roof or a dome's shutter); an IDome also has an azimuth.
 * SafetyMonitor: IsSafe is the weather module's verdict (IWeather.is_weather_good).
@@ -11,17 +8,13 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
-from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError, NotSupportedError
+from nightcrew.errors import InvalidArgumentError, NightcrewError, NotSupportedError
 from nightcrew.interfaces import (
     IDome,
     IFilters,
-    IFocuser,
     IRoof,
-    ITemperatures,
     IWeather,
     MotionStatus,
     WeatherSensor,
@@ -30,7 +23,6 @@ from nightcrew.interfaces import (
 __all__ = [
     "ServedDome",
     "ServedFilterWheel",
-    "ServedFocuser",
     "ServedObservingConditions",
     "ServedSafetyMonitor",
 ]
@@ -44,80 +36,6 @@ _SHUTTER = {
     MotionStatus.INITIALIZING: _OPENING,
     MotionStatus.PARKING: _CLOSING,
 }
-
-
-class ServedFocuser(ServedDevice):
-    """Alpaca Focuser (IFocuserV4 members) on a nightcrew IFocuser module.
-
-    Args:
-        step: Millimetres per Alpaca step (> 0).
-        max_step: Largest Alpaca position (> 0).
-    """
-
-    device_type = "focuser"
-    type_name = "Focuser"
-    interface_version = 4  # IFocuserV4 (Platform 7)
-    state_members = ("IsMoving", "Position", "Temperature")
-    interface = IFocuser
-
-    def __init__(self, *args: Any, step: float = 0.001, max_step: int = 100_000, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        if not step > 0:
-            raise ConfigError(f"must be > 0 mm, got {step}", key="focuser_step")
-        if not max_step > 0:
-            raise ConfigError(f"must be > 0 steps, got {max_step}", key="focuser_max_step")
-        self._step, self._max_step = float(step), int(max_step)
-
-    async def _focuser(self) -> IFocuser:
-        return await self.proxy(IFocuser)
-
-    async def get_absolute(self, request: AlpacaRequest) -> bool:
-        return True
-
-    async def get_maxstep(self, request: AlpacaRequest) -> int:
-        return self._max_step
-
-    get_maxincrement = get_maxstep
-
-    async def get_stepsize(self, request: AlpacaRequest) -> float:
-        return self._step * 1000.0  # microns
-
-    async def get_position(self, request: AlpacaRequest) -> int:
-        return round(await (await self._focuser()).get_focus() / self._step)
-
-    async def get_ismoving(self, request: AlpacaRequest) -> bool:
-        self.action.raise_failure()
-        status = await (await self._focuser()).get_motion_status()
-        return self.action.running or status is MotionStatus.MOVING
-
-    async def put_move(self, request: AlpacaRequest) -> None:
-        position = request.integer("Position")
-        if not 0 <= position <= self._max_step:
-            raise InvalidArgumentError(f"position must be within 0..{self._max_step}, got {position}")
-        focuser = await self._focuser()
-        self.action.start("move", lambda: focuser.set_focus(position * self._step))
-        await self.action.settle(self.settle_time)
-
-    async def put_halt(self, request: AlpacaRequest) -> None:
-        focuser = await self._focuser()
-        await focuser.stop_motion()
-        await self.action.cancel()
-
-    async def get_tempcompavailable(self, request: AlpacaRequest) -> bool:
-        return False
-
-    get_tempcomp = get_tempcompavailable
-
-    async def put_tempcomp(self, request: AlpacaRequest) -> None:
-        if request.boolean("TempComp"):
-            raise NotSupportedError("tempcomp: this focuser has no temperature compensation")
-
-    async def get_temperature(self, request: AlpacaRequest) -> float:
-        sensors = await self.optional(ITemperatures)
-        temperatures = {} if sensors is None else await sensors.get_temperatures()
-        if not temperatures:
-            raise NotSupportedError(f"temperature: module {self.module} reports no temperature")
-        return next(iter(temperatures.values()))
 
 
 class ServedFilterWheel(ServedDevice):

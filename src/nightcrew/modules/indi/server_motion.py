@@ -33,8 +33,9 @@ from nightcrew.bridges.indi.server_vectors import (
     TextMember,
 )
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.interfaces import IDome, IFilters, IFocuser, IRoof, ITemperatures, MotionStatus
+from nightcrew.interfaces import IDome, IFilters, IFocuser, IRoof, MotionStatus
 from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
+from nightcrew.modules.served.focuser import ServedFocuserRole
 
 __all__ = ["ServedDome", "ServedFilterWheel", "ServedFocuser"]
 
@@ -59,6 +60,10 @@ class ServedFocuser(ServedDevice[IFocuser]):
 
     interface = IFocuser
     driver_interface = 8
+
+    @property
+    def role(self) -> ServedFocuserRole:
+        return ServedFocuserRole(self.device, STEPS_PER_MM)
 
     async def _build(self) -> list[Property[Any]]:
         self.position = Property(
@@ -103,7 +108,7 @@ class ServedFocuser(ServedDevice[IFocuser]):
             self.abort,
         ]
         self.temperature: Property[NumberMember] | None = None
-        if isinstance(self.device, ITemperatures):
+        if self.role.has_temperature:
             self.temperature = Property(
                 self.name,
                 "FOCUS_TEMPERATURE",
@@ -116,36 +121,34 @@ class ServedFocuser(ServedDevice[IFocuser]):
         return vectors
 
     async def _update(self) -> None:
-        focuser = self.device
-        status = await focuser.get_motion_status()
-        self.position.by_name["FOCUS_ABSOLUTE_POSITION"].value = round(
-            await focuser.get_focus() * STEPS_PER_MM, 3
-        )
+        role = self.role
+        status = await role.status()
+        self.position.by_name["FOCUS_ABSOLUTE_POSITION"].value = round(await role.position(), 3)
         self._follow(self.position, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
         self._follow(self.relative, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
-        if self.temperature is not None and isinstance(focuser, ITemperatures):
-            temperatures = await focuser.get_temperatures()
-            if temperatures:
-                self.temperature.by_name["TEMPERATURE"].value = round(next(iter(temperatures.values())), 2)
+        if self.temperature is not None:
+            temperature = await role.temperature()
+            if temperature is not None:
+                self.temperature.by_name["TEMPERATURE"].value = round(temperature, 2)
                 self.temperature.state = PropertyState.OK
 
     async def _request(self, vector: Property[Any], values: Values) -> None:
         if vector is self.position:
             steps = float(values["FOCUS_ABSOLUTE_POSITION"])
-            self._start(self.position, self.device.set_focus(steps / STEPS_PER_MM))
+            self._start(self.position, self.role.move(steps))
         elif vector is self.relative:
             steps = float(values["FOCUS_RELATIVE_POSITION"])
             self.relative.by_name["FOCUS_RELATIVE_POSITION"].value = steps
             inward = self.direction.by_name["FOCUS_INWARD"].on
             target = self.position.by_name["FOCUS_ABSOLUTE_POSITION"].value + (-steps if inward else steps)
-            self._start(self.relative, self.device.set_focus(target / STEPS_PER_MM))
+            self._start(self.relative, self.role.move(target))
         elif vector is self.direction:
             switch_on(self.direction, "FOCUS_INWARD" if values.get("FOCUS_INWARD") else "FOCUS_OUTWARD")
             self.direction.state = PropertyState.OK
             self._link.publish(self.direction)
         elif vector is self.abort:
             if values.get("ABORT"):
-                self._start(self.abort, self.device.stop_motion())
+                self._start(self.abort, self.role.stop())
         else:
             raise InvalidArgumentError(f"{vector.where} cannot be set")
 
