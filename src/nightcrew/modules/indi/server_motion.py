@@ -34,7 +34,7 @@ from nightcrew.bridges.indi.server_vectors import (
 )
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.interfaces import IDome, IFilters, IFocuser, IRoof, MotionStatus
-from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
+from nightcrew.modules.served.device_indi import MAIN_GROUP, ServedDevice, Values, switch_on
 from nightcrew.modules.served.focuser import ServedFocuserRole
 
 __all__ = ["ServedDome", "ServedFilterWheel", "ServedFocuser"]

@@ -13,7 +13,7 @@ CCD_BINNING                 set_binning() (cameras with IBinning)
 CCD_FRAME_TYPE              the image type given to grab_data(): LIGHT object, BIAS, DARK, FLAT skyflat
 ==========================  ======================================================================
 
-Cooling, gain, CFA, compression, upload mode and pixel sizes: :mod:`.server_camera_settings`.
+Cooling, gain, CFA, compression, upload mode and pixel sizes: :mod:`.camera_indi_settings`.
 
 The work on the module is the served camera role's (:mod:`nightcrew.modules.served.camera`), which
 the Alpaca Camera shares. The camera writes the file through its own VFS, and the server reads it
@@ -46,9 +46,9 @@ from nightcrew.interfaces import (
     IWindow,
     Window,
 )
-from nightcrew.modules.indi.server_camera_settings import CameraSettings, pixel_info_members
-from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
 from nightcrew.modules.served.camera import MAX_EXPOSURE, ServedCameraRole, read_frame
+from nightcrew.modules.served.camera_indi_settings import CameraSettings, pixel_info_members
+from nightcrew.modules.served.device_indi import MAIN_GROUP, ServedDevice, Values, switch_on
 
 __all__ = ["ServedCamera"]
 
