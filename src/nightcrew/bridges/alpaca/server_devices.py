@@ -1,6 +1,5 @@
-"""Filter wheels, domes and roofs, and the weather verdict served as Alpaca devices.
+"""Domes and roofs, and the weather verdict served as Alpaca devices.
 
-* FilterWheel: positions are indices into the module's filter list; -1 while the wheel turns.
 * Dome: any IRoof module (a roll-off roof or a dome's shutter); an IDome also has an azimuth.
 * SafetyMonitor: IsSafe is the weather module's verdict (IWeather.is_weather_good).
 * ObservingConditions: the sensors an IWeather module reports (wind speed in m/s, as Alpaca has it).
@@ -13,7 +12,6 @@ from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
 from nightcrew.errors import InvalidArgumentError, NightcrewError, NotSupportedError
 from nightcrew.interfaces import (
     IDome,
-    IFilters,
     IRoof,
     IWeather,
     MotionStatus,
@@ -22,7 +20,6 @@ from nightcrew.interfaces import (
 
 __all__ = [
     "ServedDome",
-    "ServedFilterWheel",
     "ServedObservingConditions",
     "ServedSafetyMonitor",
 ]
@@ -36,43 +33,6 @@ _SHUTTER = {
     MotionStatus.INITIALIZING: _OPENING,
     MotionStatus.PARKING: _CLOSING,
 }
-
-
-class ServedFilterWheel(ServedDevice):
-    """Alpaca FilterWheel (IFilterWheelV3 members) on a nightcrew IFilters module."""
-
-    device_type = "filterwheel"
-    type_name = "FilterWheel"
-    interface_version = 3  # IFilterWheelV3 (Platform 7)
-    state_members = ("Position",)
-    interface = IFilters
-
-    async def _wheel(self) -> IFilters:
-        return await self.proxy(IFilters)
-
-    async def get_names(self, request: AlpacaRequest) -> list[str]:
-        return await (await self._wheel()).list_filters()
-
-    async def get_focusoffsets(self, request: AlpacaRequest) -> list[int]:
-        return [0] * len(await self.get_names(request))
-
-    async def get_position(self, request: AlpacaRequest) -> int:
-        self.action.raise_failure()
-        wheel = await self._wheel()
-        if self.action.running or await wheel.get_motion_status() is MotionStatus.MOVING:
-            return -1
-        names = await wheel.list_filters()
-        current = await wheel.get_filter()
-        return names.index(current) if current in names else -1
-
-    async def put_position(self, request: AlpacaRequest) -> None:
-        position = request.integer("Position")
-        wheel = await self._wheel()
-        names = await wheel.list_filters()
-        if not 0 <= position < len(names):
-            raise InvalidArgumentError(f"position must be within 0..{len(names) - 1}, got {position}")
-        self.action.start("position", lambda: wheel.set_filter(names[position]))
-        await self.action.settle(self.settle_time)
 
 
 class ServedDome(ServedDevice):

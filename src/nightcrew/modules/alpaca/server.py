@@ -33,7 +33,6 @@ from nightcrew.bridges.alpaca.server_app import ServerDescription, build_app
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_devices import (
     ServedDome,
-    ServedFilterWheel,
     ServedObservingConditions,
     ServedSafetyMonitor,
 )
@@ -43,6 +42,7 @@ from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
 from nightcrew.modules.served.camera_alpaca import ServedCamera
+from nightcrew.modules.served.filterwheel_alpaca import ServedFilterWheel
 from nightcrew.modules.served.focuser_alpaca import ServedFocuser
 
 __all__ = ["SERVED_TYPES", "AlpacaServer"]

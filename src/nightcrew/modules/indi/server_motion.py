@@ -1,10 +1,8 @@
-"""Nightcrew filter wheels and domes as INDI devices (focusers: ``modules/served/focuser_indi.py``).
+"""Nightcrew domes and roofs as INDI devices (focusers, filter wheels: ``modules/served/*_indi.py``).
 
 ==========================  ======================================================================
 property                    nightcrew
 ==========================  ======================================================================
-FILTER_SLOT                 filter wheel get_filter()/set_filter(), slots 1..N in list_filters() order
-FILTER_NAME (ro)            list_filters()
 DOME_SHUTTER                roof/dome open_roof() / close_roof(); Busy while it moves
 ABS_DOME_POSITION           dome get_azimuth()/move_azimuth(), degrees (IDome only)
 DOME_PARK                   PARK: park() (closes), UNPARK: init() (opens); PARK On while parked
@@ -19,73 +17,20 @@ from typing import Any
 
 from nightcrew.bridges.indi.server_vectors import (
     NumberMember,
-    Permission,
     Property,
-    PropertyState,
     SwitchMember,
     SwitchRule,
-    TextMember,
 )
 from nightcrew.errors import InvalidArgumentError
-from nightcrew.interfaces import IDome, IFilters, IRoof, MotionStatus
+from nightcrew.interfaces import IDome, IRoof, MotionStatus
 from nightcrew.modules.served.device_indi import MAIN_GROUP, ServedDevice, Values, abort_vector, switch_on
 
-__all__ = ["ServedDome", "ServedFilterWheel"]
+__all__ = ["ServedDome"]
 
 #: Degrees a dome turns for one DOME_MOTION request (less than half a turn: the way is clear).
 _DOME_TURN = 90.0
 #: The dome's rotation, as nightcrew's BaseDome names it in get_motion_status(device).
 _AZIMUTH = "azimuth"
-
-
-class ServedFilterWheel(ServedDevice[IFilters]):
-    """An IFilters module as an INDI filter wheel."""
-
-    interface = IFilters
-    driver_interface = 16
-
-    async def _build(self) -> list[Property[Any]]:
-        self.filters = await self.device.list_filters()
-        count = float(len(self.filters))
-        self.slot = Property(
-            self.name,
-            "FILTER_SLOT",
-            "Filter Slot",
-            MAIN_GROUP,
-            [NumberMember("FILTER_SLOT_VALUE", "Filter", 1.0, 1.0, count, 1.0, "%3.0f")],
-            timeout=120.0,
-        )
-        self.names = Property(
-            self.name,
-            "FILTER_NAME",
-            "Filter",
-            MAIN_GROUP,
-            [
-                TextMember(f"FILTER_SLOT_NAME_{i}", f"Filter #{i}", name)
-                for i, name in enumerate(self.filters, 1)
-            ],
-            perm=Permission.READ_ONLY,
-            state=PropertyState.OK,
-        )
-        return [self.slot, self.names]
-
-    async def _update(self) -> None:
-        wheel = self.device
-        status = await wheel.get_motion_status()
-        current = await wheel.get_filter()
-        if current in self.filters:
-            self.slot.by_name["FILTER_SLOT_VALUE"].value = float(self.filters.index(current) + 1)
-        self._follow(self.slot, busy=status is MotionStatus.MOVING, failed=status is MotionStatus.ERROR)
-
-    async def _request(self, vector: Property[Any], values: Values) -> None:
-        if vector is not self.slot:
-            raise InvalidArgumentError(f"{vector.where} cannot be set")
-        slot = float(values["FILTER_SLOT_VALUE"])
-        if slot != int(slot):
-            raise InvalidArgumentError(
-                f"{vector.where}: a filter slot is a whole number 1..{len(self.filters)}, got {slot:g}"
-            )
-        self._start(self.slot, self.device.set_filter(self.filters[int(slot) - 1]))
 
 
 class ServedDome(ServedDevice[IRoof]):
