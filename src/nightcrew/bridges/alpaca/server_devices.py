@@ -1,6 +1,5 @@
-"""Domes and roofs, and the weather verdict served as Alpaca devices.
+"""The weather verdict and sensors served as Alpaca devices.
 
-* Dome: any IRoof module (a roll-off roof or a dome's shutter); an IDome also has an azimuth.
 * SafetyMonitor: IsSafe is the weather module's verdict (IWeather.is_weather_good).
 * ObservingConditions: the sensors an IWeather module reports (wind speed in m/s, as Alpaca has it).
 """
@@ -11,97 +10,14 @@ from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
 from nightcrew.errors import InvalidArgumentError, NightcrewError, NotSupportedError
 from nightcrew.interfaces import (
-    IDome,
-    IRoof,
     IWeather,
-    MotionStatus,
     WeatherSensor,
 )
 
 __all__ = [
-    "ServedDome",
     "ServedObservingConditions",
     "ServedSafetyMonitor",
 ]
-
-#: ShutterState.
-_OPEN, _CLOSED, _OPENING, _CLOSING, _ERROR = range(5)
-_SHUTTER = {
-    MotionStatus.IDLE: _OPEN,
-    MotionStatus.PARKED: _CLOSED,
-    MotionStatus.MOVING: _OPENING,
-    MotionStatus.INITIALIZING: _OPENING,
-    MotionStatus.PARKING: _CLOSING,
-}
-
-
-class ServedDome(ServedDevice):
-    """Alpaca Dome (IDomeV3 members) on a nightcrew IRoof module; IDome adds the azimuth."""
-
-    device_type = "dome"
-    type_name = "Dome"
-    interface_version = 3  # IDomeV3 (Platform 7)
-    state_members = ("Altitude", "AtHome", "AtPark", "Azimuth", "ShutterStatus", "Slewing")
-    interface = IRoof
-
-    async def _roof(self) -> IRoof:
-        return await self.proxy(IRoof)
-
-    async def _dome(self, member: str) -> IDome:
-        dome = await self.optional(IDome)
-        if dome is None:
-            raise NotSupportedError(f"{member}: module {self.module} is a roof without azimuth")
-        return dome
-
-    async def get_shutterstatus(self, request: AlpacaRequest) -> int:
-        self.action.raise_failure()
-        return _SHUTTER.get(await (await self._roof()).get_motion_status(), _ERROR)
-
-    async def put_openshutter(self, request: AlpacaRequest) -> None:
-        roof = await self._roof()
-        self.action.start("openshutter", roof.open_roof)
-        await self.action.settle(self.settle_time)
-
-    async def put_closeshutter(self, request: AlpacaRequest) -> None:
-        roof = await self._roof()
-        self.action.start("closeshutter", roof.close_roof, preempt=True)  # closing always wins
-        await self.action.settle(self.settle_time)
-
-    async def put_abortslew(self, request: AlpacaRequest) -> None:
-        roof = await self._roof()
-        await roof.stop_motion()
-        await self.action.cancel()
-
-    async def get_cansetshutter(self, request: AlpacaRequest) -> bool:
-        return True
-
-    async def get_cansetazimuth(self, request: AlpacaRequest) -> bool:
-        return await self.optional(IDome) is not None
-
-    async def get_canfindhome(self, request: AlpacaRequest) -> bool:
-        return False
-
-    get_canpark = get_cansetpark = get_cansetaltitude = get_cansyncazimuth = get_canslave = get_canfindhome
-    get_athome = get_atpark = get_slaved = get_canfindhome
-
-    async def put_slaved(self, request: AlpacaRequest) -> None:
-        if request.boolean("Slaved"):
-            raise NotSupportedError("slaved: nightcrew domes follow the telescope by their own configuration")
-
-    async def get_slewing(self, request: AlpacaRequest) -> bool:
-        self.action.raise_failure()
-        return self.action.current == "slewtoazimuth"
-
-    async def get_azimuth(self, request: AlpacaRequest) -> float:
-        return await (await self._dome("azimuth")).get_azimuth()
-
-    async def put_slewtoazimuth(self, request: AlpacaRequest) -> None:
-        azimuth = request.number("Azimuth")
-        if not 0.0 <= azimuth < 360.0:
-            raise InvalidArgumentError(f"azimuth must be within 0..360 degrees, got {azimuth}")
-        dome = await self._dome("slewtoazimuth")
-        self.action.start("slewtoazimuth", lambda: dome.move_azimuth(azimuth))
-        await self.action.settle(self.settle_time)
 
 
 class ServedSafetyMonitor(ServedDevice):

@@ -32,7 +32,6 @@ from nightcrew.bridges.alpaca.discovery import DISCOVERY_PORT, DiscoveryResponde
 from nightcrew.bridges.alpaca.server_app import ServerDescription, build_app
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_devices import (
-    ServedDome,
     ServedObservingConditions,
     ServedSafetyMonitor,
 )
@@ -42,6 +41,7 @@ from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
 from nightcrew.modules.served.camera_alpaca import ServedCamera
+from nightcrew.modules.served.dome_alpaca import ServedDome
 from nightcrew.modules.served.filterwheel_alpaca import ServedFilterWheel
 from nightcrew.modules.served.focuser_alpaca import ServedFocuser
 

@@ -1,4 +1,4 @@
-"""Nightcrew domes and roofs as INDI devices (focusers, filter wheels: ``modules/served/*_indi.py``).
+"""The served dome's INDI adapter: a nightcrew roof or dome (IRoof, IDome) as an INDI dome.
 
 ==========================  ======================================================================
 property                    nightcrew
@@ -9,6 +9,9 @@ DOME_PARK                   PARK: park() (closes), UNPARK: init() (opens); PARK 
 DOME_MOTION                 DOME_CW/DOME_CCW: move_azimuth() 90° that way; Off: stop_motion() (IDome)
 DOME_ABORT_MOTION           roof/dome stop_motion()
 ==========================  ======================================================================
+
+The work on the module is the served dome role's (:mod:`nightcrew.modules.served.dome`), which the
+Alpaca Dome shares.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from nightcrew.bridges.indi.server_vectors import (
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.interfaces import IDome, IRoof, MotionStatus
 from nightcrew.modules.served.device_indi import MAIN_GROUP, ServedDevice, Values, abort_vector, switch_on
+from nightcrew.modules.served.dome import ServedDomeRole
 
 __all__ = ["ServedDome"]
 
@@ -38,6 +42,10 @@ class ServedDome(ServedDevice[IRoof]):
 
     interface = IRoof
     driver_interface = 32
+
+    @property
+    def role(self) -> ServedDomeRole:
+        return ServedDomeRole(self.device)
 
     async def _build(self) -> list[Property[Any]]:
         self.shutter = Property(
@@ -60,7 +68,7 @@ class ServedDome(ServedDevice[IRoof]):
         vectors: list[Property[Any]] = [self.shutter, self.park, self.abort]
         self.azimuth: Property[NumberMember] | None = None
         self.motion: Property[SwitchMember] | None = None
-        if isinstance(self.device, IDome):
+        if self.role.dome is not None:
             self.motion = Property(
                 self.name,
                 "DOME_MOTION",
@@ -83,17 +91,18 @@ class ServedDome(ServedDevice[IRoof]):
         return vectors
 
     async def _update(self) -> None:
-        roof = self.device
-        status = await roof.get_motion_status()
+        role = self.role
+        status = await role.status()
         closed = status in (MotionStatus.PARKED, MotionStatus.PARKING)
         switch_on(self.shutter, "SHUTTER_CLOSE" if closed else "SHUTTER_OPEN")
         moving = status in (MotionStatus.MOVING, MotionStatus.PARKING)
         self._follow(self.shutter, busy=moving, failed=status is MotionStatus.ERROR)
         switch_on(self.park, "PARK" if status is MotionStatus.PARKED else "UNPARK")
         self._follow(self.park, busy=moving, failed=status is MotionStatus.ERROR)
-        if self.azimuth is not None and isinstance(roof, IDome):
-            self.azimuth.by_name["DOME_ABSOLUTE_POSITION"].value = round(await roof.get_azimuth(), 6)
-            turning = await roof.get_motion_status(_AZIMUTH) is MotionStatus.MOVING
+        dome = role.dome
+        if self.azimuth is not None and dome is not None:
+            self.azimuth.by_name["DOME_ABSOLUTE_POSITION"].value = round(await dome.get_azimuth(), 6)
+            turning = await dome.get_motion_status(_AZIMUTH) is MotionStatus.MOVING
             self._follow(self.azimuth, busy=turning)
             if self.motion is not None and not turning and not self.acting(self.motion):
                 for member in self.motion.members:
@@ -101,21 +110,21 @@ class ServedDome(ServedDevice[IRoof]):
                 self._follow(self.motion, busy=False)
 
     async def _request(self, vector: Property[Any], values: Values) -> None:
-        roof = self.device
+        role, roof, dome = self.role, self.device, self.role.dome
         if vector is self.shutter:
             opening = bool(values.get("SHUTTER_OPEN"))
             # Closing always wins (it pre-empts an opening roof); opening waits its turn.
-            self._start(self.shutter, roof.open_roof() if opening else roof.close_roof(), replace=not opening)
+            self._start(self.shutter, role.open() if opening else role.close(), replace=not opening)
         elif vector is self.park:
             parking = bool(values.get("PARK"))
             self._start(self.park, roof.park() if parking else roof.init(), replace=parking)
-        elif vector is self.motion and isinstance(roof, IDome):
-            self._turn(roof, self.motion, values)
+        elif vector is self.motion and dome is not None:
+            self._turn(dome, self.motion, values)
         elif vector is self.abort:
             if values.get("ABORT"):
-                self._start(self.abort, roof.stop_motion())
-        elif vector is self.azimuth and isinstance(roof, IDome):
-            self._start(vector, roof.move_azimuth(float(values["DOME_ABSOLUTE_POSITION"]) % 360.0))
+                self._start(self.abort, role.stop())
+        elif vector is self.azimuth and dome is not None:
+            self._start(vector, dome.move_azimuth(float(values["DOME_ABSOLUTE_POSITION"]) % 360.0))
         else:
             raise InvalidArgumentError(f"{vector.where} cannot be set")
 
