@@ -24,9 +24,14 @@ from aiohttp import web
 from nightcrew import __version__
 from nightcrew.bridges.alpaca.errors import reply_from_error
 from nightcrew.bridges.alpaca.imagebytes import ElementType, encode
-from nightcrew.bridges.alpaca.server_camera import ImageArray
 from nightcrew.bridges.alpaca.server_device import ServedDevice
-from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest, BadRequest, TransactionCounter, reply
+from nightcrew.bridges.alpaca.server_protocol import (
+    AlpacaRequest,
+    BadRequest,
+    ImageArray,
+    TransactionCounter,
+    reply,
+)
 from nightcrew.errors import NightcrewError
 
 __all__ = ["ServerDescription", "build_app", "unique_id"]

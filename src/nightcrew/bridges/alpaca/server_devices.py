@@ -1,229 +1,23 @@
-"""Focusers, filter wheels, domes and roofs, and the weather verdict served as Alpaca devices.
+"""The weather verdict and sensors served as Alpaca devices.
 
-* Focuser: nightcrew focus positions are millimetres, Alpaca's are whole steps; the server's
-  ``focuser_step`` (mm per step) converts, ``focuser_max_step`` is the largest position. The
-  position is the focuser's base focus (without the filter/model offset).
-* FilterWheel: positions are indices into the module's filter list; -1 while the wheel turns.
-* Dome: any IRoof module (a roll-off roof or a dome's shutter); an IDome also has an azimuth.
 * SafetyMonitor: IsSafe is the weather module's verdict (IWeather.is_weather_good).
 * ObservingConditions: the sensors an IWeather module reports (wind speed in m/s, as Alpaca has it).
 """
 
 from __future__ import annotations
 
-from typing import Any
-
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
-from nightcrew.errors import ConfigError, InvalidArgumentError, NightcrewError, NotSupportedError
+from nightcrew.errors import InvalidArgumentError, NightcrewError, NotSupportedError
 from nightcrew.interfaces import (
-    IDome,
-    IFilters,
-    IFocuser,
-    IRoof,
-    ITemperatures,
     IWeather,
-    MotionStatus,
     WeatherSensor,
 )
 
 __all__ = [
-    "ServedDome",
-    "ServedFilterWheel",
-    "ServedFocuser",
     "ServedObservingConditions",
     "ServedSafetyMonitor",
 ]
-
-#: ShutterState.
-_OPEN, _CLOSED, _OPENING, _CLOSING, _ERROR = range(5)
-_SHUTTER = {
-    MotionStatus.IDLE: _OPEN,
-    MotionStatus.PARKED: _CLOSED,
-    MotionStatus.MOVING: _OPENING,
-    MotionStatus.INITIALIZING: _OPENING,
-    MotionStatus.PARKING: _CLOSING,
-}
-
-
-class ServedFocuser(ServedDevice):
-    """Alpaca Focuser (IFocuserV4 members) on a nightcrew IFocuser module.
-
-    Args:
-        step: Millimetres per Alpaca step (> 0).
-        max_step: Largest Alpaca position (> 0).
-    """
-
-    device_type = "focuser"
-    type_name = "Focuser"
-    interface_version = 4  # IFocuserV4 (Platform 7)
-    state_members = ("IsMoving", "Position", "Temperature")
-    interface = IFocuser
-
-    def __init__(self, *args: Any, step: float = 0.001, max_step: int = 100_000, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        if not step > 0:
-            raise ConfigError(f"must be > 0 mm, got {step}", key="focuser_step")
-        if not max_step > 0:
-            raise ConfigError(f"must be > 0 steps, got {max_step}", key="focuser_max_step")
-        self._step, self._max_step = float(step), int(max_step)
-
-    async def _focuser(self) -> IFocuser:
-        return await self.proxy(IFocuser)
-
-    async def get_absolute(self, request: AlpacaRequest) -> bool:
-        return True
-
-    async def get_maxstep(self, request: AlpacaRequest) -> int:
-        return self._max_step
-
-    get_maxincrement = get_maxstep
-
-    async def get_stepsize(self, request: AlpacaRequest) -> float:
-        return self._step * 1000.0  # microns
-
-    async def get_position(self, request: AlpacaRequest) -> int:
-        return round(await (await self._focuser()).get_focus() / self._step)
-
-    async def get_ismoving(self, request: AlpacaRequest) -> bool:
-        self.action.raise_failure()
-        status = await (await self._focuser()).get_motion_status()
-        return self.action.running or status is MotionStatus.MOVING
-
-    async def put_move(self, request: AlpacaRequest) -> None:
-        position = request.integer("Position")
-        if not 0 <= position <= self._max_step:
-            raise InvalidArgumentError(f"position must be within 0..{self._max_step}, got {position}")
-        focuser = await self._focuser()
-        self.action.start("move", lambda: focuser.set_focus(position * self._step))
-        await self.action.settle(self.settle_time)
-
-    async def put_halt(self, request: AlpacaRequest) -> None:
-        focuser = await self._focuser()
-        await focuser.stop_motion()
-        await self.action.cancel()
-
-    async def get_tempcompavailable(self, request: AlpacaRequest) -> bool:
-        return False
-
-    get_tempcomp = get_tempcompavailable
-
-    async def put_tempcomp(self, request: AlpacaRequest) -> None:
-        if request.boolean("TempComp"):
-            raise NotSupportedError("tempcomp: this focuser has no temperature compensation")
-
-    async def get_temperature(self, request: AlpacaRequest) -> float:
-        sensors = await self.optional(ITemperatures)
-        temperatures = {} if sensors is None else await sensors.get_temperatures()
-        if not temperatures:
-            raise NotSupportedError(f"temperature: module {self.module} reports no temperature")
-        return next(iter(temperatures.values()))
-
-
-class ServedFilterWheel(ServedDevice):
-    """Alpaca FilterWheel (IFilterWheelV3 members) on a nightcrew IFilters module."""
-
-    device_type = "filterwheel"
-    type_name = "FilterWheel"
-    interface_version = 3  # IFilterWheelV3 (Platform 7)
-    state_members = ("Position",)
-    interface = IFilters
-
-    async def _wheel(self) -> IFilters:
-        return await self.proxy(IFilters)
-
-    async def get_names(self, request: AlpacaRequest) -> list[str]:
-        return await (await self._wheel()).list_filters()
-
-    async def get_focusoffsets(self, request: AlpacaRequest) -> list[int]:
-        return [0] * len(await self.get_names(request))
-
-    async def get_position(self, request: AlpacaRequest) -> int:
-        self.action.raise_failure()
-        wheel = await self._wheel()
-        if self.action.running or await wheel.get_motion_status() is MotionStatus.MOVING:
-            return -1
-        names = await wheel.list_filters()
-        current = await wheel.get_filter()
-        return names.index(current) if current in names else -1
-
-    async def put_position(self, request: AlpacaRequest) -> None:
-        position = request.integer("Position")
-        wheel = await self._wheel()
-        names = await wheel.list_filters()
-        if not 0 <= position < len(names):
-            raise InvalidArgumentError(f"position must be within 0..{len(names) - 1}, got {position}")
-        self.action.start("position", lambda: wheel.set_filter(names[position]))
-        await self.action.settle(self.settle_time)
-
-
-class ServedDome(ServedDevice):
-    """Alpaca Dome (IDomeV3 members) on a nightcrew IRoof module; IDome adds the azimuth."""
-
-    device_type = "dome"
-    type_name = "Dome"
-    interface_version = 3  # IDomeV3 (Platform 7)
-    state_members = ("Altitude", "AtHome", "AtPark", "Azimuth", "ShutterStatus", "Slewing")
-    interface = IRoof
-
-    async def _roof(self) -> IRoof:
-        return await self.proxy(IRoof)
-
-    async def _dome(self, member: str) -> IDome:
-        dome = await self.optional(IDome)
-        if dome is None:
-            raise NotSupportedError(f"{member}: module {self.module} is a roof without azimuth")
-        return dome
-
-    async def get_shutterstatus(self, request: AlpacaRequest) -> int:
-        self.action.raise_failure()
-        return _SHUTTER.get(await (await self._roof()).get_motion_status(), _ERROR)
-
-    async def put_openshutter(self, request: AlpacaRequest) -> None:
-        roof = await self._roof()
-        self.action.start("openshutter", roof.open_roof)
-        await self.action.settle(self.settle_time)
-
-    async def put_closeshutter(self, request: AlpacaRequest) -> None:
-        roof = await self._roof()
-        self.action.start("closeshutter", roof.close_roof, preempt=True)  # closing always wins
-        await self.action.settle(self.settle_time)
-
-    async def put_abortslew(self, request: AlpacaRequest) -> None:
-        roof = await self._roof()
-        await roof.stop_motion()
-        await self.action.cancel()
-
-    async def get_cansetshutter(self, request: AlpacaRequest) -> bool:
-        return True
-
-    async def get_cansetazimuth(self, request: AlpacaRequest) -> bool:
-        return await self.optional(IDome) is not None
-
-    async def get_canfindhome(self, request: AlpacaRequest) -> bool:
-        return False
-
-    get_canpark = get_cansetpark = get_cansetaltitude = get_cansyncazimuth = get_canslave = get_canfindhome
-    get_athome = get_atpark = get_slaved = get_canfindhome
-
-    async def put_slaved(self, request: AlpacaRequest) -> None:
-        if request.boolean("Slaved"):
-            raise NotSupportedError("slaved: nightcrew domes follow the telescope by their own configuration")
-
-    async def get_slewing(self, request: AlpacaRequest) -> bool:
-        self.action.raise_failure()
-        return self.action.current == "slewtoazimuth"
-
-    async def get_azimuth(self, request: AlpacaRequest) -> float:
-        return await (await self._dome("azimuth")).get_azimuth()
-
-    async def put_slewtoazimuth(self, request: AlpacaRequest) -> None:
-        azimuth = request.number("Azimuth")
-        if not 0.0 <= azimuth < 360.0:
-            raise InvalidArgumentError(f"azimuth must be within 0..360 degrees, got {azimuth}")
-        dome = await self._dome("slewtoazimuth")
-        self.action.start("slewtoazimuth", lambda: dome.move_azimuth(azimuth))
-        await self.action.settle(self.settle_time)
 
 
 class ServedSafetyMonitor(ServedDevice):

@@ -21,13 +21,22 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["AlpacaRequest", "BadRequest", "TransactionCounter", "reply"]
+import numpy.typing as npt
+
+__all__ = ["AlpacaRequest", "BadRequest", "ImageArray", "TransactionCounter", "reply"]
 
 _UINT32_MAX = 2**32 - 1
 
 
 class BadRequest(Exception):
     """A request the server cannot even read; answered with HTTP 400 and this message."""
+
+
+@dataclass(frozen=True)
+class ImageArray:
+    """A frame's pixels (``[y, x]``, as nightcrew stores them) to be sent as ImageArray."""
+
+    data: npt.NDArray[Any]
 
 
 class TransactionCounter:

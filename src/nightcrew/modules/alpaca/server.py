@@ -30,12 +30,8 @@ from aiohttp import web
 
 from nightcrew.bridges.alpaca.discovery import DISCOVERY_PORT, DiscoveryResponder
 from nightcrew.bridges.alpaca.server_app import ServerDescription, build_app
-from nightcrew.bridges.alpaca.server_camera import ServedCamera
 from nightcrew.bridges.alpaca.server_device import ServedDevice
 from nightcrew.bridges.alpaca.server_devices import (
-    ServedDome,
-    ServedFilterWheel,
-    ServedFocuser,
     ServedObservingConditions,
     ServedSafetyMonitor,
 )
@@ -44,6 +40,10 @@ from nightcrew.bridges.alpaca.server_telescope import ServedTelescope
 from nightcrew.errors import ConfigError
 from nightcrew.interfaces import ModuleState
 from nightcrew.modules.module import Module
+from nightcrew.modules.served.camera_alpaca import ServedCamera
+from nightcrew.modules.served.dome_alpaca import ServedDome
+from nightcrew.modules.served.filterwheel_alpaca import ServedFilterWheel
+from nightcrew.modules.served.focuser_alpaca import ServedFocuser
 
 __all__ = ["SERVED_TYPES", "AlpacaServer"]
 

@@ -7,12 +7,12 @@ them through proxies like any module, so they may run in this process or elsewhe
 
 Properties follow the devices: every ``poll_interval`` wall seconds, and at once when a device
 sends a motion, exposure or filter event, the server reads each device and sends what changed.
-A client's request becomes a nightcrew call (see the tables in :mod:`.server_telescope`,
-:mod:`.server_camera` and :mod:`.server_motion`); its property is Busy while the call runs, Ok
-when it returns, Alert with the error as message when it fails. A request nightcrew cannot take
-(unknown property, number out of range, read-only property, malformed XML) is answered with
-Alert or a message, or - for broken XML - by closing that client's connection; the server and
-its other clients carry on.
+A client's request becomes a nightcrew call (see the tables in :mod:`.server_telescope` and, in
+``modules/served``, ``camera_indi``, ``focuser_indi``, ``filterwheel_indi`` and ``dome_indi``);
+its property is Busy while the call runs, Ok when it returns, Alert with the error as message when
+it fails. A request nightcrew cannot take (unknown property, number out of range, read-only property,
+malformed XML) is answered with Alert or a message, or - for broken XML - by closing that
+client's connection; the server and its other clients carry on.
 
 Why not indipyserver (PyPI, the server companion of indipydriver): its client reader does not
 stop at end of stream, so every client that disconnects - indi_getprop does after each query -
@@ -45,12 +45,14 @@ from nightcrew.events import ExposureStatusChangedEvent, FilterChangedEvent, Mot
 from nightcrew.events.base import Event
 from nightcrew.interfaces import ModuleState
 from nightcrew.interfaces.quantities import Period
-from nightcrew.modules.indi.server_camera import ServedCamera
-from nightcrew.modules.indi.server_device import ServedDevice
 from nightcrew.modules.indi.server_manual import ManualMode
-from nightcrew.modules.indi.server_motion import ServedDome, ServedFilterWheel, ServedFocuser
 from nightcrew.modules.indi.server_telescope import ServedTelescope
 from nightcrew.modules.module import Module
+from nightcrew.modules.served.camera_indi import ServedCamera
+from nightcrew.modules.served.device_indi import ServedDevice
+from nightcrew.modules.served.dome_indi import ServedDome
+from nightcrew.modules.served.filterwheel_indi import ServedFilterWheel
+from nightcrew.modules.served.focuser_indi import ServedFocuser
 
 __all__ = ["IndiServer"]
 

@@ -34,7 +34,7 @@ from nightcrew.errors import InvalidArgumentError
 from nightcrew.interfaces import IOffsetsRaDec
 
 if TYPE_CHECKING:
-    from nightcrew.modules.indi.server_device import ServerLink, Values
+    from nightcrew.modules.served.device_indi import ServerLink, Values
 
 __all__ = ["GUIDE_VECTORS", "HandControls"]
 

@@ -41,8 +41,8 @@ from nightcrew.bridges.indi.server_vectors import (
 )
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.interfaces import IOffsetsRaDec, IPierSide, ISyncRaDec, ITelescope, MotionStatus, PierSide
-from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
 from nightcrew.modules.indi.server_guiding import HandControls
+from nightcrew.modules.served.device_indi import MAIN_GROUP, ServedDevice, Values, switch_on
 
 __all__ = ["ServedTelescope"]
 

@@ -1,4 +1,4 @@
-"""A nightcrew camera (ICamera) served as an Alpaca Camera.
+"""The served camera's Alpaca adapter: a nightcrew camera (ICamera) as an Alpaca Camera.
 
 Alpaca sets binning and the sub-frame (StartX/StartY/NumX/NumY, in binned pixels) as properties of
 the driver and applies them when an exposure starts; nightcrew keeps them on the camera module.
@@ -9,9 +9,9 @@ the sub-frame, every exposure reads the full chip at the current binning. StopEx
 exposure early and keeps it when the module can (IStoppableExposure; CanStopExposure says so), and
 LastExposureDuration is then the time the frame's header says it exposed.
 
-The camera writes its FITS file through the VFS as always; ImageArray reads that very file back
-through the server's own VFS (which must reach the camera's file roots) and serves its pixels,
-as ImageBytes when the client accepts ``application/imagebytes``, else as JSON.
+The work on the module is the served camera role's (:mod:`nightcrew.modules.served.camera`), which
+the INDI CCD shares. ImageArray serves the pixels of the frame the role read back through the
+server's VFS, as ImageBytes when the client accepts ``application/imagebytes``, else as JSON.
 """
 
 from __future__ import annotations
@@ -26,40 +26,16 @@ import numpy.typing as npt
 
 from nightcrew.bridges.alpaca.errors import AlpacaInvalidOperationError
 from nightcrew.bridges.alpaca.server_device import ServedDevice
-from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest
-from nightcrew.errors import (
-    DeviceBusyError,
-    GrabImageError,
-    InvalidArgumentError,
-    NightcrewError,
-    NotSupportedError,
-)
-from nightcrew.interfaces import (
-    Binning,
-    ExposureStatus,
-    IBinning,
-    ICamera,
-    ICooling,
-    IExposureTime,
-    ImageType,
-    IStoppableExposure,
-    IWindow,
-    Window,
-)
+from nightcrew.bridges.alpaca.server_protocol import AlpacaRequest, ImageArray
+from nightcrew.errors import DeviceBusyError, GrabImageError, InvalidArgumentError, NotSupportedError
+from nightcrew.interfaces import Binning, ExposureStatus, ICamera, ICooling, ImageType, Window
+from nightcrew.modules.served.camera import MAX_EXPOSURE, ServedCameraRole, read_frame
 
-__all__ = ["ImageArray", "ServedCamera"]
+__all__ = ["ServedCamera"]
 
 #: CameraStates.
 _IDLE, _WAITING, _EXPOSING, _READING, _ERROR = 0, 1, 2, 3, 5
 _STATES = {ExposureStatus.EXPOSING: _EXPOSING, ExposureStatus.READOUT: _READING, ExposureStatus.ERROR: _ERROR}
-_MAX_EXPOSURE = 3600.0
-
-
-@dataclass(frozen=True)
-class ImageArray:
-    """A frame's pixels (``[y, x]``, as nightcrew stores them) to be sent as ImageArray."""
-
-    data: npt.NDArray[Any]
 
 
 @dataclass
@@ -93,18 +69,14 @@ class ServedCamera(ServedDevice):
         self._subframe: tuple[int, int, int, int] | None = None  # start x, y, num x, y (binned)
         self._last: _Exposure | None = None
 
-    async def _camera(self) -> ICamera:
-        return await self.proxy(ICamera)
+    async def _role(self) -> ServedCameraRole:
+        return ServedCameraRole(await self.proxy(ICamera), self.module)
 
     async def _full_frame(self) -> Window:
-        window = await self.optional(IWindow)
-        if window is None:
-            raise NotSupportedError(f"module {self.module} does not tell its chip size (no IWindow)")
-        return await window.get_full_frame()
+        return await (await self._role()).full_frame()
 
     async def _binnings(self) -> list[Binning]:
-        binning = await self.optional(IBinning)
-        return [Binning(1, 1)] if binning is None else await binning.list_binnings()
+        return await (await self._role()).binnings()
 
     # --- the chip ------------------------------------------------------------------------------
 
@@ -137,7 +109,7 @@ class ServedCamera(ServedDevice):
         return 0.0
 
     async def get_exposuremax(self, request: AlpacaRequest) -> float:
-        return _MAX_EXPOSURE
+        return MAX_EXPOSURE
 
     async def get_exposureresolution(self, request: AlpacaRequest) -> float:
         return 0.001
@@ -152,7 +124,7 @@ class ServedCamera(ServedDevice):
         return True
 
     async def get_canstopexposure(self, request: AlpacaRequest) -> bool:
-        return await self.optional(IStoppableExposure) is not None
+        return (await self._role()).stoppable is not None
 
     async def get_canpulseguide(self, request: AlpacaRequest) -> bool:
         return False
@@ -244,47 +216,39 @@ class ServedCamera(ServedDevice):
 
     async def put_startexposure(self, request: AlpacaRequest) -> None:
         duration, light = request.number("Duration"), request.boolean("Light")
-        if not 0.0 <= duration <= _MAX_EXPOSURE:
-            raise InvalidArgumentError(f"duration must be within 0..{_MAX_EXPOSURE:g} s, got {duration}")
+        if not 0.0 <= duration <= MAX_EXPOSURE:
+            raise InvalidArgumentError(f"duration must be within 0..{MAX_EXPOSURE:g} s, got {duration}")
         if self.action.running:
             raise DeviceBusyError(f"{self.describe()} is already exposing; wait for ImageReady or abort")
-        camera = await self._camera()
-        await self._apply_settings(duration)
+        role = await self._role()
+        await self._apply_settings(role, duration)
         kind = ImageType.OBJECT if light else ImageType.DARK if duration > 0 else ImageType.BIAS
         exposure = _Exposure(duration, self.owner.clock.now().strftime("%Y-%m-%dT%H:%M:%S.%f"))
         self._last = exposure
 
         async def grab() -> None:
-            exposure.path = await camera.grab_data(broadcast=True, image_type=kind)
+            exposure.path = await role.grab(kind)
 
         self.action.start("startexposure", grab)
         await self.action.settle(self.settle_time)
 
-    async def _apply_settings(self, duration: float) -> None:
-        """Hand binning, window and exposure time to the module (each refusal names the value)."""
-        binning = await self.optional(IBinning)
-        if binning is not None:
-            await binning.set_binning(self._bin.x, self._bin.y)
-        elif self._bin != Binning(1, 1):
-            raise InvalidArgumentError(f"module {self.module} cannot bin")
-        window = await self.optional(IWindow)
-        if window is not None:
+    async def _apply_settings(self, role: ServedCameraRole, duration: float) -> None:
+        """Hand binning, window (Alpaca's is in binned pixels) and exposure time to the module."""
+        await role.set_binning(self._bin)
+        if role.window is not None:
             start_x, start_y, num_x, num_y = await self._subframe_values()
             bx, by = self._bin.x, self._bin.y
-            await window.set_window(start_x * bx, start_y * by, num_x * bx, num_y * by)
-        exposure_time = await self.optional(IExposureTime)
-        if exposure_time is None:
-            raise NotSupportedError(f"module {self.module} has no settable exposure time (IExposureTime)")
-        await exposure_time.set_exposure_time(duration)
+            await role.set_window(Window(start_x * bx, start_y * by, num_x * bx, num_y * by))
+        await role.set_exposure_time(duration)
 
     async def put_abortexposure(self, request: AlpacaRequest) -> None:
-        camera = await self._camera()
+        camera = await self.proxy(ICamera)
         if self.action.running:
             await camera.abort()
         await self.action.cancel()
 
     async def put_stopexposure(self, request: AlpacaRequest) -> None:
-        stoppable = await self.optional(IStoppableExposure)
+        stoppable = (await self._role()).stoppable
         if stoppable is None:
             raise NotSupportedError(f"module {self.module} cannot stop an exposure early; abort it")
         if self.action.running and self._last is not None:
@@ -294,7 +258,7 @@ class ServedCamera(ServedDevice):
     async def get_camerastate(self, request: AlpacaRequest) -> int:
         if not self.action.running:
             return _IDLE
-        status = await (await self._camera()).get_exposure_status()
+        status = await (await self.proxy(ICamera)).get_exposure_status()
         return _STATES.get(status, _WAITING)  # idle while the module prepares the exposure
 
     async def get_imageready(self, request: AlpacaRequest) -> bool:
@@ -303,7 +267,7 @@ class ServedCamera(ServedDevice):
 
     async def get_percentcompleted(self, request: AlpacaRequest) -> int:
         if self.action.running:
-            return round(await (await self._camera()).get_exposure_progress())
+            return round(await (await self.proxy(ICamera)).get_exposure_progress())
         return 100 if await self.get_imageready(request) else 0
 
     def _taken(self, member: str) -> _Exposure:
@@ -330,12 +294,7 @@ class ServedCamera(ServedDevice):
         """The exposure's pixels, read once from its file (a stopped one: its real duration too)."""
         if exposure.pixels is None:
             assert exposure.path is not None
-            try:
-                payload = await self.owner.vfs.read_bytes(exposure.path)
-            except (NightcrewError, OSError) as exc:
-                raise GrabImageError(
-                    f"cannot read the frame {exposure.path} through the server's VFS: {exc}"
-                ) from exc
+            payload = await read_frame(self.owner.vfs, exposure.path)
             pixels, exposed = await asyncio.to_thread(_blocking_pixels, payload, exposure.path)
             exposure.pixels, exposure.duration = pixels, exposed if exposure.stopped else exposure.duration
         return exposure.pixels

@@ -34,10 +34,10 @@ from nightcrew.bridges.indi.server_vectors import (
 )
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.interfaces import ICamera, ICooling, IGain
-from nightcrew.modules.indi.server_device import MAIN_GROUP, switch_on
+from nightcrew.modules.served.device_indi import MAIN_GROUP, switch_on
 
 if TYPE_CHECKING:
-    from nightcrew.modules.indi.server_device import Values
+    from nightcrew.modules.served.device_indi import Values
 
 __all__ = ["CameraSettings", "pixel_info_members"]
 

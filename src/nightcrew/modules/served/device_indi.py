@@ -23,6 +23,7 @@ from nightcrew.bridges.indi.server_vectors import (
     Property,
     PropertyState,
     SwitchMember,
+    SwitchRule,
     TextMember,
 )
 from nightcrew.clock import Clock
@@ -33,7 +34,7 @@ if TYPE_CHECKING:
     from nightcrew.site import Site
     from nightcrew.vfs import VirtualFileSystem
 
-__all__ = ["MAIN_GROUP", "ServedDevice", "ServerLink", "Values", "switch_on"]
+__all__ = ["MAIN_GROUP", "ServedDevice", "ServerLink", "Values", "abort_vector", "switch_on"]
 
 log = logging.getLogger(__name__)
 
@@ -235,6 +236,13 @@ class ServedDevice(ABC, Generic[P]):
             vector.state = PropertyState.ALERT
         elif vector.state is PropertyState.BUSY:
             vector.state = PropertyState.OK
+
+
+def abort_vector(device: str, name: str) -> Property[SwitchMember]:
+    """A motion's abort switch (``FOCUS_ABORT_MOTION``, ``DOME_ABORT_MOTION``, ...)."""
+    vector = Property(device, name, "Abort Motion", MAIN_GROUP, [SwitchMember("ABORT", "Abort")])
+    vector.rule = SwitchRule.AT_MOST_ONE
+    return vector
 
 
 def switch_on(vector: Property[SwitchMember], name: str) -> None:

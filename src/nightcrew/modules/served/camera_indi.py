@@ -13,10 +13,12 @@ CCD_BINNING                 set_binning() (cameras with IBinning)
 CCD_FRAME_TYPE              the image type given to grab_data(): LIGHT object, BIAS, DARK, FLAT skyflat
 ==========================  ======================================================================
 
-Cooling, gain, CFA, compression, upload mode and pixel sizes: :mod:`.server_camera_settings`.
+Cooling, gain, CFA, compression, upload mode and pixel sizes: :mod:`.camera_indi_settings`.
 
-The camera writes the file through its own VFS, and the server reads it through its own: give the
-server the camera's root (e.g. ``images``), or the exposure ends in Alert naming the path.
+The work on the module is the served camera role's (:mod:`nightcrew.modules.served.camera`), which
+the Alpaca Camera shares. The camera writes the file through its own VFS, and the server reads it
+through its own: give the server the camera's root (e.g. ``images``), or the exposure ends in Alert
+naming the path.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from nightcrew.bridges.indi.server_vectors import (
 )
 from nightcrew.errors import InvalidArgumentError
 from nightcrew.interfaces import (
+    Binning,
     ExposureStatus,
     IBinning,
     ICamera,
@@ -41,9 +44,11 @@ from nightcrew.interfaces import (
     IImageType,
     ImageType,
     IWindow,
+    Window,
 )
-from nightcrew.modules.indi.server_camera_settings import CameraSettings, pixel_info_members
-from nightcrew.modules.indi.server_device import MAIN_GROUP, ServedDevice, Values, switch_on
+from nightcrew.modules.served.camera import MAX_EXPOSURE, ServedCameraRole, read_frame
+from nightcrew.modules.served.camera_indi_settings import CameraSettings, pixel_info_members
+from nightcrew.modules.served.device_indi import MAIN_GROUP, ServedDevice, Values, switch_on
 
 __all__ = ["ServedCamera"]
 
@@ -55,7 +60,6 @@ FRAME_TYPES = {
     "FRAME_FLAT": ImageType.SKYFLAT,
 }
 _SETTINGS = "Image Settings"
-_MAX_EXPOSURE = 3600.0
 
 
 class ServedCamera(ServedDevice[ICamera]):
@@ -63,6 +67,10 @@ class ServedCamera(ServedDevice[ICamera]):
 
     interface = ICamera
     driver_interface = 2
+
+    @property
+    def role(self) -> ServedCameraRole:
+        return ServedCameraRole(self.device, self.name)
 
     async def _build(self) -> list[Property[Any]]:
         camera, name = self.device, self.name
@@ -74,10 +82,10 @@ class ServedCamera(ServedDevice[ICamera]):
             MAIN_GROUP,
             [
                 NumberMember(
-                    "CCD_EXPOSURE_VALUE", "Duration (s)", exposure_time, 0.0, _MAX_EXPOSURE, 0.0, "%5.2f"
+                    "CCD_EXPOSURE_VALUE", "Duration (s)", exposure_time, 0.0, MAX_EXPOSURE, 0.0, "%5.2f"
                 )
             ],
-            timeout=_MAX_EXPOSURE,
+            timeout=MAX_EXPOSURE,
         )
         self.abort = Property(
             name, "CCD_ABORT_EXPOSURE", "Abort", MAIN_GROUP, [SwitchMember("ABORT", "Abort")]
@@ -109,7 +117,7 @@ class ServedCamera(ServedDevice[ICamera]):
         self.info: Property[NumberMember] | None = None
         self.binning: Property[NumberMember] | None = None
         if isinstance(camera, IWindow):
-            full = await camera.get_full_frame()
+            full = await self.role.full_frame()
             self.frame = Property(
                 name,
                 "CCD_FRAME",
@@ -133,7 +141,7 @@ class ServedCamera(ServedDevice[ICamera]):
             )
             vectors += [self.frame, self.info]
         if isinstance(camera, IBinning):
-            binnings = await camera.list_binnings()
+            binnings = await self.role.binnings()
             self.binning = Property(
                 name,
                 "CCD_BINNING",
@@ -188,13 +196,12 @@ class ServedCamera(ServedDevice[ICamera]):
             self._link.publish(self.frame_type)
         elif vector is self.frame and isinstance(camera, IWindow):
             merged = {m.name: round(float(values.get(m.name, m.value))) for m in vector.members}
-            self._start(
-                vector, camera.set_window(merged["X"], merged["Y"], merged["WIDTH"], merged["HEIGHT"])
-            )
+            window = Window(merged["X"], merged["Y"], merged["WIDTH"], merged["HEIGHT"])
+            self._start(vector, self.role.set_window(window))
         elif vector is self.binning and isinstance(camera, IBinning):
             x = round(float(values.get("HOR_BIN", vector.by_name["HOR_BIN"].value)))
             y = round(float(values.get("VER_BIN", vector.by_name["VER_BIN"].value)))
-            self._start(vector, camera.set_binning(x, y))
+            self._start(vector, self.role.set_binning(Binning(x, y)))
         elif self.settings.owns(vector):
             action = await self.settings.request(camera, vector, values)
             for key, value in values.items():  # the client's choice shows until the device says
@@ -210,12 +217,10 @@ class ServedCamera(ServedDevice[ICamera]):
             raise InvalidArgumentError(f"{vector.where} cannot be set")
 
     async def _expose(self, seconds: float) -> None:
-        camera = self.device
-        if isinstance(camera, IExposureTime):
-            await camera.set_exposure_time(seconds)
+        role = self.role
+        await role.set_exposure_time(seconds)
         kind = next(FRAME_TYPES[m.name] for m in self.frame_type.members if m.on)
-        path = await camera.grab_data(image_type=kind)
-        data = await self._link.vfs.read_bytes(path)
+        data = await read_frame(self._link.vfs, await role.grab(kind))
         for vector in self.settings.read_frame(data, self.info):
             self._link.publish(vector)
         self.exposure.by_name["CCD_EXPOSURE_VALUE"].value = 0.0
